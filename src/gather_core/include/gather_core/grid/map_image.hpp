@@ -1,0 +1,27 @@
+#pragma once
+// Decoding of map images the way ROS 1 map_server sees them (it loads images
+// with SDL_image): the pixel layout map_server's thresholding loop works on.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace gather {
+
+// Interleaved 8-bit pixels, image row 0 = top of the map.
+struct MapImage {
+  int width = 0;
+  int height = 0;
+  int channels = 0;         // 1 (gray or palette index), 3 (RGB) or 4 (RGBA)
+  bool has_alpha = false;   // SDL's Amask: true only for a real alpha channel
+  bool palette_indices = false;  // channel 0 holds palette indices (as SDL_image keeps them)
+  bool palette_is_gray_ramp = true;  // palette entry i == gray i, so indices equal gray levels
+  std::vector<uint8_t> pixels;
+};
+
+// Reads a PGM (P2/P5, maxval <= 255, scaled to 0..255 as SDL_image does) or a
+// PNG (gray, gray+alpha, RGB, RGBA, palette; 16-bit channels stripped to 8 bit).
+// Format is taken from the file's magic bytes, not its name.
+// Throws gather::Error("<path>: ...") on a missing, unknown or truncated file.
+MapImage read_map_image(const std::string& path);
+
+}  // namespace gather

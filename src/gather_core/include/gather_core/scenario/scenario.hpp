@@ -1,0 +1,57 @@
+#pragma once
+// The scenario file of DESIGN.md: map, OC, team, radio, mission, planner.
+#include <string>
+#include <vector>
+
+#include "gather_core/grid/map_loader.hpp"
+#include "gather_core/grid/occupancy_grid.hpp"
+
+namespace gather {
+
+struct TeamParams {
+  int agents = 20;     // N >= 1
+  double speed = 0.5;  // [m/s] > 0
+};
+
+// received [dBm] = tx - ref_loss - 10*exponent*log10(d / 1 m) - wall_loss * min(walls, max_walls)
+struct RadioParams {
+  double tx_power_dbm = 0.0;
+  double ref_loss_db = 40.0;
+  double exponent = 3.0;
+  double wall_loss_db = 5.0;  // per wall crossed (a run of non-free cells along the ray)
+  int max_walls = 4;
+  double sensitivity_dbm = -75.0;  // a link exists when received >= sensitivity
+};
+
+struct MissionParams {
+  int goals_per_request = 40;
+  int cycles = 10;
+  unsigned seed = 1;
+};
+
+struct PlannerParams {
+  std::vector<std::string> methods{"bap", "pap", "rap"};
+  int collectors_min = 0;  // inclusive range of N_c to sweep
+  int collectors_max = 8;  // default: min(8, N - 1)
+  double alpha = 0.5;
+  double beta = 0.5;
+};
+
+struct Scenario {
+  std::string path;      // the scenario file
+  std::string map_path;  // its map_server YAML, resolved
+  MapMetadata map_meta;
+  OccupancyGrid grid;
+  Point2 oc;  // [m], map frame
+  TeamParams team;
+  RadioParams radio;
+  MissionParams mission;
+  PlannerParams planner;
+};
+
+// Loads and validates a scenario and its map. Unknown keys, missing required
+// keys (`map`, `oc`), values out of range, an OC outside the map or not on a
+// free cell all throw gather::Error naming the file and the problem.
+Scenario load_scenario(const std::string& path);
+
+}  // namespace gather

@@ -1,0 +1,15 @@
+#pragma once
+// Where the team stands at the start: all agents close to the OC (seed, sec. 3).
+#include <vector>
+
+#include "gather_core/grid/occupancy_grid.hpp"
+
+namespace gather {
+
+// Start positions [m] of agents 0..n-1: free cells reachable from the OC,
+// taken in breadth-first order from the OC cell so they are as close to it as
+// the map allows, at least `spacing` [m] apart and from the OC itself.
+// Deterministic. Throws gather::Error if the reachable free space cannot hold n.
+std::vector<Point2> start_poses(const OccupancyGrid& grid, Point2 oc, int n, double spacing = 0.6);
+
+}  // namespace gather

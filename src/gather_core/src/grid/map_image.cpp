@@ -1,0 +1,201 @@
+#include "gather_core/grid/map_image.hpp"
+
+#include <png.h>
+
+#include <cctype>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <memory>
+
+#include "gather_core/error.hpp"
+
+namespace gather {
+namespace {
+
+std::vector<uint8_t> read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path, "cannot open file");
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw Error(path, "read error");
+  return bytes;
+}
+
+// --- PGM --------------------------------------------------------------------
+
+class PgmTokens {
+ public:
+  PgmTokens(const std::vector<uint8_t>& b, const std::string& path) : b_(b), path_(path) {}
+  // Next whitespace-separated unsigned integer, skipping '#' comments.
+  long next_uint(const char* what) {
+    skip_space_and_comments();
+    if (pos_ >= b_.size()) throw Error(path_, std::string("truncated PGM: missing ") + what);
+    if (!std::isdigit(b_[pos_])) throw Error(path_, std::string("bad PGM header: ") + what + " is not a number");
+    long v = 0;
+    while (pos_ < b_.size() && std::isdigit(b_[pos_])) {
+      v = v * 10 + (b_[pos_++] - '0');
+      if (v > 1000000000L) throw Error(path_, std::string("bad PGM header: ") + what + " too large");
+    }
+    return v;
+  }
+  std::size_t pos() const { return pos_; }
+  void skip_one_space() {
+    if (pos_ < b_.size() && std::isspace(b_[pos_])) ++pos_;
+  }
+
+ private:
+  void skip_space_and_comments() {
+    while (pos_ < b_.size()) {
+      if (std::isspace(b_[pos_])) {
+        ++pos_;
+      } else if (b_[pos_] == '#') {
+        while (pos_ < b_.size() && b_[pos_] != '\n') ++pos_;
+      } else {
+        break;
+      }
+    }
+  }
+  const std::vector<uint8_t>& b_;
+  const std::string& path_;
+  std::size_t pos_ = 2;
+};
+
+MapImage decode_pgm(const std::vector<uint8_t>& b, const std::string& path) {
+  const bool ascii = b[1] == '2';
+  PgmTokens tok(b, path);
+  const long w = tok.next_uint("width");
+  const long h = tok.next_uint("height");
+  const long maxval = tok.next_uint("maxval");
+  if (w <= 0 || h <= 0) throw Error(path, "bad PGM header: zero width or height");
+  if (w * h > 400L * 1000 * 1000) throw Error(path, "PGM too large");
+  if (maxval <= 0 || maxval > 255)
+    throw Error(path, "unsupported PGM maxval " + std::to_string(maxval) + " (map_server reads 8-bit PGM only)");
+  MapImage img;
+  img.width = static_cast<int>(w);
+  img.height = static_cast<int>(h);
+  img.channels = 1;
+  const std::size_t n = static_cast<std::size_t>(w * h);
+  img.pixels.resize(n);
+  if (ascii) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const long v = tok.next_uint("pixel data (truncated P2 image)");
+      if (v > maxval) throw Error(path, "PGM pixel value " + std::to_string(v) + " exceeds maxval");
+      img.pixels[i] = static_cast<uint8_t>(v);
+    }
+  } else {
+    tok.skip_one_space();
+    if (b.size() - tok.pos() < n)
+      throw Error(path, "truncated PGM: " + std::to_string(b.size() - tok.pos()) + " of " +
+                            std::to_string(n) + " pixel bytes");
+    std::memcpy(img.pixels.data(), b.data() + tok.pos(), n);
+  }
+  if (maxval < 255)  // SDL_image scales to the full 8-bit range
+    for (auto& p : img.pixels) p = static_cast<uint8_t>(p * 255 / maxval);
+  return img;
+}
+
+// --- PNG --------------------------------------------------------------------
+
+struct PngReader {
+  const std::vector<uint8_t>* bytes;
+  std::size_t pos;
+};
+
+void png_read_from_vector(png_structp png, png_bytep out, png_size_t len) {
+  auto* r = static_cast<PngReader*>(png_get_io_ptr(png));
+  if (r->bytes->size() - r->pos < len) png_error(png, "truncated file");
+  std::memcpy(out, r->bytes->data() + r->pos, len);
+  r->pos += len;
+}
+
+void png_on_error(png_structp png, png_const_charp msg) {
+  auto* err = static_cast<std::string*>(png_get_error_ptr(png));
+  *err = msg;
+  png_longjmp(png, 1);
+}
+void png_on_warning(png_structp, png_const_charp) {}
+
+MapImage decode_png(const std::vector<uint8_t>& b, const std::string& path) {
+  std::string err;
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &err, png_on_error, png_on_warning);
+  if (!png) throw Error(path, "libpng: out of memory");
+  png_infop info = png_create_info_struct(png);
+  PngReader reader{&b, 0};
+  MapImage img;
+  std::vector<png_bytep> rows;
+  // libpng reports errors by longjmp; nothing with a destructor is created
+  // between setjmp and the reads below, so the jump is safe.
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw Error(path, "bad PNG: " + (err.empty() ? std::string("decode error") : err));
+  }
+  png_set_read_fn(png, &reader, png_read_from_vector);
+  png_set_user_limits(png, 100000, 100000);
+  png_read_info(png, info);
+  const int color_type = png_get_color_type(png, info);
+  const int bit_depth = png_get_bit_depth(png, info);
+
+  // The same transformations SDL_image applies before map_server sees pixels.
+  png_set_strip_16(png);
+  png_set_packing(png);
+  if (color_type == PNG_COLOR_TYPE_GRAY && bit_depth < 8) png_set_expand_gray_1_2_4_to_8(png);
+  bool palette_to_rgba = false;
+  if (color_type == PNG_COLOR_TYPE_PALETTE && png_get_valid(png, info, PNG_INFO_tRNS)) {
+    // SDL keeps a palette image with a single fully transparent entry as a
+    // colour key; any other transparency is expanded to RGBA.
+    png_bytep trans = nullptr;
+    int num_trans = 0;
+    png_get_tRNS(png, info, &trans, &num_trans, nullptr);
+    int transparent = 0;
+    for (int i = 0; i < num_trans; ++i) {
+      if (trans[i] == 0) ++transparent;
+      else if (trans[i] != 255) transparent = 2;
+    }
+    if (transparent != 1) {
+      png_set_expand(png);
+      palette_to_rgba = true;
+    }
+  }
+  if (color_type == PNG_COLOR_TYPE_GRAY_ALPHA) png_set_gray_to_rgb(png);
+  png_read_update_info(png, info);
+
+  img.width = static_cast<int>(png_get_image_width(png, info));
+  img.height = static_cast<int>(png_get_image_height(png, info));
+  img.channels = png_get_channels(png, info);
+  const int out_type = png_get_color_type(png, info);
+  img.has_alpha = (out_type & PNG_COLOR_MASK_ALPHA) != 0;
+  if (color_type == PNG_COLOR_TYPE_PALETTE && !palette_to_rgba) {
+    img.palette_indices = true;
+    png_colorp pal = nullptr;
+    int num_pal = 0;
+    if (png_get_PLTE(png, info, &pal, &num_pal)) {
+      for (int i = 0; i < num_pal; ++i)
+        if (pal[i].red != i || pal[i].green != i || pal[i].blue != i) img.palette_is_gray_ramp = false;
+    }
+  }
+  const std::size_t rowbytes = png_get_rowbytes(png, info);
+  if (rowbytes != static_cast<std::size_t>(img.width) * img.channels) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw Error(path, "unsupported PNG pixel layout");
+  }
+  img.pixels.resize(rowbytes * img.height);
+  rows.resize(img.height);
+  for (int r = 0; r < img.height; ++r) rows[r] = img.pixels.data() + rowbytes * r;
+  png_read_image(png, rows.data());
+  png_destroy_read_struct(&png, &info, nullptr);
+  return img;
+}
+
+}  // namespace
+
+MapImage read_map_image(const std::string& path) {
+  const std::vector<uint8_t> b = read_file(path);
+  static const uint8_t kPngMagic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (b.size() >= 8 && std::memcmp(b.data(), kPngMagic, 8) == 0) return decode_png(b, path);
+  if (b.size() >= 2 && b[0] == 'P' && (b[1] == '2' || b[1] == '5')) return decode_pgm(b, path);
+  if (b.empty()) throw Error(path, "empty image file");
+  throw Error(path, "unknown image format (expected PNG or PGM P2/P5)");
+}
+
+}  // namespace gather

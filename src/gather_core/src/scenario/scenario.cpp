@@ -1,0 +1,102 @@
+#include "gather_core/scenario/scenario.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "gather_core/error.hpp"
+#include "gather_core/yaml_fields.hpp"
+
+namespace gather {
+namespace {
+
+std::string num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+void require(bool ok, const std::string& file, const std::string& what) {
+  if (!ok) throw Error(file, what);
+}
+
+}  // namespace
+
+Scenario load_scenario(const std::string& path) {
+  const YAML::Node root = yaml::load_file(path);
+  yaml::Fields f(root, path, "");
+  f.allow({"map", "oc", "team", "radio", "mission", "planner"});
+  Scenario s;
+  s.path = path;
+  s.map_path = yaml::resolve_path(path, f.required<std::string>("map"));
+  const std::vector<double> oc = f.required<std::vector<double>>("oc");
+  require(oc.size() == 2, path, "oc must be [x, y] in meters");
+  s.oc = Point2{oc[0], oc[1]};
+
+  const yaml::Fields team = f.section("team");
+  team.allow({"agents", "speed"});
+  s.team.agents = team.optional<int>("agents", s.team.agents);
+  s.team.speed = team.optional<double>("speed", s.team.speed);
+  require(s.team.agents >= 1, path, "team.agents must be >= 1, got " + std::to_string(s.team.agents));
+  require(s.team.speed > 0 && std::isfinite(s.team.speed), path, "team.speed must be > 0 m/s, got " + num(s.team.speed));
+
+  const yaml::Fields radio = f.section("radio");
+  radio.allow({"tx_power_dbm", "ref_loss_db", "exponent", "wall_loss_db", "max_walls", "sensitivity_dbm"});
+  RadioParams& r = s.radio;
+  r.tx_power_dbm = radio.optional<double>("tx_power_dbm", r.tx_power_dbm);
+  r.ref_loss_db = radio.optional<double>("ref_loss_db", r.ref_loss_db);
+  r.exponent = radio.optional<double>("exponent", r.exponent);
+  r.wall_loss_db = radio.optional<double>("wall_loss_db", r.wall_loss_db);
+  r.max_walls = radio.optional<int>("max_walls", r.max_walls);
+  r.sensitivity_dbm = radio.optional<double>("sensitivity_dbm", r.sensitivity_dbm);
+  require(r.exponent > 0, path, "radio.exponent must be > 0, got " + num(r.exponent));
+  require(r.wall_loss_db >= 0, path, "radio.wall_loss_db must be >= 0, got " + num(r.wall_loss_db));
+  require(r.max_walls >= 0, path, "radio.max_walls must be >= 0, got " + std::to_string(r.max_walls));
+
+  const yaml::Fields mission = f.section("mission");
+  mission.allow({"goals_per_request", "cycles", "seed"});
+  s.mission.goals_per_request = mission.optional<int>("goals_per_request", s.mission.goals_per_request);
+  s.mission.cycles = mission.optional<int>("cycles", s.mission.cycles);
+  s.mission.seed = mission.optional<unsigned>("seed", s.mission.seed);
+  require(s.mission.goals_per_request >= 1, path, "mission.goals_per_request must be >= 1");
+  require(s.mission.cycles >= 1, path, "mission.cycles must be >= 1");
+
+  const yaml::Fields planner = f.section("planner");
+  planner.allow({"methods", "collectors", "alpha", "beta"});
+  PlannerParams& p = s.planner;
+  p.methods = planner.optional<std::vector<std::string>>("methods", p.methods);
+  require(!p.methods.empty(), path, "planner.methods must not be empty");
+  for (const auto& m : p.methods)
+    require(m == "bap" || m == "pap" || m == "rap", path, "planner.methods: unknown method '" + m + "' (bap, pap, rap)");
+  std::vector<std::string> sorted = p.methods;
+  std::sort(sorted.begin(), sorted.end());
+  require(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end(), path, "planner.methods lists a method twice");
+  p.collectors_max = std::min(p.collectors_max, s.team.agents - 1);
+  if (planner.has("collectors")) {
+    const std::vector<int> range = planner.required<std::vector<int>>("collectors");
+    require(range.size() == 2, path, "planner.collectors must be [min, max]");
+    p.collectors_min = range[0];
+    p.collectors_max = range[1];
+    require(0 <= p.collectors_min && p.collectors_min <= p.collectors_max, path,
+            "planner.collectors must satisfy 0 <= min <= max");
+    require(p.collectors_max <= s.team.agents - 1, path,
+            "planner.collectors max " + std::to_string(p.collectors_max) + " leaves no worker (team.agents = " +
+                std::to_string(s.team.agents) + ", so at most " + std::to_string(s.team.agents - 1) + ")");
+  }
+  p.alpha = planner.optional<double>("alpha", p.alpha);
+  p.beta = planner.optional<double>("beta", p.beta);
+  require(p.alpha >= 0 && p.beta >= 0 && p.alpha + p.beta > 0, path, "planner.alpha and beta must be >= 0, not both 0");
+
+  s.map_meta = read_map_metadata(s.map_path);
+  s.grid = threshold_map_image(read_map_image(s.map_meta.image), s.map_meta);
+  const Cell oc_cell = s.grid.world_to_cell(s.oc);
+  require(s.grid.contains(oc_cell), path,
+          "oc [" + num(s.oc.x) + ", " + num(s.oc.y) + "] is outside the map (" + num(s.grid.origin().x) + ".." +
+              num(s.grid.origin().x + s.grid.width() * s.grid.resolution()) + " x " + num(s.grid.origin().y) + ".." +
+              num(s.grid.origin().y + s.grid.height() * s.grid.resolution()) + " m)");
+  require(s.grid.is_free(oc_cell), path,
+          "oc [" + num(s.oc.x) + ", " + num(s.oc.y) + "] is on an obstacle or unknown cell, not free space");
+  return s;
+}
+
+}  // namespace gather

@@ -1,0 +1,52 @@
+#include "gather_core/yaml_fields.hpp"
+
+#include <fstream>
+
+namespace gather {
+namespace yaml {
+
+YAML::Node load_file(const std::string& path) {
+  std::ifstream probe(path);
+  if (!probe) throw Error(path, "cannot open file");
+  try {
+    YAML::Node root = YAML::LoadFile(path);
+    if (!root.IsMap()) throw Error(path, "expected a YAML mapping at the top level");
+    return root;
+  } catch (const YAML::Exception& e) {
+    throw Error(path, "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+}
+
+std::string resolve_path(const std::string& file, const std::string& relative) {
+  if (relative.empty() || relative[0] == '/') return relative;
+  const auto slash = file.find_last_of('/');
+  return slash == std::string::npos ? relative : file.substr(0, slash + 1) + relative;
+}
+
+Fields::Fields(const YAML::Node& node, std::string file, std::string prefix)
+    : node_(node), file_(std::move(file)), prefix_(std::move(prefix)) {
+  if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap())
+    throw Error(file_, "'" + prefix_ + "' must be a mapping");
+}
+
+void Fields::allow(std::initializer_list<const char*> keys) const {
+  if (!node_.IsMap()) return;
+  for (const auto& kv : node_) {
+    const std::string key = kv.first.as<std::string>();
+    bool known = false;
+    for (const char* k : keys) known = known || key == k;
+    if (!known) {
+      std::string list;
+      for (const char* k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
+      throw Error(file_, "unknown key '" + name(key) + "' (line " + std::to_string(kv.first.Mark().line + 1) +
+                             "; known: " + list + ")");
+    }
+  }
+}
+
+Fields Fields::section(const std::string& key) const {
+  return Fields(node_.IsMap() ? node_[key] : YAML::Node(), file_, name(key));
+}
+
+}  // namespace yaml
+}  // namespace gather

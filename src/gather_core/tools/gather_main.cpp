@@ -1,0 +1,48 @@
+// gather: the command-line front end of gather_core.
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <string>
+
+#include "cli.hpp"
+#include "commands.hpp"
+
+namespace {
+
+struct Subcommand {
+  const char* name;
+  int (*run)(int, char**);
+  const char* summary;
+};
+
+const Subcommand kSubcommands[] = {
+    {"info", gather::cmd::info, "info SCENARIO          map size, free and reachable area, warnings"},
+};
+
+void usage(FILE* out) {
+  std::fprintf(out, "usage: gather <command> [options]\n\ncommands:\n");
+  for (const auto& s : kSubcommands) std::fprintf(out, "  %s\n", s.summary);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
+    usage(argc < 2 ? stderr : stdout);
+    return argc < 2 ? 2 : 0;
+  }
+  for (const auto& s : kSubcommands) {
+    if (std::strcmp(argv[1], s.name) != 0) continue;
+    try {
+      return s.run(argc, argv);
+    } catch (const gather::cli::UsageError& e) {
+      std::fprintf(stderr, "gather %s: %s (see gather --help)\n", s.name, e.what());
+      return 2;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "gather %s: %s\n", s.name, e.what());
+      return 2;
+    }
+  }
+  std::fprintf(stderr, "gather: unknown command '%s' (see gather --help)\n", argv[1]);
+  return 2;
+}
