@@ -9,7 +9,8 @@ set(CMAKE_CXX_EXTENSIONS OFF)
 set(CMAKE_POSITION_INDEPENDENT_CODE ON)
 
 # Root of the repository (tests/, maps/ live there).
-get_filename_component(GATHER_REPO_DIR "${CMAKE_CURRENT_LIST_DIR}/../../.." ABSOLUTE)
+get_filename_component(_gather_cmake_dir "${CMAKE_CURRENT_LIST_DIR}" REALPATH)  # through the catkin_ws/src link
+get_filename_component(GATHER_REPO_DIR "${_gather_cmake_dir}/../../.." ABSOLUTE)
 
 if(CATKIN_TOPLEVEL)
   set(GATHER_CATKIN ON)

@@ -1,0 +1,60 @@
+# gather: build, test and run. `make run` and `make test` work on a fresh
+# Debian 12 machine: they install the missing packages first.
+SHELL := /bin/bash
+.ONESHELL:
+.SHELLFLAGS := -eo pipefail -c
+
+JOBS ?= 2
+PYTHON := /usr/bin/python3
+WS := catkin_ws
+PLAIN := build/plain
+SCENARIO ?= maps/office.scenario.yaml
+DURATION ?= 20
+RESULTS ?= results/mission
+SETUP := source $(WS)/devel/setup.bash
+
+.PHONY: all deps build run test test-ros test-plain test-e2e clean help
+
+all: build
+
+help:
+	@echo "make run     install deps, build, run the default mission headless, print a summary (results/)"
+	@echo "make test    install deps, build, run every test (unit, plain CMake, ROS end-to-end)"
+	@echo "make build   build the catkin workspace (Release)"
+
+deps:
+	@tools/install-deps
+
+build: deps
+	catkin_make -C $(WS) -j$(JOBS) -DPYTHON_EXECUTABLE=$(PYTHON) -DCMAKE_BUILD_TYPE=Release --no-color
+
+# Runs the default mission (office) headless inside a private network
+# namespace (LCM multicast stays on a private loopback), records a bag,
+# prints the summary table.
+run: build
+	rm -rf $(RESULTS)
+	tools/netns-run bash -c '$(SETUP) && roslaunch --log gather_oc mission.launch \
+	  scenario:=$(abspath $(SCENARIO)) duration:=$(DURATION) results_dir:=$(abspath $(RESULTS)) record:=true'
+	$(PYTHON) tools/mission_summary.py $(RESULTS)
+
+test: build test-plain test-ros test-e2e
+	@echo "make test: all tests passed"
+
+# GoogleTest suites through catkin (gather_core, gather_agent, gather_oc).
+test-ros: build
+	rm -rf $(WS)/build/test_results
+	tools/netns-run bash -c '$(SETUP) && catkin_make -C $(WS) -j$(JOBS) run_tests --no-color > $(WS)/build/run_tests.log 2>&1 || true'
+	catkin_test_results --verbose $(WS)/build/test_results | tail -n 40
+
+# gather_core and gather_agent as plain CMake projects, no ROS, own build dir.
+test-plain: deps
+	cmake -S src/gather_agent -B $(PLAIN) -DCMAKE_BUILD_TYPE=Release > /dev/null
+	cmake --build $(PLAIN) -j$(JOBS)
+	cd $(PLAIN) && ctest --output-on-failure -j$(JOBS)
+
+# roslaunch gather_oc mission.launch end to end, in a private network namespace.
+test-e2e: build
+	tools/netns-run bash -c '$(SETUP) && $(PYTHON) tests/e2e/mission_e2e.py'
+
+clean:
+	rm -rf $(WS)/build $(WS)/devel $(WS)/install build results src/CMakeLists.txt

@@ -1,0 +1,135 @@
+#include "gather_oc/agent_fleet.hpp"
+
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+#include <thread>
+
+#include "gather_core/error.hpp"
+
+namespace gather {
+namespace {
+
+bool executable(const std::string& p) { return !p.empty() && access(p.c_str(), X_OK) == 0; }
+
+std::vector<std::string> split(const char* s, char sep) {
+  std::vector<std::string> out;
+  if (!s) return out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, sep))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+int decode_status(int status) {
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return -1;
+}
+
+}  // namespace
+
+std::string find_agent_binary(const std::string& explicit_path) {
+  if (!explicit_path.empty()) return executable(explicit_path) ? explicit_path : "";
+  for (const auto& prefix : split(std::getenv("CMAKE_PREFIX_PATH"), ':')) {
+    const std::string p = prefix + "/lib/gather_agent/gather_agent";
+    if (executable(p)) return p;
+  }
+  for (const auto& dir : split(std::getenv("PATH"), ':')) {
+    const std::string p = dir + "/gather_agent";
+    if (executable(p)) return p;
+  }
+  return "";
+}
+
+AgentFleet::AgentFleet(std::vector<std::string> command, int agents) : command_(std::move(command)) {
+  for (int i = 0; i < agents; ++i) agents_.push_back(AgentProcess{i});
+}
+
+AgentFleet::~AgentFleet() { stop(1.0); }
+
+void AgentFleet::start() {
+  const pid_t parent = getpid();
+  for (AgentProcess& a : agents_) {
+    std::vector<std::string> args = command_;
+    for (auto& arg : args) {
+      const auto at = arg.find("{id}");
+      if (at != std::string::npos) arg.replace(at, 4, std::to_string(a.id));
+    }
+    std::vector<char*> argv;
+    for (auto& arg : args) argv.push_back(&arg[0]);
+    argv.push_back(nullptr);
+    const pid_t pid = fork();
+    if (pid < 0) throw Error("fleet", std::string("fork failed: ") + std::strerror(errno));
+    if (pid == 0) {
+      // Own process group: roslaunch signals the fleet's group on shutdown, and
+      // the fleet, not roslaunch, stops (and times) its agents.
+      setpgid(0, 0);
+      prctl(PR_SET_PDEATHSIG, SIGTERM);  // never outlive the fleet launcher
+      if (getppid() != parent) _exit(1);
+      sigset_t none;
+      sigemptyset(&none);
+      sigprocmask(SIG_SETMASK, &none, nullptr);
+      execv(argv[0], argv.data());
+      std::fprintf(stderr, "fleet: cannot run %s: %s\n", argv[0], std::strerror(errno));
+      _exit(127);
+    }
+    a.pid = pid;
+    a.running = true;
+  }
+}
+
+std::vector<int> AgentFleet::poll() {
+  std::vector<int> ended;
+  for (AgentProcess& a : agents_) {
+    if (!a.running) continue;
+    int status = 0;
+    if (waitpid(a.pid, &status, WNOHANG) == a.pid) {
+      a.running = false;
+      a.exited_early = true;
+      a.exit_status = decode_status(status);
+      ended.push_back(a.id);
+    }
+  }
+  return ended;
+}
+
+void AgentFleet::stop(double grace_s) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  for (AgentProcess& a : agents_)
+    if (a.running) kill(a.pid, SIGTERM);
+  bool any = true;
+  bool killed = false;
+  while (any) {
+    any = false;
+    const double t = std::chrono::duration<double>(Clock::now() - t0).count();
+    for (AgentProcess& a : agents_) {
+      if (!a.running) continue;
+      int status = 0;
+      const pid_t r = waitpid(a.pid, &status, WNOHANG);
+      if (r == a.pid || r < 0) {  // r < 0: already reaped elsewhere
+        a.running = false;
+        a.exit_status = r < 0 ? -1 : decode_status(status);
+        a.stop_latency_s = t;
+      } else {
+        any = true;
+        if (t > grace_s && !killed) {
+          for (AgentProcess& b : agents_)
+            if (b.running) kill(b.pid, SIGKILL);
+          killed = true;
+        }
+      }
+    }
+    if (any) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+}
+
+}  // namespace gather

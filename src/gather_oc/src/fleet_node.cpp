@@ -1,0 +1,108 @@
+// fleet_node: starts one gather_agent process per agent of the scenario (N
+// comes from the scenario, not from a hand-written node list), reports agents
+// that die, and on shutdown stops them all and writes `~results_dir/fleet.yaml`.
+// Exit status: 0 every agent ran until stopped and exited 0, 1 otherwise, 2 bad input.
+#include <ros/ros.h>
+#include <yaml-cpp/yaml.h>
+
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "gather_core/scenario/scenario.hpp"
+#include "gather_oc/launch_paths.hpp"
+#include "gather_oc/agent_fleet.hpp"
+
+namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+void on_signal(int) { g_stop = 1; }
+
+void write_fleet_results(const std::string& path, const gather::AgentFleet& fleet, bool ok) {
+  YAML::Emitter y;
+  y.SetDoublePrecision(6);
+  y << YAML::BeginMap << YAML::Key << "status" << YAML::Value << (ok ? "ok" : "failed");
+  y << YAML::Key << "agents" << YAML::Value << YAML::BeginSeq;
+  for (const auto& a : fleet.agents()) {
+    y << YAML::Flow << YAML::BeginMap << YAML::Key << "id" << YAML::Value << a.id << YAML::Key << "exit_status"
+      << YAML::Value << a.exit_status << YAML::Key << "exited_early" << YAML::Value << a.exited_early << YAML::Key
+      << "stop_latency_s" << YAML::Value << a.stop_latency_s << YAML::EndMap;
+  }
+  y << YAML::EndSeq << YAML::EndMap;
+  std::error_code ec;
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
+  std::ofstream out(path);
+  out << y.c_str() << "\n";
+  if (!out) std::fprintf(stderr, "fleet: %s: cannot write results file\n", path.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "fleet", ros::init_options::NoSigintHandler);
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  std::vector<std::string> args;
+  ros::removeROSArgs(argc, argv, args);
+  if (args.size() != 2) {
+    std::fprintf(stderr, "fleet: usage: fleet_node SCENARIO (settings as private parameters)\n");
+    return 2;
+  }
+  const std::string scenario_path = gather::resolve_launch_path(args[1]);
+  int agents = 0;
+  try {
+    agents = gather::load_scenario(scenario_path).team.agents;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fleet: %s\n", e.what());
+    return 2;
+  }
+  ros::NodeHandle pnh("~");
+  std::string lcm_url, agent_bin, results_dir;
+  double rate_hz = 2.0;
+  pnh.param<std::string>("lcm_url", lcm_url, "");
+  pnh.param<std::string>("agent_bin", agent_bin, "");
+  pnh.param<std::string>("results_dir", results_dir, "");
+  results_dir = gather::resolve_launch_path(results_dir);
+  pnh.param("heartbeat_rate", rate_hz, 2.0);
+    const std::string bin = gather::find_agent_binary(agent_bin);
+  if (bin.empty()) {
+    std::fprintf(stderr, "fleet: gather_agent binary not found (%s)\n",
+                 agent_bin.empty() ? "searched CMAKE_PREFIX_PATH/lib/gather_agent and PATH; source the workspace"
+                                   : ("~agent_bin " + agent_bin + " is not executable").c_str());
+    return 2;
+  }
+
+  std::vector<std::string> command{bin, "--id", "{id}", "--rate", std::to_string(rate_hz)};
+  if (!lcm_url.empty()) command.insert(command.end(), {"--lcm-url", lcm_url});
+  command.push_back(scenario_path);
+  gather::AgentFleet fleet(command, agents);
+  try {
+    fleet.start();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fleet: %s\n", e.what());
+    return 1;
+  }
+  ROS_INFO("fleet: started %d agents (%s)", agents, bin.c_str());
+
+  bool ok = true;
+  while (!g_stop && ros::ok()) {
+    for (int id : fleet.poll()) {
+      ok = false;
+      ROS_ERROR("fleet: agent %d ended early with status %d", id, fleet.agents()[static_cast<std::size_t>(id)].exit_status);
+    }
+    ros::Duration(0.05).sleep();
+  }
+  fleet.stop(2.0);
+  int slow = 0;
+  for (const auto& a : fleet.agents()) {
+    if (a.exit_status != 0) ok = false;
+    if (a.stop_latency_s > 1.0) ok = false, ++slow;
+  }
+  if (!results_dir.empty()) write_fleet_results(results_dir + "/fleet.yaml", fleet, ok);
+  std::printf("fleet: stopped %d agents: %s%s\n", agents, ok ? "all exited 0" : "FAILURES (see fleet.yaml)",
+              slow ? (", " + std::to_string(slow) + " took > 1 s").c_str() : "");
+  std::fflush(stdout);
+  ros::shutdown();
+  return ok ? 0 : 1;
+}
