@@ -32,7 +32,8 @@ Fields::Fields(const YAML::Node& node, std::string file, std::string prefix)
 void Fields::allow(std::initializer_list<const char*> keys) const {
   if (!node_.IsMap()) return;
   for (const auto& kv : node_) {
-    const std::string key = kv.first.as<std::string>();
+    // A non-scalar key ("[a, b]: 1") must not escape as a yaml-cpp exception without the file name.
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : "<non-scalar key>";
     bool known = false;
     for (const char* k : keys) known = known || key == k;
     if (!known) {
@@ -45,7 +46,9 @@ void Fields::allow(std::initializer_list<const char*> keys) const {
 }
 
 Fields Fields::section(const std::string& key) const {
-  return Fields(node_.IsMap() ? node_[key] : YAML::Node(), file_, name(key));
+  // An absent key gives a zombie node on which IsMap() throws InvalidNode; use an empty node.
+  const YAML::Node child = node_.IsMap() ? node_[key] : YAML::Node();
+  return Fields(child.IsDefined() ? child : YAML::Node(), file_, name(key));
 }
 
 }  // namespace yaml

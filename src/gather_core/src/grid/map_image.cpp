@@ -134,16 +134,19 @@ MapImage decode_png(const std::vector<uint8_t>& b, const std::string& path) {
   png_set_user_limits(png, 100000, 100000);
   png_read_info(png, info);
   const int color_type = png_get_color_type(png, info);
-  const int bit_depth = png_get_bit_depth(png, info);
 
   // The same transformations SDL_image applies before map_server sees pixels.
   png_set_strip_16(png);
   png_set_packing(png);
-  if (color_type == PNG_COLOR_TYPE_GRAY && bit_depth < 8) png_set_expand_gray_1_2_4_to_8(png);
+  // SDL_image calls png_set_expand for every gray image: 1/2/4-bit gray is
+  // scaled to 8 bits AND a tRNS colour becomes an alpha channel (2 bytes a pixel,
+  // which SDL gives no Amask - see has_alpha below).
+  if (color_type == PNG_COLOR_TYPE_GRAY) png_set_expand(png);
   bool palette_to_rgba = false;
   if (color_type == PNG_COLOR_TYPE_PALETTE && png_get_valid(png, info, PNG_INFO_tRNS)) {
-    // SDL keeps a palette image with a single fully transparent entry as a
-    // colour key; any other transparency is expanded to RGBA.
+    // SDL keeps a palette image whose tRNS entries are all opaque except at most
+    // one fully transparent entry (colour key); translucency or several
+    // transparent entries are expanded to RGBA.
     png_bytep trans = nullptr;
     int num_trans = 0;
     png_get_tRNS(png, info, &trans, &num_trans, nullptr);
@@ -152,7 +155,7 @@ MapImage decode_png(const std::vector<uint8_t>& b, const std::string& path) {
       if (trans[i] == 0) ++transparent;
       else if (trans[i] != 255) transparent = 2;
     }
-    if (transparent != 1) {
+    if (transparent > 1) {
       png_set_expand(png);
       palette_to_rgba = true;
     }
@@ -164,7 +167,8 @@ MapImage decode_png(const std::vector<uint8_t>& b, const std::string& path) {
   img.height = static_cast<int>(png_get_image_height(png, info));
   img.channels = png_get_channels(png, info);
   const int out_type = png_get_color_type(png, info);
-  img.has_alpha = (out_type & PNG_COLOR_MASK_ALPHA) != 0;
+  // SDL_image sets Amask only for 4-channel surfaces (gray+tRNS gives 2 channels, no Amask).
+  img.has_alpha = img.channels == 4 && (out_type & PNG_COLOR_MASK_ALPHA) != 0;
   if (color_type == PNG_COLOR_TYPE_PALETTE && !palette_to_rgba) {
     img.palette_indices = true;
     png_colorp pal = nullptr;
