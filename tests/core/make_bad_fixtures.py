@@ -32,6 +32,10 @@ def pgm(rows, maxval=255):
     return b"P5\n%d %d\n%d\n" % (len(rows[0]), len(rows), maxval) + bytes(v for r in rows for v in r)
 
 
+def png_chunk(tag, data):
+    return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
+
+
 def png(rows):
     raw = b"".join(b"\x00" + bytes(r) for r in rows)
 
@@ -78,6 +82,7 @@ def main():
         "truncated_p5.yaml": map_yaml("truncated_p5.pgm"),
         "truncated_p2.yaml": map_yaml("truncated_p2.pgm"),
         "truncated_png.yaml": map_yaml("truncated.png"),
+        "png_huge_header.yaml": map_yaml("huge_header.png"),
         "pgm16.yaml": map_yaml("pgm16.pgm"),
         "missing_key.yaml": map_yaml("ok.pgm", resolution=None),
         "unknown_key.yaml": map_yaml("ok.pgm") + "occupied_threshold: 0.7\n",
@@ -99,6 +104,11 @@ def main():
     write(os.path.join(MAPS, "truncated_p2.pgm"), p2)
     whole = png(IMG)
     write(os.path.join(MAPS, "truncated.png"), whole[:len(whole) // 2])
+    # A valid header claiming 100000x100000 pixels over a few bytes of data:
+    # must be refused before anything that size is allocated.
+    ihdr = struct.pack(">IIBBBBB", 100000, 100000, 8, 0, 0, 0, 0)
+    write(os.path.join(MAPS, "huge_header.png"), b"\x89PNG\r\n\x1a\n" + png_chunk(b"IHDR", ihdr) +
+          png_chunk(b"IDAT", zlib.compress(b"\0" * 100)) + png_chunk(b"IEND", b""))
     write(os.path.join(MAPS, "pgm16.pgm"), b"P5\n2 2\n65535\n" + b"\x00" * 8)
 
     # Scenarios: (case, text or None for "file absent", file the message must name, problem words).
@@ -111,6 +121,7 @@ def main():
         ("truncated_p5", scenario(map_file="../maps/truncated_p5.yaml"), "truncated_p5.pgm", "truncated"),
         ("truncated_p2", scenario(map_file="../maps/truncated_p2.yaml"), "truncated_p2.pgm", "truncated"),
         ("truncated_png", scenario(map_file="../maps/truncated_png.yaml"), "truncated.png", "truncated"),
+        ("png_huge_header", scenario(map_file="../maps/png_huge_header.yaml"), "huge_header.png", "truncated or corrupt"),
         ("pgm_16bit", scenario(map_file="../maps/pgm16.yaml"), "pgm16.pgm", "maxval"),
         ("missing_key_map", scenario(map_file=None), "missing_key_map.yaml", "missing key 'map'"),
         ("missing_key_oc", scenario(map_file="../maps/ok.yaml", oc=None), "missing_key_oc.yaml", "missing key 'oc'"),

@@ -183,6 +183,15 @@ MapImage decode_png(const std::vector<uint8_t>& b, const std::string& path) {
     png_destroy_read_struct(&png, &info, nullptr);
     throw Error(path, "unsupported PNG pixel layout");
   }
+  // Deflate cannot compress better than ~1032:1, so a header promising far
+  // more pixels than the file can hold is a truncated or corrupt file: say so
+  // before allocating gigabytes for it.
+  const double want = static_cast<double>(rowbytes) * img.height;
+  if (want > 1032.0 * static_cast<double>(b.size()) + 65536.0 || want > 2e9) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw Error(path, "truncated or corrupt PNG: header claims " + std::to_string(img.width) + "x" +
+                          std::to_string(img.height) + " pixels, the file is only " + std::to_string(b.size()) + " bytes");
+  }
   img.pixels.resize(rowbytes * img.height);
   rows.resize(img.height);
   for (int r = 0; r < img.height; ++r) rows[r] = img.pixels.data() + rowbytes * r;
