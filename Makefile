@@ -13,7 +13,7 @@ DURATION ?= 20
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build run test test-ros test-plain test-e2e clean help
+.PHONY: all deps build run test test-ros test-plain test-cli test-e2e clean help
 
 all: build
 
@@ -37,7 +37,7 @@ run: build
 	  scenario:=$(abspath $(SCENARIO)) duration:=$(DURATION) results_dir:=$(abspath $(RESULTS)) record:=true'
 	$(PYTHON) tools/mission_summary.py $(RESULTS)
 
-test: build test-plain test-ros test-e2e
+test: build test-plain test-ros test-cli test-e2e
 	@echo "make test: all tests passed"
 
 # GoogleTest suites through catkin (gather_core, gather_agent, gather_oc).
@@ -48,9 +48,18 @@ test-ros: build
 
 # gather_core and gather_agent as plain CMake projects, no ROS, own build dir.
 test-plain: deps
+	@if grep -rnE '#include [<"](ros|nav_msgs|visualization_msgs|std_msgs)/' src/gather_core src/gather_agent tests/core tests/agent; then \
+	  echo "gather_core/gather_agent must not include ROS headers" >&2; exit 1; fi
 	cmake -S src/gather_agent -B $(PLAIN) -DCMAKE_BUILD_TYPE=Release > /dev/null
 	cmake --build $(PLAIN) -j$(JOBS)
 	cd $(PLAIN) && ctest --output-on-failure -j$(JOBS)
+
+# Every bad input gives one line naming the file and exit status 2, from every binary.
+test-cli: build
+	tests/cli/bad_input.sh "$(WS)/devel/lib/gather_core/gather info"
+	tests/cli/bad_input.sh "$(WS)/devel/lib/gather_agent/gather_agent --id 0 --lcm-url memq://"
+	tests/cli/bad_input.sh "$(WS)/devel/lib/gather_oc/oc_node"
+	tests/cli/bad_input.sh "$(WS)/devel/lib/gather_oc/fleet_node"
 
 # roslaunch gather_oc mission.launch end to end, in a private network namespace.
 test-e2e: build
