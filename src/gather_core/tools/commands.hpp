@@ -4,6 +4,7 @@ namespace gather {
 namespace cmd {
 
 int info(int argc, char** argv);  // gather info SCENARIO
+int fmm(int argc, char** argv);   // gather fmm --map FILE --source ROW,COL ... (tools/cmd_fmm.cpp)
 
 }  // namespace cmd
 }  // namespace gather

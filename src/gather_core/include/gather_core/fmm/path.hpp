@@ -1,0 +1,40 @@
+#pragma once
+// Paths and distances on the arrival times of a FastMarching solve.
+#include <vector>
+
+#include "gather_core/fmm/fast_marching.hpp"
+
+namespace gather {
+namespace fmm {
+
+struct PathOptions {
+  double step = 0.25;  // gradient step [cells]
+};
+
+// Bilinear interpolation of the last solve's times [s] at a map-frame point [m],
+// over the reached cell centres around it (unreached ones are left out and the
+// weights renormalised). kUnreached when none of the four is reached.
+double interpolated_time(const FastMarching& fm, Point2 p);
+
+// Gradient descent on the last solve's times from `from` [m] back to the
+// source whose front reached it: map-frame points [m], first `from`, last the
+// source point (the cell centre for a cell source). Steps of `step` cells
+// against the interpolated upwind gradient; where that would enter an
+// obstacle, cut an obstacle corner or fail to descend, one step to the centre
+// of the lowest neighbouring cell instead. Every point lies in a traversable
+// cell, consecutive points are in the same or adjacent cells (never across an
+// obstacle corner) and interpolated_time() decreases along the path.
+// Throws gather::Error if `from` is off the map, in an obstacle or unreached.
+std::vector<Point2> descend(const FastMarching& fm, Point2 from, const PathOptions& options = {});
+
+// Sum of segment lengths [m].
+double path_length(const std::vector<Point2>& path);
+
+// Geodesic travel time [s] (meters at unit speed) from `a` to `b` [m] at the
+// workspace's speed: one march from `a` that stops once `b` is reached.
+// kUnreached when no traversable path joins them. Overwrites fm's results.
+// Throws gather::Error if `a` is off the map or in an obstacle.
+double geodesic_time(FastMarching& fm, Point2 a, Point2 b, Order order = Order::kSecond);
+
+}  // namespace fmm
+}  // namespace gather
