@@ -43,8 +43,11 @@ test: build test-plain test-ros test-cli test-e2e
 # GoogleTest suites through catkin (gather_core, gather_agent, gather_oc).
 test-ros: build
 	rm -rf $(WS)/build/test_results
-	tools/netns-run bash -c '$(SETUP) && catkin_make -C $(WS) -j$(JOBS) run_tests --no-color > $(WS)/build/run_tests.log 2>&1 || true'
-	catkin_test_results --verbose $(WS)/build/test_results | tail -n 40
+	tools/netns-run bash -c '$(SETUP) && catkin_make -C $(WS) -j$(JOBS) run_tests --no-color > $(WS)/build/run_tests.log 2>&1' \
+	  || { tail -n 60 $(WS)/build/run_tests.log; echo "test-ros: building or running the tests failed" >&2; exit 1; }
+	catkin_test_results --verbose $(WS)/build/test_results | tee $(WS)/build/test_results.txt | tail -n 40
+	@grep -qE "^Summary: [1-9][0-9]* tests, 0 errors, 0 failures" $(WS)/build/test_results.txt \
+	  || { echo "test-ros: no test results found (catkin_test_results)" >&2; exit 1; }
 
 # gather_core and gather_agent as plain CMake projects, no ROS, own build dir.
 test-plain: deps

@@ -31,6 +31,8 @@ function(gather_add_gtest name)
     if(NOT TARGET ${name})
       message(FATAL_ERROR "GoogleTest not found by catkin (install libgtest-dev)")
     endif()
+    # Debian's catkin links gtest but not its main().
+    target_link_libraries(${name} gtest_main)
   else()
     if(NOT BUILD_TESTING)
       return()
