@@ -1,0 +1,109 @@
+#include "gather_core/path/path_polisher.hpp"
+
+#include <ompl/base/SpaceInformation.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/geometric/PathGeometric.h>
+#include <ompl/geometric/PathSimplifier.h>
+#include <ompl/util/Console.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "gather_core/error.hpp"
+
+namespace gather {
+namespace {
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+
+// Smallest free_distance along segment a-b, sampled every `step` [m].
+double segment_clearance(const ClearanceMap& cm, Point2 a, Point2 b, double step) {
+  const double len = std::hypot(b.x - a.x, b.y - a.y);
+  const int n = std::max(1, static_cast<int>(std::ceil(len / step)));
+  double worst = cm.free_distance(a);
+  for (int i = 1; i <= n; ++i) {
+    const double t = static_cast<double>(i) / n;
+    worst = std::min(worst, cm.free_distance(Point2{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)}));
+  }
+  return worst;
+}
+
+std::vector<Point2> shortcut(const std::vector<Point2>& in, const ClearanceMap& cm, double radius, double step) {
+  std::vector<Point2> out{in.front()};
+  std::size_t i = 0;
+  while (i + 1 < in.size()) {
+    // The next point is always kept (the input's own segment), then extend
+    // the straight segment as far as it stays clear.
+    std::size_t j = i + 1;
+    while (j + 1 < in.size() && segment_clearance(cm, in[i], in[j + 1], step) >= radius) ++j;
+    out.push_back(in[j]);
+    i = j;
+  }
+  return out;
+}
+
+}  // namespace
+
+double path_length(const std::vector<Point2>& path) {
+  double len = 0.0;
+  for (std::size_t i = 1; i < path.size(); ++i) len += std::hypot(path[i].x - path[i - 1].x, path[i].y - path[i - 1].y);
+  return len;
+}
+
+PolishedPath polish_path(const std::vector<Point2>& path, const ClearanceMap& cm, const PolishOptions& opt) {
+  if (path.empty()) throw Error("polish_path", "empty path");
+  const OccupancyGrid& g = cm.grid();
+  const double step = opt.check_step > 0 ? opt.check_step : 0.5 * g.resolution();
+  const double r = opt.robot_radius;
+  PolishedPath result;
+  result.points = path.size() < 3 ? path : shortcut(path, cm, r, step);
+
+  if (opt.smoothing_passes > 0 && result.points.size() >= 3) {
+    ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
+    auto space = std::make_shared<ob::RealVectorStateSpace>(2);
+    ob::RealVectorBounds bounds(2);
+    bounds.setLow(0, g.origin().x);
+    bounds.setHigh(0, g.origin().x + g.width() * g.resolution());
+    bounds.setLow(1, g.origin().y);
+    bounds.setHigh(1, g.origin().y + g.height() * g.resolution());
+    space->setBounds(bounds);
+    auto si = std::make_shared<ob::SpaceInformation>(space);
+    si->setStateValidityChecker([&cm, r](const ob::State* s) {
+      const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
+      return cm.disc_free(Point2{v->values[0], v->values[1]}, r);
+    });
+    si->setStateValidityCheckingResolution(step / space->getMaximumExtent());
+    si->setup();
+    og::PathGeometric pg(si);
+    ob::ScopedState<ob::RealVectorStateSpace> st(space);
+    for (const Point2& p : result.points) {
+      st[0] = p.x;
+      st[1] = p.y;
+      pg.append(st.get());
+    }
+    // B-spline smoothing only replaces a corner when the new motion is valid,
+    // so stretches that were clear stay clear.
+    og::PathSimplifier simplifier(si);
+    simplifier.smoothBSpline(pg, opt.smoothing_passes);
+    std::vector<Point2> smoothed;
+    for (std::size_t i = 0; i < pg.getStateCount(); ++i) {
+      const auto* v = pg.getState(i)->as<ob::RealVectorStateSpace::StateType>();
+      smoothed.push_back(Point2{v->values[0], v->values[1]});
+    }
+    // Keep the smoothing only if it did not make things worse anywhere.
+    double before = 1e300, after = 1e300;
+    for (std::size_t i = 1; i < result.points.size(); ++i)
+      before = std::min(before, segment_clearance(cm, result.points[i - 1], result.points[i], step));
+    for (std::size_t i = 1; i < smoothed.size(); ++i)
+      after = std::min(after, segment_clearance(cm, smoothed[i - 1], smoothed[i], step));
+    if (after >= std::min(before, r)) result.points = std::move(smoothed);
+  }
+  result.length = path_length(result.points);
+  result.min_clearance = cm.free_distance(result.points.front());
+  for (std::size_t i = 1; i < result.points.size(); ++i)
+    result.min_clearance = std::min(result.min_clearance, segment_clearance(cm, result.points[i - 1], result.points[i], step));
+  return result;
+}
+
+}  // namespace gather
