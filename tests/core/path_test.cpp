@@ -5,6 +5,7 @@
 #include <random>
 
 #include "gather_core/grid/clearance.hpp"
+#include "gather_core/fmm/path.hpp"
 #include "gather_core/path/path_polisher.hpp"
 
 namespace gather {
@@ -88,7 +89,7 @@ TEST(PathPolisher, ShortensAStaircaseAndKeepsClearance) {
   opt.robot_radius = 0.3;
   const PolishedPath p = polish_path(raw, cm, opt);
   EXPECT_LT(p.points.size(), raw.size() / 5);
-  EXPECT_LE(p.length, path_length(raw) + 1e-9);
+  EXPECT_LE(p.length, fmm::path_length(raw) + 1e-9);
   EXPECT_DOUBLE_EQ(p.points.front().x, raw.front().x);
   EXPECT_DOUBLE_EQ(p.points.back().y, raw.back().y);
   EXPECT_GE(p.min_clearance, 0.3);

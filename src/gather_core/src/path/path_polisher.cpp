@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "gather_core/error.hpp"
+#include "gather_core/fmm/path.hpp"
 
 namespace gather {
 namespace {
@@ -44,12 +45,6 @@ std::vector<Point2> shortcut(const std::vector<Point2>& in, const ClearanceMap& 
 }
 
 }  // namespace
-
-double path_length(const std::vector<Point2>& path) {
-  double len = 0.0;
-  for (std::size_t i = 1; i < path.size(); ++i) len += std::hypot(path[i].x - path[i - 1].x, path[i].y - path[i - 1].y);
-  return len;
-}
 
 PolishedPath polish_path(const std::vector<Point2>& path, const ClearanceMap& cm, const PolishOptions& opt) {
   if (path.empty()) throw Error("polish_path", "empty path");
@@ -99,7 +94,7 @@ PolishedPath polish_path(const std::vector<Point2>& path, const ClearanceMap& cm
       after = std::min(after, segment_clearance(cm, smoothed[i - 1], smoothed[i], step));
     if (after >= std::min(before, r)) result.points = std::move(smoothed);
   }
-  result.length = path_length(result.points);
+  result.length = fmm::path_length(result.points);
   result.min_clearance = cm.free_distance(result.points.front());
   for (std::size_t i = 1; i < result.points.size(); ++i)
     result.min_clearance = std::min(result.min_clearance, segment_clearance(cm, result.points[i - 1], result.points[i], step));

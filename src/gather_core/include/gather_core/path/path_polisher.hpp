@@ -28,7 +28,4 @@ struct PolishedPath {
 PolishedPath polish_path(const std::vector<Point2>& path, const ClearanceMap& clearance,
                          const PolishOptions& options = {});
 
-// Length [m] of a polyline.
-double path_length(const std::vector<Point2>& path);
-
 }  // namespace gather
