@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <functional>
 #include <string>
 
 #include "gather_core/error.hpp"
@@ -50,8 +52,8 @@ inline Axis upwind_axis(const float* t, std::size_t n, std::size_t off, float fi
 inline float update_second(const float* t, std::size_t n, std::size_t stride, float c, float final_below) {
   const Axis x = upwind_axis(t, n, 1, final_below);
   const Axis y = upwind_axis(t, n, stride, final_below);
-  const float sx = x.beta + c / x.a;  // one-sided solutions
-  const float sy = y.beta + c / y.a;
+  const float sx = x.beta + c * (x.a > 1.0f ? 2.0f / 3.0f : 1.0f);  // one-sided solutions: beta + c / a
+  const float sy = y.beta + c * (y.a > 1.0f ? 2.0f / 3.0f : 1.0f);
   const float single = std::min(sx, sy);
   if (!(x.t1 < kInf) || !(y.t1 < kInf)) return single;
   // Two axes: a_x^2 (T-bx)^2 + a_y^2 (T-by)^2 = c^2, shifted by m so that float
@@ -67,6 +69,22 @@ inline float update_second(const float* t, std::size_t n, std::size_t stride, fl
   const float two = m + (B + std::sqrt(disc)) / A;
   if (two < std::max(x.t1, y.t1)) return single;  // not upwind of both neighbours
   return std::min(two, single);
+}
+
+// Sort key of a queued cell: the bits of a time >= 0 order like the time.
+inline uint64_t order_key(float time, uint32_t cell) {
+  uint32_t bits;
+  std::memcpy(&bits, &time, sizeof bits);
+  return (static_cast<uint64_t>(bits) << 32) | cell;
+}
+
+// The next float above a finite time >= 0 (std::nextafter without the call).
+inline float next_up(float v) {
+  uint32_t bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  ++bits;
+  std::memcpy(&v, &bits, sizeof bits);
+  return v;
 }
 
 // The label of a cell is that of its earliest neighbour: the front that set
@@ -301,10 +319,6 @@ void FastMarching::march_buckets(const SolveOptions& options) {
   std::size_t expanded = 0, pushed = 0;
   bool stopped = false;
   late_.clear();
-  // Ties broken by cell so that duplicate entries of one cell pop together.
-  auto later = [](const HeapEntry& a, const HeapEntry& b) {
-    return a.key > b.key || (a.key == b.key && a.index > b.index);
-  };
 
   auto relax = [&](uint32_t x, float tx, float final_below, uint64_t cur) {
     const std::size_t offs[4] = {1, s, static_cast<std::size_t>(-1), static_cast<std::size_t>(0) - s};
@@ -321,8 +335,8 @@ void FastMarching::march_buckets(const SolveOptions& options) {
         if (kLabels) lab[n] = lab[upwind_neighbour(t, n, s)];
         const uint64_t b = bucket_of(u);
         if (kExact && b <= cur) {
-          heap_.push_back(HeapEntry{u, static_cast<uint32_t>(n)});
-          std::push_heap(heap_.begin(), heap_.end(), later);
+          bheap_.push_back(order_key(u, static_cast<uint32_t>(n)));
+          std::push_heap(bheap_.begin(), bheap_.end(), std::greater<uint64_t>());
         } else if (b < cur) {
           late_.push_back(static_cast<uint32_t>(n));  // below the final edge (second order): expand now
         } else {
@@ -360,34 +374,37 @@ void FastMarching::march_buckets(const SolveOptions& options) {
     if constexpr (kExact) {
       // Exact order inside the bucket: its cells sorted once, merged with a
       // small heap of the cells that land in this bucket while it is expanded.
+      // Keys are (time bits << 32 | cell): times are >= 0, so their bits sort
+      // like the times, and duplicates of one cell end up side by side.
       sorted_.clear();
       for (uint32_t x : bucket)
-        if (bucket_of(t[x]) == cb) sorted_.push_back(HeapEntry{t[x], x});
+        if (bucket_of(t[x]) == cb) sorted_.push_back(order_key(t[x], x));
       pending -= bucket.size();
       bucket.clear();
-      std::sort(sorted_.begin(), sorted_.end(), [&](const HeapEntry& p, const HeapEntry& q) { return later(q, p); });
-      heap_.clear();
+      std::sort(sorted_.begin(), sorted_.end());
+      bheap_.clear();
       std::size_t i = 0;
-      uint32_t last = ~uint32_t{0};
-      while (i < sorted_.size() || !heap_.empty()) {
-        HeapEntry e;
-        if (heap_.empty() || (i < sorted_.size() && !later(sorted_[i], heap_.front()))) {
+      uint64_t last = ~uint64_t{0};
+      while (i < sorted_.size() || !bheap_.empty()) {
+        uint64_t e;
+        if (bheap_.empty() || (i < sorted_.size() && sorted_[i] <= bheap_.front())) {
           e = sorted_[i++];
         } else {
-          std::pop_heap(heap_.begin(), heap_.end(), later);
-          e = heap_.back();
-          heap_.pop_back();
+          std::pop_heap(bheap_.begin(), bheap_.end(), std::greater<uint64_t>());
+          e = bheap_.back();
+          bheap_.pop_back();
         }
-        const float tx = t[e.index];
-        if (e.key != tx || e.index == last) continue;  // improved since, or a duplicate entry
-        last = e.index;
+        const uint32_t x = static_cast<uint32_t>(e);
+        const float tx = t[x];
+        if (e == last || order_key(tx, x) != e) continue;  // a duplicate, or improved since
+        last = e;
         if (tx > max_time) {
-          t[e.index] = kInf;
+          t[x] = kInf;
           stopped = true;
           continue;
         }
         ++expanded;
-        relax(e.index, tx, std::nextafter(tx, kInf), cb);
+        relax(x, tx, next_up(tx), cb);
       }
     } else {
       for (std::size_t i = 0; i < bucket.size(); ++i) {
@@ -554,7 +571,7 @@ void FastMarching::copy_labels(std::vector<int32_t>& out) const {
 std::size_t FastMarching::working_bytes() const {
   std::size_t b = mask_.capacity() + cost_.capacity() * sizeof(float) + times_.capacity() * sizeof(float) +
                   labels_.capacity() * sizeof(int32_t) + touched_.capacity() * sizeof(uint32_t) +
-                  heap_.capacity() * sizeof(HeapEntry) + sorted_.capacity() * sizeof(HeapEntry) + late_.capacity() * sizeof(uint32_t) + targets_.capacity() * sizeof(uint32_t) +
+                  heap_.capacity() * sizeof(HeapEntry) + (sorted_.capacity() + bheap_.capacity()) * sizeof(uint64_t) + late_.capacity() * sizeof(uint32_t) + targets_.capacity() * sizeof(uint32_t) +
                   seeds_.capacity() * sizeof(Seed) + sources_.capacity() * sizeof(Source);
   for (const auto& v : buckets_) b += v.capacity() * sizeof(uint32_t) + sizeof(v);
   return b;

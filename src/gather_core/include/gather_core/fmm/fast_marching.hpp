@@ -188,7 +188,8 @@ class FastMarching {
     uint32_t index;
   };
   std::vector<HeapEntry> heap_;
-  std::vector<HeapEntry> sorted_;
+  std::vector<uint64_t> sorted_;  // kSortedBuckets: the current bucket, sorted
+  std::vector<uint64_t> bheap_;   // kSortedBuckets: cells queued into the current bucket
   std::vector<uint32_t> late_;
   std::vector<uint32_t> targets_;
 
