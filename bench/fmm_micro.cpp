@@ -67,7 +67,7 @@ void BM_MultiSourceLabels(benchmark::State& state) {
   FastMarching fm(grid);
   std::vector<Source> src;
   for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 5; ++j) src.push_back(Source::at_cell({n / 8 + i * n / 4, n / 10 + j * n / 5}));
+    for (int j = 0; j < 5; ++j) src.push_back(Source::at_cell({n / 8 + i * n / 4, n / 20 + j * n / 5}));
   SolveOptions o;
   fm.solve(src, o);
   for (auto _ : state) {
