@@ -453,6 +453,35 @@ TEST(FastMarching, SlowAndBlockedCells) {
   EXPECT_NE(error_of([&] { fm.solve({Source::at_cell({3, 30})}); }).find("zero speed"), std::string::npos);
 }
 
+TEST(FastMarching, FrontSpeedFactorsMoveTheBoundary) {
+  const OccupancyGrid g = make_grid(200, 50, [](int, int) { return true; });
+  FastMarching fm(g);
+  const std::vector<Source> src{Source::at_cell({25, 50}), Source::at_cell({25, 150})};
+  for (Order order : {Order::kFirst, Order::kSecond}) {
+    SolveOptions o;
+    o.order = order;
+    o.front_speed = {2.0, 1.0};
+    fm.solve(src, o);
+    // Along the row: front 0 covers d0 at 2 m/s, front 1 at 1 m/s; they meet where
+    // d0 / 2 = 100 - d0, d0 = 66.7 (col 116.7).
+    EXPECT_NEAR(fm.time({25, 100}), 25.0, 0.01);
+    EXPECT_NEAR(fm.time({25, 30}), 10.0, 0.01);
+    EXPECT_NEAR(fm.time({25, 170}), 20.0, 0.01);
+    EXPECT_EQ(fm.label({25, 115}), 0);
+    EXPECT_EQ(fm.label({25, 119}), 1);
+    EXPECT_EQ(fm.label({5, 60}), 0);
+    EXPECT_EQ(fm.label({45, 190}), 1);
+  }
+  SolveOptions bad;
+  bad.front_speed = {1.0};
+  EXPECT_NE(error_of([&] { fm.solve(src, bad); }).find("front_speed"), std::string::npos);
+  bad.front_speed = {1.0, 0.0};
+  EXPECT_NE(error_of([&] { fm.solve(src, bad); }).find("source 1"), std::string::npos);
+  bad.front_speed = {1.0, 2.0};
+  bad.labels = false;
+  EXPECT_NE(error_of([&] { fm.solve(src, bad); }).find("labels"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace fmm
 }  // namespace gather

@@ -204,7 +204,8 @@ void FastMarching::seed(const std::vector<Source>& sources, bool labels) {
     }
     if (!traversable(base))
       throw Error(where, "cell " + cell_text(base) + " is an obstacle" + (cost_.empty() ? "" : " or has zero speed"));
-    const float base_cost = cost_at(padded(base));
+    const float base_cost =
+        cost_at(padded(base)) * (inv_front_speed_.empty() ? 1.0f : inv_front_speed_[i]);
     for (int dr = -1; dr <= 1; ++dr) {
       for (int dc = -1; dc <= 1; ++dc) {
         const Cell n{base.row + dr, base.col + dc};
@@ -214,7 +215,8 @@ void FastMarching::seed(const std::vector<Source>& sources, bool labels) {
           continue;
         const std::size_t p = padded(n);
         const double d = std::hypot(n.col + 0.5 - qx, n.row + 0.5 - qy);  // [cells]
-        const double cost = (dr == 0 && dc == 0) ? base_cost : 0.5 * (base_cost + cost_at(p));
+        const double scale = inv_front_speed_.empty() ? 1.0 : inv_front_speed_[i];
+        const double cost = (dr == 0 && dc == 0) ? base_cost : 0.5 * (base_cost + cost_at(p) * scale);
         const float v = static_cast<float>(d * cost);
         seeds_.push_back(Seed{static_cast<uint32_t>(p), static_cast<int32_t>(i), v});
         if (v < times_[p]) {
@@ -247,6 +249,19 @@ const SolveStats& FastMarching::solve(const std::vector<Source>& sources, const 
     if (!contains(c))
       throw Error("target " + std::to_string(i), "cell " + cell_text(c) + " is off the map");
     if (traversable(c)) targets_.push_back(static_cast<uint32_t>(padded(c)));  // an obstacle is never reached
+  }
+  inv_front_speed_.clear();
+  if (!options.front_speed.empty()) {
+    if (options.front_speed.size() != sources.size())
+      throw Error("fmm", "front_speed has " + std::to_string(options.front_speed.size()) + " factors for " +
+                             std::to_string(sources.size()) + " sources");
+    if (!options.labels) throw Error("fmm", "front_speed needs labels");
+    for (std::size_t i = 0; i < options.front_speed.size(); ++i) {
+      const double w = options.front_speed[i];
+      if (!(w > 0.0) || !std::isfinite(w))
+        throw Error("source " + std::to_string(i), "front speed factor " + std::to_string(w) + " (must be > 0)");
+      inv_front_speed_.push_back(static_cast<float>(1.0 / w));
+    }
   }
   if (options.labels && labels_.size() != mask_.size()) labels_.assign(mask_.size(), -1);
   labels_on_ = options.labels;
@@ -293,6 +308,8 @@ void FastMarching::march_buckets(const SolveOptions& options) {
   const float* const cost = kUnit ? nullptr : cost_.data();
   const float ucost = unit_cost_;
   const std::size_t s = stride_;
+  const bool weighted = !inv_front_speed_.empty();
+  const float* const inv_w = inv_front_speed_.data();
 
   const double width = options.bucket_width > 0.0 ? options.bucket_width : (kExact ? 0.02 : 2.0);
   double delta = width * min_cost_;  // [s]
@@ -327,12 +344,17 @@ void FastMarching::march_buckets(const SolveOptions& options) {
       if (!mask[n]) continue;
       const float tn = t[n];
       if (!(tn > tx)) continue;
-      const float c = kUnit ? ucost : cost[n];
+      float c = kUnit ? ucost : cost[n];
+      std::size_t up = 0;
+      if (kLabels && weighted) {  // the front's own speed factor, from the front that leads here
+        up = upwind_neighbour(t, n, s);
+        c *= inv_w[lab[up]];
+      }
       const float u = kSecond ? update_second(t, n, s, c, final_below) : update_first(t, n, s, c);
       if (u < tn) {
         if (!(tn < kInf)) note_touched(static_cast<uint32_t>(n));
         t[n] = u;
-        if (kLabels) lab[n] = lab[upwind_neighbour(t, n, s)];
+        if (kLabels) lab[n] = lab[weighted ? up : upwind_neighbour(t, n, s)];
         const uint64_t b = bucket_of(u);
         if (kExact && b <= cur) {
           bheap_.push_back(order_key(u, static_cast<uint32_t>(n)));
@@ -454,6 +476,8 @@ void FastMarching::march_heap(const SolveOptions& options) {
   const float* const cost = kUnit ? nullptr : cost_.data();
   const float ucost = unit_cost_;
   const std::size_t s = stride_;
+  const bool weighted = !inv_front_speed_.empty();
+  const float* const inv_w = inv_front_speed_.data();
   auto later = [](const HeapEntry& a, const HeapEntry& b) { return a.key > b.key; };
 
   heap_.clear();
@@ -487,12 +511,17 @@ void FastMarching::march_heap(const SolveOptions& options) {
       if (!mask[n]) continue;
       const float tn = t[n];
       if (!(tn > tx)) continue;
-      const float c = kUnit ? ucost : cost[n];
+      float c = kUnit ? ucost : cost[n];
+      std::size_t up = 0;
+      if (kLabels && weighted) {  // the front's own speed factor, from the front that leads here
+        up = upwind_neighbour(t, n, s);
+        c *= inv_w[lab[up]];
+      }
       const float u = kSecond ? update_second(t, n, s, c, final_below) : update_first(t, n, s, c);
       if (u < tn) {
         if (!(tn < kInf)) note_touched(static_cast<uint32_t>(n));
         t[n] = u;
-        if (kLabels) lab[n] = lab[upwind_neighbour(t, n, s)];
+        if (kLabels) lab[n] = lab[weighted ? up : upwind_neighbour(t, n, s)];
         heap_.push_back(HeapEntry{u, static_cast<uint32_t>(n)});
         std::push_heap(heap_.begin(), heap_.end(), later);
         ++pushed;
@@ -571,7 +600,7 @@ void FastMarching::copy_labels(std::vector<int32_t>& out) const {
 std::size_t FastMarching::working_bytes() const {
   std::size_t b = mask_.capacity() + cost_.capacity() * sizeof(float) + times_.capacity() * sizeof(float) +
                   labels_.capacity() * sizeof(int32_t) + touched_.capacity() * sizeof(uint32_t) +
-                  heap_.capacity() * sizeof(HeapEntry) + (sorted_.capacity() + bheap_.capacity()) * sizeof(uint64_t) + late_.capacity() * sizeof(uint32_t) + targets_.capacity() * sizeof(uint32_t) +
+                  heap_.capacity() * sizeof(HeapEntry) + (sorted_.capacity() + bheap_.capacity()) * sizeof(uint64_t) + inv_front_speed_.capacity() * sizeof(float) + late_.capacity() * sizeof(uint32_t) + targets_.capacity() * sizeof(uint32_t) +
                   seeds_.capacity() * sizeof(Seed) + sources_.capacity() * sizeof(Source);
   for (const auto& v : buckets_) b += v.capacity() * sizeof(uint32_t) + sizeof(v);
   return b;

@@ -60,8 +60,12 @@ struct SolveOptions {
   // Stop once all these cells are final (other cells keep their time if it is
   // final, +inf otherwise). Empty: run until every reachable cell is reached.
   std::vector<Cell> targets;
-  // Track which source reached each cell first (costs 4 B/cell and ~10% time).
+  // Track which source reached each cell first (costs 4 B/cell and ~20% time).
   bool labels = true;
+  // Per-source factor (> 0) on the speed map: front i travels at
+  // front_speed[i] * F (e.g. to balance partition areas). Empty: all 1.
+  // Needs labels (a cell's speed is that of the front leading into it).
+  std::vector<double> front_speed;
   QueueKind queue = QueueKind::kAuto;
   // Bucket width [cells crossed at the fastest speed]; 0 = the measured best
   // (2 for kBuckets, 0.02 for kSortedBuckets). Changes speed, not the result.
@@ -92,7 +96,8 @@ class FastMarching {
 
   // Runs the march. Sources are labelled by their index in `sources`.
   // Throws gather::Error when `sources` is empty, a source is off the map or in
-  // an obstacle, a target is off the map, or the options are invalid.
+  // an obstacle, a target is off the map, or the options are invalid
+  // (front_speed of the wrong size, not > 0, or without labels).
   const SolveStats& solve(const std::vector<Source>& sources, const SolveOptions& options = {});
 
   // --- results of the last solve -------------------------------------------
@@ -193,6 +198,7 @@ class FastMarching {
   std::vector<uint32_t> late_;
   std::vector<uint32_t> targets_;
 
+  std::vector<float> inv_front_speed_;  // 1 / SolveOptions::front_speed of the current solve
   std::vector<Source> sources_;
   std::vector<Seed> seeds_;
   SolveStats stats_;
