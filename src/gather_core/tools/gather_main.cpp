@@ -20,6 +20,9 @@ const Subcommand kSubcommands[] = {
     {"fmm", gather::cmd::fmm,
      "fmm --map FILE --source ROW,COL [--sources-file F] [--order 1|2] [--out T.npy] [--labels L.npy] "
      "[--repeat K]  Fast Marching arrival times (image rows, 0 = top)"},
+    {"partition", gather::cmd::partition,
+     "partition SCENARIO --method bap|pap|rap --workers N [--seed K] [--gt GT.png] --out DIR | --compare --workers N "
+     "--out DIR | --report [--workers N] [--repeat K] SCENARIO...  working areas, figures, metrics"},
 };
 
 void usage(FILE* out) {

@@ -1,0 +1,121 @@
+#pragma once
+// Labelled fronts for the partitions: a first-order Fast Marching march on a
+// region of the grid with what the segmentations need and fmm::FastMarching
+// does not offer: a start time per front (additive weights that balance
+// areas), fronts confined to a label image, a front that stops after a given
+// number of cells, and an "only where it gets closer" march for incremental
+// distance-to-a-set updates.
+//
+// Each front is its own Eikonal solution (a cell's update uses only neighbours
+// of the front that reaches it), and a cell takes the label of the front that
+// reached it first. A cell's label is inherited from an accepted 4-neighbour of
+// the same front, so every label region is 4-connected to its source.
+//
+// Layout: padded flat arrays (1-cell border of obstacles); no allocation per
+// march once the queue has grown; arrays are reset through a touched list.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace gather {
+namespace partition {
+
+class FrontGrowth {
+ public:
+  // `region`: row-major width*height mask (row 0 = bottom), 1 = the fronts may
+  // cover the cell. resolution [m/cell]. Unit speed: times are in metres.
+  FrontGrowth(int width, int height, double resolution, const std::vector<uint8_t>& region);
+
+  // Slowness [s/m] per cell (row-major); empty = 1 everywhere. Must be > 0.
+  void set_slowness(const std::vector<float>& slowness);
+
+  struct Front {
+    std::size_t cell;   // row-major index, must be in the region
+    double start = 0.0; // [s] time the front starts (an additive weight)
+  };
+
+  // Grows every front over the region. `labels` (row-major, resized) gets
+  // k + 1 for cells first reached by front k, 0 elsewhere; a source cell always
+  // keeps its own label. `times` (optional) gets the arrival times [s].
+  // `confine` (optional, row-major): front k only enters cells with
+  // confine[cell] == k + 1.
+  void grow(const std::vector<Front>& fronts, std::vector<int32_t>& labels, std::vector<float>* times = nullptr,
+            const std::vector<int32_t>* confine = nullptr);
+
+  // Lowers dist[cell] (row-major [s], +inf = far) to the arrival time of one
+  // front from `cell`, marching only where it improves dist.
+  void lower(std::size_t cell, std::vector<float>& dist);
+
+  // --- quota growth (BAP) ------------------------------------------------
+  // Starts a new round: every region cell is available.
+  void reset_available();
+  bool available(std::size_t cell) const { return avail_[pad(cell)] != 0; }
+  // Whether taking `cell` keeps its available 4-neighbours locally connected
+  // (through its 8-neighbourhood), i.e. cannot split the available cells.
+  bool removable(std::size_t cell) const { return removable_padded(pad(cell)); }
+  // Grows one front from `seed` over available cells until it holds `quota`
+  // cells; skips (for as long as they stay so) cells whose taking would split
+  // the available cells, so what is left stays 4-connected. Taken cells get
+  // `label` in `labels` (row-major) and stop being available. Returns the
+  // number of cells taken (< quota when the front is boxed in).
+  std::size_t grow_quota(std::size_t seed, std::size_t quota, int32_t label, std::vector<int32_t>& labels);
+  // Makes the cells of `label` available again (an undone quota growth).
+  void release(int32_t label, std::vector<int32_t>& labels);
+  // Gives every still available cell `label` (the last segment).
+  std::size_t take_rest(int32_t label, std::vector<int32_t>& labels);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  std::size_t pad(std::size_t cell) const {
+    return (cell / static_cast<std::size_t>(width_) + 1) * stride_ + cell % static_cast<std::size_t>(width_) + 1;
+  }
+  std::size_t unpad(std::size_t p) const { return (p / stride_ - 1) * static_cast<std::size_t>(width_) + p % stride_ - 1; }
+  float cost(std::size_t p) const { return slowness_.empty() ? res_ : res_ * slowness_[p]; }
+  // First-order Eikonal update of p from accepted neighbours with label L.
+  float update(std::size_t p, int32_t label) const;
+  bool removable_padded(std::size_t p) const;
+  // p is a local cut of the available cells: 0 when its sides meet within the
+  // search, the number of pocket cells absorbed when closed pockets of at
+  // most `budget` cells were taken, kCutBlocked otherwise.
+  std::size_t resolve_cut(std::size_t p, std::size_t budget, int32_t label, std::vector<int32_t>& labels, float t);
+  static constexpr std::size_t kCutBlocked = static_cast<std::size_t>(-1);
+  static constexpr std::size_t kMaxPocketSearch = 20000;
+  static constexpr std::size_t kRetryCells = 256;
+  void push(float t, uint32_t p);
+  void reset_touched();
+
+  int width_, height_;
+  std::size_t stride_;
+  float res_;
+  std::vector<uint8_t> region_;    // padded
+  std::vector<uint8_t> avail_;     // padded, quota rounds
+  std::vector<float> slowness_;    // padded, empty = unit
+  std::vector<float> time_;        // padded
+  std::vector<int32_t> label_;     // padded
+  std::vector<uint8_t> state_;     // padded: 0 far, 1 band, 2 accepted, 3 pinned source, 4 blocked
+  std::vector<uint32_t> touched_;
+  std::vector<uint32_t> visit_;    // padded BFS stamps (cut resolution)
+  uint32_t stamp_ = 0;
+  std::vector<uint8_t> side_;     // padded BFS side of a visited cell
+  std::vector<uint32_t> tried_;   // padded: taken + 1 at the last failed cut search
+  std::vector<uint32_t> bfs_;
+  struct Saved {
+    uint32_t p;
+    uint8_t state;
+    float t;
+  };
+  std::vector<Saved> pocket_;  // cells absorbed by the cut being resolved, as they were
+  struct Entry {
+    float t;
+    uint32_t p;
+  };
+  std::vector<Entry> heap_;
+  std::vector<Entry> sources_;
+  std::vector<std::vector<uint32_t>> buckets_;
+  float min_slowness_ = 1.0f, max_slowness_ = 1.0f;
+};
+
+}  // namespace partition
+}  // namespace gather

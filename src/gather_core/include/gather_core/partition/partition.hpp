@@ -1,0 +1,74 @@
+#pragma once
+// Segmentation of the scenario into N_w working areas, one per worker (seed
+// paper, Sec. 3.1 "Scenario Segmentation", Fig. 1). Three methods share one
+// signature and one table (kMethods in partition.cpp):
+//   BAP  Balanced Area Partition: "uses FMM, extending N_w wavefront until
+//        cover all the free space" - areas balanced.
+//   PAP  Polygonal Area Partition: "initialization of N_w centroids in areas
+//        distant from obstacles, Fig. 1(b), and then moving these centroids,
+//        balancing the distances between them" - convex-ish cells.
+//   RAP  Room-like Area Partition: the same two phases, but "the wavefront is
+//        expanded in such a way that the resulting segments fit better the
+//        shape of the rooms" - fronts slow down near obstacles, stall in doors.
+//
+// Contract (all methods): every free cell 4-connected to the OC gets exactly
+// one label in 1..N_w, every other cell 0; each label's region is 4-connected
+// and non-empty; the same inputs and seed give the same labels.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gather_core/grid/occupancy_grid.hpp"
+
+namespace gather {
+namespace partition {
+
+enum class Method { kBap, kPap, kRap };
+
+// "bap" | "pap" | "rap" -> Method; throws gather::Error naming the bad name.
+Method parse_method(const std::string& name);
+const char* method_name(Method m);  // "bap", "pap", "rap"
+// Every method, in table order.
+std::vector<Method> all_methods();
+
+struct PartitionParams {
+  // PAP/RAP work on a coarse copy of the grid for the seed phase (Lloyd
+  // iterations) and label the full grid once at the end; coarse cells per
+  // side = the smallest factor that leaves <= this many coarse free cells.
+  std::size_t coarse_cells = 40000;
+  int lloyd_iterations = 12;
+  // PAP: additive front weights follow area imbalance; gain per iteration
+  // [fraction of the mean segment radius per unit of relative area error].
+  double pap_balance_gain = 0.5;
+  // RAP: front speed = clamp((clearance / rap_room_clearance)^rap_exponent,
+  // rap_min_speed, 1) [relative]; doors (clearance ~0.45 m) are slow.
+  double rap_room_clearance = 1.2;  // [m]
+  double rap_exponent = 2.0;
+  double rap_min_speed = 0.02;
+};
+
+struct PartitionResult {
+  Method method = Method::kBap;
+  int workers = 0;                 // N_w
+  int width = 0, height = 0;
+  std::vector<int32_t> labels;     // row-major (row 0 = bottom), 0 = no segment, k = segment k (1..N_w)
+  std::vector<Cell> seeds;         // per segment k-1: its final seed / wavefront start
+  std::vector<Cell> initial_seeds; // PAP/RAP: the centroid initialisation (Fig. 1b); BAP: empty
+  std::vector<float> clearance;    // row-major [m] distance to the nearest non-free cell
+  double runtime_ms = 0.0;         // wall time of partition_area()
+};
+
+// Splits the free space reachable from `oc` [cell] into `workers` segments.
+// `seed` drives the random choices (PAP/RAP: the first centroid among the
+// cells of near-maximal clearance); BAP uses none.
+// Throws gather::Error when the OC is off the map or not free, workers < 1,
+// or workers exceeds the number of reachable cells.
+PartitionResult partition_area(const OccupancyGrid& grid, Cell oc, Method method, int workers, unsigned seed = 1,
+                               const PartitionParams& params = {});
+
+// Distance [m] from each cell centre to the nearest non-free cell (row-major;
+// 0 on non-free cells). Exact Euclidean distance transform.
+std::vector<float> clearance_map(const OccupancyGrid& grid);
+
+}  // namespace partition
+}  // namespace gather

@@ -1,0 +1,232 @@
+// PAP and RAP (seed paper: "PAP and RAP routines consist of two phases:
+// initialization of N_w centroids in areas distant from obstacles, Fig. 1(b),
+// and then moving these centroids, balancing the distances between them. In
+// the case of RAP the wavefront is expanded in such a way that the resulting
+// segments fit better the shape of the rooms.")
+//
+// Reading built here:
+//  1. Centroid initialisation (Fig. 1b): farthest-point sampling where a
+//     cell's score is its geodesic distance to the centroids already placed
+//     times its clearance (capped at half the radius of a segment-sized disc):
+//     centroids land far from obstacles and far from each other.
+//  2. Lloyd iterations: N_w labelled FMM fronts from the centroids (a geodesic
+//     Voronoi partition); each centroid moves to the cell of its region
+//     nearest to the region's centre of mass.
+//     PAP: unit speed, and each front gets a start delay that grows when its
+//     region is larger than the mean (additive weights), which balances the
+//     areas; the cells come out convex-ish ("polygonal").
+//     RAP: the fronts travel at a speed that grows with clearance, so they
+//     run down the middle of rooms and corridors and stall in doorways,
+//     where the fronts of neighbouring rooms meet; the centre of mass is
+//     weighted by clearance so centroids stay in the middle of rooms.
+//  3. One labelled march on the full grid from the final centroids gives
+//     the labels (each label 4-connected to its centroid by construction).
+// Steps 1-2 run on a coarse copy of the grid (blocks of f x f cells) so the
+// whole partition costs about one full-resolution march.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "gather_core/partition/front_growth.hpp"
+#include "methods.hpp"
+
+namespace gather {
+namespace partition {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+float rap_slowness(float clearance, const PartitionParams& p) {
+  const double x = std::max(0.0, static_cast<double>(clearance)) / p.rap_room_clearance;
+  double v = p.rap_exponent == 2.0 ? x * x : std::pow(x, p.rap_exponent);
+  v = std::clamp(v, p.rap_min_speed, 1.0);
+  return static_cast<float>(1.0 / v);
+}
+
+// A coarse copy of the reachable space: blocks of f x f cells.
+struct Coarse {
+  int f = 1, width = 0, height = 0;
+  std::vector<uint8_t> region;      // coarse cells in the largest coarse component
+  std::vector<float> clearance;     // [m] mean over the block's reachable cells
+  std::vector<uint32_t> fine_cell;  // the block's reachable cell of largest clearance
+  std::size_t cells = 0;
+};
+
+Coarse make_coarse(const MethodInput& in, int f) {
+  const OccupancyGrid& g = in.grid;
+  Coarse c;
+  c.f = f;
+  c.width = (g.width() + f - 1) / f;
+  c.height = (g.height() + f - 1) / f;
+  const std::size_t n = static_cast<std::size_t>(c.width) * c.height;
+  std::vector<uint32_t> count(n, 0);
+  std::vector<float> best(n, -1.0f);
+  c.clearance.assign(n, 0.0f);
+  c.fine_cell.assign(n, 0);
+  for (int r = 0; r < g.height(); ++r)
+    for (int col = 0; col < g.width(); ++col) {
+      const std::size_t i = g.index(Cell{r, col});
+      if (!in.reachable[i]) continue;
+      const std::size_t b = static_cast<std::size_t>(r / f) * c.width + col / f;
+      ++count[b];
+      c.clearance[b] += in.clearance[i];
+      if (in.clearance[i] > best[b]) best[b] = in.clearance[i], c.fine_cell[b] = static_cast<uint32_t>(i);
+    }
+  std::vector<uint8_t> candidate(n, 0);
+  const uint32_t need = static_cast<uint32_t>((f * f + 1) / 2);
+  for (std::size_t b = 0; b < n; ++b) {
+    if (count[b]) c.clearance[b] /= static_cast<float>(count[b]);
+    candidate[b] = count[b] >= need ? 1 : 0;
+  }
+  // Keep the largest 4-connected component.
+  std::vector<int32_t> comp(n, 0);
+  std::vector<std::size_t> stack;
+  int32_t best_comp = 0;
+  std::size_t best_size = 0;
+  int32_t id = 0;
+  for (std::size_t s = 0; s < n; ++s) {
+    if (!candidate[s] || comp[s]) continue;
+    ++id;
+    std::size_t size = 0;
+    stack.assign(1, s);
+    comp[s] = id;
+    while (!stack.empty()) {
+      const std::size_t b = stack.back();
+      stack.pop_back();
+      ++size;
+      const int br = static_cast<int>(b / c.width), bc = static_cast<int>(b % c.width);
+      const int nr[4] = {br - 1, br + 1, br, br}, nc[4] = {bc, bc, bc - 1, bc + 1};
+      for (int k = 0; k < 4; ++k) {
+        if (nr[k] < 0 || nc[k] < 0 || nr[k] >= c.height || nc[k] >= c.width) continue;
+        const std::size_t q = static_cast<std::size_t>(nr[k]) * c.width + nc[k];
+        if (candidate[q] && !comp[q]) comp[q] = id, stack.push_back(q);
+      }
+    }
+    if (size > best_size) best_size = size, best_comp = id;
+  }
+  c.region.assign(n, 0);
+  for (std::size_t b = 0; b < n; ++b) c.region[b] = comp[b] == best_comp && best_comp ? 1 : 0;
+  c.cells = best_size;
+  return c;
+}
+
+void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
+  const OccupancyGrid& g = in.grid;
+  const PartitionParams& p = in.params;
+  const std::size_t nw = static_cast<std::size_t>(in.workers);
+
+  // Coarsest factor that keeps <= coarse_cells coarse cells, and >= 4 per segment.
+  int f = 1;
+  while (in.reachable_cells / static_cast<std::size_t>(f * f) > p.coarse_cells) ++f;
+  while (f > 1 && in.reachable_cells / static_cast<std::size_t>(f * f) < 4 * nw) --f;
+  Coarse c = make_coarse(in, f);
+  while (c.f > 1 && c.cells < 4 * nw) c = make_coarse(in, c.f - 1);
+  if (c.cells < nw) c = make_coarse(in, 1);  // f = 1: the coarse grid is the reachable space itself
+  const std::size_t cn = c.region.size();
+  const double res = g.resolution() * c.f;
+
+  FrontGrowth coarse(c.width, c.height, res, c.region);
+  if (rooms) {
+    std::vector<float> slow(cn, 1.0f);
+    for (std::size_t b = 0; b < cn; ++b) slow[b] = rap_slowness(c.clearance[b], p);
+    coarse.set_slowness(slow);
+  }
+
+  // 1. Centroid initialisation.
+  const double area = static_cast<double>(in.reachable_cells) * g.cell_area();
+  const double seg_radius = std::sqrt(area / static_cast<double>(nw) / kPi);  // [m]
+  const float clr_cap = static_cast<float>(0.5 * seg_radius);
+  float max_clr = 0.0f;
+  for (std::size_t b = 0; b < cn; ++b)
+    if (c.region[b]) max_clr = std::max(max_clr, c.clearance[b]);
+  std::vector<uint32_t> top;
+  for (std::size_t b = 0; b < cn; ++b)
+    if (c.region[b] && c.clearance[b] >= 0.9f * max_clr) top.push_back(static_cast<uint32_t>(b));
+  std::mt19937 rng(in.seed);
+  std::vector<std::size_t> seeds;
+  seeds.push_back(top[std::uniform_int_distribution<std::size_t>(0, top.size() - 1)(rng)]);
+  std::vector<float> dist(cn, std::numeric_limits<float>::infinity());
+  std::vector<uint8_t> is_seed(cn, 0);
+  is_seed[seeds[0]] = 1;
+  while (seeds.size() < nw) {
+    coarse.lower(seeds.back(), dist);
+    std::size_t best = cn;
+    double best_score = -1.0;
+    for (std::size_t b = 0; b < cn; ++b) {
+      if (!c.region[b] || is_seed[b]) continue;
+      const double score = static_cast<double>(dist[b]) * (1e-3 + std::min(c.clearance[b], clr_cap));
+      if (score > best_score) best_score = score, best = b;
+    }
+    seeds.push_back(best);
+    is_seed[best] = 1;
+  }
+  out.initial_seeds.clear();
+  for (std::size_t s : seeds) out.initial_seeds.push_back(g.cell(c.fine_cell[s]));
+
+  // 2. Lloyd iterations on the coarse grid.
+  std::vector<double> delay(nw, 0.0);
+  std::vector<FrontGrowth::Front> fronts(nw);
+  std::vector<int32_t> labels;
+  std::vector<double> sx(nw), sy(nw), sw(nw), cnt(nw), best_d(nw);
+  for (int it = 0; it < p.lloyd_iterations; ++it) {
+    for (std::size_t k = 0; k < nw; ++k) fronts[k] = FrontGrowth::Front{seeds[k], delay[k]};
+    coarse.grow(fronts, labels);
+    std::fill(sx.begin(), sx.end(), 0.0);
+    std::fill(sy.begin(), sy.end(), 0.0);
+    std::fill(sw.begin(), sw.end(), 0.0);
+    std::fill(cnt.begin(), cnt.end(), 0.0);
+    for (std::size_t b = 0; b < cn; ++b) {
+      if (labels[b] <= 0) continue;
+      const std::size_t k = static_cast<std::size_t>(labels[b] - 1);
+      const double w = rooms ? std::max(1e-3, static_cast<double>(c.clearance[b])) : 1.0;
+      sx[k] += w * static_cast<double>(b % c.width);
+      sy[k] += w * static_cast<double>(b / c.width);
+      sw[k] += w;
+      cnt[k] += 1.0;
+    }
+    std::fill(best_d.begin(), best_d.end(), std::numeric_limits<double>::infinity());
+    std::vector<std::size_t> moved = seeds;
+    for (std::size_t b = 0; b < cn; ++b) {
+      if (labels[b] <= 0) continue;
+      const std::size_t k = static_cast<std::size_t>(labels[b] - 1);
+      const double dx = static_cast<double>(b % c.width) - sx[k] / sw[k];
+      const double dy = static_cast<double>(b / c.width) - sy[k] / sw[k];
+      const double d = dx * dx + dy * dy;
+      if (d < best_d[k]) best_d[k] = d, moved[k] = b;
+    }
+    seeds = moved;
+    if (!rooms) {
+      double mean = 0.0;
+      for (double a : cnt) mean += a;
+      mean /= static_cast<double>(nw);
+      for (std::size_t k = 0; k < nw; ++k) delay[k] += p.pap_balance_gain * seg_radius * (cnt[k] / mean - 1.0);
+      const double lo = *std::min_element(delay.begin(), delay.end());
+      for (double& d : delay) d -= lo;
+    }
+  }
+
+  // 3. Full-resolution labelling from the final centroids.
+  FrontGrowth fine(g.width(), g.height(), g.resolution(), in.reachable);
+  if (rooms) {
+    std::vector<float> slow(g.size(), 1.0f);
+    for (std::size_t i = 0; i < g.size(); ++i)
+      if (in.reachable[i]) slow[i] = rap_slowness(in.clearance[i], p);
+    fine.set_slowness(slow);
+  }
+  out.seeds.clear();
+  for (std::size_t k = 0; k < nw; ++k) {
+    const std::size_t cell = c.f == 1 ? seeds[k] : c.fine_cell[seeds[k]];
+    fronts[k] = FrontGrowth::Front{cell, delay[k]};
+    out.seeds.push_back(g.cell(cell));
+  }
+  fine.grow(fronts, out.labels);
+}
+
+}  // namespace
+
+void run_pap(const MethodInput& in, PartitionResult& out) { run_centroid(in, out, false); }
+void run_rap(const MethodInput& in, PartitionResult& out) { run_centroid(in, out, true); }
+
+}  // namespace partition
+}  // namespace gather

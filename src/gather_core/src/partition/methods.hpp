@@ -1,0 +1,30 @@
+#pragma once
+// The partition methods behind partition_area() (private to gather_core).
+#include <cstdint>
+#include <vector>
+
+#include "gather_core/grid/occupancy_grid.hpp"
+#include "gather_core/partition/partition.hpp"
+
+namespace gather {
+namespace partition {
+
+// What every method gets: the grid, the OC, the reachable cells and their
+// clearance, already validated (1 <= workers <= reachable cells).
+struct MethodInput {
+  const OccupancyGrid& grid;
+  Cell oc;
+  const std::vector<uint8_t>& reachable;  // row-major, 1 = reachable from the OC
+  std::size_t reachable_cells;
+  const std::vector<float>& clearance;    // row-major [m]
+  int workers;
+  unsigned seed;
+  const PartitionParams& params;
+};
+
+void run_bap(const MethodInput& in, PartitionResult& out);
+void run_pap(const MethodInput& in, PartitionResult& out);
+void run_rap(const MethodInput& in, PartitionResult& out);
+
+}  // namespace partition
+}  // namespace gather

@@ -1,0 +1,193 @@
+// Partitions BAP, PAP, RAP: the contract of partition.hpp on every scenario
+// of maps/ and ../shared/maps/ipa, edge cases of N_w, bad input, metrics.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "gather_core/error.hpp"
+#include "gather_core/figures/partition_figure.hpp"
+#include "gather_core/grid/reachability.hpp"
+#include "gather_core/partition/metrics.hpp"
+#include "gather_core/partition/partition.hpp"
+#include "gather_core/scenario/scenario.hpp"
+
+namespace gather {
+namespace partition {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string repo(const std::string& rel) { return std::string(GATHER_REPO_DIR) + "/" + rel; }
+
+// Every scenario of the contract. The campus (2200 x 2000 cells, 4.2 M free)
+// is left out: one BAP there takes several seconds.
+std::vector<std::string> contract_scenarios() {
+  std::vector<std::string> out;
+  for (const std::string& dir : {repo("maps"), repo("../shared/maps/ipa")}) {
+    if (!fs::exists(dir)) continue;
+    for (const auto& e : fs::directory_iterator(dir)) {
+      const std::string p = e.path().string();
+      if (p.size() > 14 && p.compare(p.size() - 14, 14, ".scenario.yaml") == 0 && p.find("campus") == std::string::npos)
+        out.push_back(p);
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The contract: reachable cells labelled 1..N_w, others 0, every label
+// non-empty and 4-connected.
+void expect_contract(const OccupancyGrid& g, Cell oc, const PartitionResult& p, int workers, const std::string& what) {
+  const std::vector<uint8_t> reach = reachable_from(g, oc);
+  ASSERT_EQ(p.labels.size(), g.size()) << what;
+  std::vector<std::size_t> count(static_cast<std::size_t>(workers) + 1, 0), first(count.size(), g.size());
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    const int32_t l = p.labels[i];
+    ASSERT_EQ(reach[i] != 0, l > 0) << what << " cell " << i;
+    ASSERT_LE(l, workers) << what;
+    ASSERT_GE(l, 0) << what;
+    ++count[l];
+    if (first[l] == g.size()) first[l] = i;
+  }
+  std::vector<uint8_t> seen(g.size(), 0);
+  std::vector<std::size_t> stack;
+  const std::size_t w = static_cast<std::size_t>(g.width());
+  for (int k = 1; k <= workers; ++k) {
+    ASSERT_GT(count[k], 0u) << what << " segment " << k << " is empty";
+    std::size_t n = 0;
+    stack.assign(1, first[k]);
+    seen[first[k]] = 1;
+    while (!stack.empty()) {
+      const std::size_t i = stack.back();
+      stack.pop_back();
+      ++n;
+      const std::size_t col = i % w;
+      const std::size_t nb[4] = {col > 0 ? i - 1 : i, col + 1 < w ? i + 1 : i, i >= w ? i - w : i,
+                                 i + w < g.size() ? i + w : i};
+      for (std::size_t j : nb)
+        if (!seen[j] && p.labels[j] == k) seen[j] = 1, stack.push_back(j);
+    }
+    EXPECT_EQ(n, count[k]) << what << " segment " << k << " is not 4-connected";
+  }
+}
+
+TEST(Partition, ContractOnEveryMap) {
+  const auto scenarios = contract_scenarios();
+  ASSERT_GE(scenarios.size(), 3u);
+  for (const std::string& path : scenarios) {
+    const Scenario sc = load_scenario(path);
+    const Cell oc = sc.grid.world_to_cell(sc.oc);
+    for (Method m : all_methods()) {
+      const PartitionResult p = partition_area(sc.grid, oc, m, 8, 1);
+      expect_contract(sc.grid, oc, p, 8, path + " " + method_name(m));
+      EXPECT_EQ(p.seeds.size(), 8u);
+    }
+  }
+}
+
+TEST(Partition, OneAndTwoHundredWorkers) {
+  const Scenario sc = load_scenario(repo("../shared/maps/ipa/Freiburg52_scan.scenario.yaml"));
+  const Cell oc = sc.grid.world_to_cell(sc.oc);
+  for (Method m : all_methods()) {
+    for (int n : {1, 200}) {
+      const PartitionResult p = partition_area(sc.grid, oc, m, n, 3);
+      expect_contract(sc.grid, oc, p, n, std::string(method_name(m)) + " N_w=" + std::to_string(n));
+    }
+  }
+}
+
+TEST(Partition, SameSeedSameResult) {
+  const Scenario sc = load_scenario(repo("../shared/maps/ipa/lab_ipa.scenario.yaml"));
+  const Cell oc = sc.grid.world_to_cell(sc.oc);
+  for (Method m : all_methods()) {
+    const PartitionResult a = partition_area(sc.grid, oc, m, 12, 7);
+    const PartitionResult b = partition_area(sc.grid, oc, m, 12, 7);
+    EXPECT_EQ(a.labels, b.labels) << method_name(m);
+  }
+}
+
+TEST(Partition, BapBalancesAreas) {
+  const Scenario sc = load_scenario(repo("../shared/maps/ipa/office_d.scenario.yaml"));
+  const PartitionResult p = partition_area(sc.grid, sc.grid.world_to_cell(sc.oc), Method::kBap, 20, 1);
+  EXPECT_LE(compute_metrics(sc.grid, p).area_cv, 0.05);
+}
+
+// Two 4 m x 3 m rooms joined by a 1 m door at 0.05 m/cell.
+OccupancyGrid two_rooms() {
+  const int w = 170, h = 60;
+  std::vector<int8_t> v(static_cast<std::size_t>(w) * h, 0);
+  std::vector<uint8_t> f(v.size(), 1);
+  auto wall = [&](int r, int c) { v[static_cast<std::size_t>(r) * w + c] = 100, f[static_cast<std::size_t>(r) * w + c] = 0; };
+  for (int r = 0; r < h; ++r) {
+    wall(r, 0), wall(r, w - 1);
+    for (int c = 80; c < 90; ++c)
+      if (r < 20 || r >= 40) wall(r, c);
+  }
+  for (int c = 0; c < w; ++c) wall(0, c), wall(h - 1, c);
+  return OccupancyGrid(w, h, 0.05, Point2{0, 0}, v, f);
+}
+
+TEST(Partition, RapSplitsAtTheDoor) {
+  const OccupancyGrid g = two_rooms();
+  const PartitionResult p = partition_area(g, Cell{30, 20}, Method::kRap, 2, 1);
+  expect_contract(g, Cell{30, 20}, p, 2, "two rooms");
+  const int32_t left = p.labels[g.index(Cell{30, 40})], right = p.labels[g.index(Cell{30, 130})];
+  EXPECT_NE(left, right);
+  // Each room belongs to one segment: agreement with the two rooms is high.
+  std::vector<int32_t> rooms(g.size(), 0);
+  for (std::size_t i = 0; i < g.size(); ++i)
+    if (g.free_mask()[i]) rooms[i] = static_cast<int>(i % g.width()) < 85 ? 1 : 2;
+  EXPECT_GT(room_agreement(p.labels, rooms).f1, 0.95);
+}
+
+TEST(Partition, RoomAgreementCountsBestMatches) {
+  // 4 cells: room 1 = {0,1}, room 2 = {2,3}; segments 1 = {0}, 2 = {1,2,3}.
+  const std::vector<int32_t> rooms{1, 1, 2, 2}, labels{1, 2, 2, 2};
+  const RoomAgreement a = room_agreement(labels, rooms);
+  EXPECT_DOUBLE_EQ(a.recall, 3.0 / 4.0);     // room 1: 1 of 2, room 2: 2 of 2
+  EXPECT_DOUBLE_EQ(a.precision, 3.0 / 4.0);  // segment 1: 1 of 1, segment 2: 2 of 3
+  EXPECT_EQ(a.rooms, 2);
+}
+
+TEST(Partition, GroundTruthRoomsOfOfficeA) {
+  const Scenario sc = load_scenario(repo("../shared/maps/ipa/office_a.scenario.yaml"));
+  int rooms = 0;
+  load_gt_rooms(repo("../shared/maps/ipa/office_a_gt_segmentation.png"), sc.grid, &rooms);
+  EXPECT_EQ(rooms, 27);
+}
+
+TEST(Partition, BadInputIsAClearError) {
+  const OccupancyGrid g = two_rooms();
+  EXPECT_THROW(partition_area(g, Cell{0, 0}, Method::kBap, 2), Error);      // OC in a wall
+  EXPECT_THROW(partition_area(g, Cell{-1, 5}, Method::kPap, 2), Error);     // off the map
+  EXPECT_THROW(partition_area(g, Cell{30, 20}, Method::kRap, 0), Error);    // N_w < 1
+  EXPECT_THROW(partition_area(g, Cell{30, 20}, Method::kBap, 100000), Error);  // more than the free cells
+  EXPECT_THROW(parse_method("voronoi"), Error);
+  try {
+    partition_area(g, Cell{30, 20}, Method::kBap, 100000);
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("larger than"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Partition, NeighbouringSegmentsGetDifferentColours) {
+  const Scenario sc = load_scenario(repo("../shared/maps/ipa/lab_c_scan.scenario.yaml"));
+  const PartitionResult p = partition_area(sc.grid, sc.grid.world_to_cell(sc.oc), Method::kPap, 20, 1);
+  const std::vector<int> colour = figures::colour_segments(p.labels, p.width, p.height, 20, 16);
+  for (int r = 0; r + 1 < p.height; ++r)
+    for (int c = 0; c + 1 < p.width; ++c) {
+      const std::size_t i = static_cast<std::size_t>(r) * p.width + c;
+      for (std::size_t j : {i + 1, i + static_cast<std::size_t>(p.width)}) {
+        const int32_t a = p.labels[i], b = p.labels[j];
+        if (a > 0 && b > 0 && a != b) {
+          ASSERT_NE(colour[a - 1], colour[b - 1]);
+        }
+      }
+    }
+}
+
+}  // namespace
+}  // namespace partition
+}  // namespace gather
