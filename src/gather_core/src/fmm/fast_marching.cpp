@@ -98,6 +98,38 @@ inline std::size_t upwind_neighbour(const float* t, std::size_t n, std::size_t s
   return best;
 }
 
+// Label of an expanded cell from the cell `steps` cells back along its
+// characteristic (against the upwind gradient), when the straight way there is
+// free and earlier. Copying the label of the earliest neighbour alone snaps the
+// characteristic to a grid axis at every cell, and near a collision of two
+// fronts that drift adds up; looking several cells back bounds it.
+inline void look_back_label(const float* t, int32_t* lab, const uint8_t* mask, std::size_t stride, uint32_t x,
+                            int steps) {
+  const float tx = t[x];
+  const float l = t[x - 1], r = t[x + 1], d = t[x - stride], u = t[x + stride];
+  // Inside one front's region the neighbour's label is right: look back only
+  // where a reached neighbour carries another label (where drift would start).
+  const int32_t lx = lab[x];
+  if (!((l < kInf && lab[x - 1] != lx) || (r < kInf && lab[x + 1] != lx) || (d < kInf && lab[x - stride] != lx) ||
+        (u < kInf && lab[x + stride] != lx)))
+    return;
+  float gx = 0.0f, gy = 0.0f;
+  if (std::min(l, r) < tx) gx = l < r ? tx - l : r - tx;
+  if (std::min(d, u) < tx) gy = d < u ? tx - d : u - tx;
+  const float g = std::sqrt(gx * gx + gy * gy);
+  if (!(g > 0.0f)) return;
+  const float dx = -gx / g, dy = -gy / g;
+  const float px = static_cast<float>(x % stride), py = static_cast<float>(x / stride);
+  std::size_t m = x;
+  for (int k = 1; k <= steps; ++k) {
+    // Padded coordinates stay >= 0 (the walk stops at the border), so +0.5 and truncation round.
+    const auto cx = static_cast<std::size_t>(px + k * dx + 0.5f), cy = static_cast<std::size_t>(py + k * dy + 0.5f);
+    m = cy * stride + cx;
+    if (!mask[m] || !(t[m] < tx)) return;  // blocked or not upwind: keep the neighbour's label
+  }
+  lab[x] = lab[m];
+}
+
 }  // namespace
 
 FastMarching::FastMarching(const OccupancyGrid& grid)
@@ -243,6 +275,8 @@ const SolveStats& FastMarching::solve(const std::vector<Source>& sources, const 
   if (!(options.bucket_width >= 0.0) || !std::isfinite(options.bucket_width))
     throw Error("fmm", "bucket_width must be >= 0");
   if (std::isnan(options.max_time) || options.max_time < 0.0) throw Error("fmm", "max_time must be >= 0");
+  if (options.label_look_back < 0 || options.label_look_back > 64)
+    throw Error("fmm", "label_look_back must be in 0..64 cells");
   targets_.clear();
   for (std::size_t i = 0; i < options.targets.size(); ++i) {
     const Cell c = options.targets[i];
@@ -310,6 +344,7 @@ void FastMarching::march_buckets(const SolveOptions& options) {
   const std::size_t s = stride_;
   const bool weighted = !inv_front_speed_.empty();
   const float* const inv_w = inv_front_speed_.data();
+  const int look_back = options.label_look_back;
 
   const double width = options.bucket_width > 0.0 ? options.bucket_width : (kExact ? 0.02 : 2.0);
   double delta = width * min_cost_;  // [s]
@@ -338,6 +373,7 @@ void FastMarching::march_buckets(const SolveOptions& options) {
   late_.clear();
 
   auto relax = [&](uint32_t x, float tx, float final_below, uint64_t cur) {
+    if (kLabels && look_back > 0) look_back_label(t, lab, mask, s, x, look_back);
     const std::size_t offs[4] = {1, s, static_cast<std::size_t>(-1), static_cast<std::size_t>(0) - s};
     for (std::size_t k = 0; k < 4; ++k) {
       const std::size_t n = x + offs[k];
@@ -478,6 +514,7 @@ void FastMarching::march_heap(const SolveOptions& options) {
   const std::size_t s = stride_;
   const bool weighted = !inv_front_speed_.empty();
   const float* const inv_w = inv_front_speed_.data();
+  const int look_back = options.label_look_back;
   auto later = [](const HeapEntry& a, const HeapEntry& b) { return a.key > b.key; };
 
   heap_.clear();
@@ -504,7 +541,8 @@ void FastMarching::march_heap(const SolveOptions& options) {
     if (targets_left > 0 && std::find(targets_.begin(), targets_.end(), x) != targets_.end()) {
       if (--targets_left == 0) stopped = true;  // expand it anyway: harmless, keeps neighbours consistent
     }
-    const float final_below = std::nextafter(tx, kInf);
+    const float final_below = next_up(tx);
+    if (kLabels && look_back > 0) look_back_label(t, lab, mask, s, x, look_back);
     const std::size_t offs[4] = {1, s, static_cast<std::size_t>(-1), static_cast<std::size_t>(0) - s};
     for (std::size_t k = 0; k < 4; ++k) {
       const std::size_t n = x + offs[k];

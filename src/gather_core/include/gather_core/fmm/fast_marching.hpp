@@ -66,6 +66,10 @@ struct SolveOptions {
   // front_speed[i] * F (e.g. to balance partition areas). Empty: all 1.
   // Needs labels (a cell's speed is that of the front leading into it).
   std::vector<double> front_speed;
+  // Labels: an expanded cell takes the label of the cell this many cells back
+  // along its characteristic (when the way is free), instead of its earliest
+  // neighbour's only. 0 = neighbour only (fastest, drifts near collisions).
+  int label_look_back = 6;
   QueueKind queue = QueueKind::kAuto;
   // Bucket width [cells crossed at the fastest speed]; 0 = the measured best
   // (2 for kBuckets, 0.02 for kSortedBuckets). Changes speed, not the result.
