@@ -180,9 +180,11 @@ double path_length(const std::vector<Point2>& path) {
 }
 
 double geodesic_time(FastMarching& fm, Point2 a, Point2 b, Order order) {
-  SolveOptions o;
+  // Reused between calls: a geodesic query allocates nothing once warm.
+  static thread_local SolveOptions o;
   o.order = order;
   o.labels = false;
+  o.targets.clear();
   const Q qb = to_cells(fm, b);
   if (!finite_q(qb)) return kUnreached;
   const Cell cb = cell_of(qb);
@@ -193,7 +195,9 @@ double geodesic_time(FastMarching& fm, Point2 a, Point2 b, Order order) {
     const Cell n{cb.row + dr[k], cb.col + dc[k]};
     if (fm.traversable(n)) o.targets.push_back(n);
   }
-  fm.solve({Source::at_point(a)}, o);
+  static thread_local std::vector<Source> src(1);
+  src[0] = Source::at_point(a);
+  fm.solve(src, o);
   return fm.time_at(b);
 }
 
