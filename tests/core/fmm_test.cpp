@@ -307,9 +307,11 @@ TEST(FastMarching, BadInputGivesClearErrors) {
   o.targets.clear();
   o.max_time = -1.0;
   EXPECT_NE(error_of([&] { fm.solve({Source::at_cell({0, 0})}, o); }).find("max_time"), std::string::npos);
-  // Messages name the source.
+  // Messages name the source; a failed solve leaves nothing reached.
   EXPECT_NE(error_of([&] { fm.solve({Source::at_cell({0, 0}), Source::at_cell({3, 4})}); }).find("source 1"),
             std::string::npos);
+  EXPECT_FALSE(fm.reached({0, 0}));
+  EXPECT_EQ(fm.count_reached(), 0u);
 }
 
 TEST(FastMarching, WorkspaceReuseGivesSameResultWithoutGrowing) {

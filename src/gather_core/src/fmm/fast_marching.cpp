@@ -302,7 +302,13 @@ const SolveStats& FastMarching::solve(const std::vector<Source>& sources, const 
   sources_ = sources;
 
   reset_times();
-  seed(sources, options.labels);
+  try {
+    seed(sources, options.labels);
+  } catch (...) {
+    reset_times();  // no half-seeded field is left behind: everything reads unreached
+    seeds_.clear();
+    throw;
+  }
   stats_ = SolveStats{};
 
   const bool unit = cost_.empty();
