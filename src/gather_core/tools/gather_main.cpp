@@ -23,6 +23,9 @@ const Subcommand kSubcommands[] = {
     {"partition", gather::cmd::partition,
      "partition SCENARIO --method bap|pap|rap --workers N [--seed K] [--gt GT.png] --out DIR | --compare --workers N "
      "--out DIR | --report [--workers N] [--repeat K] SCENARIO...  working areas, figures, metrics"},
+    {"plan", gather::cmd::plan,
+     "plan SCENARIO --out DIR [--config METHOD:NC] [--seed K] [--threads T]  deployment plan: utility sweep over "
+     "(method, N_c), plan.yaml, report.csv, Fig. 2 and Fig. 3 (estimated)"},
 };
 
 void usage(FILE* out) {

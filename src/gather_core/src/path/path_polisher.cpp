@@ -32,14 +32,32 @@ double segment_clearance(const ClearanceMap& cm, Point2 a, Point2 b, double step
 
 std::vector<Point2> shortcut(const std::vector<Point2>& in, const ClearanceMap& cm, double radius, double step) {
   std::vector<Point2> out{in.front()};
+  const std::size_t last = in.size() - 1;
   std::size_t i = 0;
-  while (i + 1 < in.size()) {
-    // The next point is always kept (the input's own segment), then extend
-    // the straight segment as far as it stays clear.
-    std::size_t j = i + 1;
-    while (j + 1 < in.size() && segment_clearance(cm, in[i], in[j + 1], step) >= radius) ++j;
-    out.push_back(in[j]);
-    i = j;
+  auto clear = [&](std::size_t a, std::size_t b) { return segment_clearance(cm, in[a], in[b], step) >= radius; };
+  while (i < last) {
+    // The next point is always reachable (the input's own segment). Gallop
+    // ahead while the straight segment stays clear, then bisect between the
+    // last clear and the first blocked end: O(log n) checks per kept point.
+    std::size_t good = i + 1, span = 1;
+    std::size_t bad = last + 1;
+    while (good < last) {
+      const std::size_t probe = std::min(last, i + 2 * span);
+      if (clear(i, probe)) {
+        good = probe;
+        span *= 2;
+      } else {
+        bad = probe;
+        break;
+      }
+    }
+    while (bad - good > 1) {
+      const std::size_t mid = good + (bad - good) / 2;
+      if (clear(i, mid)) good = mid;
+      else bad = mid;
+    }
+    out.push_back(in[good]);
+    i = good;
   }
   return out;
 }
@@ -85,6 +103,16 @@ PolishedPath polish_path(const std::vector<Point2>& path, const ClearanceMap& cm
     for (std::size_t i = 0; i < pg.getStateCount(); ++i) {
       const auto* v = pg.getState(i)->as<ob::RealVectorStateSpace::StateType>();
       smoothed.push_back(Point2{v->values[0], v->values[1]});
+    }
+    // B-spline smoothing doubles the vertices at each pass: keep one every
+    // `min_spacing` metres (chords that short stay within millimetres of the curve).
+    if (opt.min_spacing > 0 && smoothed.size() > 2) {
+      std::vector<Point2> thin{smoothed.front()};
+      for (std::size_t i = 1; i + 1 < smoothed.size(); ++i)
+        if (std::hypot(smoothed[i].x - thin.back().x, smoothed[i].y - thin.back().y) >= opt.min_spacing)
+          thin.push_back(smoothed[i]);
+      thin.push_back(smoothed.back());
+      smoothed.swap(thin);
     }
     // Keep the smoothing only if it did not make things worse anywhere.
     double before = 1e300, after = 1e300;

@@ -34,11 +34,13 @@ Scenario load_scenario(const std::string& path) {
   s.oc = Point2{oc[0], oc[1]};
 
   const yaml::Fields team = f.section("team");
-  team.allow({"agents", "speed"});
+  team.allow({"agents", "speed", "radius"});
   s.team.agents = team.optional<int>("agents", s.team.agents);
   s.team.speed = team.optional<double>("speed", s.team.speed);
   require(s.team.agents >= 1, path, "team.agents must be >= 1, got " + std::to_string(s.team.agents));
   require(s.team.speed > 0 && std::isfinite(s.team.speed), path, "team.speed must be > 0 m/s, got " + num(s.team.speed));
+  s.team.radius = team.optional<double>("radius", s.team.radius);
+  require(s.team.radius >= 0 && std::isfinite(s.team.radius), path, "team.radius must be >= 0 m, got " + num(s.team.radius));
 
   const yaml::Fields radio = f.section("radio");
   radio.allow({"tx_power_dbm", "ref_loss_db", "exponent", "wall_loss_db", "max_walls", "sensitivity_dbm"});
@@ -54,12 +56,15 @@ Scenario load_scenario(const std::string& path) {
   require(r.max_walls >= 0, path, "radio.max_walls must be >= 0, got " + std::to_string(r.max_walls));
 
   const yaml::Fields mission = f.section("mission");
-  mission.allow({"goals_per_request", "cycles", "seed"});
+  mission.allow({"goals_per_request", "cycles", "seed", "period"});
   s.mission.goals_per_request = mission.optional<int>("goals_per_request", s.mission.goals_per_request);
   s.mission.cycles = mission.optional<int>("cycles", s.mission.cycles);
   s.mission.seed = mission.optional<unsigned>("seed", s.mission.seed);
   require(s.mission.goals_per_request >= 1, path, "mission.goals_per_request must be >= 1");
   require(s.mission.cycles >= 1, path, "mission.cycles must be >= 1");
+  s.mission.period = mission.optional<double>("period", s.mission.period);
+  require(s.mission.period >= 0 && std::isfinite(s.mission.period), path,
+          "mission.period must be >= 0 s (0 = automatic), got " + num(s.mission.period));
 
   const yaml::Fields planner = f.section("planner");
   planner.allow({"methods", "collectors", "alpha", "beta"});

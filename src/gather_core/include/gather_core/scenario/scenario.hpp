@@ -9,8 +9,9 @@
 namespace gather {
 
 struct TeamParams {
-  int agents = 20;     // N >= 1
-  double speed = 0.5;  // [m/s] > 0
+  int agents = 20;      // N >= 1
+  double speed = 0.5;   // [m/s] > 0
+  double radius = 0.2;  // [m] robot radius: routes keep this clearance (extension of DESIGN's format)
 };
 
 // received [dBm] = tx - ref_loss - 10*exponent*log10(d / 1 m) - wall_loss * min(walls, max_walls)
@@ -27,6 +28,10 @@ struct MissionParams {
   int goals_per_request = 40;
   int cycles = 10;
   unsigned seed = 1;
+  // Time between two OC requests [s]; 0 = automatic: the time to travel from
+  // the OC's coverage to the farthest reachable point at team speed
+  // (extension of DESIGN's format; see docs/planner.md).
+  double period = 0.0;
 };
 
 struct PlannerParams {

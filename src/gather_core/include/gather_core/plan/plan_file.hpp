@@ -1,0 +1,47 @@
+#pragma once
+// plan.yaml: everything the agents need to execute a configuration (the
+// chosen method and N_c, the labels image, each agent's role, segment and
+// collector, collector routes as waypoints [m], meeting areas, the cycle
+// period and the estimates).
+#include <string>
+#include <vector>
+
+#include "gather_core/plan/planner.hpp"
+
+namespace gather {
+namespace plan {
+
+struct AgentAssignment {
+  int id = 0;
+  bool collector = false;
+  int segment = 0;     // workers: their segment 1..N_w; collectors: 0
+  int delivers_to = -1;  // workers: their collector 0..N_c-1, or -1 = the OC; collectors: their own index
+};
+
+struct PlanFile {
+  static constexpr const char* kFormat = "gather-plan/1";
+  std::string scenario;        // absolute path of the scenario file
+  std::string method;          // bap | pap | rap
+  int collectors = 0;
+  int workers = 0;
+  unsigned seed = 1;
+  std::string labels_png;      // relative to the plan file
+  double cycle_period_s = 0.0;
+  double est_refresh_s = 0.0;
+  double est_goals = 0.0;
+  double utility = 0.0;
+  std::vector<AgentAssignment> agents;
+  std::vector<CollectorRoute> routes;
+  std::vector<WorkerEstimate> workers_est;
+};
+
+// Agents 0..N_c-1 are the collectors, N_c..N-1 the workers of segments 1..N_w.
+PlanFile make_plan_file(const PlanContext& ctx, const ConfigurationPlan& cfg, const std::string& labels_png,
+                        unsigned seed);
+
+// Throws gather::Error naming the file on I/O or format errors.
+void write_plan_file(const std::string& path, const PlanFile& plan);
+PlanFile read_plan_file(const std::string& path);
+
+}  // namespace plan
+}  // namespace gather

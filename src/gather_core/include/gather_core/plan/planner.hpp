@@ -1,0 +1,129 @@
+#pragma once
+// The deployment planner (seed sec. 3.1 and 3.3, Fig. 2 and Fig. 3): for each
+// configuration (partition method, number of collectors N_c; N_w = N - N_c
+// workers) it partitions the map, builds the worker graph, groups worker
+// segments into collector groups grown from the OC outward, routes each
+// collector through meeting areas next to its workers' segments, associates
+// every worker with a collector or with the OC, and estimates the refresh
+// time and the goals delivered per cycle. The sweep compares all
+// configurations by the utility U and picks the best. The estimate model is
+// documented in docs/planner.md.
+#include <string>
+#include <vector>
+
+#include "gather_core/fmm/fast_marching.hpp"
+#include "gather_core/grid/clearance.hpp"
+#include "gather_core/partition/partition.hpp"
+#include "gather_core/plan/worker_graph.hpp"
+#include "gather_core/scenario/scenario.hpp"
+
+namespace gather {
+namespace plan {
+
+struct PlannerOptions {
+  unsigned seed = 1;            // partition seed
+  int threads = 2;              // configurations planned in parallel
+  double tsp_constant = 0.7124; // Beardwood-Halton-Hammersley constant of random tours in the plane
+  int smoothing_passes = 3;     // OMPL B-spline passes on collector routes
+};
+
+// Everything that does not depend on the configuration, computed once.
+struct PlanContext {
+  explicit PlanContext(const Scenario& scenario);
+  const Scenario& scenario;
+  Cell oc_cell;
+  std::vector<uint8_t> reachable;           // free cells 4-connected to the OC
+  std::size_t reachable_cells = 0;
+  double reachable_area = 0.0;              // [m^2]
+  std::vector<uint8_t> coverage;            // reachable cells linked to the OC by radio
+  std::vector<double> coverage_distance;    // [m] geodesic distance to the coverage, +inf unreachable
+  double farthest = 0.0;                    // [m] largest coverage_distance over reachable cells
+  double cycle_period = 0.0;                // [s] time between two OC requests
+  ClearanceMap clearance;
+  // Collector routes keep the robot radius from walls: they are marched on a
+  // speed map that is 1 where a robot fits and kTightSpeed elsewhere (so a
+  // route only squeezes through where there is no other way).
+  static constexpr double kTightSpeed = 0.05;
+  std::vector<double> route_speed;          // row-major [m/s relative]
+  std::vector<uint8_t> roomy;               // 1 where the robot fits (route_speed == 1)
+  fmm::FastMarching oc_field;               // solved from the OC on route_speed: legs from/to the OC
+};
+
+// Where a worker meets its collector: the route point nearest to the
+// segment's entry (where the request is handed over), and every stretch of the
+// route that passes next to the segment (where data can be handed over).
+struct MeetingArea {
+  int segment = 0;             // worker segment id
+  Point2 point;                // [m] on the route, next to the segment
+  double route_s = 0.0;        // [m] arc length of `point` from the route start
+  std::vector<double> passes;  // [m] arc lengths of the middles of the stretches passing next to the segment
+};
+
+// A collector's closed route: from the OC through its meeting areas and back
+// into the OC's coverage.
+struct CollectorRoute {
+  int collector = 0;              // 0..N_c-1
+  std::vector<int> segments;      // worker segments it serves, in visiting order
+  std::vector<Point2> waypoints;  // [m] polished, first and last at the OC
+  std::vector<MeetingArea> meetings;
+  double length = 0.0;            // [m]
+  double period = 0.0;            // [s] length / speed
+  double min_clearance = 0.0;     // [m] of the polished route
+  std::vector<double> coverage_entries;  // [m] arc lengths where the route enters the OC's coverage (uploads)
+};
+
+struct WorkerEstimate {
+  int segment = 0;
+  int collector = -1;             // -1: delivers to the OC directly
+  double expected_goals = 0.0;    // goals of one request falling in its segment
+  double delivered_goals = 0.0;   // of those, measured within the cycle
+  double tour_s = 0.0;            // [s] time to measure all its goals (tour + approach)
+  double refresh_s = 0.0;         // [s] mean request-to-delivery time of its goals
+};
+
+struct Estimates {
+  double refresh_s = 0.0;         // mean over delivered goals [s]
+  double goals = 0.0;             // delivered per cycle
+  std::vector<WorkerEstimate> workers;
+};
+
+struct StageTimes {
+  double partition_ms = 0, graph_ms = 0, groups_ms = 0, routes_ms = 0, estimate_ms = 0;
+  double total() const { return partition_ms + graph_ms + groups_ms + routes_ms + estimate_ms; }
+};
+
+struct ConfigurationPlan {
+  partition::Method method = partition::Method::kBap;
+  int collectors = 0;
+  int workers = 0;
+  partition::PartitionResult partition;
+  WorkerGraph graph;
+  std::vector<int> collector_of_segment;  // index k-1: collector of segment k, -1 = the OC
+  std::vector<CollectorRoute> routes;
+  Estimates estimates;
+  double utility = 0.0;
+  StageTimes times;
+};
+
+// Plans one configuration. Throws gather::Error if it cannot be planned
+// (collectors >= team size, more workers than reachable cells).
+ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method method, int collectors,
+                                     const PlannerOptions& options = {});
+
+struct SweepResult {
+  std::vector<ConfigurationPlan> configs;  // method-major, N_c ascending
+  int best = -1;                           // index of the highest utility
+  double wall_ms = 0.0;
+};
+
+// Plans every (method, N_c) of the scenario's planner section, on
+// options.threads threads, and sets each configuration's utility.
+SweepResult sweep(const PlanContext& ctx, const PlannerOptions& options = {});
+
+// U = alpha (1 - T_norm) + beta N_norm with T and N min-max normalised over
+// `configs` (a quantity equal in all of them normalises to 0). In [0, 1] when
+// alpha + beta = 1.
+void compute_utilities(std::vector<ConfigurationPlan>& configs, double alpha, double beta);
+
+}  // namespace plan
+}  // namespace gather

@@ -1,0 +1,41 @@
+#pragma once
+// The worker graph of a partition (seed Fig. 2a): one node per working
+// segment at its centroid, an edge between segments that share a border.
+#include <cstdint>
+#include <vector>
+
+#include "gather_core/grid/occupancy_grid.hpp"
+
+namespace gather {
+namespace plan {
+
+struct WorkerSegment {
+  int id = 0;                   // label 1..N_w
+  std::size_t cells = 0;
+  double area = 0.0;            // [m^2]
+  Cell centroid;                // segment cell nearest to its centre of mass
+  Point2 centroid_m;            // [m]
+  std::vector<int> neighbours;  // ids of segments sharing a 4-neighbour border, ascending
+  // Geodesic distance [m] from the OC's radio coverage to the segment's
+  // nearest cell (0 when the segment overlaps the coverage), and that cell:
+  // where the segment is cheapest to reach from the OC.
+  double coverage_distance = 0.0;
+  Cell entry;                   // preferably a cell where the robot fits (see build_worker_graph)
+  bool touches_coverage = false;  // some cell of the segment is linked to the OC
+};
+
+struct WorkerGraph {
+  std::vector<WorkerSegment> segments;  // index k-1 holds segment k
+  const WorkerSegment& segment(int id) const { return segments[static_cast<std::size_t>(id - 1)]; }
+};
+
+// `labels`: row-major partition labels (0 = none, 1..workers); `coverage`:
+// 1 on cells linked to the OC; `coverage_distance`: row-major geodesic
+// distance [m] to the coverage (+inf unreached). With `roomy` (1 where the
+// robot fits), the entry is the nearest such cell of the segment when it has one.
+WorkerGraph build_worker_graph(const OccupancyGrid& grid, const std::vector<int32_t>& labels, int workers,
+                               const std::vector<uint8_t>& coverage, const std::vector<double>& coverage_distance,
+                               const std::vector<uint8_t>* roomy = nullptr);
+
+}  // namespace plan
+}  // namespace gather

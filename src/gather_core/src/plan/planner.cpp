@@ -1,0 +1,471 @@
+#include "gather_core/plan/planner.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <thread>
+
+#include "gather_core/error.hpp"
+#include "gather_core/fmm/fast_marching.hpp"
+#include "gather_core/fmm/path.hpp"
+#include "gather_core/grid/reachability.hpp"
+#include "gather_core/path/path_polisher.hpp"
+#include "gather_core/plan/collector_groups.hpp"
+#include "gather_core/radio/radio_model.hpp"
+
+namespace gather {
+namespace plan {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+// Length [m] of a closed tour through n random goals of a region of `area`
+// [m^2], starting and ending at one depot (Beardwood-Halton-Hammersley).
+double tour_length(double n, double area, double c) { return n <= 0 ? 0.0 : c * std::sqrt((n + 1.0) * area); }
+
+// Largest number of goals (<= want) whose tour fits in `length` [m].
+double goals_within(double length, double area, double c, double want) {
+  if (length <= 0 || area <= 0) return length > 0 ? want : 0.0;
+  const double n = (length / c) * (length / c) / area - 1.0;
+  return std::clamp(n, 0.0, want);
+}
+
+double dist(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+// Order of the meeting points (indices into `d`, 0 = the OC) of a closed tour
+// from the OC: exact by dynamic programming up to 12 points, else nearest
+// neighbour followed by 2-opt. `d` is a symmetric matrix of geodesic lengths.
+std::vector<int> tour_order(const std::vector<std::vector<double>>& d) {
+  const int n = static_cast<int>(d.size()) - 1;  // meeting points
+  std::vector<int> order;
+  if (n <= 0) return order;
+  if (n <= 12) {
+    const int full = 1 << n;
+    std::vector<double> best(static_cast<std::size_t>(full) * n, kInf);
+    std::vector<int> prev(best.size(), -1);
+    for (int j = 0; j < n; ++j) best[(1u << j) * n + j] = d[0][j + 1];
+    for (int mask = 1; mask < full; ++mask)
+      for (int j = 0; j < n; ++j) {
+        const double b = best[static_cast<std::size_t>(mask) * n + j];
+        if (!(mask & (1 << j)) || b == kInf) continue;
+        for (int k = 0; k < n; ++k) {
+          if (mask & (1 << k)) continue;
+          const std::size_t to = static_cast<std::size_t>(mask | (1 << k)) * n + k;
+          if (b + d[j + 1][k + 1] < best[to]) best[to] = b + d[j + 1][k + 1], prev[to] = j;
+        }
+      }
+    int last = 0;
+    double total = kInf;
+    for (int j = 0; j < n; ++j) {
+      const double t = best[static_cast<std::size_t>(full - 1) * n + j] + d[j + 1][0];
+      if (t < total) total = t, last = j;
+    }
+    int mask = full - 1;
+    while (last >= 0) {
+      order.push_back(last + 1);
+      const int p = prev[static_cast<std::size_t>(mask) * n + last];
+      mask &= ~(1 << last);
+      last = p;
+    }
+    std::reverse(order.begin(), order.end());
+    return order;
+  }
+  std::vector<uint8_t> used(static_cast<std::size_t>(n) + 1, 0);
+  int at = 0;
+  for (int step = 0; step < n; ++step) {
+    int next = -1;
+    for (int k = 1; k <= n; ++k)
+      if (!used[k] && (next < 0 || d[at][k] < d[at][next])) next = k;
+    used[next] = 1;
+    order.push_back(next);
+    at = next;
+  }
+  auto at_pos = [&](int i) { return i < 0 || i >= n ? 0 : order[i]; };
+  for (bool improved = true; improved;) {
+    improved = false;
+    for (int i = 0; i < n - 1; ++i)
+      for (int j = i + 1; j < n; ++j) {
+        const double before = d[at_pos(i - 1)][at_pos(i)] + d[at_pos(j)][at_pos(j + 1)];
+        const double after = d[at_pos(i - 1)][at_pos(j)] + d[at_pos(i)][at_pos(j + 1)];
+        if (after + 1e-9 < before) {
+          std::reverse(order.begin() + i, order.begin() + j + 1);
+          improved = true;
+        }
+      }
+  }
+  return order;
+}
+
+// Builds the closed route of one collector through the entry cells of its
+// segments: geodesic legs from FMM, visiting order by exact/2-opt tour,
+// polished with OMPL.
+CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const WorkerGraph& graph,
+                           const std::vector<int32_t>& labels, const std::vector<int>& segments, int collector,
+                           const PlannerOptions& opt) {
+  const Scenario& s = ctx.scenario;
+  const OccupancyGrid& grid = s.grid;
+  CollectorRoute route;
+  route.collector = collector;
+  if (segments.empty()) {  // more collectors than segments to serve: this one stays at the OC
+    route.waypoints = {s.oc};
+    return route;
+  }
+  std::vector<Point2> pts{s.oc};
+  for (int k : segments) pts.push_back(grid.cell_center(graph.segment(k).entry));
+  const std::size_t n = pts.size();
+  // Visiting order on straight-line distances (cheap, and the legs between
+  // consecutive stops are short, so each leg's march stops early).
+  std::vector<std::vector<double>> d(n, std::vector<double>(n, 0.0));
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) d[i][j] = dist(pts[i], pts[j]);
+  const std::vector<int> order = tour_order(d);
+  std::vector<int> stops{0};
+  stops.insert(stops.end(), order.begin(), order.end());
+  stops.push_back(0);
+  PolishOptions po;
+  po.robot_radius = s.team.radius;
+  po.smoothing_passes = static_cast<unsigned>(std::max(0, opt.smoothing_passes));
+  route.waypoints = {pts[0]};
+  route.min_clearance = kInf;
+  fmm::SolveOptions so;
+  so.labels = false;
+  for (std::size_t t = 0; t + 1 < stops.size(); ++t) {
+    const Point2 a = pts[static_cast<std::size_t>(stops[t])], b = pts[static_cast<std::size_t>(stops[t + 1])];
+    std::vector<Point2> leg;
+    if (stops[t + 1] == 0) {  // back to the OC: down the OC's own field
+      leg = fmm::descend(ctx.oc_field, a);
+    } else if (stops[t] == 0) {  // out of the OC: the same, reversed
+      leg = fmm::descend(ctx.oc_field, b);
+      std::reverse(leg.begin(), leg.end());
+    } else {  // between two meeting areas: a short march from b that stops at a
+      so.targets.assign(1, grid.world_to_cell(a));
+      fm.solve({fmm::Source::at_point(b)}, so);
+      leg = fmm::descend(fm, a);
+    }
+    // Each leg is polished on its own, so the route goes through every
+    // meeting area exactly (and shortcuts never jump across the loop).
+    const PolishedPath polished = polish_path(leg, ctx.clearance, po);
+    route.waypoints.insert(route.waypoints.end(), polished.points.begin() + 1, polished.points.end());
+    route.length += polished.length;
+    route.min_clearance = std::min(route.min_clearance, polished.min_clearance);
+  }
+  route.period = route.length / s.team.speed;
+
+  // Arc length of every waypoint, then each meeting area at the route point
+  // nearest to its segment's entry cell, in visiting order.
+  std::vector<double> arc(route.waypoints.size(), 0.0);
+  for (std::size_t i = 1; i < arc.size(); ++i) arc[i] = arc[i - 1] + dist(route.waypoints[i - 1], route.waypoints[i]);
+  double from_s = 0.0;
+  for (int stop : order) {
+    const int seg = segments[static_cast<std::size_t>(stop - 1)];
+    const Point2 target = pts[static_cast<std::size_t>(stop)];
+    MeetingArea m;
+    m.segment = seg;
+    double best = kInf;
+    for (std::size_t i = 0; i + 1 < route.waypoints.size(); ++i) {
+      if (arc[i + 1] < from_s) continue;
+      // Nearest point on segment i..i+1.
+      const Point2 a = route.waypoints[i], b = route.waypoints[i + 1];
+      const double len2 = (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y);
+      const double t = len2 > 0 ? std::clamp(((target.x - a.x) * (b.x - a.x) + (target.y - a.y) * (b.y - a.y)) / len2, 0.0, 1.0) : 0.0;
+      const Point2 p{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+      const double e = dist(p, target);
+      if (e < best - 1e-9) best = e, m.point = p, m.route_s = arc[i] + t * std::sqrt(len2);
+    }
+    from_s = m.route_s;
+    route.meetings.push_back(m);
+    route.segments.push_back(seg);
+  }
+  // Passes: stretches of the route within kPassRadius of a served segment's
+  // cells, sampled every half metre; each stretch counts once, at its middle.
+  {
+    constexpr double kPassRadius = 1.0;  // [m] a worker this close hands data over on the move
+    const int rc = std::max(1, static_cast<int>(std::ceil(kPassRadius / grid.resolution())));
+    const double step = 0.5;
+    std::vector<double> open_since(segments.size(), -1.0);
+    auto seg_index = [&](int id) {
+      for (std::size_t i = 0; i < segments.size(); ++i)
+        if (segments[i] == id) return static_cast<int>(i);
+      return -1;
+    };
+    std::vector<uint8_t> near(segments.size());
+    const double total = arc.back();
+    for (double at = 0.0;; at = std::min(total, at + step)) {
+      const auto it = std::upper_bound(arc.begin(), arc.end(), at);
+      const std::size_t i = it == arc.begin() ? 0 : std::min<std::size_t>(static_cast<std::size_t>(it - arc.begin()) - 1, arc.size() - 2);
+      const double seg_len = arc[i + 1] - arc[i];
+      const double t = seg_len > 0 ? (at - arc[i]) / seg_len : 0.0;
+      const Point2 p{route.waypoints[i].x + t * (route.waypoints[i + 1].x - route.waypoints[i].x),
+                     route.waypoints[i].y + t * (route.waypoints[i + 1].y - route.waypoints[i].y)};
+      std::fill(near.begin(), near.end(), 0);
+      const Cell c = grid.world_to_cell(p);
+      for (int dr = -rc; dr <= rc; ++dr)
+        for (int dc = -rc; dc <= rc; ++dc) {
+          const Cell q{c.row + dr, c.col + dc};
+          if (!grid.contains(q) || dr * dr + dc * dc > rc * rc) continue;
+          const int k = seg_index(labels[grid.index(q)]);
+          if (k >= 0) near[static_cast<std::size_t>(k)] = 1;
+        }
+      for (std::size_t k = 0; k < segments.size(); ++k) {
+        if (near[k] && open_since[k] < 0) open_since[k] = at;
+        if ((!near[k] || at >= total) && open_since[k] >= 0) {
+          route.meetings[static_cast<std::size_t>(std::find(route.segments.begin(), route.segments.end(), segments[k]) -
+                                                  route.segments.begin())]
+              .passes.push_back(0.5 * (open_since[k] + at));
+          open_since[k] = -1.0;
+        }
+      }
+      if (at >= total) break;
+    }
+    for (MeetingArea& m : route.meetings)
+      if (m.passes.empty()) m.passes.push_back(m.route_s);  // the entry point itself
+  }
+  // Uploads: every point where the route comes (back) into the OC's coverage.
+  bool inside = true;  // it starts at the OC
+  for (std::size_t i = 0; i < route.waypoints.size(); ++i) {
+    const Cell c = grid.world_to_cell(route.waypoints[i]);
+    const bool in = grid.contains(c) && ctx.coverage[grid.index(c)];
+    if (in && !inside) route.coverage_entries.push_back(arc[i]);
+    inside = in;
+  }
+  if (route.coverage_entries.empty() || route.coverage_entries.back() < route.length)
+    route.coverage_entries.push_back(route.length);
+  return route;
+}
+
+// Distance [m] along the route from arc position `s` to where it next enters
+// the OC's coverage (the route ends at the OC, inside it).
+double upload_after(const CollectorRoute& r, double s) {
+  for (const double u : r.coverage_entries)
+    if (u >= s) return u - s;
+  return std::max(0.0, r.length - s);
+}
+
+Estimates estimate(const PlanContext& ctx, const ConfigurationPlan& cfg, const PlannerOptions& opt) {
+  const Scenario& s = ctx.scenario;
+  const double v = s.team.speed, T = ctx.cycle_period, c = opt.tsp_constant;
+  const double G = s.mission.goals_per_request;
+  Estimates e;
+  double weighted = 0.0;
+  for (const WorkerSegment& seg : cfg.graph.segments) {
+    WorkerEstimate w;
+    w.segment = seg.id;
+    w.collector = cfg.collector_of_segment[static_cast<std::size_t>(seg.id - 1)];
+    w.expected_goals = G * seg.area / ctx.reachable_area;
+    if (w.collector < 0) {
+      // To the OC: the worker leaves the coverage with a request, approaches
+      // its segment, tours, comes back and delivers. If that loop is longer
+      // than the request period it serves one request every k periods (the
+      // other requests' goals of its segment expire): per period it delivers
+      // the best over k of (goals measurable in a loop of k periods) / k.
+      const double approach = seg.touches_coverage ? 0.0 : seg.coverage_distance;
+      w.tour_s = (2.0 * approach + tour_length(w.expected_goals, seg.area, c)) / v;
+      double best_rate = 0.0, best_n = 0.0;
+      for (int k = 1; k <= 16; ++k) {
+        const double n = goals_within(k * v * T - 2.0 * approach, seg.area, c, w.expected_goals);
+        if (n / k > best_rate + 1e-12) best_rate = n / k, best_n = n;
+        if (n >= w.expected_goals) break;
+      }
+      w.delivered_goals = best_rate;
+      w.refresh_s = (2.0 * approach + tour_length(best_n, seg.area, c)) / v;
+    } else {
+      // Collector: the request arrives with the collector at the meeting area
+      // (it leaves the OC when the request is issued); the worker never leaves
+      // its segment and measures what fits in one request period, in
+      // sub-tours of one collector period, handing data over at each pass;
+      // the collector carries it into the OC's coverage.
+      const CollectorRoute& r = cfg.routes[static_cast<std::size_t>(w.collector)];
+      const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
+                                  [&](const MeetingArea& a) { return a.segment == seg.id; });
+      w.tour_s = tour_length(w.expected_goals, seg.area, c) / v;
+      w.delivered_goals = goals_within(v * T, seg.area, c, w.expected_goals);
+      const double start = m->route_s / v;
+      const double tour = tour_length(w.delivered_goals, seg.area, c) / v;
+      // Goals are measured evenly along the tour; each goal's data goes to the
+      // collector at its first pass next to the segment after the goal was
+      // measured, and reaches the OC where the route next enters coverage.
+      constexpr int kSamples = 16;
+      double sum = 0.0;
+      for (int i = 1; i <= kSamples; ++i) {
+        const double ready = start + tour * i / kSamples;
+        double best = kInf;
+        for (double pass : m->passes) {
+          const double loops = r.period > 0 ? std::max(0.0, std::ceil((ready - pass / v) / r.period - 1e-9)) : 0.0;
+          const double handover = pass / v + loops * r.period;
+          best = std::min(best, handover + upload_after(r, pass) / v);
+        }
+        sum += best;
+      }
+      w.refresh_s = sum / kSamples;
+    }
+    e.goals += w.delivered_goals;
+    weighted += w.delivered_goals * w.refresh_s;
+    e.workers.push_back(w);
+  }
+  e.refresh_s = e.goals > 0 ? weighted / e.goals : 0.0;
+  return e;
+}
+
+}  // namespace
+
+PlanContext::PlanContext(const Scenario& s) : scenario(s), clearance(s.grid), oc_field(s.grid) {
+  const OccupancyGrid& grid = s.grid;
+  oc_cell = grid.world_to_cell(s.oc);
+  reachable = reachable_from(grid, oc_cell);
+  reachable_cells = static_cast<std::size_t>(std::count(reachable.begin(), reachable.end(), 1));
+  reachable_area = reachable_cells * grid.cell_area();
+  if (reachable_cells == 0) throw Error(s.path, "no free space is reachable from the OC");
+  const RadioModel radio(grid, s.radio);
+  coverage = radio.coverage(s.oc);
+  for (std::size_t i = 0; i < coverage.size(); ++i) coverage[i] = coverage[i] && reachable[i];
+  coverage[grid.index(oc_cell)] = 1;
+  // Geodesic distance to the coverage: one march from its border cells.
+  std::vector<fmm::Source> sources;
+  const int w = grid.width(), h = grid.height();
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c) {
+      const std::size_t i = static_cast<std::size_t>(r) * w + c;
+      if (!coverage[i]) continue;
+      const bool border = (c == 0 || !coverage[i - 1]) || (c + 1 == w || !coverage[i + 1]) ||
+                          (r == 0 || !coverage[i - static_cast<std::size_t>(w)]) ||
+                          (r + 1 == h || !coverage[i + static_cast<std::size_t>(w)]);
+      if (border) sources.push_back(fmm::Source::at_cell(Cell{r, c}));
+    }
+  fmm::FastMarching fm(grid);
+  fmm::SolveOptions so;
+  so.labels = false;
+  fm.solve(sources, so);
+  fm.copy_times(coverage_distance);
+  for (std::size_t i = 0; i < coverage_distance.size(); ++i) {
+    if (coverage[i]) coverage_distance[i] = 0.0;
+    if (!reachable[i]) coverage_distance[i] = kInf;
+    else farthest = std::max(farthest, coverage_distance[i]);
+  }
+  route_speed.assign(grid.size(), 0.0);
+  roomy.assign(grid.size(), 0);
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    if (!reachable[i]) continue;
+    // The margin of a half cell diagonal makes every point of a roomy cell,
+    // not only its centre, keep the radius (see ClearanceMap::free_distance).
+    roomy[i] = clearance.disc_free(grid.cell_center(grid.cell(i)), s.team.radius + 0.5 * std::sqrt(2.0) * grid.resolution());
+    route_speed[i] = roomy[i] ? 1.0 : kTightSpeed;
+  }
+  oc_field.set_speed(route_speed);
+  fmm::SolveOptions from_oc;
+  from_oc.labels = false;
+  oc_field.solve({fmm::Source::at_point(s.oc)}, from_oc);
+  cycle_period = s.mission.period > 0 ? s.mission.period : farthest / s.team.speed;
+  if (cycle_period <= 0) cycle_period = 1.0;  // the whole space is covered: any period works
+}
+
+ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method method, int collectors,
+                                     const PlannerOptions& opt) {
+  const Scenario& s = ctx.scenario;
+  if (collectors < 0 || collectors >= s.team.agents)
+    throw Error(s.path, "cannot plan " + std::to_string(collectors) + " collectors for a team of " +
+                            std::to_string(s.team.agents) + " (at least one worker)");
+  ConfigurationPlan cfg;
+  cfg.method = method;
+  cfg.collectors = collectors;
+  cfg.workers = s.team.agents - collectors;
+
+  auto t0 = Clock::now();
+  cfg.partition = partition::partition_area(s.grid, ctx.oc_cell, method, cfg.workers, opt.seed);
+  cfg.partition.clearance.clear();
+  cfg.partition.clearance.shrink_to_fit();
+  cfg.times.partition_ms = ms_since(t0);
+
+  t0 = Clock::now();
+  cfg.graph = build_worker_graph(s.grid, cfg.partition.labels, cfg.workers, ctx.coverage, ctx.coverage_distance, &ctx.roomy);
+  cfg.times.graph_ms = ms_since(t0);
+
+  t0 = Clock::now();
+  std::vector<double> work;
+  for (const WorkerSegment& seg : cfg.graph.segments) {
+    const double g = s.mission.goals_per_request * seg.area / ctx.reachable_area;
+    work.push_back(tour_length(g, seg.area, opt.tsp_constant) / s.team.speed);
+  }
+  cfg.collector_of_segment = group_segments(cfg.graph, collectors, work);
+  cfg.times.groups_ms = ms_since(t0);
+
+  t0 = Clock::now();
+  fmm::FastMarching fm(s.grid);
+  fm.set_speed(ctx.route_speed);
+  for (int c = 0; c < collectors; ++c) {
+    std::vector<int> segs;
+    for (const WorkerSegment& seg : cfg.graph.segments)
+      if (cfg.collector_of_segment[static_cast<std::size_t>(seg.id - 1)] == c) segs.push_back(seg.id);
+    cfg.routes.push_back(build_route(ctx, fm, cfg.graph, cfg.partition.labels, segs, c, opt));
+  }
+  cfg.times.routes_ms = ms_since(t0);
+
+  t0 = Clock::now();
+  cfg.estimates = estimate(ctx, cfg, opt);
+  cfg.times.estimate_ms = ms_since(t0);
+  return cfg;
+}
+
+void compute_utilities(std::vector<ConfigurationPlan>& configs, double alpha, double beta) {
+  if (configs.empty()) return;
+  double tmin = kInf, tmax = -kInf, nmin = kInf, nmax = -kInf;
+  for (const auto& c : configs) {
+    tmin = std::min(tmin, c.estimates.refresh_s), tmax = std::max(tmax, c.estimates.refresh_s);
+    nmin = std::min(nmin, c.estimates.goals), nmax = std::max(nmax, c.estimates.goals);
+  }
+  const double sum = alpha + beta;
+  // Spreads below a millionth of the values are rounding, not differences.
+  const bool t_varies = tmax - tmin > 1e-6 * std::max(1.0, std::abs(tmax));
+  const bool n_varies = nmax - nmin > 1e-6 * std::max(1.0, std::abs(nmax));
+  for (auto& c : configs) {
+    const double tn = t_varies ? (c.estimates.refresh_s - tmin) / (tmax - tmin) : 0.0;
+    const double nn = n_varies ? (c.estimates.goals - nmin) / (nmax - nmin) : 0.0;
+    c.utility = (alpha * (1.0 - tn) + beta * nn) / (sum > 0 ? sum : 1.0);
+  }
+}
+
+SweepResult sweep(const PlanContext& ctx, const PlannerOptions& opt) {
+  const auto t0 = Clock::now();
+  const PlannerParams& pp = ctx.scenario.planner;
+  struct Job {
+    partition::Method method;
+    int collectors;
+  };
+  std::vector<Job> jobs;
+  for (const std::string& m : pp.methods)
+    for (int nc = pp.collectors_min; nc <= pp.collectors_max; ++nc) jobs.push_back(Job{partition::parse_method(m), nc});
+  SweepResult result;
+  result.configs.resize(jobs.size());
+  std::vector<std::string> errors(jobs.size());
+  std::atomic<std::size_t> next{0};
+  auto worker = [&]() {
+    for (std::size_t j; (j = next.fetch_add(1)) < jobs.size();) {
+      try {
+        result.configs[j] = plan_configuration(ctx, jobs[j].method, jobs[j].collectors, opt);
+      } catch (const std::exception& e) {
+        errors[j] = e.what();
+      }
+    }
+  };
+  const int threads = std::max(1, std::min<int>(opt.threads, static_cast<int>(jobs.size())));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  for (const std::string& e : errors)
+    if (!e.empty()) throw Error("", e);
+  compute_utilities(result.configs, pp.alpha, pp.beta);
+  for (std::size_t i = 0; i < result.configs.size(); ++i)
+    if (result.best < 0 || result.configs[i].utility > result.configs[static_cast<std::size_t>(result.best)].utility)
+      result.best = static_cast<int>(i);
+  result.wall_ms = ms_since(t0);
+  return result;
+}
+
+}  // namespace plan
+}  // namespace gather

@@ -1,0 +1,109 @@
+// gather plan SCENARIO --out DIR [--config METHOD:NC] [--seed K] [--threads T]:
+// the deployment planner. Sweeps (method, N_c) over the scenario's planner
+// section (or plans one configuration), writes plan.yaml for the best,
+// report.csv with one row per configuration, labels.png and the figures.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli.hpp"
+#include "commands.hpp"
+#include "gather_core/error.hpp"
+#include "gather_core/figures/partition_figure.hpp"
+#include "gather_core/figures/plan_figures.hpp"
+#include "gather_core/plan/plan_file.hpp"
+#include "gather_core/plan/planner.hpp"
+#include "gather_core/scenario/scenario.hpp"
+
+namespace gather {
+namespace cmd {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+void write_report(const std::string& path, const plan::SweepResult& sweep) {
+  std::ofstream out(path);
+  out << "method,collectors,workers,est_refresh_s,est_goals,utility,plan_ms,partition_ms,graph_ms,groups_ms,routes_ms,"
+         "estimate_ms\n";
+  char line[512];
+  for (const auto& c : sweep.configs) {
+    std::snprintf(line, sizeof line, "%s,%d,%d,%.3f,%.3f,%.4f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f\n",
+                  partition::method_name(c.method), c.collectors, c.workers, c.estimates.refresh_s, c.estimates.goals,
+                  c.utility, c.times.total(), c.times.partition_ms, c.times.graph_ms, c.times.groups_ms,
+                  c.times.routes_ms, c.times.estimate_ms);
+    out << line;
+  }
+  if (!out) throw Error(path, "cannot write report");
+}
+
+}  // namespace
+
+int plan(int argc, char** argv) {
+  cli::Args args(argc, argv, 2, {"--out", "--config", "--seed", "--threads"}, {});
+  if (args.positional().size() != 1 || !args.has("--out"))
+    throw cli::UsageError("usage: gather plan SCENARIO --out DIR [--config METHOD:NC] [--seed K] [--threads T]");
+  const auto t_start = Clock::now();
+  const Scenario s = load_scenario(args.positional()[0]);
+  plan::PlannerOptions opt;
+  opt.seed = static_cast<unsigned>(args.get_int("--seed", static_cast<int>(s.mission.seed)));
+  opt.threads = args.get_int("--threads", 2);
+  if (opt.threads < 1) throw cli::UsageError("--threads must be >= 1");
+  const std::string out = args.get("--out");
+
+  const auto t_ctx = Clock::now();
+  const plan::PlanContext ctx(s);
+  const double ctx_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_ctx).count();
+
+  plan::SweepResult sweep;
+  if (args.has("--config")) {
+    const std::string spec = args.get("--config");
+    const auto colon = spec.find(':');
+    if (colon == std::string::npos) throw cli::UsageError("--config expects METHOD:NC, e.g. pap:2, got '" + spec + "'");
+    const partition::Method method = partition::parse_method(spec.substr(0, colon));
+    char* end = nullptr;
+    const long nc = std::strtol(spec.c_str() + colon + 1, &end, 10);
+    if (*end != '\0' || colon + 1 == spec.size()) throw cli::UsageError("--config: N_c must be an integer, got '" + spec + "'");
+    const auto t0 = Clock::now();
+    sweep.configs.push_back(plan::plan_configuration(ctx, method, static_cast<int>(nc), opt));
+    plan::compute_utilities(sweep.configs, s.planner.alpha, s.planner.beta);
+    sweep.best = 0;
+    sweep.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  } else {
+    sweep = plan::sweep(ctx, opt);
+  }
+  const plan::ConfigurationPlan& best = sweep.configs[static_cast<std::size_t>(sweep.best)];
+
+  std::filesystem::create_directories(out);
+  write_report(out + "/report.csv", sweep);
+  figures::write_label_png(out + "/labels.png", best.partition);
+  plan::write_plan_file(out + "/plan.yaml", plan::make_plan_file(ctx, best, "labels.png", opt.seed));
+  figures::write_plan_figures(out, ctx, best);
+  if (sweep.configs.size() > 1) figures::write_estimates_figure(out + "/fig3_estimated.png", sweep, s.planner.methods);
+
+  std::printf("%-6s %3s %3s %12s %10s %8s %9s\n", "method", "Nc", "Nw", "refresh [s]", "goals", "U", "plan [ms]");
+  for (std::size_t i = 0; i < sweep.configs.size(); ++i) {
+    const auto& c = sweep.configs[i];
+    std::printf("%-6s %3d %3d %12.1f %10.2f %8.3f %9.0f%s\n", partition::method_name(c.method), c.collectors,
+                c.workers, c.estimates.refresh_s, c.estimates.goals, c.utility, c.times.total(),
+                static_cast<int>(i) == sweep.best ? "  <- best" : "");
+  }
+  plan::StageTimes sum;
+  for (const auto& c : sweep.configs) {
+    sum.partition_ms += c.times.partition_ms, sum.graph_ms += c.times.graph_ms, sum.groups_ms += c.times.groups_ms;
+    sum.routes_ms += c.times.routes_ms, sum.estimate_ms += c.times.estimate_ms;
+  }
+  std::printf("stages [ms, summed over configurations]: context %.0f, partition %.0f, graph %.0f, groups %.0f, "
+              "routes %.0f, estimates %.0f; sweep wall %.0f ms on %d threads; total %.0f ms\n",
+              ctx_ms, sum.partition_ms, sum.graph_ms, sum.groups_ms, sum.routes_ms, sum.estimate_ms, sweep.wall_ms,
+              opt.threads, std::chrono::duration<double, std::milli>(Clock::now() - t_start).count());
+  std::printf("best: %s with %d collectors and %d workers (U = %.3f, est. refresh %.1f s, %.2f goals per cycle of "
+              "%.1f s) -> %s/plan.yaml\n",
+              partition::method_name(best.method), best.collectors, best.workers, best.utility,
+              best.estimates.refresh_s, best.estimates.goals, ctx.cycle_period, out.c_str());
+  return 0;
+}
+
+}  // namespace cmd
+}  // namespace gather

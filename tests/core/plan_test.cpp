@@ -1,0 +1,179 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "gather_core/error.hpp"
+#include "gather_core/plan/plan_file.hpp"
+#include "gather_core/plan/planner.hpp"
+
+namespace gather {
+namespace {
+
+// 36 m x 16 m office at 0.1 m/cell: a 2 m corridor along y = 7..9 m, rooms of
+// 6 m on both sides with 1.2 m doors, the OC at the west end of the corridor.
+Scenario small_office() {
+  const int w = 360, h = 160;
+  std::vector<int8_t> v(static_cast<std::size_t>(w) * h, 0);
+  std::vector<uint8_t> f(v.size(), 1);
+  auto wall = [&](int r0, int r1, int c0, int c1) {
+    for (int r = r0; r < r1; ++r)
+      for (int c = c0; c < c1; ++c) v[static_cast<std::size_t>(r) * w + c] = 100, f[static_cast<std::size_t>(r) * w + c] = 0;
+  };
+  auto open = [&](int r0, int r1, int c0, int c1) {
+    for (int r = r0; r < r1; ++r)
+      for (int c = c0; c < c1; ++c) v[static_cast<std::size_t>(r) * w + c] = 0, f[static_cast<std::size_t>(r) * w + c] = 1;
+  };
+  wall(0, 2, 0, w), wall(h - 2, h, 0, w), wall(0, h, 0, 2), wall(0, h, w - 2, w);
+  wall(69, 71, 0, w), wall(89, 91, 0, w);  // corridor walls
+  for (int c = 60; c < w - 2; c += 60) wall(0, h, c, c + 2);  // room walls
+  open(70, 90, 2, w - 2);                                       // the corridor itself stays open
+  for (int c = 30; c < w; c += 60) open(69, 71, c - 6, c + 6), open(89, 91, c - 6, c + 6);  // doors
+  Scenario s;
+  s.path = "small_office";
+  s.grid = OccupancyGrid(w, h, 0.1, Point2{0, 0}, v, f);
+  s.oc = Point2{1.0, 8.0};
+  s.team.agents = 8;
+  s.planner.collectors_min = 0;
+  s.planner.collectors_max = 3;
+  s.mission.goals_per_request = 20;
+  return s;
+}
+
+class PlanTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    scenario_ = new Scenario(small_office());
+    ctx_ = new plan::PlanContext(*scenario_);
+  }
+  static void TearDownTestSuite() {
+    delete ctx_;
+    delete scenario_;
+  }
+  static Scenario* scenario_;
+  static plan::PlanContext* ctx_;
+};
+Scenario* PlanTest::scenario_ = nullptr;
+plan::PlanContext* PlanTest::ctx_ = nullptr;
+
+TEST_F(PlanTest, RoutesAreClosedClearAndStartInCoverage) {
+  for (partition::Method m : partition::all_methods()) {
+    const auto cfg = plan::plan_configuration(*ctx_, m, 2);
+    ASSERT_EQ(cfg.routes.size(), 2u);
+    for (const auto& r : cfg.routes) {
+      if (r.segments.empty()) continue;
+      ASSERT_GE(r.waypoints.size(), 2u);
+      const Point2 a = r.waypoints.front(), b = r.waypoints.back();
+      EXPECT_NEAR(a.x, b.x, 1e-9);
+      EXPECT_NEAR(a.y, b.y, 1e-9);
+      EXPECT_TRUE(ctx_->coverage[scenario_->grid.index(scenario_->grid.world_to_cell(a))]);
+      EXPECT_GE(r.min_clearance, scenario_->team.radius - 1e-9) << partition::method_name(m);
+      for (const Point2& p : r.waypoints) EXPECT_TRUE(scenario_->grid.is_free(scenario_->grid.world_to_cell(p)));
+      EXPECT_NEAR(r.period, r.length / scenario_->team.speed, 1e-9);
+      EXPECT_FALSE(r.coverage_entries.empty());
+      for (const auto& meeting : r.meetings) EXPECT_FALSE(meeting.passes.empty());
+    }
+  }
+}
+
+TEST_F(PlanTest, EveryWorkerIsAssociatedExactlyOnce) {
+  for (int nc = 0; nc <= 3; ++nc) {
+    const auto cfg = plan::plan_configuration(*ctx_, partition::Method::kPap, nc);
+    ASSERT_EQ(static_cast<int>(cfg.collector_of_segment.size()), cfg.workers);
+    std::multiset<int> served;
+    for (const auto& r : cfg.routes)
+      for (const auto& m : r.meetings) served.insert(m.segment);
+    for (int k = 1; k <= cfg.workers; ++k) {
+      const int c = cfg.collector_of_segment[static_cast<std::size_t>(k - 1)];
+      ASSERT_GE(c, -1);
+      ASSERT_LT(c, nc);
+      EXPECT_EQ(served.count(k), c >= 0 ? 1u : 0u) << "segment " << k;
+      if (c >= 0) {
+        EXPECT_FALSE(cfg.graph.segment(k).touches_coverage);
+      }
+    }
+    ASSERT_EQ(cfg.estimates.workers.size(), static_cast<std::size_t>(cfg.workers));
+    EXPECT_GT(cfg.estimates.goals, 0.0);
+    EXPECT_LE(cfg.estimates.goals, scenario_->mission.goals_per_request + 1e-9);
+  }
+}
+
+TEST_F(PlanTest, NoCollectorsSendsEveryWorkerToTheOc) {
+  const auto cfg = plan::plan_configuration(*ctx_, partition::Method::kBap, 0);
+  EXPECT_TRUE(cfg.routes.empty());
+  for (int c : cfg.collector_of_segment) EXPECT_EQ(c, -1);
+  for (const auto& w : cfg.estimates.workers) EXPECT_EQ(w.collector, -1);
+}
+
+TEST_F(PlanTest, SweepUtilitiesAreInUnitRangeAndTheBestIsTheMaximum) {
+  const auto sweep = plan::sweep(*ctx_);
+  ASSERT_EQ(sweep.configs.size(), 3u * 4u);
+  double best = -1;
+  for (const auto& c : sweep.configs) {
+    EXPECT_GE(c.utility, 0.0);
+    EXPECT_LE(c.utility, 1.0);
+    best = std::max(best, c.utility);
+  }
+  EXPECT_EQ(sweep.configs[static_cast<std::size_t>(sweep.best)].utility, best);
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+TEST_F(PlanTest, SameSeedSamePlanAndFileRoundTrip) {
+  const auto a = plan::plan_configuration(*ctx_, partition::Method::kRap, 2);
+  const auto b = plan::plan_configuration(*ctx_, partition::Method::kRap, 2);
+  EXPECT_EQ(a.partition.labels, b.partition.labels);
+  const std::string dir = ::testing::TempDir() + "/gather_plan_test";
+  std::filesystem::create_directories(dir);
+  plan::write_plan_file(dir + "/a.yaml", plan::make_plan_file(*ctx_, a, "labels.png", 1));
+  plan::write_plan_file(dir + "/b.yaml", plan::make_plan_file(*ctx_, b, "labels.png", 1));
+  EXPECT_EQ(slurp(dir + "/a.yaml"), slurp(dir + "/b.yaml"));
+
+  const plan::PlanFile read = plan::read_plan_file(dir + "/a.yaml");
+  plan::write_plan_file(dir + "/c.yaml", read);
+  EXPECT_EQ(slurp(dir + "/a.yaml"), slurp(dir + "/c.yaml"));
+  EXPECT_EQ(read.method, "rap");
+  EXPECT_EQ(read.collectors, 2);
+  ASSERT_EQ(read.agents.size(), 8u);
+  EXPECT_TRUE(read.agents[0].collector);
+  EXPECT_FALSE(read.agents[2].collector);
+  EXPECT_EQ(read.agents[2].segment, 1);
+  ASSERT_EQ(read.routes.size(), a.routes.size());
+  EXPECT_EQ(read.routes[0].waypoints.size(), a.routes[0].waypoints.size());
+}
+
+TEST_F(PlanTest, BadRequestsAreClearErrors) {
+  EXPECT_THROW(plan::plan_configuration(*ctx_, partition::Method::kBap, 8), Error);   // no worker left
+  EXPECT_THROW(plan::plan_configuration(*ctx_, partition::Method::kBap, -1), Error);
+  Scenario boxed = small_office();
+  // Wall the OC into a single cell: nothing else is reachable.
+  const Cell oc = boxed.grid.world_to_cell(boxed.oc);
+  std::vector<int8_t> v = boxed.grid.values();
+  std::vector<uint8_t> f = boxed.grid.free_mask();
+  for (int dr = -1; dr <= 1; ++dr)
+    for (int dc = -1; dc <= 1; ++dc)
+      if (dr || dc) {
+        const std::size_t i = boxed.grid.index(Cell{oc.row + dr, oc.col + dc});
+        v[i] = 100, f[i] = 0;
+      }
+  boxed.grid = OccupancyGrid(boxed.grid.width(), boxed.grid.height(), 0.1, Point2{0, 0}, v, f);
+  const plan::PlanContext tiny(boxed);
+  EXPECT_EQ(tiny.reachable_cells, 1u);
+  try {
+    plan::plan_configuration(tiny, partition::Method::kPap, 2);
+    FAIL() << "6 workers in 1 reachable cell must be refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("reachable"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace gather
