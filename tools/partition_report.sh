@@ -44,8 +44,9 @@ HEAD
   OC; a front never cuts the uncovered space in two (a local 8-neighbourhood test, then a bounded
   search that either finds the two sides joined or takes a small closed pocket whole), so the last
   front takes a connected remainder. A front boxed into a pocket is undone and restarted from the
-  next farthest cell (at most 6 times); where that is not enough a small segment stays, which is
-  what lifts the area CV above 0 on some maps. The cut searches make BAP the slowest method.
+  next farthest cell away from narrow spots (at most 8 times, then the best attempt is kept); that
+  is what lifts the area CV above 0 on some maps. The cut searches make BAP the slowest method.
+  Above 1 M reachable cells (the campus) BAP runs on 3 x 3 blocks weighted by their free cells.
 - PAP and RAP place the centroids (Fig. 1b) and run their Lloyd iterations on a coarse copy of the
   grid (blocks of f x f cells, <= 40 000 coarse cells) and label the full grid once at the end.
 - The partition fronts are this package's own first-order Eikonal march (`partition/front_growth`)

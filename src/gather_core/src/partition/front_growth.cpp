@@ -27,7 +27,6 @@ FrontGrowth::FrontGrowth(int width, int height, double resolution, const std::ve
   for (std::size_t i = 0; i < region.size(); ++i) region_[pad(i)] = region[i] ? 1 : 0;
   avail_ = region_;
   visit_.assign(n, 0);
-  side_.assign(n, 0);
   tried_.assign(n, 0);
   time_.assign(n, kInf);
   label_.assign(n, 0);
@@ -52,6 +51,17 @@ void FrontGrowth::set_slowness(const std::vector<float>& slowness) {
     min_slowness_ = std::min(min_slowness_, slowness[i]);
     max_slowness_ = std::max(max_slowness_, slowness[i]);
   }
+}
+
+void FrontGrowth::set_weights(const std::vector<uint32_t>& weights) {
+  if (weights.empty()) {
+    weight_.clear();
+    return;
+  }
+  if (weights.size() != static_cast<std::size_t>(width_) * height_)
+    throw Error("partition", "front growth: weight map does not match the map size");
+  weight_.assign(region_.size(), 0);
+  for (std::size_t i = 0; i < weights.size(); ++i) weight_[pad(i)] = weights[i];
 }
 
 void FrontGrowth::push(float t, uint32_t p) {
@@ -253,11 +263,11 @@ std::size_t FrontGrowth::resolve_cut(std::size_t p, std::size_t budget, int32_t 
       visit_[p] = stamp_;
       bfs_.assign(1, static_cast<uint32_t>(reps[a]));
       visit_[reps[a]] = stamp_;
-      std::size_t head = 0;
+      std::size_t head = 0, weight = cell_weight(reps[a]);
       bool over = false;
       int found = 1;
       while (head < bfs_.size() && found < nreps) {
-        if (bfs_.size() > budget) {
+        if (weight > budget || bfs_.size() > kMaxPocketSearch) {
           over = true;
           break;
         }
@@ -267,6 +277,7 @@ std::size_t FrontGrowth::resolve_cut(std::size_t p, std::size_t budget, int32_t 
           if (avail_[q] && visit_[q] != stamp_) {
             visit_[q] = stamp_;
             bfs_.push_back(static_cast<uint32_t>(q));
+            weight += cell_weight(q);
             for (int b = 0; b < nreps; ++b) found += q == reps[b];
           }
         }
@@ -280,10 +291,11 @@ std::size_t FrontGrowth::resolve_cut(std::size_t p, std::size_t budget, int32_t 
         if (state_[c] == kFar) touched_.push_back(c);
         state_[c] = kAccepted;
         time_[c] = t;
+        label_[c] = label;
         labels[unpad(c)] = label;
       }
-      absorbed += bfs_.size();
-      budget -= std::min(budget, bfs_.size());
+      absorbed += weight;
+      budget -= std::min(budget, weight);
       progressed = true;
     }
     if (!progressed) break;
@@ -327,7 +339,8 @@ std::size_t FrontGrowth::grow_quota(std::size_t seed, std::size_t quota, int32_t
       // A cell whose search failed is searched again only after the front
       // has grown by kRetryCells.
       const bool retry = tried_[e.p] == 0 || taken + 1 >= tried_[e.p] + kRetryCells;
-      const std::size_t pocket_budget = std::min<std::size_t>(quota - taken - 1, kMaxPocketSearch);
+      const std::size_t need = quota - taken;
+      const std::size_t pocket_budget = need > cell_weight(e.p) ? need - cell_weight(e.p) : 0;
       const std::size_t absorbed = retry ? resolve_cut(e.p, pocket_budget, label, labels, e.t) : kCutBlocked;
       if (absorbed == kCutBlocked) {
         if (retry) tried_[e.p] = static_cast<uint32_t>(taken + 1);
@@ -341,7 +354,7 @@ std::size_t FrontGrowth::grow_quota(std::size_t seed, std::size_t quota, int32_t
     avail_[e.p] = 0;
     label_[e.p] = label;
     labels[unpad(e.p)] = label;
-    ++taken;
+    taken += cell_weight(e.p);
     for (std::ptrdiff_t o : ring) {
       const std::size_t q = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(e.p) + o);
       if (state_[q] == kBlocked) {
@@ -379,7 +392,7 @@ std::size_t FrontGrowth::take_rest(int32_t label, std::vector<int32_t>& labels) 
     if (!avail_[p]) continue;
     avail_[p] = 0;
     labels[i] = label;
-    ++taken;
+    taken += cell_weight(p);
   }
   return taken;
 }

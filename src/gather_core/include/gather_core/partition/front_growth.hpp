@@ -47,6 +47,9 @@ class FrontGrowth {
   void lower(std::size_t cell, std::vector<float>& dist);
 
   // --- quota growth (BAP) ------------------------------------------------
+  // Weight of each cell in quotas and counts (row-major; e.g. the fine cells
+  // a coarse cell stands for); empty = 1 per cell.
+  void set_weights(const std::vector<uint32_t>& weights);
   // Starts a new round: every region cell is available.
   void reset_available();
   bool available(std::size_t cell) const { return avail_[pad(cell)] != 0; }
@@ -54,10 +57,10 @@ class FrontGrowth {
   // (through its 8-neighbourhood), i.e. cannot split the available cells.
   bool removable(std::size_t cell) const { return removable_padded(pad(cell)); }
   // Grows one front from `seed` over available cells until it holds `quota`
-  // cells; skips (for as long as they stay so) cells whose taking would split
+  // (weight of) cells; skips (for as long as they stay so) cells whose taking would split
   // the available cells, so what is left stays 4-connected. Taken cells get
   // `label` in `labels` (row-major) and stop being available. Returns the
-  // number of cells taken (< quota when the front is boxed in).
+  // weight taken (< quota when the front is boxed in).
   std::size_t grow_quota(std::size_t seed, std::size_t quota, int32_t label, std::vector<int32_t>& labels);
   // Makes the cells of `label` available again (an undone quota growth).
   void release(int32_t label, std::vector<int32_t>& labels);
@@ -72,13 +75,14 @@ class FrontGrowth {
     return (cell / static_cast<std::size_t>(width_) + 1) * stride_ + cell % static_cast<std::size_t>(width_) + 1;
   }
   std::size_t unpad(std::size_t p) const { return (p / stride_ - 1) * static_cast<std::size_t>(width_) + p % stride_ - 1; }
+  std::size_t cell_weight(std::size_t p) const { return weight_.empty() ? 1 : weight_[p]; }
   float cost(std::size_t p) const { return slowness_.empty() ? res_ : res_ * slowness_[p]; }
   // First-order Eikonal update of p from accepted neighbours with label L.
   float update(std::size_t p, int32_t label) const;
   bool removable_padded(std::size_t p) const;
   // p is a local cut of the available cells: 0 when its sides meet within the
-  // search, the number of pocket cells absorbed when closed pockets of at
-  // most `budget` cells were taken, kCutBlocked otherwise.
+  // search (kMaxPocketSearch cells per side), the weight absorbed when closed
+  // pockets of total weight <= `budget` were taken, kCutBlocked otherwise.
   std::size_t resolve_cut(std::size_t p, std::size_t budget, int32_t label, std::vector<int32_t>& labels, float t);
   static constexpr std::size_t kCutBlocked = static_cast<std::size_t>(-1);
   static constexpr std::size_t kMaxPocketSearch = 20000;
@@ -92,13 +96,13 @@ class FrontGrowth {
   std::vector<uint8_t> region_;    // padded
   std::vector<uint8_t> avail_;     // padded, quota rounds
   std::vector<float> slowness_;    // padded, empty = unit
+  std::vector<uint32_t> weight_;   // padded, empty = 1
   std::vector<float> time_;        // padded
   std::vector<int32_t> label_;     // padded
   std::vector<uint8_t> state_;     // padded: 0 far, 1 band, 2 accepted, 3 pinned source, 4 blocked
   std::vector<uint32_t> touched_;
   std::vector<uint32_t> visit_;    // padded BFS stamps (cut resolution)
   uint32_t stamp_ = 0;
-  std::vector<uint8_t> side_;     // padded BFS side of a visited cell
   std::vector<uint32_t> tried_;   // padded: taken + 1 at the last failed cut search
   std::vector<uint32_t> bfs_;
   struct Saved {

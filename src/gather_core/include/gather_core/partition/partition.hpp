@@ -36,6 +36,9 @@ struct PartitionParams {
   // iterations) and label the full grid once at the end; coarse cells per
   // side = the smallest factor that leaves <= this many coarse free cells.
   std::size_t coarse_cells = 40000;
+  // BAP runs its wavefronts on blocks of f x f cells, f the smallest factor
+  // that leaves <= this many coarse cells (1 = full resolution).
+  std::size_t bap_coarse_cells = 1000000;
   int lloyd_iterations = 12;
   // PAP: additive front weights follow area imbalance; gain per iteration
   // [fraction of the mean segment radius per unit of relative area error].
