@@ -60,7 +60,8 @@ void BM_Solve(benchmark::State& state) {
   state.counters["work_B/cell"] = static_cast<double>(fm.working_bytes()) / (static_cast<double>(n) * n);
 }
 
-// Many sources with labels (partition-like) and a short early-stopped query (geodesic-like).
+// 20 sources with labels (partition-like), with and without the label look-back;
+// and a short early-stopped query (geodesic-like).
 void BM_MultiSourceLabels(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const OccupancyGrid grid = make_map(n, true);
@@ -69,6 +70,8 @@ void BM_MultiSourceLabels(benchmark::State& state) {
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 5; ++j) src.push_back(Source::at_cell({n / 8 + i * n / 4, n / 20 + j * n / 5}));
   SolveOptions o;
+  o.order = state.range(1) == 2 ? Order::kSecond : Order::kFirst;
+  o.label_look_back = static_cast<int>(state.range(2));
   fm.solve(src, o);
   for (auto _ : state) {
     fm.solve(src, o);
@@ -108,7 +111,13 @@ BENCHMARK(BM_Solve)
     ->Args({1000, 0, 2, 2, 0})
     ->Args({250, 1, 1, 1, 0})
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_MultiSourceLabels)->Arg(1000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MultiSourceLabels)
+    ->ArgNames({"n", "order", "look_back"})
+    ->Args({1000, 1, 6})
+    ->Args({1000, 1, 0})
+    ->Args({1000, 2, 6})
+    ->Args({1000, 2, 0})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EarlyStopQuery)->Arg(2000)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();
