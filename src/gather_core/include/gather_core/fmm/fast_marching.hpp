@@ -60,7 +60,7 @@ struct SolveOptions {
   // Stop once all these cells are final (other cells keep their time if it is
   // final, +inf otherwise). Empty: run until every reachable cell is reached.
   std::vector<Cell> targets;
-  // Track which source reached each cell first (costs 4 B/cell and ~20% time).
+  // Track which source reached each cell first (costs 4 B/cell and 20-50% time).
   bool labels = true;
   // Per-source factor (> 0) on the speed map: front i travels at
   // front_speed[i] * F (e.g. to balance partition areas). Empty: all 1.
