@@ -13,7 +13,7 @@ DURATION ?= 20
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build run test test-ros test-plain test-cli test-e2e clean help
+.PHONY: all deps build run test test-ros test-plain test-cli test-e2e plan-report clean help
 
 all: build
 
@@ -67,6 +67,10 @@ test-cli: build
 # roslaunch gather_oc mission.launch end to end, in a private network namespace.
 test-e2e: build
 	tools/netns-run bash -c '$(SETUP) && $(PYTHON) tests/e2e/mission_e2e.py'
+
+# The planner's sweep on every scenario -> docs/plans.md (a few minutes).
+plan-report: build
+	$(PYTHON) tools/plan_report.py
 
 clean:
 	rm -rf $(WS)/build $(WS)/devel $(WS)/install build results src/CMakeLists.txt

@@ -23,6 +23,8 @@ const Subcommand kSubcommands[] = {
     {"partition", gather::cmd::partition,
      "partition SCENARIO --method bap|pap|rap --workers N [--seed K] [--gt GT.png] --out DIR | --compare --workers N "
      "--out DIR | --report [--workers N] [--repeat K] SCENARIO...  working areas, figures, metrics"},
+    {"radio", gather::cmd::radio,
+     "radio SCENARIO [--at X,Y] [--repeat K] [--out coverage.png]  radio coverage of the OC, median time"},
     {"plan", gather::cmd::plan,
      "plan SCENARIO --out DIR [--config METHOD:NC] [--seed K] [--threads T]  deployment plan: utility sweep over "
      "(method, N_c), plan.yaml, report.csv, Fig. 2 and Fig. 3 (estimated)"},

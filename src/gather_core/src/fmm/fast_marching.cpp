@@ -55,7 +55,9 @@ inline float update_second(const float* t, std::size_t n, std::size_t stride, fl
   const float sx = x.beta + c * (x.a > 1.0f ? 2.0f / 3.0f : 1.0f);  // one-sided solutions: beta + c / a
   const float sy = y.beta + c * (y.a > 1.0f ? 2.0f / 3.0f : 1.0f);
   const float single = std::min(sx, sy);
-  if (!(x.t1 < kInf) || !(y.t1 < kInf)) return single;
+  // The two-axis solution lies between max(t1) and `single`: none when the
+  // one-sided one is already below the later neighbour (also when one is +inf).
+  if (!(single > std::max(x.t1, y.t1))) return single;
   // Two axes: a_x^2 (T-bx)^2 + a_y^2 (T-by)^2 = c^2, shifted by m so that float
   // keeps its precision far from the sources.
   const float m = std::min(x.beta, y.beta);
