@@ -13,7 +13,7 @@ DURATION ?= 20
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build run test test-ros test-plain test-cli test-e2e plan-report clean help
+.PHONY: all deps build run test test-ros test-plain test-cli test-e2e bench-fmm partition-report plan-report clean help
 
 all: build
 
@@ -67,6 +67,18 @@ test-cli: build
 # roslaunch gather_oc mission.launch end to end, in a private network namespace.
 test-e2e: build
 	tools/netns-run bash -c '$(SETUP) && $(PYTHON) tests/e2e/mission_e2e.py'
+
+# FMM against scikit-fmm on the shared benchmark grids, one table (docs/fmm.md);
+# plus the Google Benchmark micro-benchmarks of the solver.
+bench-fmm: build
+	bench/fmm_bench.sh $(WS)/devel/lib/gather_core/gather
+	cmake -S src/gather_core -B build/bench -DCMAKE_BUILD_TYPE=Release -DGATHER_BUILD_BENCH=ON -DBUILD_TESTING=OFF > /dev/null
+	cmake --build build/bench -j$(JOBS) --target gather_fmm_micro
+	build/bench/gather_fmm_micro --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+
+# Partition metrics of BAP/PAP/RAP on every map -> docs/partitions.md.
+partition-report: build
+	tools/partition_report.sh $(WS)/devel/lib/gather_core
 
 # The planner's sweep on every scenario -> docs/plans.md (a few minutes).
 plan-report: build
