@@ -123,6 +123,43 @@ TEST(FastMarching, QueuesAgree) {
   }
 }
 
+TEST(FastMarching, ExactQueuesExpandEveryCellOnce) {
+  // Fine resolution, point and cell sources: the seeds spread over more
+  // buckets than one crossing; every reached cell must still be expanded.
+  const OccupancyGrid g = make_grid(300, 200, [](int r, int c) { return !(c == 150 && r > 20); }, 0.05);
+  FastMarching fm(g);
+  const std::vector<Source> src{Source::at_point({2.013, 3.377}), Source::at_cell({150, 250})};
+  for (QueueKind q : {QueueKind::kSortedBuckets, QueueKind::kHeap}) {
+    for (Order order : {Order::kFirst, Order::kSecond}) {
+      SolveOptions o;
+      o.order = order;
+      o.queue = q;
+      const SolveStats& st = fm.solve(src, o);
+      EXPECT_EQ(st.expanded, fm.count_reached()) << "queue " << int(q) << " order " << int(order);
+    }
+  }
+  SolveOptions o;
+  o.front_speed = {0.1, 3.0};  // slow and fast fronts widen the span of queued times
+  for (QueueKind q : {QueueKind::kSortedBuckets, QueueKind::kBuckets}) {
+    o.queue = q;
+    const SolveStats& st = fm.solve(src, o);
+    EXPECT_GE(st.expanded, fm.count_reached());
+    std::vector<double> a;
+    fm.copy_times(a);
+    o.queue = QueueKind::kHeap;
+    fm.solve(src, o);
+    std::vector<double> b;
+    fm.copy_times(b);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if (std::isinf(b[i])) {
+        ASSERT_TRUE(std::isinf(a[i]));
+      } else {
+        ASSERT_NEAR(a[i], b[i], 1e-3 + 1e-5 * b[i]);
+      }
+    }
+  }
+}
+
 // Shortest path length around axis-aligned rectangular obstacles: Dijkstra on
 // the visibility graph of the obstacle corners (exact in the continuum).
 double exact_shortest(Point2 a, Point2 b, const std::vector<std::array<double, 4>>& rects, double map_w,

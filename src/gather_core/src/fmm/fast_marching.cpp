@@ -356,9 +356,21 @@ void FastMarching::march_buckets(const SolveOptions& options) {
 
   const double width = options.bucket_width > 0.0 ? options.bucket_width : (kExact ? 0.02 : 2.0);
   double delta = width * min_cost_;  // [s]
+  // The circle of buckets must span every time queued at once: an update adds
+  // at most one slowest crossing (with front speed factors, scaled), and the
+  // seeds of all sources spread over their own range.
+  float seed_lo = kInf, seed_hi = 0.0f;
+  for (const Seed& sd : seeds_) {
+    seed_lo = std::min(seed_lo, t[sd.index]);
+    seed_hi = std::max(seed_hi, t[sd.index]);
+  }
+  float max_inv_w = 1.0f;
+  for (float w : inv_front_speed_) max_inv_w = std::max(max_inv_w, w);
+  const double span = std::max(static_cast<double>(max_cost_) * max_inv_w,
+                               seeds_.empty() ? 0.0 : static_cast<double>(seed_hi) - seed_lo) + delta;
   std::size_t nb = 4;
-  while (nb < static_cast<std::size_t>(std::ceil(max_cost_ / delta)) + 2 && nb < kMaxBuckets) nb *= 2;
-  if (max_cost_ / delta + 2 > static_cast<double>(nb)) delta = max_cost_ / static_cast<double>(nb - 2);
+  while (nb < static_cast<std::size_t>(std::ceil(span / delta)) + 2 && nb < kMaxBuckets) nb *= 2;
+  if (span / delta + 2 > static_cast<double>(nb)) delta = span / static_cast<double>(nb - 3);
   if (buckets_.size() < nb) buckets_.resize(nb);
   const std::size_t bmask = nb - 1;
   const double inv_delta = 1.0 / delta;
