@@ -34,8 +34,9 @@ enum class Order { kFirst = 1, kSecond = 2 };
 //   update this ends at the same fixed point as exact FMM, at O(1) per cell.
 //   Not for second order, whose update is not monotone (the result would
 //   depend on the bucket width).
-// kSortedBuckets: the same buckets, each expanded in exact time order through
-//   a small heap of its own cells: classical FMM results, cheaper than one heap.
+// kSortedBuckets: the same buckets, each sorted once when its turn comes and
+//   merged with a small heap of the cells queued into it meanwhile: exact time
+//   order, so classical FMM results, at about half the cost of one heap.
 // kHeap: classical FMM with one binary heap (reference for tests and benches).
 // kAuto: kBuckets at first order, kSortedBuckets at second order.
 enum class QueueKind { kAuto, kBuckets, kSortedBuckets, kHeap };
@@ -72,7 +73,8 @@ struct SolveOptions {
   int label_look_back = 6;
   QueueKind queue = QueueKind::kAuto;
   // Bucket width [cells crossed at the fastest speed]; 0 = the measured best
-  // (2 for kBuckets, 0.02 for kSortedBuckets). Changes speed, not the result.
+  // (2 for kBuckets, 0.02 for kSortedBuckets). Changes speed, not the result
+  // (except kBuckets at second order, see QueueKind).
   double bucket_width = 0.0;
 };
 
