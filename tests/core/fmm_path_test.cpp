@@ -4,12 +4,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <functional>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "gather_core/error.hpp"
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/fmm/path.hpp"
+#include "gather_core/grid/map_loader.hpp"
 
 namespace gather {
 namespace fmm {
@@ -165,6 +167,32 @@ TEST(FmmPath, ErrorsAndGeodesic) {
   const double exact = std::hypot(below.x - corner_lo.x, below.y - corner_lo.y) + res +
                        std::hypot(above.x - corner_hi.x, above.y - corner_hi.y);
   EXPECT_NEAR(around, exact, 0.02 * exact + 2 * res);
+}
+
+TEST(FmmPath, RandomPathsOnTheOfficeMap) {
+  // maps/office.yaml: 1200 x 700 cells at 0.05 m, rooms and doors.
+  const OccupancyGrid g = load_map(std::string(GATHER_REPO_DIR) + "/maps/office.yaml");
+  FastMarching fm(g);
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> row(0, g.height() - 1), col(0, g.width() - 1);
+  Cell s;
+  do s = Cell{row(rng), col(rng)};
+  while (!g.is_free(s));
+  SolveOptions o;
+  o.order = Order::kSecond;
+  fm.solve({Source::at_cell(s)}, o);
+  int checked = 0;
+  for (int k = 0; k < 400 && checked < 100; ++k) {
+    const Cell c{row(rng), col(rng)};
+    if (!fm.reached(c)) continue;
+    const Point2 from = g.cell_center(c);
+    const std::vector<Point2> path = descend(fm, from);
+    check_path(fm, g, path, from);
+    const double t = fm.time_at(from);
+    EXPECT_NEAR(path_length(path), t, 0.02 * t + g.resolution()) << "from cell " << c.row << "," << c.col;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 100);
 }
 
 }  // namespace

@@ -30,12 +30,15 @@ float time_of(const FastMarching& fm, Cell c) {
   return fm.traversable(c) ? fm.padded_times()[fm.padded(c)] : kInfF;
 }
 
-// Bilinear weights over the four cell centres around q; unreached centres drop out.
+// Bilinear weights over the four cell centres around q; unreached centres drop
+// out, and so does the centre diagonal to q's own cell when an obstacle corner
+// stands between them (the front does not cross there).
 template <class F>
 bool bilinear(const FastMarching& fm, Q q, F&& visit) {
   const double gx = q.x - 0.5, gy = q.y - 0.5;
   const int c0 = static_cast<int>(std::floor(gx)), r0 = static_cast<int>(std::floor(gy));
   const double fx = gx - c0, fy = gy - r0;
+  const Cell own{static_cast<int>(std::floor(q.y)), static_cast<int>(std::floor(q.x))};
   double wsum = 0.0;
   double w[4];
   Cell cells[4];
@@ -43,7 +46,10 @@ bool bilinear(const FastMarching& fm, Q q, F&& visit) {
     const int dr = k >> 1, dc = k & 1;
     cells[k] = Cell{r0 + dr, c0 + dc};
     const double wk = (dr ? fy : 1.0 - fy) * (dc ? fx : 1.0 - fx);
-    w[k] = time_of(fm, cells[k]) < kInfF ? wk : 0.0;
+    const bool diagonal = cells[k].row != own.row && cells[k].col != own.col;
+    const bool hidden = diagonal && (!fm.traversable(Cell{own.row, cells[k].col}) ||
+                                     !fm.traversable(Cell{cells[k].row, own.col}));
+    w[k] = !hidden && time_of(fm, cells[k]) < kInfF ? wk : 0.0;
     wsum += w[k];
   }
   if (!(wsum > 1e-12)) return false;
