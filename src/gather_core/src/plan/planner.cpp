@@ -143,7 +143,7 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
     } else if (stops[t] == 0) {  // out of the OC: the same, reversed
       leg = fmm::descend(ctx.oc_field, b);
       std::reverse(leg.begin(), leg.end());
-    } else {  // between two meeting areas: a short march from b that stops at a
+    } else {  // between two meeting areas: a march from b that stops at a
       so.targets.assign(1, grid.world_to_cell(a));
       fm.solve({fmm::Source::at_point(b)}, so);
       leg = fmm::descend(fm, a);
@@ -395,8 +395,7 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
   cfg.times.groups_ms = ms_since(t0);
 
   t0 = Clock::now();
-  fmm::FastMarching fm(s.grid);
-  fm.set_speed(ctx.route_speed);
+  fmm::FastMarching fm = ctx.oc_field;  // a copy already on the route speed map
   for (int c = 0; c < collectors; ++c) {
     std::vector<int> segs;
     for (const WorkerSegment& seg : cfg.graph.segments)
