@@ -45,6 +45,8 @@ TEST(FleetMonitor, CountsHeartbeatsAndMissedSequenceNumbers) {
   EXPECT_EQ(r.missed, 1);
   EXPECT_EQ(r.role, Role::kCollector);
   EXPECT_DOUBLE_EQ(r.pose.x, 4.0);
+  EXPECT_DOUBLE_EQ(r.first_heard_s, 0.0);
+  EXPECT_DOUBLE_EQ(r.last_heard_s, 4.0);
   EXPECT_FALSE(fleet.agents()[0].heard);
 }
 

@@ -25,6 +25,7 @@ FleetMonitor::Verdict FleetMonitor::on_message(const void* data, int size, doubl
   }
   if (!r.heard) {
     r.first_seq = m.seq;
+    r.first_heard_s = now_s;
   } else {
     r.missed += m.seq - r.last_seq - 1;
   }

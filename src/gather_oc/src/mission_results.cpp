@@ -52,6 +52,8 @@ void write_mission_results(const std::string& path, const Scenario& scenario, co
     y << YAML::Key << "last_seq" << YAML::Value << a.last_seq;
     y << YAML::Key << "missed" << YAML::Value << a.missed;
     y << YAML::Key << "out_of_order" << YAML::Value << a.out_of_order;
+    y << YAML::Key << "first_heard_s" << YAML::Value << a.first_heard_s;
+    y << YAML::Key << "last_heard_s" << YAML::Value << a.last_heard_s;
     y << YAML::Key << "role" << YAML::Value << role_name(a.role);
     y << YAML::Key << "pose" << YAML::Value << YAML::Flow << YAML::BeginSeq << a.pose.x << a.pose.y << YAML::EndSeq;
     y << YAML::EndMap;

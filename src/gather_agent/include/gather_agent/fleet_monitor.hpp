@@ -18,6 +18,7 @@ struct AgentRecord {
   Role role = Role::kUnassigned;
   Point2 pose;                 // [m]
   double yaw = 0.0;            // [rad]
+  double first_heard_s = 0.0;  // receiver clock [s]
   double last_heard_s = 0.0;   // receiver clock [s]
 };
 
