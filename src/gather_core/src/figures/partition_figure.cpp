@@ -8,6 +8,7 @@
 #include <set>
 
 #include "gather_core/error.hpp"
+#include "map_canvas.hpp"
 
 namespace gather {
 namespace figures {
@@ -15,25 +16,7 @@ namespace {
 
 using partition::PartitionResult;
 
-// Well-separated colours (BGR), light enough for black marks on top; no red
-// (the OC is red).
-const cv::Vec3b kPalette[] = {
-    {216, 99, 67},   {75, 180, 60},   {25, 225, 255},  {49, 130, 245},  {180, 30, 145},  {244, 212, 66},
-    {230, 50, 240},  {69, 239, 191},  {212, 190, 250}, {144, 153, 70},  {255, 190, 220}, {36, 99, 154},
-    {195, 255, 170}, {0, 128, 128},   {177, 216, 255}, {200, 250, 255},
-};
-constexpr int kPaletteSize = sizeof(kPalette) / sizeof(kPalette[0]);
 const cv::Vec3b kObstacle{45, 45, 45}, kUnknown{150, 150, 150}, kUnreachable{215, 215, 215};
-
-void write_png(const std::string& path, const cv::Mat& img) {
-  bool ok = false;
-  try {
-    ok = cv::imwrite(path, img);
-  } catch (const cv::Exception& e) {
-    throw Error(path, std::string("cannot write PNG: ") + e.what());
-  }
-  if (!ok) throw Error(path, "cannot write PNG");
-}
 
 // Pixel scale of a panel: small maps are enlarged, very large ones reduced.
 double panel_scale(const OccupancyGrid& g) {
@@ -114,14 +97,14 @@ cv::Mat scaled(const cv::Mat& img, double s) {
 
 cv::Mat partition_panel(const OccupancyGrid& g, const PartitionResult& part, Point2 oc, const std::string& caption) {
   const int w = g.width(), h = g.height();
-  const std::vector<int> colour = colour_segments(part.labels, w, h, part.workers, kPaletteSize);
+  const std::vector<int> colour = colour_segments(part.labels, w, h, part.workers, static_cast<int>(fill_palette().size()));
   cv::Mat img = base_image(g);
   for (int r = 0; r < h; ++r)
     for (int c = 0; c < w; ++c) {
       const std::size_t i = static_cast<std::size_t>(h - 1 - r) * w + c;
       const int32_t l = part.labels[i];
       if (l <= 0) continue;
-      cv::Vec3b col = kPalette[colour[l - 1]];
+      cv::Vec3b col = fill_palette()[static_cast<std::size_t>(colour[l - 1])];
       // Segment borders (a 4-neighbour in another segment) drawn dark.
       const bool border = (c + 1 < w && part.labels[i + 1] > 0 && part.labels[i + 1] != l) ||
                           (c > 0 && part.labels[i - 1] > 0 && part.labels[i - 1] != l) ||
