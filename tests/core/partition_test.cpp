@@ -108,10 +108,17 @@ TEST(Partition, SameSeedSameResult) {
   }
 }
 
+// Issue 4: BAP area CV <= 5% at N_w = 20 (office and office_b were the maps
+// that missed it).
 TEST(Partition, BapBalancesAreas) {
-  const Scenario sc = load_scenario(repo("../shared/maps/ipa/office_d.scenario.yaml"));
-  const PartitionResult p = partition_area(sc.grid, sc.grid.world_to_cell(sc.oc), Method::kBap, 20, 1);
-  EXPECT_LE(compute_metrics(sc.grid, p).area_cv, 0.05);
+  for (const char* rel : {"../shared/maps/ipa/office_d.scenario.yaml", "maps/office.scenario.yaml",
+                          "../shared/maps/ipa/office_b.scenario.yaml"}) {
+    const Scenario sc = load_scenario(repo(rel));
+    const Cell oc = sc.grid.world_to_cell(sc.oc);
+    const PartitionResult p = partition_area(sc.grid, oc, Method::kBap, 20, 1);
+    expect_contract(sc.grid, oc, p, 20, std::string(rel) + " bap");
+    EXPECT_LE(compute_metrics(sc.grid, p).area_cv, 0.05) << rel;
+  }
 }
 
 // Two 4 m x 3 m rooms joined by a 1 m door at 0.05 m/cell.

@@ -1,25 +1,27 @@
 // BAP, Balanced Area Partition (seed paper: "BAP method uses FMM, extending
 // N_w wavefront until cover all the free space").
 //
-// Reading built here: wavefronts are extended one after the other. Each starts
-// at the uncovered cell farthest from the OC (geodesic, one FMM from the OC),
-// so the far ends of the building are served first and the last segment
-// holds the OC, and grows by FMM over uncovered cells until it holds its
-// share (uncovered area / wavefronts still to go). A front never takes a cell
-// that would cut the uncovered space in two (a local test on the cell's
-// 8-neighbourhood, then a bounded search that either finds both sides joined
-// or takes a small closed pocket whole), so no pocket is left behind: the
-// uncovered space stays one 4-connected piece and the last wavefront takes all
-// of it. A front boxed into a pocket is undone and started again from the next
-// farthest cell away from narrow spots (up to kMaxRestarts times; then the
-// best attempt is kept, which is where the area CV rises above 0).
+// Reading built here, in three steps:
+//  1. Wavefronts are extended one after the other. Each starts at the
+//     uncovered cell farthest from the OC (geodesic, one FMM from the OC), so
+//     the far ends of the building are served first and the last segment
+//     holds the OC, and grows by FMM over uncovered cells until it holds its
+//     share (uncovered area / wavefronts still to go). A front that starts in
+//     a pocket smaller than half its share (closed off by earlier fronts)
+//     gives the pocket to a segment next to it and starts again from the next
+//     farthest cell. The last wavefront takes what is left.
+//  2. What is left may be in pieces: its largest piece stays, the others go
+//     to the segments next to them.
+//  3. rebalance_areas() (rebalance.cpp) moves boundary cells between adjacent
+//     segments until every area is within kBalanceTolerance of the mean,
+//     keeping each segment 4-connected.
 //
 // Maps with more than PartitionParams::bap_coarse_cells reachable cells (the
 // campus): the wavefronts run on a coarse copy (blocks of f x f cells at least
 // half reachable, each weighted by its reachable cells, so shares are counted
 // in real area); the full-resolution labels are the block labels, and cells
 // of partial blocks, or cut off from their segment by a wall, go to the
-// segment next to them.
+// segment next to them; step 3 then runs at full resolution.
 #include <algorithm>
 #include <cmath>
 
@@ -31,10 +33,9 @@ namespace gather {
 namespace partition {
 namespace {
 
-constexpr int kMaxRestarts = 8;
-// A wavefront starts where clearance >= this many cells: not in the one-cell
-// nooks and threads of scanned maps, where it would be boxed in at once.
-constexpr double kSeedClearance = 3.0;
+// Rebalancing: stop when every area is within this fraction of the mean.
+constexpr double kBalanceTolerance = 0.002;
+constexpr int kBalancePasses = 12;
 
 // Region cells, farthest first (counting sort on `dist` in steps; ties by index).
 std::vector<uint32_t> farthest_first(const std::vector<uint8_t>& region, const std::vector<double>& dist, double step) {
@@ -58,60 +59,55 @@ std::vector<uint32_t> farthest_first(const std::vector<uint8_t>& region, const s
 }
 
 // The sequential wavefronts on one grid (fine or coarse). `total` = weight of
-// all region cells. Writes labels 1..workers and the start cell of each.
-void sequential_fronts(FrontGrowth& growth, const std::vector<uint32_t>& order, const std::vector<uint8_t>& seed_ok,
-                       std::size_t total, int workers, std::vector<int32_t>& labels, std::vector<std::size_t>& seeds) {
+// all region cells. Writes labels 1..workers (the last label takes what is
+// left, which may be in pieces) and the start cell of each.
+void sequential_fronts(FrontGrowth& growth, const std::vector<uint32_t>& order, std::size_t total, int workers,
+                       std::vector<int32_t>& labels, std::vector<std::size_t>& seeds) {
   const std::size_t n = static_cast<std::size_t>(growth.width()) * growth.height();
   growth.reset_available();
   labels.assign(n, 0);
   seeds.clear();
   std::size_t remaining = total;
   std::size_t next = 0;                // order[..next) are all covered
-  std::vector<uint8_t> no_seed(n, 0);  // cells of undone segments: not a start again
+  const std::size_t w = static_cast<std::size_t>(growth.width());
+  std::vector<uint32_t> taken;
   for (int k = 1; k <= workers; ++k) {
     while (next < order.size() && !growth.available(order[next])) ++next;
-    if (k == workers) {
+    if (k == workers || next >= order.size()) {
       seeds.push_back(order[std::min(next, order.size() - 1)]);
       growth.take_rest(k, labels);
       break;
     }
-    const std::size_t fronts_left = static_cast<std::size_t>(workers - k + 1);
-    const std::size_t quota = std::max<std::size_t>(1, remaining / fronts_left);
-    // A front boxed in by earlier ones (it ends in a pocket reached through a
-    // one-cell gap) is undone and started again from the next farthest cell;
-    // the pocket is left for a front that reaches it from outside and takes
-    // it whole. After kMaxRestarts the small segment is kept.
-    std::size_t got = 0, seed = 0, best_got = 0, best_seed = order[next];
-    for (int attempt = 0;; ++attempt) {
-      std::size_t pick = next;
-      // The first start is the farthest cell; restarts also avoid narrow spots.
-      while (pick < order.size() && !(growth.available(order[pick]) && (attempt == 0 || seed_ok[order[pick]]) &&
-                                      !no_seed[order[pick]] && growth.removable(order[pick])))
-        ++pick;
-      if (pick >= order.size()) {
-        pick = next;
-        while (pick < order.size() &&
-               !(growth.available(order[pick]) && !no_seed[order[pick]] && growth.removable(order[pick])))
-          ++pick;
+    // A front that starts in a pocket smaller than half its share (closed
+    // off by earlier fronts) gives the pocket to a segment next to it and
+    // starts again from the next farthest uncovered cell.
+    std::size_t got = 0, seed = order[next];
+    for (;;) {
+      const std::size_t fronts_left = static_cast<std::size_t>(workers - k + 1);
+      const std::size_t quota = std::max<std::size_t>(1, remaining / fronts_left);
+      seed = order[next];
+      got = growth.grow_quota(seed, quota, k, labels, &taken);
+      if (got >= quota / 2) break;
+      int32_t into = 0;
+      for (std::size_t i = 0; i < taken.size() && into == 0; ++i) {
+        const std::size_t c = taken[i], col = c % w;
+        const std::size_t nb[4] = {col > 0 ? c - 1 : c, col + 1 < w ? c + 1 : c, c >= w ? c - w : c,
+                                   c + w < n ? c + w : c};
+        for (std::size_t j : nb)
+          if (labels[j] > 0 && labels[j] != k) {
+            into = labels[j];
+            break;
+          }
       }
-      if (pick >= order.size()) {  // no fresh start left: regrow the best attempt
-        if (attempt == 0) best_seed = order[next];
-        got = growth.grow_quota(best_seed, quota, k, labels);
-        seed = best_seed;
-        break;
-      }
-      seed = order[pick];
-      got = growth.grow_quota(seed, quota, k, labels);
-      if (got > best_got) best_got = got, best_seed = seed;
-      if (got >= quota - quota / 50) break;
-      for (std::size_t i = 0; i < n; ++i)
-        if (labels[i] == k) no_seed[i] = 1;
-      growth.release(k, labels);
-      if (attempt >= kMaxRestarts) {  // keep the best of the attempts
-        got = growth.grow_quota(best_seed, quota, k, labels);
-        seed = best_seed;
-        break;
-      }
+      // Keep it when nothing is next to it, or when the fronts still to go
+      // would run short of cells without it.
+      if (into == 0 || remaining < got + fronts_left) break;
+      std::size_t probe = next;
+      while (probe < order.size() && !growth.available(order[probe])) ++probe;
+      if (probe >= order.size()) break;
+      for (uint32_t c : taken) labels[c] = into;
+      remaining -= got;
+      next = probe;
     }
     seeds.push_back(seed);
     remaining -= std::min(remaining, got);
@@ -192,6 +188,62 @@ void reconnect(const OccupancyGrid& g, const std::vector<uint8_t>& reachable, in
   }
 }
 
+// Keeps the largest 4-connected piece of `label` (the last, "the rest"
+// segment: the only one that can be in pieces); its other pieces go to the
+// segments next to them (breadth-first).
+void reconnect_label(int width, int32_t label, std::vector<int32_t>& labels) {
+  const std::size_t n = labels.size(), w = static_cast<std::size_t>(width);
+  std::vector<uint32_t> piece(n, 0);
+  std::vector<uint32_t> stack, cells;
+  uint32_t id = 0, best = 0;
+  std::size_t best_size = 0;
+  for (std::size_t s = 0; s < n; ++s) {
+    if (labels[s] != label || piece[s]) continue;
+    piece[s] = ++id;
+    stack.assign(1, static_cast<uint32_t>(s));
+    std::size_t size = 0;
+    while (!stack.empty()) {
+      const std::size_t i = stack.back();
+      stack.pop_back();
+      ++size;
+      cells.push_back(static_cast<uint32_t>(i));
+      const std::size_t col = i % w;
+      const std::size_t nb[4] = {col > 0 ? i - 1 : i, col + 1 < w ? i + 1 : i, i >= w ? i - w : i, i + w < n ? i + w : i};
+      for (std::size_t j : nb)
+        if (labels[j] == label && !piece[j]) piece[j] = id, stack.push_back(static_cast<uint32_t>(j));
+    }
+    if (size > best_size) best_size = size, best = id;
+  }
+  if (id <= 1) return;
+  constexpr uint32_t kOrphan = 0xffffffffu;
+  for (uint32_t c : cells)
+    if (piece[c] != best) labels[c] = 0, piece[c] = kOrphan;
+  std::vector<uint32_t> queue;
+  for (uint32_t c : cells)
+    if (piece[c] == kOrphan) queue.push_back(c);
+  // Rounds: an orphan next to a labelled cell takes its label.
+  std::vector<uint32_t> next_round;
+  while (!queue.empty()) {
+    next_round.clear();
+    std::vector<std::pair<uint32_t, int32_t>> assign;
+    for (uint32_t c : queue) {
+      if (labels[c] != 0) continue;
+      const std::size_t col = c % w;
+      const std::size_t nb[4] = {col > 0 ? c - 1 : c, col + 1 < w ? c + 1 : c, c >= w ? c - w : c, c + w < n ? c + w : c};
+      int32_t l = 0;
+      for (std::size_t j : nb)
+        if (labels[j] > 0) {
+          l = labels[j];
+          break;
+        }
+      if (l) assign.emplace_back(c, l); else next_round.push_back(c);
+    }
+    if (assign.empty()) break;  // cannot happen: the region is connected
+    for (const auto& [c, l] : assign) labels[c] = l;
+    queue.swap(next_round);
+  }
+}
+
 }  // namespace
 
 void run_bap(const MethodInput& in, PartitionResult& out) {
@@ -215,10 +267,10 @@ void run_bap(const MethodInput& in, PartitionResult& out) {
   if (f == 1) {
     FrontGrowth growth(grid.width(), grid.height(), grid.resolution(), in.reachable);
     std::vector<std::size_t> seeds;
-    std::vector<uint8_t> seed_ok(n, 0);
-    for (std::size_t i = 0; i < n; ++i) seed_ok[i] = in.clearance[i] >= kSeedClearance * grid.resolution();
-    sequential_fronts(growth, farthest_first(in.reachable, dist, grid.resolution() / 4.0), seed_ok,
-                      in.reachable_cells, in.workers, out.labels, seeds);
+    const auto order = farthest_first(in.reachable, dist, grid.resolution() / 4.0);
+    sequential_fronts(growth, order, in.reachable_cells, in.workers, out.labels, seeds);
+    reconnect_label(grid.width(), in.workers, out.labels);
+    rebalance_areas(grid.width(), grid.height(), in.workers, out.labels, kBalanceTolerance, kBalancePasses);
     for (std::size_t s : seeds) out.seeds.push_back(grid.cell(s));
     return;
   }
@@ -252,9 +304,7 @@ void run_bap(const MethodInput& in, PartitionResult& out) {
   growth.set_weights(weight);
   std::vector<int32_t> coarse_labels;
   std::vector<std::size_t> seeds;
-  std::vector<uint8_t> seed_ok(cn, 0);
-  for (std::size_t b = 0; b < cn; ++b) seed_ok[b] = far_dist[b] >= 0.0;
-  sequential_fronts(growth, farthest_first(region, cdist, grid.resolution() * f / 4.0), seed_ok, total, in.workers,
+  sequential_fronts(growth, farthest_first(region, cdist, grid.resolution() * f / 4.0), total, in.workers,
                     coarse_labels, seeds);
   out.labels.assign(n, 0);
   for (int r = 0; r < grid.height(); ++r)
@@ -263,6 +313,7 @@ void run_bap(const MethodInput& in, PartitionResult& out) {
       if (in.reachable[i]) out.labels[i] = coarse_labels[static_cast<std::size_t>(r / f) * cw + c / f];
     }
   reconnect(grid, in.reachable, in.workers, out.labels);
+  rebalance_areas(grid.width(), grid.height(), in.workers, out.labels, kBalanceTolerance, kBalancePasses);
   for (std::size_t s : seeds) out.seeds.push_back(grid.cell(far_cell[s]));
 }
 

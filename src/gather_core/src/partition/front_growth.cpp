@@ -11,7 +11,7 @@ namespace partition {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr uint8_t kFar = 0, kBand = 1, kAccepted = 2, kPinned = 3, kBlocked = 4;
+constexpr uint8_t kFar = 0, kBand = 1, kAccepted = 2, kPinned = 3;
 
 template <class E>
 bool later(const E& a, const E& b) { return a.t > b.t || (a.t == b.t && a.p > b.p); }
@@ -26,8 +26,6 @@ FrontGrowth::FrontGrowth(int width, int height, double resolution, const std::ve
   region_.assign(n, 0);
   for (std::size_t i = 0; i < region.size(); ++i) region_[pad(i)] = region[i] ? 1 : 0;
   avail_ = region_;
-  visit_.assign(n, 0);
-  tried_.assign(n, 0);
   time_.assign(n, kInf);
   label_.assign(n, 0);
   state_.assign(n, kFar);
@@ -73,7 +71,6 @@ void FrontGrowth::reset_touched() {
   for (uint32_t p : touched_) {
     time_[p] = kInf;
     state_[p] = kFar;
-    tried_[p] = 0;
   }
   touched_.clear();
   heap_.clear();
@@ -211,109 +208,10 @@ void FrontGrowth::lower(std::size_t cell, std::vector<float>& dist) {
 
 void FrontGrowth::reset_available() { avail_ = region_; }
 
-bool FrontGrowth::removable_padded(std::size_t p) const {
-  // The 8-neighbourhood as a cycle N, NE, E, SE, S, SW, W, NW: consecutive cells
-  // share an edge, so available cells in one run are 4-connected without p.
-  const std::ptrdiff_t s = static_cast<std::ptrdiff_t>(stride_);
-  const std::ptrdiff_t ring[8] = {s, s + 1, 1, -s + 1, -s, -s - 1, -1, s - 1};
-  bool in[8];
-  int count = 0;
-  for (int k = 0; k < 8; ++k) {
-    in[k] = avail_[static_cast<std::size_t>(static_cast<std::ptrdiff_t>(p) + ring[k])] != 0;
-    count += in[k];
-  }
-  if (count == 8) return true;
-  // Runs that hold a 4-neighbour (even positions); start after an unavailable cell.
-  int start = 0;
-  while (in[start]) ++start;
-  int runs_with_edge = 0;
-  bool in_run = false, has_edge = false;
-  for (int j = 1; j <= 8; ++j) {
-    const int k = (start + j) % 8;
-    if (in[k]) {
-      if (!in_run) in_run = true, has_edge = false;
-      if (k % 2 == 0) has_edge = true;
-    } else if (in_run) {
-      in_run = false;
-      runs_with_edge += has_edge;
-    }
-  }
-  return runs_with_edge <= 1;
-}
-
-std::size_t FrontGrowth::resolve_cut(std::size_t p, std::size_t budget, int32_t label, std::vector<int32_t>& labels,
-                                     float t) {
-  const std::ptrdiff_t st = static_cast<std::ptrdiff_t>(stride_);
-  const std::ptrdiff_t nb[4] = {-1, 1, -st, st};
-  std::size_t absorbed = 0;
-  pocket_.clear();
-  for (int round = 0; round < 4 && !removable_padded(p); ++round) {
-    // The available 4-neighbours of p: one per side of the cut (at most 4).
-    std::size_t reps[4];
-    int nreps = 0;
-    for (std::ptrdiff_t o : nb) {
-      const std::size_t q = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(p) + o);
-      if (avail_[q]) reps[nreps++] = q;
-    }
-    bool progressed = false;
-    for (int a = 0; a < nreps && !progressed; ++a) {
-      // Breadth-first search from one side, p excluded, up to `budget` cells.
-      ++stamp_;
-      if (stamp_ == 0) std::fill(visit_.begin(), visit_.end(), 0), stamp_ = 1;
-      visit_[p] = stamp_;
-      bfs_.assign(1, static_cast<uint32_t>(reps[a]));
-      visit_[reps[a]] = stamp_;
-      std::size_t head = 0, weight = cell_weight(reps[a]);
-      bool over = false;
-      int found = 1;
-      while (head < bfs_.size() && found < nreps) {
-        if (weight > budget || bfs_.size() > kMaxPocketSearch) {
-          over = true;
-          break;
-        }
-        const std::size_t c = bfs_[head++];
-        for (std::ptrdiff_t o : nb) {
-          const std::size_t q = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + o);
-          if (avail_[q] && visit_[q] != stamp_) {
-            visit_[q] = stamp_;
-            bfs_.push_back(static_cast<uint32_t>(q));
-            weight += cell_weight(q);
-            for (int b = 0; b < nreps; ++b) found += q == reps[b];
-          }
-        }
-      }
-      if (found == nreps) return absorbed;  // every side meets every other: p is no cut
-      if (over) continue;
-      // A closed pocket that fits: it joins this segment.
-      for (uint32_t c : bfs_) pocket_.push_back(Saved{c, state_[c], time_[c]});
-      for (uint32_t c : bfs_) {
-        avail_[c] = 0;
-        if (state_[c] == kFar) touched_.push_back(c);
-        state_[c] = kAccepted;
-        time_[c] = t;
-        label_[c] = label;
-        labels[unpad(c)] = label;
-      }
-      absorbed += weight;
-      budget -= std::min(budget, weight);
-      progressed = true;
-    }
-    if (!progressed) break;
-  }
-  if (removable_padded(p)) return absorbed;
-  // Not resolved: give the pockets taken on the way back.
-  for (std::size_t k = pocket_.size(); k-- > 0;) {
-    const uint32_t c = pocket_[k].p;
-    avail_[c] = 1;
-    state_[c] = pocket_[k].state;
-    time_[c] = pocket_[k].t;
-    labels[unpad(c)] = 0;
-  }
-  return kCutBlocked;
-}
-
-std::size_t FrontGrowth::grow_quota(std::size_t seed, std::size_t quota, int32_t label, std::vector<int32_t>& labels) {
+std::size_t FrontGrowth::grow_quota(std::size_t seed, std::size_t quota, int32_t label, std::vector<int32_t>& labels,
+                                    std::vector<uint32_t>* taken_cells) {
   const std::size_t n = static_cast<std::size_t>(width_) * height_;
+  if (taken_cells) taken_cells->clear();
   if (seed >= n || !avail_[pad(seed)]) throw Error("partition", "front growth: quota seed is not available");
   if (labels.size() != n) labels.assign(n, 0);
   reset_touched();
@@ -321,66 +219,56 @@ std::size_t FrontGrowth::grow_quota(std::size_t seed, std::size_t quota, int32_t
   time_[s] = 0.0f;
   state_[s] = kBand;
   touched_.push_back(static_cast<uint32_t>(s));
-  push(0.0f, static_cast<uint32_t>(s));
-  const auto cmp = [](const Entry& a, const Entry& b) { return later(a, b); };
+  // The untidy bucket queue of grow(): O(1) per cell; a cell is accepted
+  // once, from an accepted neighbour of this front, so the front is
+  // 4-connected.
+  const float width = 0.5f * res_ * min_slowness_;
+  const std::size_t nbuckets = static_cast<std::size_t>(std::ceil(res_ * max_slowness_ / width)) + 3;
+  if (buckets_.size() < nbuckets) buckets_.resize(nbuckets);
+  for (auto& b : buckets_) b.clear();
+  double base = 0.0;
+  std::size_t cur = 0, pending = 0;
+  auto insert = [&](float t, uint32_t p) {
+    const double d = (static_cast<double>(t) - base) / width;
+    std::size_t idx = d <= 0.0 ? 0 : static_cast<std::size_t>(d);
+    if (idx > nbuckets - 2) idx = nbuckets - 2;
+    buckets_[(cur + idx) % nbuckets].push_back(p);
+    ++pending;
+  };
+  insert(0.0f, static_cast<uint32_t>(s));
   const std::ptrdiff_t st = static_cast<std::ptrdiff_t>(stride_);
   const std::ptrdiff_t nb[4] = {-1, 1, -st, st};
-  const std::ptrdiff_t ring[8] = {st, st + 1, 1, -st + 1, -st, -st - 1, -1, st - 1};
   std::size_t taken = 0;
-  bool first = true;
-  while (!heap_.empty() && taken < quota) {
-    std::pop_heap(heap_.begin(), heap_.end(), cmp);
-    const Entry e = heap_.back();
-    heap_.pop_back();
-    if (state_[e.p] == kAccepted || state_[e.p] == kBlocked || e.t > time_[e.p] || !avail_[e.p]) continue;
-    if (!first && !removable_padded(e.p)) {
-      // A local cut: take it if its sides meet elsewhere, or if one side is a
-      // pocket small enough to absorb into this segment; else wait.
-      // A cell whose search failed is searched again only after the front
-      // has grown by kRetryCells.
-      const bool retry = tried_[e.p] == 0 || taken + 1 >= tried_[e.p] + kRetryCells;
-      const std::size_t need = quota - taken;
-      const std::size_t pocket_budget = need > cell_weight(e.p) ? need - cell_weight(e.p) : 0;
-      const std::size_t absorbed = retry ? resolve_cut(e.p, pocket_budget, label, labels, e.t) : kCutBlocked;
-      if (absorbed == kCutBlocked) {
-        if (retry) tried_[e.p] = static_cast<uint32_t>(taken + 1);
-        state_[e.p] = kBlocked;  // re-queued when a neighbour is taken
-        continue;
-      }
-      taken += absorbed;
-    }
-    first = false;
-    state_[e.p] = kAccepted;
-    avail_[e.p] = 0;
-    label_[e.p] = label;
-    labels[unpad(e.p)] = label;
-    taken += cell_weight(e.p);
-    for (std::ptrdiff_t o : ring) {
-      const std::size_t q = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(e.p) + o);
-      if (state_[q] == kBlocked) {
-        state_[q] = kBand;
-        push(time_[q], static_cast<uint32_t>(q));
+  while (pending > 0 && taken < quota) {
+    for (std::size_t i = 0; i < buckets_[cur].size() && taken < quota; ++i) {
+      const uint32_t p = buckets_[cur][i];
+      --pending;
+      if (state_[p] == kAccepted) continue;
+      state_[p] = kAccepted;
+      avail_[p] = 0;
+      label_[p] = label;
+      labels[unpad(p)] = label;
+      taken += cell_weight(p);
+      if (taken_cells) taken_cells->push_back(static_cast<uint32_t>(unpad(p)));
+      for (std::ptrdiff_t o : nb) {
+        const std::size_t q = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(p) + o);
+        if (!avail_[q] || state_[q] == kAccepted) continue;
+        const float t = update(q, label);
+        if (t < time_[q]) {
+          if (state_[q] == kFar) touched_.push_back(static_cast<uint32_t>(q));
+          state_[q] = kBand;
+          time_[q] = t;
+          insert(t, static_cast<uint32_t>(q));
+        }
       }
     }
-    for (std::ptrdiff_t o : nb) {
-      const std::size_t q = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(e.p) + o);
-      if (!avail_[q] || state_[q] == kAccepted) continue;
-      const float t = update(q, label);
-      if (t < time_[q]) {
-        if (state_[q] == kFar) touched_.push_back(static_cast<uint32_t>(q));
-        if (state_[q] != kBlocked) state_[q] = kBand;
-        time_[q] = t;
-        if (state_[q] == kBand) push(t, static_cast<uint32_t>(q));
-      }
-    }
+    if (taken >= quota) break;
+    buckets_[cur].clear();
+    cur = (cur + 1) % nbuckets;
+    base += width;
   }
   for (uint32_t p : touched_) label_[p] = 0;
   return taken;
-}
-
-void FrontGrowth::release(int32_t label, std::vector<int32_t>& labels) {
-  for (std::size_t i = 0; i < labels.size(); ++i)
-    if (labels[i] == label) labels[i] = 0, avail_[pad(i)] = 1;
 }
 
 std::size_t FrontGrowth::take_rest(int32_t label, std::vector<int32_t>& labels) {

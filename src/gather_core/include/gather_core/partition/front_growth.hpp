@@ -53,17 +53,14 @@ class FrontGrowth {
   // Starts a new round: every region cell is available.
   void reset_available();
   bool available(std::size_t cell) const { return avail_[pad(cell)] != 0; }
-  // Whether taking `cell` keeps its available 4-neighbours locally connected
-  // (through its 8-neighbourhood), i.e. cannot split the available cells.
-  bool removable(std::size_t cell) const { return removable_padded(pad(cell)); }
   // Grows one front from `seed` over available cells until it holds `quota`
-  // (weight of) cells; skips (for as long as they stay so) cells whose taking would split
-  // the available cells, so what is left stays 4-connected. Taken cells get
-  // `label` in `labels` (row-major) and stop being available. Returns the
-  // weight taken (< quota when the front is boxed in).
-  std::size_t grow_quota(std::size_t seed, std::size_t quota, int32_t label, std::vector<int32_t>& labels);
-  // Makes the cells of `label` available again (an undone quota growth).
-  void release(int32_t label, std::vector<int32_t>& labels);
+  // (weight of) cells: a first-order FMM with an area stop (what is left of
+  // the available cells may fall apart into pieces). Taken cells get `label`
+  // in `labels` (row-major) and stop being available; `taken_cells`
+  // (optional) gets them (row-major), in order. Returns the weight taken
+  // (< quota when the front's piece of available cells is smaller).
+  std::size_t grow_quota(std::size_t seed, std::size_t quota, int32_t label, std::vector<int32_t>& labels,
+                         std::vector<uint32_t>* taken_cells = nullptr);
   // Gives every still available cell `label` (the last segment).
   std::size_t take_rest(int32_t label, std::vector<int32_t>& labels);
 
@@ -79,14 +76,6 @@ class FrontGrowth {
   float cost(std::size_t p) const { return slowness_.empty() ? res_ : res_ * slowness_[p]; }
   // First-order Eikonal update of p from accepted neighbours with label L.
   float update(std::size_t p, int32_t label) const;
-  bool removable_padded(std::size_t p) const;
-  // p is a local cut of the available cells: 0 when its sides meet within the
-  // search (kMaxPocketSearch cells per side), the weight absorbed when closed
-  // pockets of total weight <= `budget` were taken, kCutBlocked otherwise.
-  std::size_t resolve_cut(std::size_t p, std::size_t budget, int32_t label, std::vector<int32_t>& labels, float t);
-  static constexpr std::size_t kCutBlocked = static_cast<std::size_t>(-1);
-  static constexpr std::size_t kMaxPocketSearch = 20000;
-  static constexpr std::size_t kRetryCells = 256;
   void push(float t, uint32_t p);
   void reset_touched();
 
@@ -99,18 +88,8 @@ class FrontGrowth {
   std::vector<uint32_t> weight_;   // padded, empty = 1
   std::vector<float> time_;        // padded
   std::vector<int32_t> label_;     // padded
-  std::vector<uint8_t> state_;     // padded: 0 far, 1 band, 2 accepted, 3 pinned source, 4 blocked
+  std::vector<uint8_t> state_;     // padded: 0 far, 1 band, 2 accepted, 3 pinned source
   std::vector<uint32_t> touched_;
-  std::vector<uint32_t> visit_;    // padded BFS stamps (cut resolution)
-  uint32_t stamp_ = 0;
-  std::vector<uint32_t> tried_;   // padded: taken + 1 at the last failed cut search
-  std::vector<uint32_t> bfs_;
-  struct Saved {
-    uint32_t p;
-    uint8_t state;
-    float t;
-  };
-  std::vector<Saved> pocket_;  // cells absorbed by the cut being resolved, as they were
   struct Entry {
     float t;
     uint32_t p;
