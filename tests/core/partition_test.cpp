@@ -121,6 +121,15 @@ TEST(Partition, BapBalancesAreas) {
   }
 }
 
+// PAP's balancing delays must not starve a segment (maps/office had one of a
+// single cell): no segment below 10% of the mean area.
+TEST(Partition, PapHasNoStarvedSegment) {
+  const Scenario sc = load_scenario(repo("maps/office.scenario.yaml"));
+  const PartitionResult p = partition_area(sc.grid, sc.grid.world_to_cell(sc.oc), Method::kPap, 20, 1);
+  const PartitionMetrics m = compute_metrics(sc.grid, p);
+  for (int k = 0; k < 20; ++k) EXPECT_GE(m.areas[k], 0.1 * m.area_mean) << "segment " << k + 1;
+}
+
 // Two 4 m x 3 m rooms joined by a 1 m door at 0.05 m/cell.
 OccupancyGrid two_rooms() {
   const int w = 170, h = 60;

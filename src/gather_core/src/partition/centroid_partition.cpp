@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <random>
 
 #include "gather_core/partition/front_growth.hpp"
@@ -36,6 +37,18 @@ namespace partition {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// PAP start delays stay within this many mean segment radii of each other: a
+// larger one lets the neighbours surround a seed before its front starts.
+constexpr double kMaxDelayRadii = 1.0;
+// PAP: a segment under this share of the mean area after the Lloyd
+// iterations gets its delay cut.
+constexpr double kMinAreaShare = 0.5;
+
+// Shifts the delays so the smallest is 0 and caps them at kMaxDelayRadii radii.
+void normalise_delays(std::vector<double>& delay, double seg_radius) {
+  const double lo = *std::min_element(delay.begin(), delay.end());
+  for (double& d : delay) d = std::min(d - lo, kMaxDelayRadii * seg_radius);
+}
 
 float rap_slowness(float clearance, const PartitionParams& p) {
   const double x = std::max(0.0, static_cast<double>(clearance)) / p.rap_room_clearance;
@@ -201,8 +214,25 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
       for (double a : cnt) mean += a;
       mean /= static_cast<double>(nw);
       for (std::size_t k = 0; k < nw; ++k) delay[k] += p.pap_balance_gain * seg_radius * (cnt[k] / mean - 1.0);
-      const double lo = *std::min_element(delay.begin(), delay.end());
-      for (double& d : delay) d -= lo;
+      normalise_delays(delay, seg_radius);
+    }
+  }
+  // The last delays and seed moves were never tried: grow once more and, while
+  // a segment holds under kMinAreaShare of the mean (its neighbours reached
+  // its seed before its delay ran out), halve that segment's delay.
+  if (!rooms) {
+    for (int round = 0; round < 8; ++round) {
+      for (std::size_t k = 0; k < nw; ++k) fronts[k] = FrontGrowth::Front{seeds[k], delay[k]};
+      coarse.grow(fronts, labels);
+      std::fill(cnt.begin(), cnt.end(), 0.0);
+      for (std::size_t b = 0; b < cn; ++b)
+        if (labels[b] > 0) cnt[static_cast<std::size_t>(labels[b] - 1)] += 1.0;
+      const double mean = std::accumulate(cnt.begin(), cnt.end(), 0.0) / static_cast<double>(nw);
+      bool starved = false;
+      for (std::size_t k = 0; k < nw; ++k)
+        if (cnt[k] < kMinAreaShare * mean && delay[k] > 0.0) delay[k] *= 0.5, starved = true;
+      if (!starved) break;
+      normalise_delays(delay, seg_radius);
     }
   }
 
