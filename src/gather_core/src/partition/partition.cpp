@@ -1,9 +1,9 @@
 #include "gather_core/partition/partition.hpp"
 
 #include <chrono>
-#include <opencv2/imgproc.hpp>
 
 #include "gather_core/error.hpp"
+#include "gather_core/grid/clearance.hpp"
 #include "gather_core/grid/reachability.hpp"
 #include "methods.hpp"
 
@@ -46,19 +46,7 @@ std::vector<Method> all_methods() {
   return out;
 }
 
-std::vector<float> clearance_map(const OccupancyGrid& grid) {
-  cv::Mat free(grid.height(), grid.width(), CV_8UC1);
-  const auto& mask = grid.free_mask();
-  for (int r = 0; r < grid.height(); ++r)
-    for (int c = 0; c < grid.width(); ++c) free.at<uint8_t>(r, c) = mask[grid.index(Cell{r, c})] ? 255 : 0;
-  cv::Mat dist;
-  cv::distanceTransform(free, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
-  std::vector<float> out(grid.size());
-  const float res = static_cast<float>(grid.resolution());
-  for (int r = 0; r < grid.height(); ++r)
-    for (int c = 0; c < grid.width(); ++c) out[grid.index(Cell{r, c})] = dist.at<float>(r, c) * res;
-  return out;
-}
+std::vector<float> clearance_map(const OccupancyGrid& grid) { return ClearanceMap(grid).values(); }
 
 PartitionResult partition_area(const OccupancyGrid& grid, Cell oc, Method method, int workers, unsigned seed,
                                const PartitionParams& params) {

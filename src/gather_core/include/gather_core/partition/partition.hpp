@@ -57,7 +57,7 @@ struct PartitionResult {
   std::vector<int32_t> labels;     // row-major (row 0 = bottom), 0 = no segment, k = segment k (1..N_w)
   std::vector<Cell> seeds;         // per segment k-1: its final seed / wavefront start
   std::vector<Cell> initial_seeds; // PAP/RAP: the centroid initialisation (Fig. 1b); BAP: empty
-  std::vector<float> clearance;    // row-major [m] distance to the nearest non-free cell
+  std::vector<float> clearance;    // row-major [m] clearance_map(): distance to the nearest non-free cell (map edge = wall)
   double runtime_ms = 0.0;         // wall time of partition_area()
 };
 
@@ -69,8 +69,9 @@ struct PartitionResult {
 PartitionResult partition_area(const OccupancyGrid& grid, Cell oc, Method method, int workers, unsigned seed = 1,
                                const PartitionParams& params = {});
 
-// Distance [m] from each cell centre to the nearest non-free cell (row-major;
-// 0 on non-free cells). Exact Euclidean distance transform.
+// Distance [m] from each cell centre to the nearest non-free cell centre
+// (row-major; 0 on non-free cells): ClearanceMap(grid).values(), the exact
+// Euclidean distance transform, where the map's edge counts as a wall.
 std::vector<float> clearance_map(const OccupancyGrid& grid);
 
 }  // namespace partition
