@@ -208,6 +208,8 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
       const double d = dx * dx + dy * dy;
       if (d < best_d[k]) best_d[k] = d, moved[k] = b;
     }
+    // RAP has no delays: unmoved centroids are a fixed point of the iteration.
+    if (rooms && moved == seeds) break;
     seeds = moved;
     if (!rooms) {
       double mean = 0.0;
