@@ -24,7 +24,11 @@ FrontGrowth::FrontGrowth(int width, int height, double resolution, const std::ve
     throw Error("partition", "front growth: region mask does not match the map size");
   const std::size_t n = stride_ * (static_cast<std::size_t>(height) + 2);
   region_.assign(n, 0);
-  for (std::size_t i = 0; i < region.size(); ++i) region_[pad(i)] = region[i] ? 1 : 0;
+  for (int r = 0; r < height; ++r) {
+    const uint8_t* src = region.data() + static_cast<std::size_t>(r) * width;
+    uint8_t* dst = region_.data() + (static_cast<std::size_t>(r) + 1) * stride_ + 1;
+    for (int c = 0; c < width; ++c) dst[c] = src[c] ? 1 : 0;
+  }
   avail_ = region_;
   time_.assign(n, kInf);
   label_.assign(n, 0);
@@ -275,12 +279,16 @@ std::size_t FrontGrowth::take_rest(int32_t label, std::vector<int32_t>& labels) 
   const std::size_t n = static_cast<std::size_t>(width_) * height_;
   if (labels.size() != n) labels.assign(n, 0);
   std::size_t taken = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t p = pad(i);
-    if (!avail_[p]) continue;
-    avail_[p] = 0;
-    labels[i] = label;
-    taken += cell_weight(p);
+  for (int r = 0; r < height_; ++r) {
+    const std::size_t row = static_cast<std::size_t>(r) * static_cast<std::size_t>(width_);
+    const std::size_t prow = (static_cast<std::size_t>(r) + 1) * stride_ + 1;
+    for (int c = 0; c < width_; ++c) {
+      const std::size_t p = prow + static_cast<std::size_t>(c);
+      if (!avail_[p]) continue;
+      avail_[p] = 0;
+      labels[row + static_cast<std::size_t>(c)] = label;
+      taken += cell_weight(p);
+    }
   }
   return taken;
 }

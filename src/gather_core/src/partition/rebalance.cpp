@@ -30,9 +30,8 @@ class Rebalancer {
       : w_(width), h_(height), stride_(static_cast<std::size_t>(width) + 2), nw_(workers), out_(labels) {
     lab_.assign(stride_ * (static_cast<std::size_t>(h_) + 2), 0);
     for (int r = 0; r < h_; ++r)
-      for (int c = 0; c < w_; ++c) lab_[pad(static_cast<std::size_t>(r) * w_ + c)] = labels[static_cast<std::size_t>(r) * w_ + c];
+      std::copy_n(labels.data() + static_cast<std::size_t>(r) * w_, w_, lab_.data() + (static_cast<std::size_t>(r) + 1) * stride_ + 1);
     stamp_.assign(lab_.size(), 0);
-    vis_.assign(lab_.size(), 0);
     area_.assign(static_cast<std::size_t>(nw_) + 1, 0);
     for (int32_t l : lab_)
       if (l > 0) ++area_[l];
@@ -54,14 +53,10 @@ class Rebalancer {
       if (!one_pass()) break;
     }
     for (int r = 0; r < h_; ++r)
-      for (int c = 0; c < w_; ++c) out_[static_cast<std::size_t>(r) * w_ + c] = lab_[pad(static_cast<std::size_t>(r) * w_ + c)];
+      std::copy_n(lab_.data() + (static_cast<std::size_t>(r) + 1) * stride_ + 1, w_, out_.data() + static_cast<std::size_t>(r) * w_);
   }
 
  private:
-  std::size_t pad(std::size_t cell) const {
-    return (cell / static_cast<std::size_t>(w_) + 1) * stride_ + cell % static_cast<std::size_t>(w_) + 1;
-  }
-
   // Whether p's 4-neighbours of label `l` stay connected without p through
   // its 8-neighbourhood (p itself has label l).
   bool simple(std::size_t p, int32_t l) const {
@@ -233,6 +228,7 @@ class Rebalancer {
       if (lab_[q] == from) reps[nreps++] = q;
     }
     // One bounded breadth-first search per side; vis_ = base + side.
+    if (vis_.empty()) vis_.assign(lab_.size(), 0);
     if (vis_base_ > 0xfffffff0u) std::fill(vis_.begin(), vis_.end(), 0), vis_base_ = 0;
     const uint32_t base = vis_base_ + 1;
     vis_base_ += 5;
@@ -347,7 +343,7 @@ class Rebalancer {
   std::vector<uint64_t> pairs_;
   std::vector<uint64_t> stuck_;  // sorted after each pass
   std::vector<uint32_t> queue_, blocked_, pocket_;
-  std::vector<uint32_t> vis_;  // padded, cut searches
+  std::vector<uint32_t> vis_;  // padded, cut searches (allocated on the first)
   uint32_t vis_base_ = 0;
   static constexpr int kMaxCutTries = 64;
 };
