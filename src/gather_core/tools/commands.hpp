@@ -8,6 +8,7 @@ int fmm(int argc, char** argv);   // gather fmm --map FILE --source ROW,COL ... 
 int partition(int argc, char** argv);  // gather partition SCENARIO --method M --workers N ... (tools/cmd_partition.cpp)
 int radio(int argc, char** argv);      // gather radio SCENARIO ... (tools/cmd_radio.cpp)
 int plan(int argc, char** argv);       // gather plan SCENARIO --out DIR ... (tools/cmd_plan.cpp)
+int sim(int argc, char** argv);        // gather sim PLAN_DIR --out DIR ... (tools/cmd_sim.cpp)
 
 }  // namespace cmd
 }  // namespace gather

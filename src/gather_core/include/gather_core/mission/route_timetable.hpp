@@ -1,0 +1,49 @@
+#pragma once
+// A collector's closed route as a function of time: it leaves the OC at t = 0
+// and drives the polyline at constant speed, one loop per period, forever.
+// Motion is analytic (arc length = speed * t mod length), so where the
+// collector is at any time, when it next passes an arc position and when it is
+// next inside the OC's radio coverage are exact (coverage borders are found by
+// bisection along the route to 1e-6 m).
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "gather_core/grid/occupancy_grid.hpp"
+#include "gather_core/plan/planner.hpp"
+
+namespace gather {
+namespace mission {
+
+class RouteTimetable {
+ public:
+  // `coverage`: row-major mask of the cells inside the OC's coverage.
+  // speed [m/s] > 0. A route of fewer than two waypoints or zero length is
+  // idle (it never moves and is never met).
+  RouteTimetable(const plan::CollectorRoute& route, double speed, const OccupancyGrid& grid,
+                 const std::vector<uint8_t>& coverage);
+
+  bool idle() const { return length_ <= 0.0; }
+  double length() const { return length_; }                      // [m]
+  double period() const { return idle() ? 0.0 : length_ / speed_; }  // [s]
+  Point2 position_at_arc(double s) const;                         // s in [0, length] [m]
+  Point2 position(double t) const;                                // at time t [s]
+  // Earliest time >= t [s] at which the collector is at arc position s [m]
+  // (t is compared with a 1 ms tolerance, so a worker on time up to float
+  // rounding of its FMM distances meets it).
+  double next_time_at(double s, double t) const;
+  // Earliest time >= t [s] at which the collector is inside the coverage.
+  double next_coverage_time(double t) const;
+  // Arc intervals [m] of one loop inside the coverage, ascending.
+  const std::vector<std::pair<double, double>>& coverage_intervals() const { return inside_; }
+
+ private:
+  std::vector<Point2> points_;
+  std::vector<double> arc_;  // cumulative [m]
+  double speed_ = 1.0;
+  double length_ = 0.0;
+  std::vector<std::pair<double, double>> inside_;
+};
+
+}  // namespace mission
+}  // namespace gather

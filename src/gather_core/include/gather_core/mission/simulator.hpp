@@ -1,0 +1,140 @@
+#pragma once
+// The in-process mission simulator (seed sec. 3.2, Fig. 3 R, Fig. 4): executes
+// a plan cycle after cycle and measures what the planner estimated (refresh
+// time, goals delivered per cycle). Deterministic for a seed. The model is
+// documented in docs/simulator.md.
+//
+// Why per-agent analytic timelines and not a fixed time step: agents do not
+// interact except at rendezvous, and a collector's position is a closed-form
+// function of time (RouteTimetable). So each worker's timeline is computed
+// exactly, decision point after decision point (travel times are FMM geodesic
+// lengths / speed, meetings are the collector's exact pass times), and the
+// resulting per-goal events are then replayed in time order for the
+// accounting and its conservation check. No time-step error, and the cost is
+// a few FMM marches per decision instead of one update per agent per tick.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "gather_core/fmm/fast_marching.hpp"
+#include "gather_core/mission/mission_plan.hpp"
+#include "gather_core/mission/route_timetable.hpp"
+#include "gather_core/plan/planner.hpp"
+#include "gather_core/radio/radio_model.hpp"
+
+namespace gather {
+namespace mission {
+
+enum class GoalState : uint8_t { kPending, kCarried, kDelivered, kExpired };
+const char* goal_state_name(GoalState s);
+
+struct GoalRecord {
+  int id = 0;
+  int cycle = 0;               // the request it belongs to
+  Point2 point;                // [m] (a cell centre)
+  int segment = 0;             // 0: in no segment (never measured, expires)
+  int worker = -1;             // agent id of the segment's worker
+  double requested_at = 0.0;   // [s]
+  double deadline = 0.0;       // [s] the next request: unmeasured by then = expired
+  double measured_at = -1.0;   // [s], -1 = never
+  int measured_by = -1;
+  double picked_up_at = -1.0;  // [s] handed to a collector, -1 = never (OC workers deliver themselves)
+  int picked_up_by = -1;
+  double delivered_at = -1.0;  // [s] inside the OC's coverage, -1 = never
+  int delivered_by = -1;       // agent that brought it into coverage
+  double expired_at = -1.0;    // [s] = deadline when never measured
+  GoalState state = GoalState::kPending;  // at the end of the run
+};
+
+struct CycleStats {
+  int cycle = 0;
+  double requested_at = 0.0;  // [s]
+  int requested = 0;          // goals of this request
+  // Goals of this request delivered (at any time of the run) and their
+  // refresh times delivered_at - requested_at [s] (0 when none).
+  int delivered = 0;
+  double refresh_mean_s = 0.0, refresh_max_s = 0.0;
+  int expired = 0;            // goals of this request never measured
+  // Snapshot of all goals requested so far at the end of the cycle
+  // (t = requested_at + period), as checked for conservation.
+  int total_requested = 0, total_delivered = 0, total_carried = 0, total_pending = 0, total_expired = 0;
+};
+
+// One straight-in-time leg of an agent: it moves from `from` to `to` along
+// the FMM geodesic during [t0, t1] (t1 = t0 + length / speed) and then stays
+// at `to` until the next leg starts. Collectors have none (see RouteTimetable).
+struct Leg {
+  int agent = 0;
+  double t0 = 0.0, t1 = 0.0;  // [s]
+  Point2 from, to;            // [m]
+};
+
+struct MissionOptions {
+  int cycles = 10;
+  unsigned seed = 1;
+  int goals_per_request = -1;  // -1: the scenario's mission.goals_per_request
+  // Tests: fixed goals (cycle, point [m]) instead of random ones.
+  std::vector<std::pair<int, Point2>> fixed_goals;
+};
+
+struct MissionResult {
+  std::vector<GoalRecord> goals;
+  std::vector<CycleStats> cycles;
+  std::vector<Leg> legs;
+  double period_s = 0.0;            // request period
+  double mission_s = 0.0;           // cycles * period [s]
+  double end_s = 0.0;               // last event (data still carried at the last request is delivered)
+  double refresh_mean_s = 0.0;      // over all delivered goals
+  double refresh_max_s = 0.0;
+  double goals_per_cycle = 0.0;     // delivered / cycles
+  double wall_ms = 0.0;
+  double speedup() const { return wall_ms > 0 ? mission_s * 1000.0 / wall_ms : 0.0; }
+};
+
+class MissionSimulator {
+ public:
+  // Keeps references to ctx (and its scenario). Throws gather::Error when the
+  // plan does not fit the scenario (label image size, roles, routes).
+  MissionSimulator(const plan::PlanContext& ctx, MissionPlan plan);
+  ~MissionSimulator();
+
+  // Runs `options.cycles` requests and drains the data measured meanwhile.
+  // Throws gather::Error if the accounting breaks its invariants (a bug).
+  MissionResult run(const MissionOptions& options);
+
+  const MissionPlan& plan() const { return plan_; }
+  const RouteTimetable& route(int collector) const { return routes_[static_cast<std::size_t>(collector)]; }
+
+ private:
+  struct Worker;
+  struct Run;
+  void simulate_worker(const Worker& w, Run& run);
+  void simulate_collector_worker(const Worker& w, Run& run);
+  void simulate_oc_worker(const Worker& w, Run& run);
+  // Distances [m] from the OC's cell to `targets` (a table, no march).
+  void from_oc(const std::vector<Cell>& targets, std::vector<double>& out) const;
+
+  const plan::PlanContext& ctx_;
+  MissionPlan plan_;
+  double speed_ = 1.0;
+  double period_ = 1.0;
+  RadioModel radio_;
+  std::vector<RouteTimetable> routes_;
+  std::vector<Worker> workers_;
+  std::vector<uint32_t> reachable_;      // row-major indices of the reachable cells
+  std::vector<int32_t> index_in_segment_;  // per cell: its index among its segment's cells, -1 none
+  std::vector<float> from_oc_;             // [m] geodesic distance of every cell from the OC's cell
+  fmm::FastMarching fm_;                 // reused for every tour distance
+  fmm::FastMarching coverage_field_;     // from the coverage border: way back to the OC
+  std::vector<Cell> coverage_sources_;
+};
+
+// Replays the goals' timestamps in time order, checks that every transition
+// is legal (pending -> carried -> delivered, pending -> expired; never twice)
+// and that requested = delivered + carried + pending + expired at the end of
+// every cycle and at the end of the run, and returns the per-cycle stats.
+// Throws gather::Error on any violation.
+std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles, double period);
+
+}  // namespace mission
+}  // namespace gather

@@ -1,0 +1,139 @@
+// Per-goal accounting of a mission: replays the goals' timestamps in time
+// order and checks conservation at the end of every cycle.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "gather_core/error.hpp"
+#include "gather_core/mission/simulator.hpp"
+
+namespace gather {
+namespace mission {
+namespace {
+
+// At equal times: expiries first (a goal expires at the next request's time),
+// then a goal's own request, measurement, pick-up and delivery.
+enum Kind : int { kExpire = 0, kRequest = 1, kMeasure = 2, kPickup = 3, kDeliver = 4 };
+enum Where : uint8_t { kNone, kPendingAt, kWorker, kCollector, kDeliveredAt, kExpiredAt };
+
+struct Event {
+  double t;
+  int kind;
+  int goal;
+};
+
+[[noreturn]] void broken(const std::string& what) { throw Error("mission accounting", what); }
+
+}  // namespace
+
+const char* goal_state_name(GoalState s) {
+  switch (s) {
+    case GoalState::kPending: return "pending";
+    case GoalState::kCarried: return "carried";
+    case GoalState::kDelivered: return "delivered";
+    case GoalState::kExpired: return "expired";
+  }
+  return "?";
+}
+
+std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles, double period) {
+  std::vector<Event> events;
+  events.reserve(goals.size() * 4);
+  for (std::size_t i = 0; i < goals.size(); ++i) {
+    const GoalRecord& g = goals[i];
+    const int id = static_cast<int>(i);
+    if (g.id != id) broken("goal ids are not their index");
+    if (g.cycle < 0 || g.cycle >= cycles) broken("goal " + std::to_string(id) + " of cycle " + std::to_string(g.cycle));
+    events.push_back({g.requested_at, kRequest, id});
+    if (g.measured_at >= 0) events.push_back({g.measured_at, kMeasure, id});
+    if (g.picked_up_at >= 0) events.push_back({g.picked_up_at, kPickup, id});
+    if (g.delivered_at >= 0) events.push_back({g.delivered_at, kDeliver, id});
+    if (g.expired_at >= 0) events.push_back({g.expired_at, kExpire, id});
+    if (g.measured_at >= 0 && g.expired_at >= 0) broken("goal " + std::to_string(id) + " both measured and expired");
+    if (g.measured_at >= 0 && g.measured_at > g.deadline + 1e-9)
+      broken("goal " + std::to_string(id) + " measured after its deadline");
+  }
+  std::sort(events.begin(), events.end(), [](const Event& a, const Event& b) {
+    if (a.t != b.t) return a.t < b.t;
+    if (a.kind != b.kind) return a.kind < b.kind;
+    return a.goal < b.goal;
+  });
+  std::vector<uint8_t> where(goals.size(), kNone);
+  int requested = 0, pending = 0, on_workers = 0, on_collectors = 0, delivered = 0, expired = 0;
+  auto move = [&](const Event& e) {
+    uint8_t& w = where[static_cast<std::size_t>(e.goal)];
+    const std::string id = "goal " + std::to_string(e.goal);
+    switch (e.kind) {
+      case kRequest:
+        if (w != kNone) broken(id + " requested twice");
+        w = kPendingAt, ++requested, ++pending;
+        break;
+      case kMeasure:
+        if (w != kPendingAt) broken(id + " measured while not pending");
+        w = kWorker, --pending, ++on_workers;
+        break;
+      case kPickup:
+        if (w != kWorker) broken(id + " picked up while not on a worker");
+        w = kCollector, --on_workers, ++on_collectors;
+        break;
+      case kDeliver:
+        if (w == kDeliveredAt) broken(id + " delivered twice");
+        if (w != kWorker && w != kCollector) broken(id + " delivered while not carried");
+        (w == kWorker ? on_workers : on_collectors)--, ++delivered, w = kDeliveredAt;
+        break;
+      case kExpire:
+        if (w != kPendingAt) broken(id + " expired while not pending");
+        w = kExpiredAt, --pending, ++expired;
+        break;
+    }
+  };
+  // Conservation, and the counters against a recount of the goals' states.
+  auto check = [&](const std::string& when) {
+    const int carried = on_workers + on_collectors;
+    if (requested != delivered + carried + pending + expired)
+      broken(when + ": requested " + std::to_string(requested) + " != delivered " + std::to_string(delivered) +
+             " + carried " + std::to_string(carried) + " + pending " + std::to_string(pending) + " + expired " +
+             std::to_string(expired));
+    int n[6] = {0, 0, 0, 0, 0, 0};
+    for (uint8_t w : where) ++n[w];
+    if (n[kPendingAt] != pending || n[kWorker] != on_workers || n[kCollector] != on_collectors ||
+        n[kDeliveredAt] != delivered || n[kExpiredAt] != expired)
+      broken(when + ": counters disagree with the goals' states");
+  };
+
+  std::vector<CycleStats> out(static_cast<std::size_t>(cycles));
+  std::size_t next = 0;
+  for (int c = 0; c < cycles; ++c) {
+    const double end = (c + 1) * period;
+    while (next < events.size() &&
+           (events[next].t < end || (events[next].t == end && events[next].kind == kExpire)))
+      move(events[next++]);
+    check("cycle " + std::to_string(c));
+    CycleStats& s = out[static_cast<std::size_t>(c)];
+    s.cycle = c;
+    s.requested_at = c * period;
+    s.total_requested = requested, s.total_delivered = delivered, s.total_carried = on_workers + on_collectors;
+    s.total_pending = pending, s.total_expired = expired;
+  }
+  while (next < events.size()) move(events[next++]);
+  check("end of run");
+  if (pending != 0 || on_workers + on_collectors != 0)
+    broken("end of run: " + std::to_string(pending) + " goals pending and " +
+           std::to_string(on_workers + on_collectors) + " still carried (data must never be dropped)");
+  for (const GoalRecord& g : goals) {
+    CycleStats& s = out[static_cast<std::size_t>(g.cycle)];
+    ++s.requested;
+    if (g.delivered_at >= 0) {
+      const double r = g.delivered_at - g.requested_at;
+      ++s.delivered, s.refresh_mean_s += r, s.refresh_max_s = std::max(s.refresh_max_s, r);
+    } else {
+      ++s.expired;
+    }
+  }
+  for (CycleStats& s : out)
+    if (s.delivered > 0) s.refresh_mean_s /= s.delivered;
+  return out;
+}
+
+}  // namespace mission
+}  // namespace gather

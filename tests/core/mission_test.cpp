@@ -1,0 +1,314 @@
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <set>
+
+#include "gather_core/error.hpp"
+#include "gather_core/figures/partition_figure.hpp"
+#include "gather_core/mission/mission_plan.hpp"
+#include "gather_core/mission/simulator.hpp"
+#include "gather_core/plan/plan_file.hpp"
+#include "gather_core/plan/planner.hpp"
+
+namespace gather {
+namespace {
+
+using mission::GoalRecord;
+using mission::MissionOptions;
+using mission::MissionResult;
+using mission::MissionSimulator;
+
+// 36 m x 16 m office at 0.1 m/cell (as in plan_test.cpp): a corridor along
+// y = 7..9 m, rooms of 6 m on both sides with 1.2 m doors, the OC at its west end.
+Scenario small_office() {
+  const int w = 360, h = 160;
+  std::vector<int8_t> v(static_cast<std::size_t>(w) * h, 0);
+  std::vector<uint8_t> f(v.size(), 1);
+  auto set = [&](int r0, int r1, int c0, int c1, bool wall) {
+    for (int r = r0; r < r1; ++r)
+      for (int c = c0; c < c1; ++c) {
+        const std::size_t i = static_cast<std::size_t>(r) * w + c;
+        v[i] = wall ? 100 : 0, f[i] = wall ? 0 : 1;
+      }
+  };
+  set(0, 2, 0, w, true), set(h - 2, h, 0, w, true), set(0, h, 0, 2, true), set(0, h, w - 2, w, true);
+  set(69, 71, 0, w, true), set(89, 91, 0, w, true);
+  for (int c = 60; c < w - 2; c += 60) set(0, h, c, c + 2, true);
+  set(70, 90, 2, w - 2, false);
+  for (int c = 30; c < w; c += 60) set(69, 71, c - 6, c + 6, false), set(89, 91, c - 6, c + 6, false);
+  Scenario s;
+  s.path = "small_office";
+  s.grid = OccupancyGrid(w, h, 0.1, Point2{0, 0}, v, f);
+  s.oc = Point2{1.0, 8.0};
+  s.team.agents = 8;
+  s.planner.collectors_min = 0;
+  s.planner.collectors_max = 3;
+  s.mission.goals_per_request = 20;
+  return s;
+}
+
+// A 20 m x 0.5 m open corridor at 0.1 m/cell, team speed 1 m/s, radio range
+// 2.07 m (coverage: cell centres within 2 m of the OC at x = 0.55 m, i.e. x < 2.6 m).
+Scenario corridor() {
+  const int w = 200, h = 5;
+  Scenario s;
+  s.path = "corridor";
+  s.grid = OccupancyGrid(w, h, 0.1, Point2{0, 0}, std::vector<int8_t>(w * h, 0), std::vector<uint8_t>(w * h, 1));
+  s.oc = Point2{0.55, 0.25};
+  s.team.agents = 2;
+  s.team.speed = 1.0;
+  s.team.radius = 0.05;
+  s.radio.sensitivity_dbm = -49.5;
+  s.mission.period = 100.0;
+  return s;
+}
+
+// One collector driving OC (x = 0.55) -> x = 15.05 -> OC (29 m, 29 s), one
+// worker owning the whole corridor and meeting it at x = 15.05 (arc 14.5 m).
+mission::MissionPlan corridor_plan(const Scenario& s) {
+  mission::MissionPlan m;
+  m.width = s.grid.width(), m.height = s.grid.height();
+  m.labels.assign(s.grid.size(), 1);
+  plan::PlanFile& p = m.file;
+  p.method = "hand";
+  p.collectors = 1, p.workers = 1, p.cycle_period_s = 100.0;
+  p.agents = {plan::AgentAssignment{0, true, 0, 0}, plan::AgentAssignment{1, false, 1, 0}};
+  plan::CollectorRoute r;
+  r.collector = 0;
+  r.segments = {1};
+  r.waypoints = {Point2{0.55, 0.25}, Point2{15.05, 0.25}, Point2{0.55, 0.25}};
+  r.meetings = {plan::MeetingArea{1, Point2{15.05, 0.25}, 14.5, {14.5}}};
+  r.length = 29.0, r.period = 29.0;
+  r.coverage_entries = {26.95, 29.0};
+  p.routes = {r};
+  return m;
+}
+
+const GoalRecord& goal_at(const MissionResult& r, double x, int cycle) {
+  for (const GoalRecord& g : r.goals)
+    if (g.cycle == cycle && std::abs(g.point.x - x) < 0.06) return g;
+  throw Error("test", "no such goal");
+}
+
+// Invariants every run must satisfy, beyond the accounting's own checks.
+void check_invariants(const MissionResult& r, int cycles, int collectors) {
+  ASSERT_EQ(static_cast<int>(r.cycles.size()), cycles);
+  int delivered = 0;
+  std::set<int> ids;
+  for (const GoalRecord& g : r.goals) {
+    EXPECT_TRUE(ids.insert(g.id).second);
+    if (g.measured_at >= 0) {
+      EXPECT_GE(g.measured_at, g.requested_at - 1e-9);
+      EXPECT_LE(g.measured_at, g.deadline + 1e-9);
+      EXPECT_EQ(g.measured_by, g.worker);
+      EXPECT_EQ(g.state, mission::GoalState::kDelivered) << "data dropped: goal " << g.id;
+    } else {
+      EXPECT_EQ(g.state, mission::GoalState::kExpired);
+      EXPECT_EQ(g.expired_at, g.deadline);
+    }
+    if (g.picked_up_at >= 0) {
+      EXPECT_GE(g.picked_up_at, g.measured_at - 1e-3);
+      EXPECT_GE(g.delivered_at, g.picked_up_at);
+      EXPECT_EQ(g.delivered_by, g.picked_up_by);
+      EXPECT_LT(g.picked_up_by, collectors);
+    } else if (g.delivered_at >= 0) {
+      EXPECT_GE(g.delivered_at, g.measured_at);
+      EXPECT_EQ(g.delivered_by, g.measured_by);
+    }
+    delivered += g.delivered_at >= 0;
+  }
+  int per_cycle = 0;
+  for (const auto& c : r.cycles) {
+    per_cycle += c.delivered;
+    EXPECT_EQ(c.delivered + c.expired, c.requested);
+    EXPECT_EQ(c.total_requested, c.total_delivered + c.total_carried + c.total_pending + c.total_expired);
+    if (c.delivered > 0) {
+      EXPECT_LE(c.refresh_mean_s, c.refresh_max_s);
+    }
+  }
+  EXPECT_EQ(per_cycle, delivered);
+  EXPECT_NEAR(r.goals_per_cycle * cycles, delivered, 1e-9);
+}
+
+TEST(MissionTest, CorridorDeliveryTimesAreExact) {
+  const Scenario s = corridor();
+  const plan::PlanContext ctx(s);
+  MissionSimulator sim(ctx, corridor_plan(s));
+  const auto& iv = sim.route(0).coverage_intervals();
+  ASSERT_EQ(iv.size(), 2u);
+  EXPECT_NEAR(iv[0].second, 2.05, 1e-5);
+  EXPECT_NEAR(iv[1].first, 26.95, 1e-5);
+  MissionOptions opt;
+  opt.cycles = 2;
+  opt.fixed_goals = {{0, Point2{5.05, 0.25}}, {0, Point2{17.05, 0.25}}, {1, Point2{19.05, 0.25}}};
+  const MissionResult r = sim.run(opt);
+  check_invariants(r, 2, 1);
+  // A: measured on the way (4.5 s), handed over at the first pass (14.5 s,
+  // the worker arrives exactly with the collector), dropped where the route
+  // re-enters the coverage (arc 26.95 m).
+  const GoalRecord& a = goal_at(r, 5.05, 0);
+  EXPECT_NEAR(a.measured_at, 4.5, 1e-3);
+  EXPECT_NEAR(a.picked_up_at, 14.5, 1e-3);
+  EXPECT_NEAR(a.delivered_at, 26.95, 1e-3);
+  EXPECT_EQ(a.delivered_by, 0);
+  // B lies beyond the pass: measured at 16.5 s, back at the pass at 18.5 s,
+  // the collector has gone: next pass at 43.5 s.
+  const GoalRecord& b = goal_at(r, 17.05, 0);
+  EXPECT_NEAR(b.measured_at, 16.5, 1e-3);
+  EXPECT_NEAR(b.picked_up_at, 43.5, 1e-3);
+  EXPECT_NEAR(b.delivered_at, 55.95, 1e-3);
+  // Request 1 (t = 100 s) reaches the worker with the collector's next pass
+  // at the meeting area (101.5 s); C is 4 m away: 105.5 s, back 109.5 s,
+  // next pass 130.5 s, dropped 142.95 s.
+  const GoalRecord& c = goal_at(r, 19.05, 1);
+  EXPECT_NEAR(c.measured_at, 105.5, 1e-3);
+  EXPECT_NEAR(c.picked_up_at, 130.5, 1e-3);
+  EXPECT_NEAR(c.delivered_at, 142.95, 1e-3);
+  EXPECT_NEAR(r.cycles[0].refresh_mean_s, (26.95 + 55.95) / 2, 1e-3);
+  EXPECT_NEAR(r.cycles[0].refresh_max_s, 55.95, 1e-3);
+  EXPECT_NEAR(r.cycles[1].refresh_mean_s, 42.95, 1e-3);
+  EXPECT_EQ(r.cycles[0].total_carried, 0);
+}
+
+TEST(MissionTest, WorkerThatMissesItsCollectorDeliversOnTheNextPass) {
+  const Scenario s = corridor();
+  const plan::PlanContext ctx(s);
+  MissionSimulator sim(ctx, corridor_plan(s));
+  MissionOptions opt;
+  opt.cycles = 1;
+  opt.fixed_goals = {{0, Point2{17.05, 0.25}}};  // measured 16.5 s; the first pass was 14.5 s
+  const MissionResult r = sim.run(opt);
+  check_invariants(r, 1, 1);
+  const GoalRecord& g = r.goals.at(0);
+  EXPECT_NEAR(g.picked_up_at, 14.5 + 29.0, 1e-3);
+  EXPECT_NEAR(g.delivered_at, 14.5 + 29.0 + 12.45, 1e-3);
+}
+
+TEST(MissionTest, GoalsTooFarForTheCycleExpire) {
+  Scenario s = corridor();
+  s.mission.period = 10.0;
+  const plan::PlanContext ctx(s);
+  auto p = corridor_plan(s);
+  p.file.cycle_period_s = 10.0;
+  MissionSimulator sim(ctx, p);
+  MissionOptions opt;
+  opt.cycles = 1;
+  opt.fixed_goals = {{0, Point2{5.05, 0.25}}, {0, Point2{17.05, 0.25}}};  // 16.5 s > 10 s
+  const MissionResult r = sim.run(opt);
+  check_invariants(r, 1, 1);
+  EXPECT_EQ(goal_at(r, 17.05, 0).state, mission::GoalState::kExpired);
+  EXPECT_NEAR(goal_at(r, 17.05, 0).expired_at, 10.0, 1e-9);
+  EXPECT_EQ(goal_at(r, 5.05, 0).state, mission::GoalState::kDelivered);
+}
+
+class MissionOfficeTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    scenario_ = new Scenario(small_office());
+    ctx_ = new plan::PlanContext(*scenario_);
+  }
+  static void TearDownTestSuite() {
+    delete ctx_;
+    delete scenario_;
+  }
+  static Scenario* scenario_;
+  static plan::PlanContext* ctx_;
+};
+Scenario* MissionOfficeTest::scenario_ = nullptr;
+plan::PlanContext* MissionOfficeTest::ctx_ = nullptr;
+
+TEST_F(MissionOfficeTest, ConservationAndNoDuplicatesOverManySeeds) {
+  const std::pair<partition::Method, int> configs[] = {
+      {partition::Method::kBap, 2}, {partition::Method::kPap, 1}, {partition::Method::kRap, 3}};
+  for (const auto& [method, nc] : configs) {
+    const auto cfg = plan::plan_configuration(*ctx_, method, nc);
+    MissionSimulator sim(*ctx_, mission::mission_plan(*ctx_, cfg));
+    for (unsigned seed = 1; seed <= 12; ++seed) {
+      MissionOptions opt;
+      opt.cycles = 6;
+      opt.seed = seed;
+      const MissionResult r = sim.run(opt);
+      SCOPED_TRACE(std::string(partition::method_name(method)) + " Nc=" + std::to_string(nc) + " seed " + std::to_string(seed));
+      check_invariants(r, 6, nc);
+      EXPECT_EQ(r.goals.size(), 6u * 20u);
+      EXPECT_GT(r.goals_per_cycle, 0.0);
+    }
+  }
+}
+
+TEST_F(MissionOfficeTest, DeterministicForASeed) {
+  const auto cfg = plan::plan_configuration(*ctx_, partition::Method::kBap, 2);
+  MissionSimulator sim(*ctx_, mission::mission_plan(*ctx_, cfg));
+  MissionOptions opt;
+  opt.cycles = 4;
+  opt.seed = 7;
+  const MissionResult a = sim.run(opt), b = sim.run(opt);
+  ASSERT_EQ(a.goals.size(), b.goals.size());
+  for (std::size_t i = 0; i < a.goals.size(); ++i) {
+    EXPECT_EQ(a.goals[i].point.x, b.goals[i].point.x);
+    EXPECT_EQ(a.goals[i].delivered_at, b.goals[i].delivered_at);
+  }
+  opt.seed = 8;
+  const MissionResult c = sim.run(opt);
+  bool differ = false;
+  for (std::size_t i = 0; i < a.goals.size(); ++i) differ |= a.goals[i].point.x != c.goals[i].point.x;
+  EXPECT_TRUE(differ);
+}
+
+TEST_F(MissionOfficeTest, NoCollectorsEveryWorkerDeliversToTheOc) {
+  const auto cfg = plan::plan_configuration(*ctx_, partition::Method::kBap, 0);
+  MissionSimulator sim(*ctx_, mission::mission_plan(*ctx_, cfg));
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    MissionOptions opt;
+    opt.cycles = 5;
+    opt.seed = seed;
+    const MissionResult r = sim.run(opt);
+    check_invariants(r, 5, 0);
+    EXPECT_GT(r.goals_per_cycle, 0.0);
+    for (const GoalRecord& g : r.goals) {
+      EXPECT_LT(g.picked_up_at, 0);
+      if (g.delivered_at >= 0) {
+        EXPECT_EQ(g.delivered_by, g.measured_by);
+      }
+    }
+  }
+}
+
+TEST_F(MissionOfficeTest, PlanDirectoryGivesTheSameMissionAsTheInMemoryPlan) {
+  const auto cfg = plan::plan_configuration(*ctx_, partition::Method::kPap, 2);
+  const auto dir = std::filesystem::temp_directory_path() / ("gather_mission_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  figures::write_label_png((dir / "labels.png").string(), cfg.partition);
+  plan::write_plan_file((dir / "plan.yaml").string(), plan::make_plan_file(*ctx_, cfg, "labels.png", 1));
+  const mission::MissionPlan loaded = mission::load_mission_plan(dir.string());
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(loaded.labels, cfg.partition.labels);
+  MissionOptions opt;
+  opt.cycles = 3;
+  MissionSimulator a(*ctx_, mission::mission_plan(*ctx_, cfg)), b(*ctx_, loaded);
+  const MissionResult ra = a.run(opt), rb = b.run(opt);
+  ASSERT_EQ(ra.goals.size(), rb.goals.size());
+  for (std::size_t i = 0; i < ra.goals.size(); ++i) EXPECT_NEAR(ra.goals[i].delivered_at, rb.goals[i].delivered_at, 1e-3);
+}
+
+TEST(MissionAccountingTest, BrokenHistoriesAreCaught) {
+  GoalRecord g;
+  g.deadline = 10.0;
+  g.measured_at = 2.0;
+  g.delivered_at = 1.0;  // before it was measured
+  EXPECT_THROW(mission::account({g}, 1, 10.0), Error);
+  g.delivered_at = 3.0;
+  EXPECT_NO_THROW(mission::account({g}, 1, 10.0));
+  g.delivered_at = -1.0;  // measured, never delivered: data dropped
+  EXPECT_THROW(mission::account({g}, 1, 10.0), Error);
+  GoalRecord e;
+  e.deadline = 10.0;
+  e.expired_at = 10.0;
+  EXPECT_NO_THROW(mission::account({e}, 1, 10.0));
+  e.measured_at = 5.0;  // measured and expired
+  EXPECT_THROW(mission::account({e}, 1, 10.0), Error);
+}
+
+}  // namespace
+}  // namespace gather
