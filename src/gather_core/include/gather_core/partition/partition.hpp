@@ -35,7 +35,7 @@ struct PartitionParams {
   // PAP/RAP work on a coarse copy of the grid for the seed phase (Lloyd
   // iterations) and label the full grid once at the end; coarse cells per
   // side = the smallest factor that leaves <= this many coarse free cells.
-  std::size_t coarse_cells = 40000;
+  std::size_t coarse_cells = 20000;
   // BAP runs its wavefronts on blocks of f x f cells, f the smallest factor
   // that leaves <= this many coarse cells (1 = full resolution).
   std::size_t bap_coarse_cells = 1000000;
