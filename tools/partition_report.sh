@@ -7,6 +7,8 @@ set -e
 cd "$(dirname "$0")/.."
 GATHER="${1:-/tmp/b-part}/gather"
 OUT=docs/partitions.md
+load() { cut -d' ' -f1-3 /proc/loadavg; }
+LOAD0=$(load)
 {
   cat <<'HEAD'
 # Partitions: BAP, PAP, RAP
@@ -20,7 +22,8 @@ Methods and their reading of the seed paper: `src/gather_core/include/gather_cor
 - Compactness of a segment: radius of the disc of its area / its geodesic radius (largest FMM distance,
   inside the segment, from its cell nearest the centre of mass); 1 = disc. Mean and minimum over segments.
 - Runtime: wall time of `partition_area()` (reachability, clearance, the method), median of 3 runs,
-  Release build, on this 2-core machine shared with other jobs.
+  Release build, on this 2-core machine shared with other jobs: the runtimes depend on the machine's
+  load at the time (load averages at the start and end of the run are given below the tables).
 - Room agreement (ipa_room_segmentation style) over the cells that are both in a segment and in a
   ground-truth room (`*_gt_segmentation.png`: 4-connected white components, >= 50 cells).
   Recall: per room, share covered by its best-matching segment, averaged weighted by room area.
@@ -36,22 +39,45 @@ HEAD
     ../shared/maps/ipa/lab_c_scan.scenario.yaml ../shared/maps/ipa/lab_ipa.scenario.yaml \
     ../shared/maps/ipa/office_a.scenario.yaml ../shared/maps/ipa/office_b.scenario.yaml \
     ../shared/maps/ipa/office_d.scenario.yaml
+  echo
+  echo "Load average (1, 5, 15 min) at the start of the run: $LOAD0; at the end: $(load)."
   cat <<'TAIL'
 
 ## Notes
 
-- BAP runs the wavefronts one after the other from the uncovered cell farthest (geodesic) from the
-  OC; a front never cuts the uncovered space in two (a local 8-neighbourhood test, then a bounded
-  search that either finds the two sides joined or takes a small closed pocket whole), so the last
-  front takes a connected remainder. A front boxed into a pocket is undone and restarted from the
-  next farthest cell away from narrow spots (at most 8 times, then the best attempt is kept); that
-  is what lifts the area CV above 0 on some maps. The cut searches make BAP the slowest method.
-  Above 1 M reachable cells (the campus) BAP runs on 3 x 3 blocks weighted by their free cells.
+- BAP (`bap.cpp`) runs in three steps. (1) Wavefronts one after the other: each starts at the
+  uncovered cell farthest (geodesic, one `fmm::FastMarching` from the OC) from the OC and grows by
+  FMM over the uncovered cells until it holds its share (uncovered area / fronts still to go). A
+  front that starts in a pocket smaller than half its share (closed off by earlier fronts) gives
+  the pocket to a segment next to it and starts again from the next farthest cell; the last front
+  takes what is left. (2) What is left may be in pieces: its largest piece stays, the others go to
+  the segments next to them. (3) `rebalance.cpp` moves boundary cells between adjacent segments:
+  per pass, a maximum spanning tree of the segment adjacency graph (weighted by shared boundary
+  length), the unique tree flows that balance every area, applied leaves first; a flow of m cells
+  from a to b moves the m cells of a nearest (breadth-first) to b that are simple points of a
+  (their removal cannot split a; a local cut is searched, bounded, and taken with the small
+  pocket behind it when that fits). Every segment stays 4-connected; passes repeat until every
+  area is within 0.2% of the mean. Above 1 M reachable cells (the campus) steps 1-2 run on
+  3 x 3 blocks weighted by their free cells and step 3 at full resolution.
 - PAP and RAP place the centroids (Fig. 1b) and run their Lloyd iterations on a coarse copy of the
-  grid (blocks of f x f cells, <= 40 000 coarse cells) and label the full grid once at the end.
+  grid (blocks of f x f cells, <= 20 000 coarse cells; 40 000 before, which cost ~30% more time on
+  office_a) and label the full grid once at the end.
+  PAP's start delays (additive weights that balance areas) are capped at one mean segment radius,
+  and after the iterations a segment under half the mean area gets its delay halved (up to 8
+  rounds), so no neighbour reaches a seed before its front starts. RAP's iterations stop when the
+  centroids no longer move (their fixed point).
+- Before the rebalancing BAP (commit 2a5e464) kept the uncovered space connected during growth
+  (local cut tests, bounded cut searches, restarts): area CV 22.05% on office and 16.09% on
+  office_b at N_w = 20, and 2.0 / 8.6 / 6.0 s per BAP on office_a / office / office_b (median of 3,
+  load average ~4); PAP left one segment of a single cell on office (max/min area 61914).
+- The deployment planner calls `partition_area()` 27 times per sweep; each call recomputes the
+  reachability and the clearance (about a quarter of a BAP on office_a), which the planner could
+  compute once per map.
 - The partition fronts are this package's own first-order Eikonal march (`partition/front_growth`)
-  because they need per-front start delays, confinement to a label image and quota stops; the
-  project's `fmm::FastMarching` gives BAP its distances from the OC.
+  because they need per-front start delays, confinement to a label image and area stops; the
+  project's `fmm::FastMarching` gives BAP its distances from the OC. Clearance is
+  `gather::ClearanceMap` (exact EDT; the map's edge counts as a wall, which changes the clearance
+  only where free space touches the edge: the campus).
 TAIL
 } > "$OUT.tmp"
 mv "$OUT.tmp" "$OUT"
