@@ -118,15 +118,18 @@ void FrontGrowth::grow(const std::vector<Front>& fronts, std::vector<int32_t>& l
   std::sort(sources_.begin(), sources_.end(), [](const Entry& a, const Entry& b) { return later(b, a); });
   const float width = 0.5f * res_ * min_slowness_;
   const std::size_t nbuckets = static_cast<std::size_t>(std::ceil(res_ * max_slowness_ / width)) + 3;
+  const double inv_width = 1.0 / static_cast<double>(width);
   if (buckets_.size() < nbuckets) buckets_.resize(nbuckets);
   for (auto& b : buckets_) b.clear();
   double base = sources_.front().t;
   std::size_t cur = 0, pending = 0, next_source = 0;
   auto insert = [&](float t, uint32_t p) {
-    const double d = (static_cast<double>(t) - base) / width;
+    const double d = (static_cast<double>(t) - base) * inv_width;
     std::size_t idx = d <= 0.0 ? 0 : static_cast<std::size_t>(d);
     if (idx > nbuckets - 2) idx = nbuckets - 2;
-    buckets_[(cur + idx) % nbuckets].push_back(p);
+    std::size_t j = cur + idx;  // < 2 nbuckets: no division in this hot path
+    if (j >= nbuckets) j -= nbuckets;
+    buckets_[j].push_back(p);
     ++pending;
   };
   const std::ptrdiff_t nb[4] = {-1, 1, -static_cast<std::ptrdiff_t>(stride_), static_cast<std::ptrdiff_t>(stride_)};
@@ -161,7 +164,7 @@ void FrontGrowth::grow(const std::vector<Front>& fronts, std::vector<int32_t>& l
       }
     }
     buckets_[cur].clear();
-    cur = (cur + 1) % nbuckets;
+    if (++cur == nbuckets) cur = 0;
     base += width;
   }
   labels.assign(n, 0);
@@ -228,15 +231,18 @@ std::size_t FrontGrowth::grow_quota(std::size_t seed, std::size_t quota, int32_t
   // 4-connected.
   const float width = 0.5f * res_ * min_slowness_;
   const std::size_t nbuckets = static_cast<std::size_t>(std::ceil(res_ * max_slowness_ / width)) + 3;
+  const double inv_width = 1.0 / static_cast<double>(width);
   if (buckets_.size() < nbuckets) buckets_.resize(nbuckets);
   for (auto& b : buckets_) b.clear();
   double base = 0.0;
   std::size_t cur = 0, pending = 0;
   auto insert = [&](float t, uint32_t p) {
-    const double d = (static_cast<double>(t) - base) / width;
+    const double d = (static_cast<double>(t) - base) * inv_width;
     std::size_t idx = d <= 0.0 ? 0 : static_cast<std::size_t>(d);
     if (idx > nbuckets - 2) idx = nbuckets - 2;
-    buckets_[(cur + idx) % nbuckets].push_back(p);
+    std::size_t j = cur + idx;  // < 2 nbuckets: no division in this hot path
+    if (j >= nbuckets) j -= nbuckets;
+    buckets_[j].push_back(p);
     ++pending;
   };
   insert(0.0f, static_cast<uint32_t>(s));
@@ -268,7 +274,7 @@ std::size_t FrontGrowth::grow_quota(std::size_t seed, std::size_t quota, int32_t
     }
     if (taken >= quota) break;
     buckets_[cur].clear();
-    cur = (cur + 1) % nbuckets;
+    if (++cur == nbuckets) cur = 0;
     base += width;
   }
   for (uint32_t p : touched_) label_[p] = 0;
