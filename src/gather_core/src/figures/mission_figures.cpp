@@ -1,0 +1,226 @@
+#include "gather_core/figures/mission_figures.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+
+#include "gather_core/error.hpp"
+#include "gather_core/fmm/path.hpp"
+#include "map_canvas.hpp"
+#include "plot.hpp"
+
+namespace gather {
+namespace figures {
+namespace {
+
+std::string upper(partition::Method m) {
+  std::string s = partition::method_name(m);
+  for (auto& ch : s) ch = static_cast<char>(std::toupper(ch));
+  return s;
+}
+
+const cv::Scalar kMethodColours[] = {cv::Scalar(180, 90, 20), cv::Scalar(40, 150, 40), cv::Scalar(20, 110, 230)};
+
+double mean(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / static_cast<double>(v.size());
+}
+
+// The geodesic path of a leg, sampled: from -> to.
+std::vector<Point2> leg_path(fmm::FastMarching& fm, const OccupancyGrid& grid, const mission::Leg& leg) {
+  const Cell to = grid.world_to_cell(leg.to), from = grid.world_to_cell(leg.from);
+  if (to == from) return {leg.from, leg.to};
+  fmm::SolveOptions so;
+  so.labels = false;
+  so.targets = {from};
+  fm.solve({fmm::Source::at_cell(to)}, so);
+  if (!fm.reached(from)) return {leg.from, leg.to};
+  return fmm::descend(fm, grid.cell_center(from));
+}
+
+// Point at fraction f in [0, 1] of a polyline's length.
+Point2 along(const std::vector<Point2>& path, double f) {
+  const double total = fmm::path_length(path);
+  double want = std::clamp(f, 0.0, 1.0) * total;
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const double len = std::hypot(path[i].x - path[i - 1].x, path[i].y - path[i - 1].y);
+    if (want <= len && len > 0) {
+      const double g = want / len;
+      return Point2{path[i - 1].x + g * (path[i].x - path[i - 1].x), path[i - 1].y + g * (path[i].y - path[i - 1].y)};
+    }
+    want -= len;
+  }
+  return path.back();
+}
+
+// Route polyline of a collector between times t0 and t1, sampled every ~0.5 m.
+std::vector<Point2> route_between(const mission::RouteTimetable& r, double t0, double t1, double speed) {
+  std::vector<Point2> pts;
+  const double dt = 0.5 / speed;
+  for (double t = t0; t < t1; t += dt) pts.push_back(r.position(t));
+  pts.push_back(r.position(t1));
+  return pts;
+}
+
+void paint_segments(MapCanvas& canvas, const plan::PlanContext& ctx, const mission::MissionPlan& plan) {
+  const OccupancyGrid& g = ctx.scenario.grid;
+  const auto& pal = fill_palette();
+  for (std::size_t i = 0; i < plan.labels.size(); ++i) {
+    const int k = plan.labels[i];
+    if (k <= 0) continue;
+    cv::Vec3b c = pal[static_cast<std::size_t>(k - 1) % pal.size()];
+    if (ctx.coverage[i]) c = cv::Vec3b(static_cast<uchar>(c[0] * 0.8), static_cast<uchar>(c[1] * 0.8), static_cast<uchar>(c[2] * 0.8));
+    canvas.paint(g.cell(i), c);
+  }
+}
+
+}  // namespace
+
+std::vector<std::vector<double>> simulated_utilities(const std::vector<ConfigRuns>& runs, double alpha, double beta) {
+  std::vector<std::vector<double>> u(runs.size());
+  if (runs.empty()) return u;
+  const double ab = alpha + beta > 0 ? alpha + beta : 1.0;
+  std::size_t seeds = runs.front().refresh_s.size();
+  for (const auto& r : runs) seeds = std::min(seeds, r.refresh_s.size());
+  for (auto& x : u) x.assign(seeds, 0.0);
+  for (std::size_t s = 0; s < seeds; ++s) {
+    double tlo = 1e300, thi = -1e300, nlo = 1e300, nhi = -1e300;
+    for (const auto& r : runs) {
+      tlo = std::min(tlo, r.refresh_s[s]), thi = std::max(thi, r.refresh_s[s]);
+      nlo = std::min(nlo, r.goals[s]), nhi = std::max(nhi, r.goals[s]);
+    }
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      const double tn = thi > tlo ? (runs[i].refresh_s[s] - tlo) / (thi - tlo) : 0.0;
+      const double nn = nhi > nlo ? (runs[i].goals[s] - nlo) / (nhi - nlo) : 0.0;
+      u[i][s] = (alpha * (thi > tlo ? 1.0 - tn : 0.0) + beta * nn) / ab;
+    }
+  }
+  return u;
+}
+
+void write_fig3(const std::string& dir, const std::vector<ConfigRuns>& runs, const std::vector<std::string>& methods,
+                double alpha, double beta) {
+  const auto util = simulated_utilities(runs, alpha, beta);
+  enum { kRefresh, kGoals, kUtility };
+  const char* files[] = {"fig3_refresh.png", "fig3_goals.png", "fig3_utility.png"};
+  const char* titles[] = {"(a) Refreshing time: estimated E, real R (min-max over seeds)",
+                          "(b) Delivered goals per cycle: E and R", "(c) Utility U: E and R"};
+  const char* ylabels[] = {"T_refresh [s]", "N_goals", "U"};
+  for (int q = kRefresh; q <= kUtility; ++q) {
+    std::vector<Series> series;
+    for (std::size_t mi = 0; mi < methods.size(); ++mi) {
+      const partition::Method m = partition::parse_method(methods[mi]);
+      const std::string letter(1, static_cast<char>(std::toupper(methods[mi][0])));
+      Series e, r;
+      e.name = "E-" + letter + " (" + upper(m) + ")";
+      r.name = "R-" + letter;
+      e.colour = r.colour = kMethodColours[static_cast<std::size_t>(m) % 3];
+      e.dashed = true;
+      e.marker = r.marker = static_cast<int>(mi % 3);
+      for (std::size_t i = 0; i < runs.size(); ++i) {
+        const ConfigRuns& c = runs[i];
+        if (c.method != m) continue;
+        const std::vector<double>& v = q == kRefresh ? c.refresh_s : q == kGoals ? c.goals : util[i];
+        if (v.empty()) continue;
+        e.x.push_back(c.collectors), r.x.push_back(c.collectors);
+        e.y.push_back(q == kRefresh ? c.est_refresh_s : q == kGoals ? c.est_goals : c.est_utility);
+        r.y.push_back(mean(v));
+        r.band_lo.push_back(*std::min_element(v.begin(), v.end()));
+        r.band_hi.push_back(*std::max_element(v.begin(), v.end()));
+      }
+      series.push_back(e), series.push_back(r);
+    }
+    write_png(dir + "/" + files[q], line_chart(titles[q], "collectors N_c", ylabels[q], series, cv::Size(640, 460)));
+  }
+}
+
+void write_fig4_sync(const std::string& path, const plan::PlanContext& ctx, const mission::MissionSimulator& sim,
+                     const mission::MissionResult& result, int agent, double t0, double t1) {
+  const OccupancyGrid& g = ctx.scenario.grid;
+  const mission::MissionPlan& plan = sim.plan();
+  int collector = -1, segment = 0;
+  for (const auto& a : plan.file.agents)
+    if (a.id == agent && !a.collector) collector = a.delivers_to, segment = a.segment;
+  MapCanvas canvas(g);
+  for (std::size_t i = 0; i < plan.labels.size(); ++i)
+    if (plan.labels[i] == segment) canvas.paint(g.cell(i), cv::Vec3b(215, 235, 250));
+  const cv::Scalar blue(200, 90, 20), red(30, 30, 210);
+  fmm::FastMarching fm(g);
+  if (collector >= 0)
+    canvas.polyline(route_between(sim.route(collector), t0, t1, ctx.scenario.team.speed), red, 2);
+  for (const mission::Leg& leg : result.legs) {
+    if (leg.agent != agent || leg.t1 < t0 || leg.t0 > t1) continue;
+    canvas.polyline(leg_path(fm, g, leg), blue, 2);
+  }
+  for (const auto& goal : result.goals) {
+    if (goal.measured_by != agent || goal.measured_at < t0 || goal.measured_at > t1) continue;
+    canvas.dot(goal.point, cv::Scalar(0, 170, 255), 4);
+    if (goal.picked_up_at >= 0) canvas.dot(sim.route(collector).position(goal.picked_up_at), cv::Scalar(60, 200, 60), 5);
+  }
+  canvas.oc(ctx.scenario.oc);
+  char caption[256];
+  std::snprintf(caption, sizeof caption, "Fig. 4a: worker %d (blue) and its collector %d (red), t = %.0f..%.0f s",
+                agent, collector, t0, t1);
+  canvas.save(path, caption,
+              {{LegendItem::kLine, blue, "worker"}, {LegendItem::kLine, red, "collector"},
+               {LegendItem::kCircle, cv::Scalar(0, 170, 255), "goal measured"},
+               {LegendItem::kCircle, cv::Scalar(60, 200, 60), "hand-over"}});
+}
+
+void write_fig4_snapshot(const std::string& path, const plan::PlanContext& ctx, const mission::MissionSimulator& sim,
+                         const mission::MissionResult& result, double t) {
+  const OccupancyGrid& g = ctx.scenario.grid;
+  const mission::MissionPlan& plan = sim.plan();
+  MapCanvas canvas(g);
+  paint_segments(canvas, ctx, plan);
+  const auto& lines = line_palette();
+  for (int c = 0; c < plan.file.collectors; ++c)
+    canvas.polyline(plan.file.routes[static_cast<std::size_t>(c)].waypoints, lines[static_cast<std::size_t>(c) % lines.size()], 1, true);
+  const int cycle = static_cast<int>(std::floor(t / result.period_s));
+  for (const auto& goal : result.goals) {
+    if (goal.cycle != cycle) continue;
+    cv::Scalar colour(150, 150, 150);  // pending
+    if (goal.measured_at >= 0 && goal.measured_at <= t) colour = cv::Scalar(0, 170, 255);        // carried
+    if (goal.delivered_at >= 0 && goal.delivered_at <= t) colour = cv::Scalar(60, 190, 60);     // delivered
+    canvas.dot(goal.point, colour, 3);
+  }
+  fmm::FastMarching fm(g);
+  for (const auto& a : plan.file.agents) {
+    if (a.collector) {
+      const Point2 p = sim.route(a.id).position(t);
+      const cv::Scalar col = lines[static_cast<std::size_t>(a.id) % lines.size()];
+      const int half = 6;
+      const cv::Point q = canvas.px(p);
+      cv::rectangle(canvas.image(), q - cv::Point(half, half), q + cv::Point(half, half), col, cv::FILLED);
+      cv::rectangle(canvas.image(), q - cv::Point(half, half), q + cv::Point(half, half), cv::Scalar(0, 0, 0), 1);
+      continue;
+    }
+    Point2 p = ctx.scenario.grid.cell_center(ctx.oc_cell);
+    for (const mission::Leg& leg : result.legs) {
+      if (leg.agent != a.id || leg.t0 > t) continue;
+      if (leg.t1 <= t) {
+        p = leg.to;
+      } else {
+        p = along(leg_path(fm, g, leg), leg.t1 > leg.t0 ? (t - leg.t0) / (leg.t1 - leg.t0) : 1.0);
+      }
+    }
+    canvas.dot(p, a.delivers_to >= 0 ? lines[static_cast<std::size_t>(a.delivers_to) % lines.size()] : cv::Scalar(0, 0, 0), 6);
+  }
+  canvas.oc(ctx.scenario.oc);
+  char caption[256];
+  std::snprintf(caption, sizeof caption, "Fig. 4b: %s, %d collectors, %d workers at t = %.0f s (cycle %d)",
+                plan.file.method.c_str(), plan.file.collectors, plan.file.workers, t, cycle);
+  canvas.save(path, caption,
+              {{LegendItem::kSquare, lines[0], "collector"}, {LegendItem::kCircle, lines[0], "its workers"},
+               {LegendItem::kCircle, cv::Scalar(0, 0, 0), "OC worker"},
+               {LegendItem::kCircle, cv::Scalar(150, 150, 150), "goal pending"},
+               {LegendItem::kCircle, cv::Scalar(0, 170, 255), "goal carried"},
+               {LegendItem::kCircle, cv::Scalar(60, 190, 60), "goal delivered"}});
+}
+
+}  // namespace figures
+}  // namespace gather
