@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <random>
 #include <string>
 
@@ -17,8 +18,11 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kEps = 1e-9;        // [s] time tolerance
 constexpr int kMaxDecisions = 1000000;  // per worker: a loop that long is a bug
+constexpr double kWindowMargin = 3.0;   // [m] around a segment's bounding box for marches between its goals
 
 [[noreturn]] void bug(const std::string& what) { throw Error("mission", what); }
+
+void march(fmm::FastMarching& fm, Cell from, const std::vector<Cell>& targets, std::vector<double>& out);
 
 }  // namespace
 
@@ -34,6 +38,16 @@ struct MissionSimulator::Worker {
   // march per rendezvous at setup instead of one per goal and decision.
   std::vector<std::vector<float>> rendezvous_to_cell;
   std::vector<std::vector<double>> rendezvous_to_rendezvous;
+  std::vector<Cell> segment_cells;  // by index in the segment
+  // A workspace on the segment's bounding box plus a margin: marches between
+  // goals of the segment stay small (a way that leaves the window is
+  // re-marched on the whole map when the window cannot reach a goal at all).
+  std::shared_ptr<fmm::FastMarching> window;
+  Cell window_origin;  // its cell (0, 0) on the map
+  // OC workers: distances [m] from the coverage cells they came back to, to
+  // every cell of the segment (filled on first use, kept across runs: the
+  // ways back funnel through a few cells, so most decisions are lookups).
+  mutable std::vector<std::pair<std::size_t, std::vector<float>>> landing_to_cell;
 };
 
 // State of one run shared by the workers' timelines.
@@ -113,7 +127,26 @@ MissionSimulator::MissionSimulator(const plan::PlanContext& ctx, MissionPlan pla
     cells_of[static_cast<std::size_t>(k)].push_back(grid.cell(i));
   }
   std::vector<double> tmp;
+  const int margin = static_cast<int>(std::ceil(kWindowMargin / grid.resolution()));
   for (Worker& wk : workers_) {
+    wk.segment_cells = cells_of[static_cast<std::size_t>(wk.segment)];
+    if (!wk.segment_cells.empty()) {
+      int r0 = grid.height(), r1 = -1, c0 = grid.width(), c1 = -1;
+      for (Cell c : wk.segment_cells) r0 = std::min(r0, c.row), r1 = std::max(r1, c.row), c0 = std::min(c0, c.col), c1 = std::max(c1, c.col);
+      r0 = std::max(0, r0 - margin), c0 = std::max(0, c0 - margin);
+      r1 = std::min(grid.height() - 1, r1 + margin), c1 = std::min(grid.width() - 1, c1 + margin);
+      const int ww = c1 - c0 + 1, wh = r1 - r0 + 1;
+      std::vector<int8_t> vals(static_cast<std::size_t>(ww) * wh);
+      std::vector<uint8_t> fr(vals.size());
+      for (int r = 0; r < wh; ++r)
+        for (int c = 0; c < ww; ++c) {
+          const std::size_t src = grid.index(Cell{r0 + r, c0 + c}), dst = static_cast<std::size_t>(r) * ww + c;
+          vals[dst] = grid.values()[src], fr[dst] = grid.free_mask()[src];
+        }
+      const Point2 o{grid.origin().x + c0 * grid.resolution(), grid.origin().y + r0 * grid.resolution()};
+      wk.window = std::make_shared<fmm::FastMarching>(OccupancyGrid(ww, wh, grid.resolution(), o, vals, fr));
+      wk.window_origin = Cell{r0, c0};
+    }
     if (wk.collector < 0) continue;
     std::vector<Cell> targets = cells_of[static_cast<std::size_t>(wk.segment)];
     const std::size_t m = targets.size();
@@ -234,6 +267,28 @@ void MissionSimulator::from_oc(const std::vector<Cell>& targets, std::vector<dou
   for (std::size_t i = 0; i < targets.size(); ++i) out[i] = from_oc_[grid.index(targets[i])];
 }
 
+void MissionSimulator::from_landing(const Worker& w, Cell landing, const std::vector<Cell>& targets,
+                                    std::vector<double>& out) {
+  constexpr std::size_t kMaxLandings = 16;  // per worker; beyond, march each time
+  const OccupancyGrid& grid = ctx_.scenario.grid;
+  const std::size_t key = grid.index(landing);
+  auto it = std::find_if(w.landing_to_cell.begin(), w.landing_to_cell.end(),
+                         [&](const auto& e) { return e.first == key; });
+  if (it == w.landing_to_cell.end()) {
+    if (w.landing_to_cell.size() >= kMaxLandings) {
+      march(fm_, landing, targets, out);
+      return;
+    }
+    std::vector<double> all;
+    march(fm_, landing, w.segment_cells, all);
+    w.landing_to_cell.emplace_back(key, std::vector<float>(all.begin(), all.end()));
+    it = w.landing_to_cell.end() - 1;
+  }
+  out.resize(targets.size());
+  for (std::size_t i = 0; i < targets.size(); ++i)
+    out[i] = it->second[static_cast<std::size_t>(index_in_segment_[grid.index(targets[i])])];
+}
+
 void MissionSimulator::simulate_worker(const Worker& w, Run& run) {
   if (w.collector >= 0) simulate_collector_worker(w, run);
   else simulate_oc_worker(w, run);
@@ -254,8 +309,25 @@ void march(fmm::FastMarching& fm, Cell from, const std::vector<Cell>& targets, s
 
 // Learns a request: its goals' distances to each other (one march per goal,
 // stopped at the farthest other goal) and to the rendezvous (from the tables).
-void learn(fmm::FastMarching& fm, const OccupancyGrid& grid, const std::vector<GoalRecord>& goals,
-           const std::vector<int>& ids, const std::vector<Cell>& rendezvous,
+// Distances [m] from `from` to `targets`, all in the worker's window, marched
+// in the window; on the whole map if some target cannot be reached there.
+void march_in_window(fmm::FastMarching& fm, fmm::FastMarching* window, Cell origin, Cell from,
+                     const std::vector<Cell>& targets, std::vector<double>& out) {
+  if (window) {
+    auto local = [&](Cell c) { return Cell{c.row - origin.row, c.col - origin.col}; };
+    bool inside = window->contains(local(from));
+    std::vector<Cell> shifted;
+    for (Cell c : targets) shifted.push_back(local(c)), inside = inside && window->contains(shifted.back());
+    if (inside) {
+      march(*window, local(from), shifted, out);
+      if (std::all_of(out.begin(), out.end(), [](double x) { return x < kInf; })) return;
+    }
+  }
+  march(fm, from, targets, out);
+}
+
+void learn(fmm::FastMarching& fm, fmm::FastMarching* window, Cell window_origin, const OccupancyGrid& grid,
+           const std::vector<GoalRecord>& goals, const std::vector<int>& ids, const std::vector<Cell>& rendezvous,
            const std::vector<std::vector<float>>& rendezvous_to_cell, const std::vector<int32_t>& index_in_segment,
            RequestDistances& d) {
   d.ids = ids;
@@ -271,7 +343,7 @@ void learn(fmm::FastMarching& fm, const OccupancyGrid& grid, const std::vector<G
   for (std::size_t i = 0; i < ids.size(); ++i) {
     if (i + 1 < ids.size()) {
       later.assign(goal_cells.begin() + static_cast<long>(i) + 1, goal_cells.end());
-      march(fm, d.cells[i], later, tmp);
+      march_in_window(fm, window, window_origin, d.cells[i], later, tmp);
       for (std::size_t j = i + 1; j < ids.size(); ++j) d.from[i][j] = d.from[j][i] = tmp[j - i - 1];
     }
     const std::size_t local = static_cast<std::size_t>(index_in_segment[grid.index(d.cells[i])]);
@@ -303,7 +375,7 @@ void MissionSimulator::simulate_collector_worker(const Worker& w, Run& run) {
                 known.end());
     while (next_req < run.cycles && learn_time(next_req) <= t + kEps) {
       // Older goals are past their deadline by now (learn time >= request time).
-      learn(fm_, grid, run.goals, mine[static_cast<std::size_t>(next_req)], w.rendezvous, w.rendezvous_to_cell,
+      learn(fm_, w.window.get(), w.window_origin, grid, run.goals, mine[static_cast<std::size_t>(next_req)], w.rendezvous, w.rendezvous_to_cell,
             index_in_segment_, d);
       known.clear();
       for (std::size_t i = 0; i < d.goals(); ++i) known.push_back(static_cast<int>(i));
@@ -425,6 +497,7 @@ void MissionSimulator::simulate_oc_worker(const Worker& w, Run& run) {
   int next_req = 0;
   RequestDistances d;
   std::vector<int> known, carried;
+  bool at_landing = false;  // pos is where the worker came back into the coverage
   auto deliver = [&]() {
     for (int id : carried) {
       GoalRecord& g = run.goals[static_cast<std::size_t>(id)];
@@ -440,6 +513,7 @@ void MissionSimulator::simulate_oc_worker(const Worker& w, Run& run) {
     const Cell to = coverage_sources_[static_cast<std::size_t>(label)];
     run.legs.push_back(Leg{w.agent, t, t + dist / v, grid.cell_center(pos), grid.cell_center(to)});
     t += dist / v, pos = to;
+    at_landing = true;
   };
   for (int step = 0;; ++step) {
     if (step > kMaxDecisions) bug("worker " + std::to_string(w.agent) + " does not terminate");
@@ -449,7 +523,8 @@ void MissionSimulator::simulate_oc_worker(const Worker& w, Run& run) {
     if (covered(pos)) {
       deliver();
       while (next_req < run.cycles && next_req * period_ <= t + kEps) {
-        learn(fm_, grid, run.goals, mine[static_cast<std::size_t>(next_req)], {}, {}, index_in_segment_, d);
+        learn(fm_, w.window.get(), w.window_origin, grid, run.goals, mine[static_cast<std::size_t>(next_req)], {}, {},
+              index_in_segment_, d);
         known.clear();
         for (std::size_t i = 0; i < d.goals(); ++i) known.push_back(static_cast<int>(i));
         ++next_req;
@@ -459,6 +534,7 @@ void MissionSimulator::simulate_oc_worker(const Worker& w, Run& run) {
     std::vector<double> at;
     if (!known.empty()) {
       if (pos == ctx_.oc_cell) from_oc(d.cells, d.from_position);
+      else if (at_landing) from_landing(w, pos, d.cells, d.from_position);
       else march(fm_, pos, d.cells, d.from_position);
       order = order_tour(d.from_position, d.from, known);
       double clock = t;
@@ -486,7 +562,7 @@ void MissionSimulator::simulate_oc_worker(const Worker& w, Run& run) {
       if (g.measured_at >= 0) bug("goal " + std::to_string(g.id) + " measured twice");
       g.measured_at = at[i], g.measured_by = w.agent;
       run.legs.push_back(Leg{w.agent, t, at[i], here, g.point});
-      here = g.point, t = at[i], pos = d.cells[o];
+      here = g.point, t = at[i], pos = d.cells[o], at_landing = false;
       carried.push_back(g.id);
       known.erase(std::find(known.begin(), known.end(), order[i]));
       if (covered(pos)) deliver();  // measured inside the coverage: the OC hears it at once

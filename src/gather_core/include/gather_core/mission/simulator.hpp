@@ -113,6 +113,9 @@ class MissionSimulator {
   void simulate_oc_worker(const Worker& w, Run& run);
   // Distances [m] from the OC's cell to `targets` (a table, no march).
   void from_oc(const std::vector<Cell>& targets, std::vector<double>& out) const;
+  // Distances [m] from a cell where an OC worker came back into the coverage
+  // to `targets` (cells of its segment): a table per landing cell.
+  void from_landing(const Worker& w, Cell landing, const std::vector<Cell>& targets, std::vector<double>& out);
 
   const plan::PlanContext& ctx_;
   MissionPlan plan_;
