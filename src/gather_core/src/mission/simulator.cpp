@@ -18,7 +18,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kEps = 1e-9;        // [s] time tolerance
 constexpr int kMaxDecisions = 1000000;  // per worker: a loop that long is a bug
-constexpr double kWindowMargin = 3.0;   // [m] around a segment's bounding box for marches between its goals
+constexpr double kWindowMargin = 1.0;   // [m] around a segment's bounding box for marches between its goals
 
 [[noreturn]] void bug(const std::string& what) { throw Error("mission", what); }
 
