@@ -130,6 +130,21 @@ TEST(Partition, PapHasNoStarvedSegment) {
   for (int k = 0; k < 20; ++k) EXPECT_GE(m.areas[k], 0.1 * m.area_mean) << "segment " << k + 1;
 }
 
+// A prepared map (reachability and clearance computed once, as in a
+// planner sweep) gives the same partitions.
+TEST(Partition, PreparedAreaGivesTheSameResult) {
+  const Scenario sc = load_scenario(repo("../shared/maps/ipa/lab_ipa.scenario.yaml"));
+  const Cell oc = sc.grid.world_to_cell(sc.oc);
+  const PreparedArea area = prepare_area(sc.grid, oc);
+  for (Method m : all_methods()) {
+    const PartitionResult a = partition_area(sc.grid, oc, m, 12, 5);
+    const PartitionResult b = partition_area(sc.grid, area, m, 12, 5);
+    EXPECT_EQ(a.labels, b.labels) << method_name(m);
+    EXPECT_EQ(a.clearance, b.clearance) << method_name(m);
+  }
+  EXPECT_THROW(partition_area(sc.grid, area, Method::kBap, 0), Error);
+}
+
 // Two 4 m x 3 m rooms joined by a 1 m door at 0.05 m/cell.
 OccupancyGrid two_rooms() {
   const int w = 170, h = 60;

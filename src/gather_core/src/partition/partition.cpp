@@ -1,6 +1,7 @@
 #include "gather_core/partition/partition.hpp"
 
 #include <chrono>
+#include <utility>
 
 #include "gather_core/error.hpp"
 #include "gather_core/grid/clearance.hpp"
@@ -48,28 +49,78 @@ std::vector<Method> all_methods() {
 
 std::vector<float> clearance_map(const OccupancyGrid& grid) { return ClearanceMap(grid).values(); }
 
-PartitionResult partition_area(const OccupancyGrid& grid, Cell oc, Method method, int workers, unsigned seed,
-                               const PartitionParams& params) {
-  const auto t0 = std::chrono::steady_clock::now();
+namespace {
+
+void check_oc(const OccupancyGrid& grid, Cell oc) {
   const std::string oc_text = "OC cell (row " + std::to_string(oc.row) + ", col " + std::to_string(oc.col) + ")";
   if (!grid.contains(oc)) throw Error("partition", oc_text + " is off the map");
   if (!grid.is_free(oc)) throw Error("partition", oc_text + " is in an obstacle");
-  if (workers < 1) throw Error("--workers", "N_w must be >= 1, got " + std::to_string(workers));
-  const std::vector<uint8_t> reachable = reachable_from(grid, oc);
+}
+
+std::size_t count_reachable(const std::vector<uint8_t>& reachable) {
   std::size_t count = 0;
   for (uint8_t r : reachable) count += r;
+  return count;
+}
+
+void check_workers(int workers, std::size_t count) {
   if (static_cast<std::size_t>(workers) > count)
     throw Error("--workers", "N_w = " + std::to_string(workers) + " is larger than the " + std::to_string(count) +
                                  " free cells reachable from the OC");
+}
 
+PartitionResult run(const OccupancyGrid& grid, Cell oc, const std::vector<uint8_t>& reachable, std::size_t count,
+                    std::vector<float> clearance, Method method, int workers, unsigned seed,
+                    const PartitionParams& params) {
   PartitionResult out;
   out.method = method;
   out.workers = workers;
   out.width = grid.width();
   out.height = grid.height();
-  out.clearance = clearance_map(grid);
+  out.clearance = std::move(clearance);
   const MethodInput in{grid, oc, reachable, count, out.clearance, workers, seed, params};
   entry(method).run(in, out);
+  return out;
+}
+
+}  // namespace
+
+PartitionResult partition_area(const OccupancyGrid& grid, Cell oc, Method method, int workers, unsigned seed,
+                               const PartitionParams& params) {
+  const auto t0 = std::chrono::steady_clock::now();
+  check_oc(grid, oc);
+  if (workers < 1) throw Error("--workers", "N_w must be >= 1, got " + std::to_string(workers));
+  const std::vector<uint8_t> reachable = reachable_from(grid, oc);
+  const std::size_t count = count_reachable(reachable);
+  check_workers(workers, count);
+  PartitionResult out = run(grid, oc, reachable, count, clearance_map(grid), method, workers, seed, params);
+  out.runtime_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+PreparedArea prepare_area(const OccupancyGrid& grid, Cell oc) {
+  check_oc(grid, oc);
+  PreparedArea a;
+  a.width = grid.width();
+  a.height = grid.height();
+  a.oc = oc;
+  a.reachable = reachable_from(grid, oc);
+  a.reachable_cells = count_reachable(a.reachable);
+  a.clearance = clearance_map(grid);
+  return a;
+}
+
+PartitionResult partition_area(const OccupancyGrid& grid, const PreparedArea& area, Method method, int workers,
+                               unsigned seed, const PartitionParams& params) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (area.width != grid.width() || area.height != grid.height() || area.reachable.size() != grid.size() ||
+      area.clearance.size() != grid.size())
+    throw Error("partition", "the prepared area does not match the map size");
+  check_oc(grid, area.oc);
+  if (workers < 1) throw Error("--workers", "N_w must be >= 1, got " + std::to_string(workers));
+  check_workers(workers, area.reachable_cells);
+  PartitionResult out =
+      run(grid, area.oc, area.reachable, area.reachable_cells, area.clearance, method, workers, seed, params);
   out.runtime_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }
