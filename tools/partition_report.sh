@@ -71,8 +71,9 @@ HEAD
   office_b at N_w = 20, and 2.0 / 8.6 / 6.0 s per BAP on office_a / office / office_b (median of 3,
   load average ~4); PAP left one segment of a single cell on office (max/min area 61914).
 - The deployment planner calls `partition_area()` 27 times per sweep; each call recomputes the
-  reachability and the clearance (about a quarter of a BAP on office_a), which the planner could
-  compute once per map.
+  reachability and the clearance (about a quarter of a BAP on office_a). `prepare_area()` computes
+  them once per map and `partition_area(grid, prepared, ...)` reuses them (same labels); the
+  runtimes above are of the plain call.
 - The partition fronts are this package's own first-order Eikonal march (`partition/front_growth`)
   because they need per-front start delays, confinement to a label image and area stops; the
   project's `fmm::FastMarching` gives BAP its distances from the OC. Clearance is
