@@ -321,6 +321,12 @@ PlanContext::PlanContext(const Scenario& s) : scenario(s), clearance(s.grid), oc
   reachable_cells = static_cast<std::size_t>(std::count(reachable.begin(), reachable.end(), 1));
   reachable_area = reachable_cells * grid.cell_area();
   if (reachable_cells == 0) throw Error(s.path, "no free space is reachable from the OC");
+  prepared.width = grid.width();
+  prepared.height = grid.height();
+  prepared.oc = oc_cell;
+  prepared.reachable = reachable;
+  prepared.reachable_cells = reachable_cells;
+  prepared.clearance = clearance.values();
   const RadioModel radio(grid, s.radio);
   coverage = radio.coverage(s.oc);
   for (std::size_t i = 0; i < coverage.size(); ++i) coverage[i] = coverage[i] && reachable[i];
@@ -376,7 +382,7 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
   cfg.workers = s.team.agents - collectors;
 
   auto t0 = Clock::now();
-  cfg.partition = partition::partition_area(s.grid, ctx.oc_cell, method, cfg.workers, opt.seed);
+  cfg.partition = partition::partition_area(s.grid, ctx.prepared, method, cfg.workers, opt.seed);
   cfg.partition.clearance.clear();
   cfg.partition.clearance.shrink_to_fit();
   cfg.times.partition_ms = ms_since(t0);

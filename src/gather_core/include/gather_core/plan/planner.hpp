@@ -40,6 +40,7 @@ struct PlanContext {
   double farthest = 0.0;                    // [m] largest coverage_distance over reachable cells
   double cycle_period = 0.0;                // [s] time between two OC requests
   ClearanceMap clearance;
+  partition::PreparedArea prepared;         // reachability + clearance for the 27 partitions, computed once
   // Collector routes keep the robot radius from walls: they are marched on a
   // speed map that is 1 where a robot fits and kTightSpeed elsewhere (so a
   // route only squeezes through where there is no other way).
