@@ -21,9 +21,11 @@ const std::vector<cv::Vec3b>& fill_palette() {
 }
 
 const std::vector<cv::Scalar>& line_palette() {
+  // No black or grey: groups are drawn as light tints of these, and grey
+  // stands for "delivers to the OC".
   static const std::vector<cv::Scalar> p = {
-      {180, 60, 20},  {20, 20, 20},  {30, 140, 30},  {160, 40, 160}, {0, 120, 230},
-      {120, 120, 0},  {90, 60, 200}, {40, 90, 130},  {200, 150, 0},  {100, 100, 100}};
+      {200, 100, 30}, {20, 130, 240}, {40, 150, 40},  {150, 50, 150}, {40, 80, 150},
+      {150, 150, 0},  {180, 40, 220}, {0, 140, 140},  {130, 40, 40},  {60, 60, 200}};
   return p;
 }
 
