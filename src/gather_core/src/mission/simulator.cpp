@@ -358,7 +358,11 @@ void MissionSimulator::simulate_collector_worker(const Worker& w, Run& run) {
   const RouteTimetable& route = routes_[static_cast<std::size_t>(w.collector)];
   const auto& mine = run.goals_of[static_cast<std::size_t>(&w - workers_.data())];
   const double v = speed_;
-  auto learn_time = [&](int c) { return c == 0 ? 0.0 : route.next_time_at(w.meeting_arc, c * period_); };
+  // The request reaches the collector when it is next inside the OC's
+  // coverage, and the worker when the collector next passes its meeting area.
+  auto learn_time = [&](int c) {
+    return c == 0 ? 0.0 : route.next_time_at(w.meeting_arc, route.next_coverage_time(c * period_));
+  };
 
   Cell pos = ctx_.oc_cell;
   double t = 0.0;
