@@ -39,9 +39,10 @@ struct MissionSimulator::Worker {
   std::vector<std::vector<float>> rendezvous_to_cell;
   std::vector<std::vector<double>> rendezvous_to_rendezvous;
   std::vector<Cell> segment_cells;  // by index in the segment
-  // A workspace on the segment's bounding box plus a margin: marches between
-  // goals of the segment stay small (a way that leaves the window is
-  // re-marched on the whole map when the window cannot reach a goal at all).
+  // A workspace on the segment's bounding box plus a margin, traversable only
+  // in the segment and within the margin of it: marches between goals of the
+  // segment stay small (a way that leaves the window is re-marched on the
+  // whole map when the window cannot reach a goal at all).
   std::shared_ptr<fmm::FastMarching> window;
   Cell window_origin;  // its cell (0, 0) on the map
   // OC workers: distances [m] from the coverage cells they came back to, to
@@ -143,6 +144,33 @@ MissionSimulator::MissionSimulator(const plan::PlanContext& ctx, MissionPlan pla
           const std::size_t src = grid.index(Cell{r0 + r, c0 + c}), dst = static_cast<std::size_t>(r) * ww + c;
           vals[dst] = grid.values()[src], fr[dst] = grid.free_mask()[src];
         }
+      // Keep only the segment dilated by the margin (a square dilation, one
+      // pass along rows and one along columns): between its goals a worker
+      // stays in or next to its own area, as the planner assumes.
+      std::vector<uint8_t> near(vals.size(), 0), rows(vals.size(), 0);
+      for (Cell c : wk.segment_cells) near[static_cast<std::size_t>(c.row - r0) * ww + (c.col - c0)] = 1;
+      for (int r = 0; r < wh; ++r)
+        for (int c = 0, last = -1000000; c < ww; ++c) {
+          if (near[static_cast<std::size_t>(r) * ww + c]) last = c;
+          if (c - last <= margin) rows[static_cast<std::size_t>(r) * ww + c] = 1;
+        }
+      for (int r = 0; r < wh; ++r)
+        for (int c = ww - 1, last = 1000000; c >= 0; --c) {
+          if (near[static_cast<std::size_t>(r) * ww + c]) last = c;
+          if (last - c <= margin) rows[static_cast<std::size_t>(r) * ww + c] = 1;
+        }
+      std::fill(near.begin(), near.end(), 0);
+      for (int c = 0; c < ww; ++c) {
+        for (int r = 0, last = -1000000; r < wh; ++r) {
+          if (rows[static_cast<std::size_t>(r) * ww + c]) last = r;
+          if (r - last <= margin) near[static_cast<std::size_t>(r) * ww + c] = 1;
+        }
+        for (int r = wh - 1, last = 1000000; r >= 0; --r) {
+          if (rows[static_cast<std::size_t>(r) * ww + c]) last = r;
+          if (last - r <= margin) near[static_cast<std::size_t>(r) * ww + c] = 1;
+        }
+      }
+      for (std::size_t i = 0; i < fr.size(); ++i) fr[i] = fr[i] && near[i];
       const Point2 o{grid.origin().x + c0 * grid.resolution(), grid.origin().y + r0 * grid.resolution()};
       wk.window = std::make_shared<fmm::FastMarching>(OccupancyGrid(ww, wh, grid.resolution(), o, vals, fr));
       wk.window_origin = Cell{r0, c0};
