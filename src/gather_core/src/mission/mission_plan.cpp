@@ -25,6 +25,7 @@ MissionPlan load_mission_plan(const std::string& plan_path) {
   MissionPlan m;
   m.file = plan::read_plan_file(yaml.string());
   const fs::path png = yaml.parent_path() / m.file.labels_png;
+  if (!fs::is_regular_file(png)) throw Error(png.string(), "no such label image (named by " + yaml.string() + ")");
   const cv::Mat img = cv::imread(png.string(), cv::IMREAD_UNCHANGED);
   if (img.empty()) throw Error(png.string(), "cannot read the label image");
   if (img.type() != CV_16UC1) throw Error(png.string(), "the label image must be a 16-bit single-channel PNG");
