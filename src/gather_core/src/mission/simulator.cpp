@@ -400,6 +400,7 @@ void MissionSimulator::simulate_collector_worker(const Worker& w, Run& run) {
   std::vector<int> carried;  // goal ids measured and not yet handed over
   const std::size_t n_rv = w.rendezvous.size();
   int at_rv = -1;  // the rendezvous the worker stands at, -1 elsewhere
+  double no_meeting_before = 0.0;  // [s] after a failed hand-over: the next try is a later pass
   for (int step = 0;; ++step) {
     if (step > kMaxDecisions) bug("worker " + std::to_string(w.agent) + " does not terminate");
     known.erase(std::remove_if(known.begin(), known.end(),
@@ -465,7 +466,7 @@ void MissionSimulator::simulate_collector_worker(const Worker& w, Run& run) {
         if (k == 0) dist = pos_rv[r];
         else dist = d.from[static_cast<std::size_t>(order[k - 1])][n + r];
         if (!(dist < kInf)) continue;
-        const double arrive = (k == 0 ? t : at[k - 1]) + dist / v;
+        const double arrive = std::max((k == 0 ? t : at[k - 1]) + dist / v, no_meeting_before);
         const double h = route.next_time_at(w.rendezvous_arc[r], arrive);
         if (h < best) best = h, best_rv = r;
       }
@@ -514,6 +515,8 @@ void MissionSimulator::simulate_collector_worker(const Worker& w, Run& run) {
         g.delivered_at = drop, g.delivered_by = w.collector;
       }
       carried.clear();
+    } else {
+      no_meeting_before = t + 1.0;  // the worker keeps its data for a later pass
     }
   }
 }
