@@ -95,7 +95,8 @@ def main():
                 "`gather plan SCENARIO --out results/plans/NAME` %d times on every scenario (20 agents, N_c = 0..8, "
                 "BAP/PAP/RAP: 27 configurations, 2 threads) on this machine and shows the run with the median "
                 "sweep time (load average %s when it started). Model: docs/planner.md. "
-                "These are estimates (E); the simulator measures the real values (R).\n\n" % (a.repeat, load))
+                "These are estimates (E); the simulator measures the real values (R). "
+                "Why the seed's conclusions hold or not here: docs/planner.md, 'What the estimates say, and why'.\n\n" % (a.repeat, load))
         f.write("| scenario | best | refresh [s] | goals | U | collectors beat none | best N_c in 1-4 | "
                 "BAP or PAP best | RAP worst | sweep [s] | command wall [s] |\n")
         f.write("|---|---|---|---|---|---|---|---|---|---|---|\n")
