@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <set>
 
+#include "small_office.hpp"
 #include "gather_core/error.hpp"
 #include "gather_core/figures/partition_figure.hpp"
 #include "gather_core/mission/mission_plan.hpp"
@@ -19,34 +20,6 @@ using mission::MissionOptions;
 using mission::MissionResult;
 using mission::MissionSimulator;
 
-// 36 m x 16 m office at 0.1 m/cell (as in plan_test.cpp): a corridor along
-// y = 7..9 m, rooms of 6 m on both sides with 1.2 m doors, the OC at its west end.
-Scenario small_office() {
-  const int w = 360, h = 160;
-  std::vector<int8_t> v(static_cast<std::size_t>(w) * h, 0);
-  std::vector<uint8_t> f(v.size(), 1);
-  auto set = [&](int r0, int r1, int c0, int c1, bool wall) {
-    for (int r = r0; r < r1; ++r)
-      for (int c = c0; c < c1; ++c) {
-        const std::size_t i = static_cast<std::size_t>(r) * w + c;
-        v[i] = wall ? 100 : 0, f[i] = wall ? 0 : 1;
-      }
-  };
-  set(0, 2, 0, w, true), set(h - 2, h, 0, w, true), set(0, h, 0, 2, true), set(0, h, w - 2, w, true);
-  set(69, 71, 0, w, true), set(89, 91, 0, w, true);
-  for (int c = 60; c < w - 2; c += 60) set(0, h, c, c + 2, true);
-  set(70, 90, 2, w - 2, false);
-  for (int c = 30; c < w; c += 60) set(69, 71, c - 6, c + 6, false), set(89, 91, c - 6, c + 6, false);
-  Scenario s;
-  s.path = "small_office";
-  s.grid = OccupancyGrid(w, h, 0.1, Point2{0, 0}, v, f);
-  s.oc = Point2{1.0, 8.0};
-  s.team.agents = 8;
-  s.planner.collectors_min = 0;
-  s.planner.collectors_max = 3;
-  s.mission.goals_per_request = 20;
-  return s;
-}
 
 // A 20 m x 0.5 m open corridor at 0.1 m/cell, team speed 1 m/s, radio range
 // 2.07 m (coverage: cell centres within 2 m of the OC at x = 0.55 m, i.e. x < 2.6 m).
@@ -206,18 +179,14 @@ TEST(MissionTest, GoalsTooFarForTheCycleExpire) {
 class MissionOfficeTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    scenario_ = new Scenario(small_office());
-    ctx_ = new plan::PlanContext(*scenario_);
+    scenario_ = &testing_support::SmallOffice::scenario();
+    ctx_ = &testing_support::SmallOffice::context();
   }
-  static void TearDownTestSuite() {
-    delete ctx_;
-    delete scenario_;
-  }
-  static Scenario* scenario_;
-  static plan::PlanContext* ctx_;
+  static const Scenario* scenario_;
+  static const plan::PlanContext* ctx_;
 };
-Scenario* MissionOfficeTest::scenario_ = nullptr;
-plan::PlanContext* MissionOfficeTest::ctx_ = nullptr;
+const Scenario* MissionOfficeTest::scenario_ = nullptr;
+const plan::PlanContext* MissionOfficeTest::ctx_ = nullptr;
 
 TEST_F(MissionOfficeTest, ConservationAndNoDuplicatesOverManySeeds) {
   const std::pair<partition::Method, int> configs[] = {

@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "small_office.hpp"
 #include "gather_core/error.hpp"
 #include "gather_core/plan/plan_file.hpp"
 #include "gather_core/plan/planner.hpp"
@@ -13,51 +14,17 @@
 namespace gather {
 namespace {
 
-// 36 m x 16 m office at 0.1 m/cell: a 2 m corridor along y = 7..9 m, rooms of
-// 6 m on both sides with 1.2 m doors, the OC at the west end of the corridor.
-Scenario small_office() {
-  const int w = 360, h = 160;
-  std::vector<int8_t> v(static_cast<std::size_t>(w) * h, 0);
-  std::vector<uint8_t> f(v.size(), 1);
-  auto wall = [&](int r0, int r1, int c0, int c1) {
-    for (int r = r0; r < r1; ++r)
-      for (int c = c0; c < c1; ++c) v[static_cast<std::size_t>(r) * w + c] = 100, f[static_cast<std::size_t>(r) * w + c] = 0;
-  };
-  auto open = [&](int r0, int r1, int c0, int c1) {
-    for (int r = r0; r < r1; ++r)
-      for (int c = c0; c < c1; ++c) v[static_cast<std::size_t>(r) * w + c] = 0, f[static_cast<std::size_t>(r) * w + c] = 1;
-  };
-  wall(0, 2, 0, w), wall(h - 2, h, 0, w), wall(0, h, 0, 2), wall(0, h, w - 2, w);
-  wall(69, 71, 0, w), wall(89, 91, 0, w);  // corridor walls
-  for (int c = 60; c < w - 2; c += 60) wall(0, h, c, c + 2);  // room walls
-  open(70, 90, 2, w - 2);                                       // the corridor itself stays open
-  for (int c = 30; c < w; c += 60) open(69, 71, c - 6, c + 6), open(89, 91, c - 6, c + 6);  // doors
-  Scenario s;
-  s.path = "small_office";
-  s.grid = OccupancyGrid(w, h, 0.1, Point2{0, 0}, v, f);
-  s.oc = Point2{1.0, 8.0};
-  s.team.agents = 8;
-  s.planner.collectors_min = 0;
-  s.planner.collectors_max = 3;
-  s.mission.goals_per_request = 20;
-  return s;
-}
-
 class PlanTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    scenario_ = new Scenario(small_office());
-    ctx_ = new plan::PlanContext(*scenario_);
+    scenario_ = &testing_support::SmallOffice::scenario();
+    ctx_ = &testing_support::SmallOffice::context();
   }
-  static void TearDownTestSuite() {
-    delete ctx_;
-    delete scenario_;
-  }
-  static Scenario* scenario_;
-  static plan::PlanContext* ctx_;
+  static const Scenario* scenario_;
+  static const plan::PlanContext* ctx_;
 };
-Scenario* PlanTest::scenario_ = nullptr;
-plan::PlanContext* PlanTest::ctx_ = nullptr;
+const Scenario* PlanTest::scenario_ = nullptr;
+const plan::PlanContext* PlanTest::ctx_ = nullptr;
 
 TEST_F(PlanTest, RoutesAreClosedClearAndStartInCoverage) {
   for (partition::Method m : partition::all_methods()) {
@@ -153,7 +120,7 @@ TEST_F(PlanTest, SameSeedSamePlanAndFileRoundTrip) {
 TEST_F(PlanTest, BadRequestsAreClearErrors) {
   EXPECT_THROW(plan::plan_configuration(*ctx_, partition::Method::kBap, 8), Error);   // no worker left
   EXPECT_THROW(plan::plan_configuration(*ctx_, partition::Method::kBap, -1), Error);
-  Scenario boxed = small_office();
+  Scenario boxed = testing_support::small_office();
   // Wall the OC into a single cell: nothing else is reachable.
   const Cell oc = boxed.grid.world_to_cell(boxed.oc);
   std::vector<int8_t> v = boxed.grid.values();
