@@ -72,7 +72,10 @@ void paint_segments(MapCanvas& canvas, const plan::PlanContext& ctx, const missi
   for (std::size_t i = 0; i < plan.labels.size(); ++i) {
     const int k = plan.labels[i];
     if (k <= 0) continue;
-    cv::Vec3b c = pal[static_cast<std::size_t>(k - 1) % pal.size()];
+    // Pale tints: the agents, goals and routes drawn on top must stand out.
+    const cv::Vec3b full = pal[static_cast<std::size_t>(k - 1) % pal.size()];
+    cv::Vec3b c(static_cast<uchar>(full[0] * 0.4 + 255 * 0.6), static_cast<uchar>(full[1] * 0.4 + 255 * 0.6),
+                static_cast<uchar>(full[2] * 0.4 + 255 * 0.6));
     if (ctx.coverage[i]) c = cv::Vec3b(static_cast<uchar>(c[0] * 0.8), static_cast<uchar>(c[1] * 0.8), static_cast<uchar>(c[2] * 0.8));
     canvas.paint(g.cell(i), c);
   }
@@ -179,7 +182,7 @@ void write_fig4_snapshot(const std::string& path, const plan::PlanContext& ctx, 
   paint_segments(canvas, ctx, plan);
   const auto& lines = line_palette();
   for (int c = 0; c < plan.file.collectors; ++c)
-    canvas.polyline(plan.file.routes[static_cast<std::size_t>(c)].waypoints, lines[static_cast<std::size_t>(c) % lines.size()], 1, true);
+    canvas.polyline(plan.file.routes[static_cast<std::size_t>(c)].waypoints, lines[static_cast<std::size_t>(c) % lines.size()], 2);
   const int cycle = static_cast<int>(std::floor(t / result.period_s));
   for (const auto& goal : result.goals) {
     if (goal.cycle != cycle) continue;
