@@ -71,6 +71,29 @@ struct RequestDistances {
   std::size_t goals() const { return ids.size(); }
 };
 
+// Drops from `known` (local goal indices) the goals whose deadline has passed at t [s].
+static void drop_expired(std::vector<int>& known, const RequestDistances& d, const std::vector<GoalRecord>& goals, double t) {
+  known.erase(std::remove_if(known.begin(), known.end(),
+                             [&](int i) { return goals[static_cast<std::size_t>(d.ids[static_cast<std::size_t>(i)])].deadline <= t + kEps; }),
+              known.end());
+}
+
+// Arrival times [s] at the goals of `order`, leaving the worker's position at
+// t [s] at speed v [m/s]; the list stops before the first goal reached after
+// its deadline.
+static std::vector<double> arrival_times(const std::vector<int>& order, const RequestDistances& d,
+                                  const std::vector<GoalRecord>& goals, double t, double v) {
+  std::vector<double> at;
+  double clock = t;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const std::size_t o = static_cast<std::size_t>(order[i]);
+    clock += (i == 0 ? d.from_position[o] : d.from[static_cast<std::size_t>(order[i - 1])][o]) / v;
+    if (clock > goals[static_cast<std::size_t>(d.ids[o])].deadline + kEps) break;
+    at.push_back(clock);
+  }
+  return at;
+}
+
 MissionSimulator::~MissionSimulator() = default;
 
 MissionSimulator::MissionSimulator(const plan::PlanContext& ctx, MissionPlan plan)
@@ -403,9 +426,7 @@ void MissionSimulator::simulate_collector_worker(const Worker& w, Run& run) {
   double no_meeting_before = 0.0;  // [s] after a failed hand-over: the next try is a later pass
   for (int step = 0;; ++step) {
     if (step > kMaxDecisions) bug("worker " + std::to_string(w.agent) + " does not terminate");
-    known.erase(std::remove_if(known.begin(), known.end(),
-                               [&](int i) { return run.goals[static_cast<std::size_t>(d.ids[static_cast<std::size_t>(i)])].deadline <= t + kEps; }),
-                known.end());
+    drop_expired(known, d, run.goals, t);
     while (next_req < run.cycles && learn_time(next_req) <= t + kEps) {
       // Older goals are past their deadline by now (learn time >= request time).
       learn(fm_, w.window.get(), w.window_origin, grid, run.goals, mine[static_cast<std::size_t>(next_req)], w.rendezvous, w.rendezvous_to_cell,
@@ -430,13 +451,7 @@ void MissionSimulator::simulate_collector_worker(const Worker& w, Run& run) {
         march(fm_, pos, d.cells, d.from_position);
       }
       order = order_tour(d.from_position, d.from, known);
-      double clock = t;
-      for (std::size_t i = 0; i < order.size(); ++i) {
-        const std::size_t o = static_cast<std::size_t>(order[i]);
-        clock += (i == 0 ? d.from_position[o] : d.from[static_cast<std::size_t>(order[i - 1])][o]) / v;
-        if (clock > run.goals[static_cast<std::size_t>(d.ids[o])].deadline + kEps) break;
-        at.push_back(clock);
-      }
+      at = arrival_times(order, d, run.goals, t, v);
     }
     const std::size_t kmax = at.size();
     if (kmax == 0 && carried.empty() && next_req >= run.cycles) break;
@@ -552,9 +567,7 @@ void MissionSimulator::simulate_oc_worker(const Worker& w, Run& run) {
   };
   for (int step = 0;; ++step) {
     if (step > kMaxDecisions) bug("worker " + std::to_string(w.agent) + " does not terminate");
-    known.erase(std::remove_if(known.begin(), known.end(),
-                               [&](int i) { return run.goals[static_cast<std::size_t>(d.ids[static_cast<std::size_t>(i)])].deadline <= t + kEps; }),
-                known.end());
+    drop_expired(known, d, run.goals, t);
     if (covered(pos)) {
       deliver();
       while (next_req < run.cycles && next_req * period_ <= t + kEps) {
@@ -572,13 +585,7 @@ void MissionSimulator::simulate_oc_worker(const Worker& w, Run& run) {
       else if (at_landing) from_landing(w, pos, d.cells, d.from_position);
       else march(fm_, pos, d.cells, d.from_position);
       order = order_tour(d.from_position, d.from, known);
-      double clock = t;
-      for (std::size_t i = 0; i < order.size(); ++i) {
-        const std::size_t o = static_cast<std::size_t>(order[i]);
-        clock += (i == 0 ? d.from_position[o] : d.from[static_cast<std::size_t>(order[i - 1])][o]) / v;
-        if (clock > run.goals[static_cast<std::size_t>(d.ids[o])].deadline + kEps) break;
-        at.push_back(clock);
-      }
+      at = arrival_times(order, d, run.goals, t, v);
     }
     if (at.empty()) {
       if (!covered(pos)) {
