@@ -176,17 +176,7 @@ TEST(MissionTest, GoalsTooFarForTheCycleExpire) {
   EXPECT_EQ(goal_at(r, 5.05, 0).state, mission::GoalState::kDelivered);
 }
 
-class MissionOfficeTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    scenario_ = &testing_support::SmallOffice::scenario();
-    ctx_ = &testing_support::SmallOffice::context();
-  }
-  static const Scenario* scenario_;
-  static const plan::PlanContext* ctx_;
-};
-const Scenario* MissionOfficeTest::scenario_ = nullptr;
-const plan::PlanContext* MissionOfficeTest::ctx_ = nullptr;
+class MissionOfficeTest : public testing_support::SmallOfficeTest {};
 
 TEST_F(MissionOfficeTest, ConservationAndNoDuplicatesOverManySeeds) {
   const std::pair<partition::Method, int> configs[] = {

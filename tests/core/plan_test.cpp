@@ -14,17 +14,7 @@
 namespace gather {
 namespace {
 
-class PlanTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    scenario_ = &testing_support::SmallOffice::scenario();
-    ctx_ = &testing_support::SmallOffice::context();
-  }
-  static const Scenario* scenario_;
-  static const plan::PlanContext* ctx_;
-};
-const Scenario* PlanTest::scenario_ = nullptr;
-const plan::PlanContext* PlanTest::ctx_ = nullptr;
+class PlanTest : public testing_support::SmallOfficeTest {};
 
 TEST_F(PlanTest, RoutesAreClosedClearAndStartInCoverage) {
   for (partition::Method m : partition::all_methods()) {

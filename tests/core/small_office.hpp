@@ -3,6 +3,8 @@
 // 16 m at 0.1 m/cell, a 2 m corridor along y = 7..9 m, 6 m rooms on both
 // sides with 1.2 m doors, the OC at the west end of the corridor; 8 agents,
 // 0..3 collectors, 20 goals per request.
+#include <gtest/gtest.h>
+
 #include <vector>
 
 #include "gather_core/plan/planner.hpp"
@@ -48,6 +50,17 @@ struct SmallOffice {
     static const plan::PlanContext ctx(scenario());
     return ctx;
   }
+};
+
+// Fixture base: tests see the shared office as scenario_ and ctx_.
+class SmallOfficeTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    scenario_ = &SmallOffice::scenario();
+    ctx_ = &SmallOffice::context();
+  }
+  static inline const Scenario* scenario_ = nullptr;
+  static inline const plan::PlanContext* ctx_ = nullptr;
 };
 
 }  // namespace testing_support
