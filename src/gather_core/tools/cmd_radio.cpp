@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,9 @@ int radio(int argc, char** argv) {
   std::printf("covered %.2f m^2 (%zu cells); %.1f%% of the space reachable from the OC\n", covered * s.grid.cell_area(),
               covered, reachable ? 100.0 * covered_reachable / reachable : 0.0);
   if (args.has("--out")) {
+    const std::filesystem::path out(args.get("--out"));
+    std::error_code ec;
+    if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path(), ec);  // like --out DIR elsewhere
     char caption[256];
     std::snprintf(caption, sizeof caption, "Radio coverage of [%.1f, %.1f] m: %.0f m^2, walls %.0f dB each (max %d)",
                   tx.x, tx.y, covered * s.grid.cell_area(), s.radio.wall_loss_db, s.radio.max_walls);
