@@ -131,17 +131,17 @@ TEST(MissionTest, CorridorDeliveryTimesAreExact) {
   EXPECT_NEAR(b.measured_at, 16.5, 1e-3);
   EXPECT_NEAR(b.picked_up_at, 43.5, 1e-3);
   EXPECT_NEAR(b.delivered_at, 55.95, 1e-3);
-  // Request 1 (t = 100 s) finds the collector out of the coverage (arc 13 m);
-  // it gets the request when it re-enters (113.95 s) and hands it to the
-  // worker at its next pass at the meeting area (130.5 s); C is 4 m away:
-  // 134.5 s, back 138.5 s, next pass 159.5 s, dropped 171.95 s.
+  // The collector drives floor(100 / 29) = 3 loops per request period (t = 0,
+  // 29, 58) and waits at the OC from 87 s. Request 1 (t = 100 s) leaves with
+  // it and reaches the worker at the meeting area at 114.5 s; C is 4 m away:
+  // 118.5 s, back 122.5 s, next pass 143.5 s, dropped 155.95 s.
   const GoalRecord& c = goal_at(r, 19.05, 1);
-  EXPECT_NEAR(c.measured_at, 134.5, 1e-3);
-  EXPECT_NEAR(c.picked_up_at, 159.5, 1e-3);
-  EXPECT_NEAR(c.delivered_at, 171.95, 1e-3);
+  EXPECT_NEAR(c.measured_at, 118.5, 1e-3);
+  EXPECT_NEAR(c.picked_up_at, 143.5, 1e-3);
+  EXPECT_NEAR(c.delivered_at, 155.95, 1e-3);
   EXPECT_NEAR(r.cycles[0].refresh_mean_s, (26.95 + 55.95) / 2, 1e-3);
   EXPECT_NEAR(r.cycles[0].refresh_max_s, 55.95, 1e-3);
-  EXPECT_NEAR(r.cycles[1].refresh_mean_s, 71.95, 1e-3);
+  EXPECT_NEAR(r.cycles[1].refresh_mean_s, 55.95, 1e-3);
   EXPECT_EQ(r.cycles[0].total_carried, 0);
 }
 

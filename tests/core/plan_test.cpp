@@ -8,6 +8,7 @@
 
 #include "small_office.hpp"
 #include "gather_core/error.hpp"
+#include "gather_core/plan/loop_schedule.hpp"
 #include "gather_core/plan/plan_file.hpp"
 #include "gather_core/plan/planner.hpp"
 
@@ -130,6 +131,40 @@ TEST_F(PlanTest, BadRequestsAreClearErrors) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("reachable"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+}  // namespace gather
+
+namespace gather {
+namespace {
+
+TEST(LoopScheduleTest, LoopsFitIntoTheRequestPeriod) {
+  const plan::LoopSchedule s(29.0, 100.0);  // 3 loops per request, then 13 s at the OC
+  EXPECT_EQ(s.loops(), 3);
+  EXPECT_DOUBLE_EQ(s.super_period(), 100.0);
+  EXPECT_DOUBLE_EQ(s.next_departure(0.0), 0.0);
+  EXPECT_DOUBLE_EQ(s.next_departure(30.0), 58.0);
+  EXPECT_DOUBLE_EQ(s.next_departure(90.0), 100.0);
+  EXPECT_DOUBLE_EQ(s.next_at(14.5, 18.5), 43.5);
+  EXPECT_DOUBLE_EQ(s.next_at(14.5, 80.0), 114.5);
+  EXPECT_DOUBLE_EQ(s.offset_at(35.0), 6.0);
+  EXPECT_DOUBLE_EQ(s.offset_at(90.0), 29.0);  // waiting at the OC
+}
+
+TEST(LoopScheduleTest, LongRouteDepartsEveryFewRequests) {
+  const plan::LoopSchedule s(29.0, 10.0);  // one loop per 3 requests
+  EXPECT_EQ(s.loops(), 1);
+  EXPECT_DOUBLE_EQ(s.super_period(), 30.0);
+  EXPECT_DOUBLE_EQ(s.next_departure(10.0), 30.0);
+  EXPECT_DOUBLE_EQ(s.next_at(14.5, 15.0), 44.5);
+  EXPECT_DOUBLE_EQ(s.offset_at(25.0), 25.0);
+  EXPECT_DOUBLE_EQ(s.offset_at(29.5), 29.0);
+  const plan::LoopSchedule exact(20.0, 20.0);  // a route of exactly T: back to back
+  EXPECT_EQ(exact.loops(), 1);
+  EXPECT_DOUBLE_EQ(exact.next_departure(5.0), 20.0);
+  const plan::LoopSchedule idle(0.0, 10.0);
+  EXPECT_TRUE(std::isinf(idle.next_at(1.0, 0.0)));
 }
 
 }  // namespace

@@ -16,14 +16,16 @@ constexpr double kTimeTolerance = 1e-3;
 
 }  // namespace
 
-RouteTimetable::RouteTimetable(const plan::CollectorRoute& route, double speed, const OccupancyGrid& grid,
-                               const std::vector<uint8_t>& coverage)
+RouteTimetable::RouteTimetable(const plan::CollectorRoute& route, double speed, double request_period,
+                               const OccupancyGrid& grid, const std::vector<uint8_t>& coverage)
     : points_(route.waypoints), speed_(speed) {
   if (!(speed > 0)) throw Error("route " + std::to_string(route.collector), "speed must be > 0");
+  if (!(request_period > 0)) throw Error("route " + std::to_string(route.collector), "request period must be > 0");
   arc_.assign(points_.size(), 0.0);
   for (std::size_t i = 1; i < points_.size(); ++i)
     arc_[i] = arc_[i - 1] + std::hypot(points_[i].x - points_[i - 1].x, points_[i].y - points_[i - 1].y);
   length_ = points_.size() >= 2 ? arc_.back() : 0.0;
+  schedule_ = plan::LoopSchedule(idle() ? 0.0 : length_ / speed_, request_period);
   if (idle()) return;
   auto in = [&](double s) {
     const Cell c = grid.world_to_cell(position_at_arc(s));
@@ -67,27 +69,24 @@ Point2 RouteTimetable::position_at_arc(double s) const {
 
 Point2 RouteTimetable::position(double t) const {
   if (idle()) return points_.empty() ? Point2{} : points_.front();
-  return position_at_arc(std::fmod(std::max(0.0, t) * speed_, length_));
+  return position_at_arc(schedule_.offset_at(t) * speed_);
 }
 
 double RouteTimetable::next_time_at(double s, double t) const {
   if (idle()) return std::numeric_limits<double>::infinity();
-  const double base = s / speed_, p = period();
-  if (base >= t - kTimeTolerance) return base;
-  const double loops = std::ceil((t - kTimeTolerance - base) / p);
-  return base + loops * p;
+  return schedule_.next_at(s / speed_, t - kTimeTolerance);
 }
 
 double RouteTimetable::next_coverage_time(double t) const {
   if (idle()) return t;
-  const double p = period();
-  const double loop_start = std::floor(t / p) * p;
-  const double s = (t - loop_start) * speed_;
+  const double offset = schedule_.offset_at(t);
+  if (offset >= schedule_.travel()) return t;  // waiting at the OC
+  const double s = offset * speed_;
   for (const auto& iv : inside_) {
     if (s >= iv.first - 1e-9 && s <= iv.second + 1e-9) return t;
-    if (iv.first > s) return loop_start + iv.first / speed_;
+    if (iv.first > s) return t + (iv.first - s) / speed_;
   }
-  return loop_start + p + inside_.front().first / speed_;
+  return t + (length_ - s) / speed_;  // the route ends at the OC
 }
 
 }  // namespace mission

@@ -110,7 +110,7 @@ MissionSimulator::MissionSimulator(const plan::PlanContext& ctx, MissionPlan pla
   period_ = pf.cycle_period_s;
   if (!(period_ > 0)) throw Error(where, "cycle_period_s must be > 0");
   if (static_cast<int>(pf.routes.size()) != pf.collectors) throw Error(where, "one route per collector expected");
-  for (const plan::CollectorRoute& r : pf.routes) routes_.emplace_back(r, speed_, grid, ctx.coverage);
+  for (const plan::CollectorRoute& r : pf.routes) routes_.emplace_back(r, speed_, period_, grid, ctx.coverage);
   for (const plan::AgentAssignment& a : pf.agents) {
     if (a.collector) continue;
     Worker w;

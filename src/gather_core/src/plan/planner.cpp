@@ -15,6 +15,7 @@
 #include "gather_core/grid/reachability.hpp"
 #include "gather_core/path/path_polisher.hpp"
 #include "gather_core/plan/collector_groups.hpp"
+#include "gather_core/plan/loop_schedule.hpp"
 #include "gather_core/radio/radio_model.hpp"
 
 namespace gather {
@@ -308,10 +309,70 @@ double upload_after(const CollectorRoute& r, double s) {
   return std::max(0.0, r.length - s);
 }
 
+// The estimate runs the execution protocol (docs/simulator.md) over the
+// mission's cycles on expected quantities instead of random goals: a
+// segment's goals are its expected share of a request, and a tour through n
+// of them takes the BHH length. It follows each worker's decisions as the
+// simulator does and returns its goals delivered and their refresh times.
+struct WorkerRun {
+  double delivered = 0.0;  // goals over all cycles
+  double refresh_sum = 0.0;  // sum of delivered_at - requested_at over them [s]
+  void add(double goals, double refresh) { delivered += goals, refresh_sum += goals * refresh; }
+};
+
+// A worker delivering to the OC: it learns the newest request whenever it is
+// inside the coverage, goes to its segment (approach d), measures what it can
+// before the request's deadline (the next request), comes back and delivers.
+WorkerRun run_oc_worker(double d, double area, double g, double v, double T, double c, int cycles) {
+  WorkerRun run;
+  double t = 0.0;  // the worker is inside the coverage at t
+  for (int next = 0; next < cycles;) {
+    const int req = std::max(next, std::min(cycles - 1, static_cast<int>(std::floor(t / T + 1e-9))));
+    t = std::max(t, req * T);
+    const double n = goals_within(v * ((req + 1) * T - t) - d, area, c, g);
+    next = req + 1;
+    if (n <= 0.0) continue;  // nothing fits: wait in the coverage for the next request
+    t += (2.0 * d + tour_length(n, area, c)) / v;
+    run.add(n, t - req * T);
+  }
+  return run;
+}
+
+// A worker of a collector: request r reaches it when the collector, leaving
+// the OC on its first departure at or after r T, passes the meeting area
+// (arc s); it measures what fits before the deadline, goals evenly along its
+// tour, and hands each goal over at the first pass next to its segment after
+// measuring it; the collector uploads where its route next enters coverage.
+WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, double area, double g, double v,
+                               double T, double c, int cycles) {
+  WorkerRun run;
+  const LoopSchedule sched(r.period, T);
+  double busy_until = 0.0;  // the worker's previous tour ends here
+  for (int req = 0; req < cycles; ++req) {
+    const double learn = std::max(busy_until, sched.next_at(m.route_s / v, req * T));
+    const double n = goals_within(v * ((req + 1) * T - learn), area, c, g);
+    if (n <= 0.0) continue;
+    const double tour = tour_length(n, area, c) / v;
+    busy_until = learn + tour;
+    constexpr int kSamples = 16;
+    double sum = 0.0;
+    for (int i = 1; i <= kSamples; ++i) {
+      const double ready = learn + tour * i / kSamples;
+      double best = kInf;
+      for (const double pass : m.passes)
+        best = std::min(best, sched.next_at(pass / v, ready) + upload_after(r, pass) / v);
+      sum += best - req * T;
+    }
+    run.add(n, sum / kSamples);
+  }
+  return run;
+}
+
 Estimates estimate(const PlanContext& ctx, const ConfigurationPlan& cfg, const PlannerOptions& opt) {
   const Scenario& s = ctx.scenario;
   const double v = s.team.speed, T = ctx.cycle_period, c = opt.tsp_constant;
   const double G = s.mission.goals_per_request;
+  const int cycles = std::max(1, s.mission.cycles);
   Estimates e;
   double weighted = 0.0;
   for (const WorkerSegment& seg : cfg.graph.segments) {
@@ -319,52 +380,20 @@ Estimates estimate(const PlanContext& ctx, const ConfigurationPlan& cfg, const P
     w.segment = seg.id;
     w.collector = cfg.collector_of_segment[static_cast<std::size_t>(seg.id - 1)];
     w.expected_goals = G * seg.area / ctx.reachable_area;
+    WorkerRun run;
     if (w.collector < 0) {
-      // To the OC: the worker leaves the coverage with a request, approaches
-      // its segment, tours, comes back and delivers. If that loop is longer
-      // than the request period it serves one request every k periods (the
-      // other requests' goals of its segment expire): per period it delivers
-      // the best over k of (goals measurable in a loop of k periods) / k.
       const double approach = seg.touches_coverage ? 0.0 : seg.coverage_distance;
       w.tour_s = (2.0 * approach + tour_length(w.expected_goals, seg.area, c)) / v;
-      double best_rate = 0.0, best_n = 0.0;
-      for (int k = 1; k <= 16; ++k) {
-        const double n = goals_within(k * v * T - 2.0 * approach, seg.area, c, w.expected_goals);
-        if (n / k > best_rate + 1e-12) best_rate = n / k, best_n = n;
-        if (n >= w.expected_goals) break;
-      }
-      w.delivered_goals = best_rate;
-      w.refresh_s = (2.0 * approach + tour_length(best_n, seg.area, c)) / v;
+      run = run_oc_worker(approach, seg.area, w.expected_goals, v, T, c, cycles);
     } else {
-      // Collector: the request arrives with the collector at the meeting area
-      // (it leaves the OC when the request is issued); the worker never leaves
-      // its segment and measures what fits in one request period, in
-      // sub-tours of one collector period, handing data over at each pass;
-      // the collector carries it into the OC's coverage.
       const CollectorRoute& r = cfg.routes[static_cast<std::size_t>(w.collector)];
       const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
                                   [&](const MeetingArea& a) { return a.segment == seg.id; });
       w.tour_s = tour_length(w.expected_goals, seg.area, c) / v;
-      w.delivered_goals = goals_within(v * T, seg.area, c, w.expected_goals);
-      const double start = m->route_s / v;
-      const double tour = tour_length(w.delivered_goals, seg.area, c) / v;
-      // Goals are measured evenly along the tour; each goal's data goes to the
-      // collector at its first pass next to the segment after the goal was
-      // measured, and reaches the OC where the route next enters coverage.
-      constexpr int kSamples = 16;
-      double sum = 0.0;
-      for (int i = 1; i <= kSamples; ++i) {
-        const double ready = start + tour * i / kSamples;
-        double best = kInf;
-        for (double pass : m->passes) {
-          const double loops = r.period > 0 ? std::max(0.0, std::ceil((ready - pass / v) / r.period - 1e-9)) : 0.0;
-          const double handover = pass / v + loops * r.period;
-          best = std::min(best, handover + upload_after(r, pass) / v);
-        }
-        sum += best;
-      }
-      w.refresh_s = sum / kSamples;
+      if (m != r.meetings.end()) run = run_collector_worker(r, *m, seg.area, w.expected_goals, v, T, c, cycles);
     }
+    w.delivered_goals = run.delivered / cycles;
+    w.refresh_s = run.delivered > 0 ? run.refresh_sum / run.delivered : 0.0;
     e.goals += w.delivered_goals;
     weighted += w.delivered_goals * w.refresh_s;
     e.workers.push_back(w);

@@ -1,7 +1,8 @@
 #pragma once
 // A collector's closed route as a function of time: it leaves the OC at t = 0
-// and drives the polyline at constant speed, one loop per period, forever.
-// Motion is analytic (arc length = speed * t mod length), so where the
+// and drives the polyline at constant speed, its loops synchronised with the
+// OC's requests (plan::LoopSchedule: a loop starts when a request is issued;
+// between loops it waits at the OC). Motion is analytic, so where the
 // collector is at any time, when it next passes an arc position and when it is
 // next inside the OC's radio coverage are exact (coverage borders are found by
 // bisection along the route to 1e-6 m).
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "gather_core/grid/occupancy_grid.hpp"
+#include "gather_core/plan/loop_schedule.hpp"
 #include "gather_core/plan/planner.hpp"
 
 namespace gather {
@@ -18,14 +20,16 @@ namespace mission {
 class RouteTimetable {
  public:
   // `coverage`: row-major mask of the cells inside the OC's coverage.
-  // speed [m/s] > 0. A route of fewer than two waypoints or zero length is
-  // idle (it never moves and is never met).
-  RouteTimetable(const plan::CollectorRoute& route, double speed, const OccupancyGrid& grid,
+  // speed [m/s] > 0, request_period [s] > 0 (the OC's T). A route of fewer
+  // than two waypoints or zero length is idle (it never moves and is never
+  // met).
+  RouteTimetable(const plan::CollectorRoute& route, double speed, double request_period, const OccupancyGrid& grid,
                  const std::vector<uint8_t>& coverage);
 
   bool idle() const { return length_ <= 0.0; }
   double length() const { return length_; }                      // [m]
-  double period() const { return idle() ? 0.0 : length_ / speed_; }  // [s]
+  double period() const { return idle() ? 0.0 : length_ / speed_; }  // [s] one loop's driving time
+  const plan::LoopSchedule& schedule() const { return schedule_; }
   Point2 position_at_arc(double s) const;                         // s in [0, length] [m]
   Point2 position(double t) const;                                // at time t [s]
   // Earliest time >= t [s] at which the collector is at arc position s [m]
@@ -42,6 +46,7 @@ class RouteTimetable {
   std::vector<double> arc_;  // cumulative [m]
   double speed_ = 1.0;
   double length_ = 0.0;
+  plan::LoopSchedule schedule_{0.0, 1.0};
   std::vector<std::pair<double, double>> inside_;
 };
 

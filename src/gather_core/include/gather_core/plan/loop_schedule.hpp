@@ -1,0 +1,45 @@
+#pragma once
+// When a collector drives its route, synchronised with the OC's requests.
+//
+// A collector leaves the OC when a request is issued, so it carries the
+// request out at once. Its route takes P = length / speed. If loops fit, it
+// drives floor(T / P) loops back to back in one request period T and then
+// waits at the OC for the next request; a route longer than T takes
+// K = ceil(P / T) request periods per loop (one departure every K T: the
+// requests issued in between go out with the next departure, or expire).
+// In general: a super-period S = K T holds m = floor(S / P) loops starting at
+// 0, P, ..., (m - 1) P after each multiple of S, and the collector waits at
+// the OC for the rest of S.
+//
+// The planner's estimate and the simulator's timetable both use this, so the
+// model and the execution follow one protocol.
+namespace gather {
+namespace plan {
+
+class LoopSchedule {
+ public:
+  // travel [s] = route length / speed (<= 0: an idle collector that never
+  // leaves the OC); request_period [s] > 0.
+  LoopSchedule(double travel, double request_period);
+
+  bool idle() const { return travel_ <= 0.0; }
+  double travel() const { return travel_; }        // P [s]
+  double super_period() const { return super_; }   // S [s]
+  int loops() const { return loops_; }             // m, loops per super-period
+
+  // Earliest departure (loop start) at or after t [s].
+  double next_departure(double t) const;
+  // Earliest time at or after t [s] at which the collector is `offset` [s]
+  // into a loop (0 <= offset <= P); +inf for an idle collector.
+  double next_at(double offset, double t) const;
+  // Offset [s] into the loop being driven at time t, or P when the collector
+  // waits at the OC (end of its route) between loops.
+  double offset_at(double t) const;
+
+ private:
+  double travel_ = 0.0, period_ = 0.0, super_ = 0.0;
+  int loops_ = 1;
+};
+
+}  // namespace plan
+}  // namespace gather

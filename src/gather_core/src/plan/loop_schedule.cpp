@@ -1,0 +1,53 @@
+#include "gather_core/plan/loop_schedule.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace gather {
+namespace plan {
+
+LoopSchedule::LoopSchedule(double travel, double request_period)
+    : travel_(std::max(0.0, travel)), period_(request_period) {
+  if (idle() || !(period_ > 0)) {
+    super_ = idle() ? period_ : travel_;
+    loops_ = 1;
+    return;
+  }
+  // 1e-9 relative: a route of exactly T (or T / 2) fits, despite rounding.
+  const double k = std::max(1.0, std::ceil(travel_ / period_ - 1e-9));
+  super_ = k * period_;
+  loops_ = std::max(1, static_cast<int>(std::floor(super_ / travel_ + 1e-9)));
+}
+
+double LoopSchedule::next_departure(double t) const {
+  if (idle()) return std::max(0.0, t);
+  t = std::max(0.0, t);
+  const double j = std::floor(t / super_);
+  const double base = j * super_;
+  const double i = std::ceil((t - base) / travel_ - 1e-12);
+  if (i < loops_) return base + i * travel_;
+  return base + super_;
+}
+
+double LoopSchedule::next_at(double offset, double t) const {
+  if (idle()) return std::numeric_limits<double>::infinity();
+  if (t <= offset) return offset;
+  const double j = std::floor((t - offset) / super_);
+  const double base = j * super_ + offset;  // the first loop's instance in super-period j
+  const double i = std::ceil((t - base) / travel_ - 1e-12);
+  if (i < loops_) return base + i * travel_;
+  return base + super_;
+}
+
+double LoopSchedule::offset_at(double t) const {
+  if (idle()) return 0.0;
+  t = std::max(0.0, t);
+  const double u = t - std::floor(t / super_) * super_;
+  const double i = std::floor(u / travel_);
+  if (i >= loops_) return travel_;
+  return u - i * travel_;
+}
+
+}  // namespace plan
+}  // namespace gather
