@@ -159,7 +159,12 @@ TEST(MissionTest, WorkerThatMissesItsCollectorDeliversOnTheNextPass) {
   EXPECT_NEAR(g.delivered_at, 14.5 + 29.0 + 12.45, 1e-3);
 }
 
-TEST(MissionTest, GoalsTooFarForTheCycleExpire) {
+TEST(MissionTest, RequestsArrivingTogetherLeaveOnlyTheNewest) {
+  // T = 10 s, route 29 s: one departure every 3 requests (t = 0, 30, ...).
+  // Requests 1 (t = 10 s) and 2 (t = 20 s) both wait for the collector to
+  // re-enter the coverage (26.95 s) and reach the worker together at the
+  // next pass (44.5 s): request 2 supersedes request 1, whose goal expires
+  // there unmeasured. Request 0 is valid until 44.5 s: both goals are measured.
   Scenario s = corridor();
   s.mission.period = 10.0;
   const plan::PlanContext ctx(s);
@@ -167,13 +172,15 @@ TEST(MissionTest, GoalsTooFarForTheCycleExpire) {
   p.file.cycle_period_s = 10.0;
   MissionSimulator sim(ctx, p);
   MissionOptions opt;
-  opt.cycles = 1;
-  opt.fixed_goals = {{0, Point2{5.05, 0.25}}, {0, Point2{17.05, 0.25}}};  // 16.5 s > 10 s
+  opt.cycles = 2;
+  opt.fixed_goals = {{0, Point2{5.05, 0.25}}, {0, Point2{17.05, 0.25}}, {1, Point2{5.05, 0.25}}};
   const MissionResult r = sim.run(opt);
-  check_invariants(r, 1, 1);
-  EXPECT_EQ(goal_at(r, 17.05, 0).state, mission::GoalState::kExpired);
-  EXPECT_NEAR(goal_at(r, 17.05, 0).expired_at, 10.0, 1e-9);
+  check_invariants(r, 2, 1);
   EXPECT_EQ(goal_at(r, 5.05, 0).state, mission::GoalState::kDelivered);
+  EXPECT_EQ(goal_at(r, 17.05, 0).state, mission::GoalState::kDelivered);
+  EXPECT_NEAR(goal_at(r, 17.05, 0).measured_at, 16.5, 1e-3);
+  EXPECT_EQ(goal_at(r, 5.05, 1).state, mission::GoalState::kExpired);
+  EXPECT_NEAR(goal_at(r, 5.05, 1).expired_at, 44.5, 1e-3);
 }
 
 class MissionOfficeTest : public testing_support::SmallOfficeTest {};

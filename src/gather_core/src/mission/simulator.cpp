@@ -288,6 +288,7 @@ MissionResult MissionSimulator::run(const MissionOptions& opt) {
 
   for (const Worker& w : workers_) simulate_worker(w, run);
   for (GoalRecord& g : run.goals) {
+    if (g.measured_at < 0 && !std::isfinite(g.deadline)) bug("goal " + std::to_string(g.id) + " neither measured nor expired");
     if (g.measured_at < 0) g.expired_at = g.deadline, g.state = GoalState::kExpired;
     else g.state = g.delivered_at >= 0 ? GoalState::kDelivered : GoalState::kCarried;
   }
@@ -414,6 +415,12 @@ void MissionSimulator::simulate_collector_worker(const Worker& w, Run& run) {
   auto learn_time = [&](int c) {
     return c == 0 ? 0.0 : route.next_time_at(w.meeting_arc, route.next_coverage_time(c * period_));
   };
+  // A request's goals expire when the next request reaches the worker (it
+  // supersedes them); requests that arrive together leave only the newest.
+  for (int c = 0; c < run.cycles; ++c) {
+    const double until = learn_time(c + 1);
+    for (int id : mine[static_cast<std::size_t>(c)]) run.goals[static_cast<std::size_t>(id)].deadline = until;
+  }
 
   Cell pos = ctx_.oc_cell;
   double t = 0.0;
@@ -541,6 +548,10 @@ void MissionSimulator::simulate_oc_worker(const Worker& w, Run& run) {
   const auto& mine = run.goals_of[static_cast<std::size_t>(&w - workers_.data())];
   const double v = speed_;
   auto covered = [&](Cell c) { return ctx_.coverage[grid.index(c)] != 0; };
+  // Its goals stay valid until the worker learns a newer request (in the
+  // coverage); it measures them all, then comes back.
+  for (const auto& ids : mine)
+    for (int id : ids) run.goals[static_cast<std::size_t>(id)].deadline = kInf;
 
   Cell pos = ctx_.oc_cell;
   double t = 0.0;
@@ -571,6 +582,8 @@ void MissionSimulator::simulate_oc_worker(const Worker& w, Run& run) {
     if (covered(pos)) {
       deliver();
       while (next_req < run.cycles && next_req * period_ <= t + kEps) {
+        // The newer request supersedes what is left of the older one.
+        for (int i : known) run.goals[static_cast<std::size_t>(d.ids[static_cast<std::size_t>(i)])].deadline = t;
         learn(fm_, w.window.get(), w.window_origin, grid, run.goals, mine[static_cast<std::size_t>(next_req)], {}, {},
               index_in_segment_, d);
         known.clear();

@@ -320,40 +320,40 @@ struct WorkerRun {
   void add(double goals, double refresh) { delivered += goals, refresh_sum += goals * refresh; }
 };
 
-// A worker delivering to the OC: it learns the newest request whenever it is
-// inside the coverage, goes to its segment (approach d), measures what it can
-// before the request's deadline (the next request), comes back and delivers.
+// A worker delivering to the OC: whenever it is inside the coverage it
+// learns the newest request (waiting for the next one if it has served them
+// all), goes to its segment (approach d), measures all the request's goals,
+// comes back and delivers. Requests issued meanwhile, but the newest, expire.
 WorkerRun run_oc_worker(double d, double area, double g, double v, double T, double c, int cycles) {
   WorkerRun run;
   double t = 0.0;  // the worker is inside the coverage at t
   for (int next = 0; next < cycles;) {
     const int req = std::max(next, std::min(cycles - 1, static_cast<int>(std::floor(t / T + 1e-9))));
     t = std::max(t, req * T);
-    const double n = goals_within(v * ((req + 1) * T - t) - d, area, c, g);
     next = req + 1;
-    if (n <= 0.0) continue;  // nothing fits: wait in the coverage for the next request
-    t += (2.0 * d + tour_length(n, area, c)) / v;
-    run.add(n, t - req * T);
+    if (g <= 0.0) continue;
+    t += (2.0 * d + tour_length(g, area, c)) / v;
+    run.add(g, t - req * T);
   }
   return run;
 }
 
 // A worker of a collector: request r reaches it when the collector, leaving
 // the OC on its first departure at or after r T, passes the meeting area
-// (arc s); it measures what fits before the deadline, goals evenly along its
-// tour, and hands each goal over at the first pass next to its segment after
-// measuring it; the collector uploads where its route next enters coverage.
+// (arc s); the next request to reach it supersedes it. It measures what fits
+// until then, goals evenly along its tour, and hands each goal over at the
+// first pass next to its segment after measuring it; the collector uploads
+// where its route next enters the coverage.
 WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, double area, double g, double v,
                                double T, double c, int cycles) {
   WorkerRun run;
   const LoopSchedule sched(r.period, T);
-  double busy_until = 0.0;  // the worker's previous tour ends here
+  auto arrival = [&](int req) { return req == 0 ? m.route_s / v : sched.next_at(m.route_s / v, req * T); };
   for (int req = 0; req < cycles; ++req) {
-    const double learn = std::max(busy_until, sched.next_at(m.route_s / v, req * T));
-    const double n = goals_within(v * ((req + 1) * T - learn), area, c, g);
+    const double learn = arrival(req);
+    const double n = goals_within(v * (arrival(req + 1) - learn), area, c, g);
     if (n <= 0.0) continue;
     const double tour = tour_length(n, area, c) / v;
-    busy_until = learn + tour;
     constexpr int kSamples = 16;
     double sum = 0.0;
     for (int i = 1; i <= kSamples; ++i) {
