@@ -45,7 +45,13 @@ int plan(int argc, char** argv) {
   if (args.positional().size() != 1 || !args.has("--out"))
     throw cli::UsageError("usage: gather plan SCENARIO --out DIR [--config METHOD:NC] [--seed K] [--threads T]");
   const auto t_start = Clock::now();
-  const Scenario s = load_scenario(args.positional()[0]);
+  const Scenario map_scenario = load_scenario(args.positional()[0]);
+  const int factor = planning_factor(map_scenario);
+  const Scenario s = on_planning_grid(map_scenario, factor);
+  if (factor > 1)
+    std::printf("planning grid: %dx%d cells of %.2f m (the %dx%d map coarsened %dx; planner.max_cells %zu)\n",
+                s.grid.width(), s.grid.height(), s.grid.resolution(), map_scenario.grid.width(),
+                map_scenario.grid.height(), factor, s.planner.max_cells);
   plan::PlannerOptions opt;
   opt.seed = static_cast<unsigned>(args.get_int("--seed", static_cast<int>(s.mission.seed)));
   opt.threads = args.get_int("--threads", 2);

@@ -108,7 +108,7 @@ int sim(int argc, char** argv) {
         "usage: gather sim PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--all-configs] [--threads T]");
   const auto t_start = Clock::now();
   const mission::MissionPlan mp = mission::load_mission_plan(args.positional()[0]);
-  const Scenario s = load_scenario(mp.file.scenario);
+  const Scenario s = on_planning_grid(load_scenario(mp.file.scenario), mp.file.grid_factor);
   const int cycles = args.get_int("--cycles", s.mission.cycles);
   const int seeds = args.get_int("--seeds", 1);
   const int seed0 = args.get_int("--seed", static_cast<int>(s.mission.seed));

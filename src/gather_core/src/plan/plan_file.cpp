@@ -40,6 +40,8 @@ PlanFile make_plan_file(const PlanContext& ctx, const ConfigurationPlan& cfg, co
   p.workers = cfg.workers;
   p.seed = seed;
   p.labels_png = labels_png;
+  const double map_res = ctx.scenario.map_meta.resolution;  // 0 for scenarios built in code
+  p.grid_factor = map_res > 0 ? std::max(1, static_cast<int>(std::lround(ctx.scenario.grid.resolution() / map_res))) : 1;
   p.cycle_period_s = ctx.cycle_period;
   p.est_refresh_s = cfg.estimates.refresh_s;
   p.est_goals = cfg.estimates.goals;
@@ -63,6 +65,7 @@ void write_plan_file(const std::string& path, const PlanFile& p) {
   y << YAML::Key << "workers" << YAML::Value << p.workers;
   y << YAML::Key << "seed" << YAML::Value << p.seed;
   y << YAML::Key << "labels" << YAML::Value << p.labels_png;
+  y << YAML::Key << "grid_factor" << YAML::Value << p.grid_factor;
   y << YAML::Key << "cycle_period_s" << YAML::Value << p.cycle_period_s;
   y << YAML::Key << "estimates" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "refresh_s"
     << YAML::Value << p.est_refresh_s << YAML::Key << "goals" << YAML::Value << p.est_goals << YAML::Key << "utility"
@@ -116,7 +119,7 @@ void write_plan_file(const std::string& path, const PlanFile& p) {
 PlanFile read_plan_file(const std::string& path) {
   const YAML::Node root = yaml::load_file(path);
   yaml::Fields f(root, path, "");
-  f.allow({"format", "scenario", "method", "collectors", "workers", "seed", "labels", "cycle_period_s", "estimates",
+  f.allow({"format", "scenario", "method", "collectors", "workers", "seed", "labels", "grid_factor", "cycle_period_s", "estimates",
            "agents", "routes", "worker_estimates"});
   PlanFile p;
   const std::string format = f.required<std::string>("format");
@@ -129,6 +132,8 @@ PlanFile read_plan_file(const std::string& path) {
   p.workers = f.required<int>("workers");
   p.seed = f.required<unsigned>("seed");
   p.labels_png = f.required<std::string>("labels");
+  p.grid_factor = f.optional<int>("grid_factor", 1);
+  if (p.grid_factor < 1) throw Error(path, "grid_factor must be >= 1");
   p.cycle_period_s = f.required<double>("cycle_period_s");
   const yaml::Fields est = f.section("estimates");
   est.allow({"refresh_s", "goals", "utility"});

@@ -1,5 +1,7 @@
 #include "gather_core/scenario/scenario.hpp"
 
+#include "gather_core/grid/planning_grid.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -67,7 +69,7 @@ Scenario load_scenario(const std::string& path) {
           "mission.period must be >= 0 s (0 = automatic), got " + num(s.mission.period));
 
   const yaml::Fields planner = f.section("planner");
-  planner.allow({"methods", "collectors", "alpha", "beta"});
+  planner.allow({"methods", "collectors", "alpha", "beta", "max_cells"});
   PlannerParams& p = s.planner;
   p.methods = planner.optional<std::vector<std::string>>("methods", p.methods);
   require(!p.methods.empty(), path, "planner.methods must not be empty");
@@ -91,6 +93,9 @@ Scenario load_scenario(const std::string& path) {
   p.alpha = planner.optional<double>("alpha", p.alpha);
   p.beta = planner.optional<double>("beta", p.beta);
   require(p.alpha >= 0 && p.beta >= 0 && p.alpha + p.beta > 0, path, "planner.alpha and beta must be >= 0, not both 0");
+  const int max_cells = planner.optional<int>("max_cells", static_cast<int>(p.max_cells));
+  require(max_cells >= 0, path, "planner.max_cells must be >= 0 (0 = plan on the map's own grid), got " + std::to_string(max_cells));
+  p.max_cells = static_cast<std::size_t>(max_cells);
 
   s.map_meta = read_map_metadata(s.map_path);
   s.grid = threshold_map_image(read_map_image(s.map_meta.image), s.map_meta);
@@ -102,6 +107,18 @@ Scenario load_scenario(const std::string& path) {
   require(s.grid.is_free(oc_cell), path,
           "oc [" + num(s.oc.x) + ", " + num(s.oc.y) + "] is on an obstacle or unknown cell, not free space");
   return s;
+}
+
+int planning_factor(const Scenario& s) { return choose_planning_grid(s.grid, s.oc, s.planner.max_cells).factor; }
+
+Scenario on_planning_grid(const Scenario& s, int factor) {
+  if (factor < 1) throw Error(s.path, "planning grid factor must be >= 1, got " + std::to_string(factor));
+  Scenario out = s;
+  if (factor == 1) return out;
+  out.grid = coarsen(s.grid, factor);
+  if (!out.grid.is_free(out.grid.world_to_cell(s.oc)))
+    throw Error(s.path, "the OC is not on free space of the planning grid (factor " + std::to_string(factor) + ")");
+  return out;
 }
 
 }  // namespace gather

@@ -26,6 +26,7 @@ struct PlanFile {
   int workers = 0;
   unsigned seed = 1;
   std::string labels_png;      // relative to the plan file
+  int grid_factor = 1;         // the labels are on the map coarsened by this (grid/planning_grid.hpp)
   double cycle_period_s = 0.0;
   double est_refresh_s = 0.0;
   double est_goals = 0.0;

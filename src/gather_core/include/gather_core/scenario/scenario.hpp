@@ -40,6 +40,10 @@ struct PlannerParams {
   int collectors_max = 8;  // default: min(8, N - 1)
   double alpha = 0.5;
   double beta = 0.5;
+  // Plan and simulate on a coarser grid when the map has more cells than
+  // this (0 = always the map's grid); extension of DESIGN's format, see
+  // grid/planning_grid.hpp and docs/planner.md.
+  std::size_t max_cells = 250000;
 };
 
 struct Scenario {
@@ -58,5 +62,11 @@ struct Scenario {
 // keys (`map`, `oc`), values out of range, an OC outside the map or not on a
 // free cell all throw gather::Error naming the file and the problem.
 Scenario load_scenario(const std::string& path);
+
+// The scenario on its planning grid: the map coarsened by `factor` (>= 1;
+// 1 = unchanged). planning_factor() chooses the factor from
+// planner.max_cells (grid/planning_grid.hpp).
+int planning_factor(const Scenario& s);
+Scenario on_planning_grid(const Scenario& s, int factor);
 
 }  // namespace gather
