@@ -259,6 +259,40 @@ TEST_F(MissionOfficeTest, PlanDirectoryGivesTheSameMissionAsTheInMemoryPlan) {
   for (std::size_t i = 0; i < ra.goals.size(); ++i) EXPECT_NEAR(ra.goals[i].delivered_at, rb.goals[i].delivered_at, 1e-3);
 }
 
+// The office planned on a 2x coarser grid (as planner.max_cells does for big
+// maps): plan.yaml records the factor, and the simulator, given the scenario
+// on that grid, runs the stored plan with the invariants holding.
+TEST(MissionCoarseGridTest, PlanOnACoarserGridRunsFromItsDirectory) {
+  Scenario map = testing_support::small_office();
+  map.map_meta.resolution = map.grid.resolution();
+  map.planner.max_cells = 20000;  // 57600 cells -> factor 2
+  const int factor = planning_factor(map);
+  ASSERT_EQ(factor, 2);
+  const Scenario s = on_planning_grid(map, factor);
+  EXPECT_EQ(s.grid.width(), 180);
+  EXPECT_DOUBLE_EQ(s.grid.resolution(), 0.2);
+  const plan::PlanContext ctx(s);
+  const auto cfg = plan::plan_configuration(ctx, partition::Method::kBap, 2);
+  const auto dir = std::filesystem::temp_directory_path() / ("gather_coarse_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  figures::write_label_png((dir / "labels.png").string(), cfg.partition);
+  plan::write_plan_file((dir / "plan.yaml").string(), plan::make_plan_file(ctx, cfg, "labels.png", 1));
+  const mission::MissionPlan loaded = mission::load_mission_plan(dir.string());
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(loaded.file.grid_factor, 2);
+  // The map's own grid does not fit the stored labels: a clear error.
+  const plan::PlanContext fine(map);
+  EXPECT_THROW(MissionSimulator(fine, loaded), Error);
+  const Scenario again = on_planning_grid(map, loaded.file.grid_factor);
+  const plan::PlanContext ctx2(again);
+  MissionSimulator sim(ctx2, loaded);
+  MissionOptions opt;
+  opt.cycles = 4;
+  const MissionResult r = sim.run(opt);
+  check_invariants(r, 4, 2);
+  EXPECT_GT(r.goals_per_cycle, 0.0);
+}
+
 TEST(MissionAccountingTest, BrokenHistoriesAreCaught) {
   GoalRecord g;
   g.deadline = 10.0;
