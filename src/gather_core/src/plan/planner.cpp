@@ -27,15 +27,44 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-// Length [m] of a closed tour through n random goals of a region of `area`
-// [m^2], starting and ending at one depot (Beardwood-Halton-Hammersley).
-double tour_length(double n, double area, double c) { return n <= 0 ? 0.0 : c * std::sqrt((n + 1.0) * area); }
+// Expected length [m] of a closed tour from a depot through n random goals
+// of a region of area A [m^2] whose cells lie at mean distance r [m] from the
+// depot: L(n) = 2 r + c sqrt(A) (n - 1) / sqrt(n) for n >= 1. One goal costs
+// the round trip 2 r; a second adds the mean distance between two random
+// points (~0.52 sqrt(A) in a square; the formula gives 0.50 sqrt(A)); for
+// many goals it tends to the Beardwood-Halton-Hammersley law c sqrt(n A).
+// (BHH alone assumes a central depot and many goals; with 1-3 goals per
+// segment and the depot at the segment's edge it came out ~40% short of the
+// simulated tours.) Fractional n < 1 scales the round trip.
+struct TourModel {
+  double area = 0.0;   // [m^2]
+  double reach = 0.0;  // [m] mean distance from the depot to the region's cells
+  double c = 0.7124;
+  double length(double n) const {
+    if (n <= 0) return 0.0;
+    if (n < 1) return 2.0 * reach * n;
+    return 2.0 * reach + c * std::sqrt(area) * (n - 1.0) / std::sqrt(n);
+  }
+  // Largest number of goals (<= want) whose tour fits in `budget` [m].
+  double goals_within(double budget, double want) const {
+    if (budget <= 0) return 0.0;
+    if (budget <= 2.0 * reach) return std::min(want, reach > 0 ? budget / (2.0 * reach) : want);
+    if (area <= 0) return want;
+    const double q = (budget - 2.0 * reach) / (c * std::sqrt(area));
+    const double u = 0.5 * (q + std::sqrt(q * q + 4.0));  // sqrt(n): u^2 - q u - 1 = 0
+    return std::clamp(u * u, 0.0, want);
+  }
+};
 
-// Largest number of goals (<= want) whose tour fits in `length` [m].
-double goals_within(double length, double area, double c, double want) {
-  if (length <= 0 || area <= 0) return length > 0 ? want : 0.0;
-  const double n = (length / c) * (length / c) / area - 1.0;
-  return std::clamp(n, 0.0, want);
+// The tour model of a segment's goals, from where its worker starts them: the
+// OC's coverage (OC workers) or the segment's entry (workers of collectors).
+TourModel tour_model(const WorkerSegment& seg, bool from_coverage, double c) {
+  TourModel m;
+  m.area = seg.area;
+  m.c = c;
+  const double approach = seg.touches_coverage ? 0.0 : seg.coverage_distance;
+  m.reach = from_coverage ? seg.mean_coverage_distance : std::max(0.0, seg.mean_coverage_distance - approach);
+  return m;
 }
 
 double dist(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
@@ -310,30 +339,58 @@ double upload_after(const CollectorRoute& r, double s) {
 }
 
 // The estimate runs the execution protocol (docs/simulator.md) over the
-// mission's cycles on expected quantities instead of random goals: a
-// segment's goals are its expected share of a request, and a tour through n
-// of them takes the BHH length. It follows each worker's decisions as the
-// simulator does and returns its goals delivered and their refresh times.
+// mission's cycles on expected quantities instead of random goals: the
+// number of a segment's goals in a request is binomial (G goals, each in the
+// segment with probability A_k / A), and a tour through n of them takes
+// TourModel's length. It follows each worker's decisions as the simulator
+// does and returns its goals delivered and their refresh times, averaged
+// over the goal count (goal-weighted, as the simulator's mean is: requests
+// with more goals take longer and weigh more).
 struct WorkerRun {
   double delivered = 0.0;  // goals over all cycles
   double refresh_sum = 0.0;  // sum of delivered_at - requested_at over them [s]
   void add(double goals, double refresh) { delivered += goals, refresh_sum += goals * refresh; }
 };
 
+// P(n goals of G in a segment holding share p of the space), n = 0..; the
+// tail beyond a 1e-9 remainder is dropped.
+std::vector<double> goal_count_pmf(int G, double p) {
+  p = std::clamp(p, 0.0, 1.0);
+  std::vector<double> pmf;
+  if (p >= 1.0) {
+    pmf.assign(static_cast<std::size_t>(G) + 1, 0.0);
+    pmf.back() = 1.0;
+    return pmf;
+  }
+  double q = std::pow(1.0 - p, G), total = 0.0;
+  for (int n = 0; n <= G && total < 1.0 - 1e-9; ++n) {
+    pmf.push_back(q);
+    total += q;
+    q *= (G - n) / static_cast<double>(n + 1) * p / (1.0 - p);
+  }
+  return pmf;
+}
+
 // A worker delivering to the OC: whenever it is inside the coverage it
 // learns the newest request (waiting for the next one if it has served them
-// all), goes to its segment (approach d), measures all the request's goals,
-// comes back and delivers. Requests issued meanwhile, but the newest, expire.
-WorkerRun run_oc_worker(double d, double area, double g, double v, double T, double c, int cycles) {
+// all), goes into its segment, measures all the request's goals, comes back
+// and delivers. Requests issued meanwhile, but the newest, expire.
+WorkerRun run_oc_worker(const TourModel& tour, const std::vector<double>& pmf, double v, double T, int cycles) {
   WorkerRun run;
+  double loop = 0.0, goals = 0.0, weighted = 0.0;  // expected loop [s]; goals; goal-weighted loop
+  for (std::size_t n = 1; n < pmf.size(); ++n) {
+    loop += pmf[n] * tour.length(static_cast<double>(n)) / v;
+    goals += pmf[n] * static_cast<double>(n);
+    weighted += pmf[n] * static_cast<double>(n) * tour.length(static_cast<double>(n)) / v;
+  }
   double t = 0.0;  // the worker is inside the coverage at t
   for (int next = 0; next < cycles;) {
     const int req = std::max(next, std::min(cycles - 1, static_cast<int>(std::floor(t / T + 1e-9))));
     t = std::max(t, req * T);
     next = req + 1;
-    if (g <= 0.0) continue;
-    t += (2.0 * d + tour_length(g, area, c)) / v;
-    run.add(g, t - req * T);
+    if (goals <= 0.0) continue;
+    run.add(goals, t - req * T + weighted / goals);
+    t += loop;
   }
   return run;
 }
@@ -344,26 +401,29 @@ WorkerRun run_oc_worker(double d, double area, double g, double v, double T, dou
 // until then, goals evenly along its tour, and hands each goal over at the
 // first pass next to its segment after measuring it; the collector uploads
 // where its route next enters the coverage.
-WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, double area, double g, double v,
-                               double T, double c, int cycles) {
+WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, const TourModel& model,
+                               const std::vector<double>& pmf, double v, double T, int cycles) {
   WorkerRun run;
   const LoopSchedule sched(r.period, T);
   auto arrival = [&](int req) { return req == 0 ? m.route_s / v : sched.next_at(m.route_s / v, req * T); };
   for (int req = 0; req < cycles; ++req) {
     const double learn = arrival(req);
-    const double n = goals_within(v * (arrival(req + 1) - learn), area, c, g);
-    if (n <= 0.0) continue;
-    const double tour = tour_length(n, area, c) / v;
-    constexpr int kSamples = 16;
-    double sum = 0.0;
-    for (int i = 1; i <= kSamples; ++i) {
-      const double ready = learn + tour * i / kSamples;
-      double best = kInf;
-      for (const double pass : m.passes)
-        best = std::min(best, sched.next_at(pass / v, ready) + upload_after(r, pass) / v);
-      sum += best - req * T;
+    const double fits = model.goals_within(v * (arrival(req + 1) - learn), static_cast<double>(pmf.size()));
+    for (std::size_t k = 1; k < pmf.size(); ++k) {
+      const double n = std::min(static_cast<double>(k), fits);
+      if (n <= 0.0) continue;
+      const double tour = model.length(n) / v;
+      constexpr int kSamples = 8;
+      double sum = 0.0;
+      for (int i = 1; i <= kSamples; ++i) {
+        const double ready = learn + tour * i / kSamples;
+        double best = kInf;
+        for (const double pass : m.passes)
+          best = std::min(best, sched.next_at(pass / v, ready) + upload_after(r, pass) / v);
+        sum += best - req * T;
+      }
+      run.add(pmf[k] * n, sum / kSamples);
     }
-    run.add(n, sum / kSamples);
   }
   return run;
 }
@@ -380,17 +440,19 @@ Estimates estimate(const PlanContext& ctx, const ConfigurationPlan& cfg, const P
     w.segment = seg.id;
     w.collector = cfg.collector_of_segment[static_cast<std::size_t>(seg.id - 1)];
     w.expected_goals = G * seg.area / ctx.reachable_area;
+    const std::vector<double> pmf = goal_count_pmf(static_cast<int>(G), seg.area / ctx.reachable_area);
     WorkerRun run;
     if (w.collector < 0) {
-      const double approach = seg.touches_coverage ? 0.0 : seg.coverage_distance;
-      w.tour_s = (2.0 * approach + tour_length(w.expected_goals, seg.area, c)) / v;
-      run = run_oc_worker(approach, seg.area, w.expected_goals, v, T, c, cycles);
+      const TourModel model = tour_model(seg, true, c);
+      w.tour_s = model.length(w.expected_goals) / v;
+      run = run_oc_worker(model, pmf, v, T, cycles);
     } else {
       const CollectorRoute& r = cfg.routes[static_cast<std::size_t>(w.collector)];
       const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
                                   [&](const MeetingArea& a) { return a.segment == seg.id; });
-      w.tour_s = tour_length(w.expected_goals, seg.area, c) / v;
-      if (m != r.meetings.end()) run = run_collector_worker(r, *m, seg.area, w.expected_goals, v, T, c, cycles);
+      const TourModel model = tour_model(seg, false, c);
+      w.tour_s = model.length(w.expected_goals) / v;
+      if (m != r.meetings.end()) run = run_collector_worker(r, *m, model, pmf, v, T, cycles);
     }
     w.delivered_goals = run.delivered / cycles;
     w.refresh_s = run.delivered > 0 ? run.refresh_sum / run.delivered : 0.0;
@@ -485,7 +547,7 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
   std::vector<double> work;
   for (const WorkerSegment& seg : cfg.graph.segments) {
     const double g = s.mission.goals_per_request * seg.area / ctx.reachable_area;
-    work.push_back(tour_length(g, seg.area, opt.tsp_constant) / s.team.speed);
+    work.push_back(tour_model(seg, false, opt.tsp_constant).length(g) / s.team.speed);
   }
   cfg.collector_of_segment = group_segments(cfg.graph, collectors, work);
   cfg.times.groups_ms = ms_since(t0);

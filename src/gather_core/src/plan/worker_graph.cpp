@@ -12,7 +12,7 @@ WorkerGraph build_worker_graph(const OccupancyGrid& grid, const std::vector<int3
                                const std::vector<uint8_t>* roomy) {
   WorkerGraph g;
   g.segments.resize(static_cast<std::size_t>(workers));
-  std::vector<double> sx(g.segments.size(), 0.0), sy(g.segments.size(), 0.0);
+  std::vector<double> sx(g.segments.size(), 0.0), sy(g.segments.size(), 0.0), sd(g.segments.size(), 0.0);
   std::vector<std::vector<uint8_t>> adjacent(g.segments.size(), std::vector<uint8_t>(g.segments.size(), 0));
   for (auto& s : g.segments) s.coverage_distance = std::numeric_limits<double>::infinity();
   std::vector<double> roomy_best(g.segments.size(), std::numeric_limits<double>::infinity());
@@ -27,6 +27,7 @@ WorkerGraph build_worker_graph(const OccupancyGrid& grid, const std::vector<int3
       sx[static_cast<std::size_t>(k - 1)] += c;
       sy[static_cast<std::size_t>(k - 1)] += r;
       if (coverage[i]) s.touches_coverage = true;
+      if (std::isfinite(coverage_distance[i])) sd[static_cast<std::size_t>(k - 1)] += coverage_distance[i];
       if (coverage_distance[i] < s.coverage_distance) {
         s.coverage_distance = coverage_distance[i];
         if (roomy_best[static_cast<std::size_t>(k - 1)] == std::numeric_limits<double>::infinity()) s.entry = Cell{r, c};
@@ -51,6 +52,7 @@ WorkerGraph build_worker_graph(const OccupancyGrid& grid, const std::vector<int3
     s.area = s.cells * grid.cell_area();
     mx[k] = s.cells ? sx[k] / s.cells : 0.0;
     my[k] = s.cells ? sy[k] / s.cells : 0.0;
+    s.mean_coverage_distance = s.cells ? sd[k] / s.cells : 0.0;
     for (std::size_t m = 0; m < g.segments.size(); ++m)
       if (adjacent[k][m]) s.neighbours.push_back(static_cast<int>(m) + 1);
   }

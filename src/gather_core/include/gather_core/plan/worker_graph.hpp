@@ -20,6 +20,9 @@ struct WorkerSegment {
   // nearest cell (0 when the segment overlaps the coverage), and that cell:
   // where the segment is cheapest to reach from the OC.
   double coverage_distance = 0.0;
+  // Mean geodesic distance [m] from the coverage to the segment's cells: the
+  // expected one-way trip to a goal of the segment from the OC's coverage.
+  double mean_coverage_distance = 0.0;
   Cell entry;                   // preferably a cell where the robot fits (see build_worker_graph)
   bool touches_coverage = false;  // some cell of the segment is linked to the OC
 };
