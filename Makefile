@@ -13,7 +13,7 @@ DURATION ?= 20
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build run test test-ros test-plain test-cli test-e2e bench-fmm partition-report plan-report clean help
+.PHONY: all deps build run test test-ros test-plain test-cli test-e2e bench-fmm partition-report scenario-report clean help
 
 all: build
 
@@ -80,9 +80,10 @@ bench-fmm: build
 partition-report: build
 	tools/partition_report.sh $(WS)/devel/lib/gather_core
 
-# The planner's sweep on every scenario -> docs/plans.md (a few minutes).
-plan-report: build
-	$(PYTHON) tools/plan_report.py
+# Plan (median sweep time of 3) and simulate every configuration (5 seeds) on
+# every scenario -> docs/scenarios.md; figures in results/scenarios/ (~6 min).
+scenario-report: build
+	$(PYTHON) tools/scenario_report.py
 
 clean:
 	rm -rf $(WS)/build $(WS)/devel $(WS)/install build results src/CMakeLists.txt

@@ -1,0 +1,213 @@
+#!/usr/bin/python3
+"""Plans and simulates every scenario in maps/ and ../shared/maps/ipa/ and
+writes docs/scenarios.md: per scenario the planning grid, the sweep's wall
+time (median of --repeat runs) and stage times, the best configuration by
+estimate (E) and by simulation (R), the estimate error |E - R| / R of every
+configuration, and whether the seed's conclusions hold in E and in R.
+
+  tools/scenario_report.py [--gather BIN] [--out docs/scenarios.md] [--results DIR]
+                           [--repeat 3] [--seeds 5] [--cycles C] [SCENARIO...]
+
+Per scenario NAME it runs
+  gather plan SCENARIO --out RESULTS/NAME/plan          (--repeat times)
+  gather sim RESULTS/NAME/plan --all-configs --seeds K --out RESULTS/NAME/sim
+and keeps their outputs (Fig. 2, Fig. 3 with the R bands, Fig. 4) there.
+Real utilities are normalised per seed over the 27 configurations, as the
+estimates are over the configurations, then averaged over the seeds.
+"""
+import argparse
+import csv
+import glob
+import os
+import re
+import statistics
+import subprocess
+import sys
+import time
+
+import yaml
+
+REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+
+
+def die(msg):
+    sys.exit("scenario_report: " + msg)
+
+
+def run(cmd):
+    t0 = time.monotonic()
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if p.returncode != 0:
+        die("%s failed: %s" % (" ".join(cmd), p.stderr.strip()))
+    return p.stdout, time.monotonic() - t0
+
+
+def read_csv(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def utilities(rows, refresh_key, goals_key, alpha, beta):
+    """U of each row, min-max normalised over `rows` (docs/planner.md)."""
+    ts = [r[refresh_key] for r in rows]
+    ns = [r[goals_key] for r in rows]
+    tmin, tmax, nmin, nmax = min(ts), max(ts), min(ns), max(ns)
+    t_var = tmax - tmin > 1e-6 * max(1.0, abs(tmax))
+    n_var = nmax - nmin > 1e-6 * max(1.0, abs(nmax))
+    out = []
+    for t, n in zip(ts, ns):
+        tn = (t - tmin) / (tmax - tmin) if t_var else 0.0
+        nn = (n - nmin) / (nmax - nmin) if n_var else 0.0
+        out.append((alpha * (1 - tn) + beta * nn) / (alpha + beta))
+    return out
+
+
+def conclusions(configs, ukey):
+    """(collectors beat none, best N_c in 1-4, BAP/PAP >= RAP) on utility `ukey`."""
+    best = max(configs, key=lambda c: c[ukey])
+    u0 = max((c[ukey] for c in configs if c["nc"] == 0), default=None)
+    u1 = max((c[ukey] for c in configs if c["nc"] >= 1), default=None)
+    per = {}
+    for c in configs:
+        per[c["method"]] = max(per.get(c["method"], -1.0), c[ukey])
+    bp = max(per.get("bap", -1.0), per.get("pap", -1.0))
+    return (u0 is not None and u1 is not None and u1 > u0, 1 <= best["nc"] <= 4,
+            "rap" not in per or bp >= per["rap"]), best
+
+
+def report_scenario(a, sc):
+    name = os.path.basename(sc).replace(".scenario.yaml", "")
+    with open(sc) as f:
+        spec = yaml.safe_load(f) or {}
+    planner = spec.get("planner") or {}
+    alpha, beta = float(planner.get("alpha", 0.5)), float(planner.get("beta", 0.5))
+    out = os.path.join(a.results, name)
+    plan_dir, sim_dir = os.path.join(out, "plan"), os.path.join(out, "sim")
+    plans = []
+    for _ in range(max(1, a.repeat)):
+        stdout, wall = run([a.gather, "plan", sc, "--out", plan_dir])
+        m = re.search(r"stages \[ms, summed over configurations\]: (.*); sweep wall (\d+) ms", stdout)
+        if not m:
+            die("no stage times in the output of gather plan " + sc)
+        grid = re.search(r"planning grid: (\S+) cells of (\S+) m", stdout)
+        plans.append((int(m.group(2)), m.group(1), wall, grid.group(1) + " at " + grid.group(2) + " m" if grid else None))
+    plans.sort(key=lambda p: p[0])
+    sweep_ms, stages, plan_wall, grid = plans[len(plans) // 2]
+    if grid is None:
+        grid = "the map's own grid"
+    sim_cmd = [a.gather, "sim", plan_dir, "--all-configs", "--seeds", str(a.seeds), "--out", sim_dir]
+    if a.cycles:
+        sim_cmd += ["--cycles", str(a.cycles)]
+    stdout, sim_wall = run(sim_cmd)
+    slowest = re.search(r"slowest run (\d+)x", stdout)
+
+    est = {(r["method"], int(r["collectors"])): r for r in read_csv(os.path.join(plan_dir, "report.csv"))}
+    rows = read_csv(os.path.join(sim_dir, "summary.csv"))
+    for r in rows:
+        for k in ("refresh_mean_s", "goals_per_cycle", "est_refresh_s", "est_goals"):
+            r[k] = float(r[k])
+    by_seed = {}
+    for r in rows:
+        by_seed.setdefault(r["seed"], []).append(r)
+    for seed_rows in by_seed.values():
+        for r, u in zip(seed_rows, utilities(seed_rows, "refresh_mean_s", "goals_per_cycle", alpha, beta)):
+            r["u"] = u
+    configs = []
+    for key, e in est.items():
+        mine = [r for r in rows if (r["method"], int(r["collectors"])) == key]
+        if not mine:
+            die("%s: no simulation of %s N_c=%d" % (name, key[0], key[1]))
+        rt = [r["refresh_mean_s"] for r in mine]
+        rg = [r["goals_per_cycle"] for r in mine]
+        ru = [r["u"] for r in mine]
+        configs.append(dict(method=key[0], nc=key[1], e_t=float(e["est_refresh_s"]), e_n=float(e["est_goals"]),
+                            e_u=float(e["utility"]), r_t=statistics.mean(rt), r_t_lo=min(rt), r_t_hi=max(rt),
+                            r_n=statistics.mean(rg), r_n_lo=min(rg), r_n_hi=max(rg), r_u=statistics.mean(ru)))
+    order = {"bap": 0, "pap": 1, "rap": 2}
+    configs.sort(key=lambda c: (order.get(c["method"], 9), c["nc"]))
+    for c in configs:
+        c["err_t"] = abs(c["e_t"] - c["r_t"]) / c["r_t"] if c["r_t"] > 0 else float("nan")
+        c["err_n"] = abs(c["e_n"] - c["r_n"]) / c["r_n"] if c["r_n"] > 0 else float("nan")
+    e_concl, e_best = conclusions(configs, "e_u")
+    r_concl, r_best = conclusions(configs, "r_u")
+    return dict(name=name, grid=grid, sweep_ms=sweep_ms, stages=stages, plan_wall=plan_wall, sim_wall=sim_wall,
+                slowest=int(slowest.group(1)) if slowest else None, configs=configs, e_concl=e_concl, e_best=e_best,
+                r_concl=r_concl, r_best=r_best)
+
+
+def fmt_best(c, u):
+    return "%s %d (U %.2f)" % (c["method"].upper(), c["nc"], c[u])
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--gather", default=os.path.join(REPO, "catkin_ws/devel/lib/gather_core/gather"))
+    ap.add_argument("--out", default=os.path.join(REPO, "docs/scenarios.md"))
+    ap.add_argument("--results", default=os.path.join(REPO, "results/scenarios"))
+    ap.add_argument("--repeat", type=int, default=3, help="sweeps per scenario; the median wall time is reported")
+    ap.add_argument("--seeds", type=int, default=5)
+    ap.add_argument("--cycles", type=int, default=0, help="0 = the scenario's mission.cycles")
+    ap.add_argument("scenarios", nargs="*")
+    a = ap.parse_args()
+    if not os.access(a.gather, os.X_OK):
+        die("no gather binary at %s (make build)" % a.gather)
+    scenarios = a.scenarios or (sorted(glob.glob(os.path.join(REPO, "maps/*.scenario.yaml"))) +
+                                sorted(glob.glob(os.path.join(REPO, "../shared/maps/ipa/*.scenario.yaml"))))
+    load = open("/proc/loadavg").read().split()[0]
+    reports = []
+    for sc in scenarios:
+        r = report_scenario(a, sc)
+        reports.append(r)
+        print("%-16s sweep %.2f s  E best %-16s R best %-16s  mean |E-R|/R refresh %.0f%% goals %.0f%%  sim %.0f s" % (
+            r["name"], r["sweep_ms"] / 1000.0, fmt_best(r["e_best"], "e_u"), fmt_best(r["r_best"], "r_u"),
+            100 * statistics.mean(c["err_t"] for c in r["configs"]), 100 * statistics.mean(c["err_n"] for c in r["configs"]),
+            r["sim_wall"]), flush=True)
+
+    yn = lambda b: "yes" if b else "**no**"
+    L = []
+    L.append("# Scenarios: estimated and simulated plans\n")
+    L.append("Produced by `make scenario-report` (`tools/scenario_report.py`) on this 2-core machine (load average "
+             "%s when it started). For every scenario: `gather plan SCENARIO` %d times (27 configurations: "
+             "BAP/PAP/RAP x N_c = 0..8, 20 agents, 2 threads; the median sweep wall time is shown), then "
+             "`gather sim PLAN --all-configs --seeds %d` (every configuration, %d seeds, the scenario's cycles). "
+             "E = the planner's estimate (docs/planner.md), R = the simulator's mean over the seeds "
+             "(docs/simulator.md), [lo–hi] its range. Real utilities are normalised per seed over the "
+             "configurations and averaged. Nothing was tuned to make the seed's conclusions hold.\n"
+             % (load, a.repeat, a.seeds, a.seeds))
+    L.append("| scenario | planning grid | sweep [s] | best by E | best by R | mean \\|E−R\\|/R refresh | "
+             "mean \\|E−R\\|/R goals | collectors beat none E / R | best N_c in 1-4 E / R | BAP/PAP ≥ RAP E / R | "
+             "sim --all-configs [s] |")
+    L.append("|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in reports:
+        e, q = r["e_concl"], r["r_concl"]
+        L.append("| %s | %s | %.2f | %s | %s | %.0f%% | %.0f%% | %s / %s | %s / %s | %s / %s | %.0f |" % (
+            r["name"], r["grid"], r["sweep_ms"] / 1000.0, fmt_best(r["e_best"], "e_u"), fmt_best(r["r_best"], "r_u"),
+            100 * statistics.mean(c["err_t"] for c in r["configs"]), 100 * statistics.mean(c["err_n"] for c in r["configs"]),
+            yn(e[0]), yn(q[0]), yn(e[1]), yn(q[1]), yn(e[2]), yn(q[2]), r["sim_wall"]))
+    n = len(reports)
+    for i, what in enumerate(("collectors beat no collectors", "the best N_c lies in 1-4", "BAP or PAP at least as good as RAP")):
+        L.append(("\n" if i == 0 else "") + "- %s: E %d of %d scenarios, R %d of %d." % (
+            what, sum(r["e_concl"][i] for r in reports), n, sum(r["r_concl"][i] for r in reports), n))
+    L.append("")
+    for r in reports:
+        L.append("\n## %s\n" % r["name"])
+        L.append("Planning grid: %s. Sweep %.2f s wall (median), stages [ms, summed over configurations]: %s. "
+                 "`gather plan` command %.1f s; `gather sim --all-configs` %.0f s (slowest 10-cycle run %sx real time). "
+                 "Figures: `results/scenarios/%s/plan/` (Fig. 2, Fig. 3 E) and `results/scenarios/%s/sim/` (Fig. 3 with "
+                 "R bands, Fig. 4).\n" % (r["grid"], r["sweep_ms"] / 1000.0, r["stages"], r["plan_wall"], r["sim_wall"],
+                                          r["slowest"], r["name"], r["name"]))
+        L.append("| method | N_c | E refresh [s] | R refresh [s] [lo–hi] | err | E goals | R goals [lo–hi] | err | E U | R U |")
+        L.append("|---|---|---|---|---|---|---|---|---|---|")
+        for c in r["configs"]:
+            mark_e = " **E**" if c is r["e_best"] else ""
+            mark_r = " **R**" if c is r["r_best"] else ""
+            L.append("| %s | %d | %.1f | %.1f [%.1f–%.1f] | %.0f%% | %.2f | %.2f [%.2f–%.2f] | %.0f%% | %.3f%s | %.3f%s |" % (
+                c["method"].upper(), c["nc"], c["e_t"], c["r_t"], c["r_t_lo"], c["r_t_hi"], 100 * c["err_t"], c["e_n"],
+                c["r_n"], c["r_n_lo"], c["r_n_hi"], 100 * c["err_n"], c["e_u"], mark_e, c["r_u"], mark_r))
+    with open(a.out, "w") as f:
+        f.write("\n".join(L) + "\n")
+    print("wrote %s" % a.out)
+
+
+if __name__ == "__main__":
+    main()
