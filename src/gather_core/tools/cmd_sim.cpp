@@ -10,6 +10,7 @@
 // fig3_utility.png: estimated curves and real min-max bands over the seeds).
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -83,7 +84,7 @@ ConfigOutput simulate(mission::MissionSimulator& sim, int cycles, int seed0, int
 
 // Fig. 4 of the plan's own configuration, first seed.
 void write_fig4(const std::string& dir, const plan::PlanContext& ctx, mission::MissionSimulator& sim, int cycles,
-                int seed) {
+                int seed, const std::string& video) {
   mission::MissionOptions opt;
   opt.cycles = cycles;
   opt.seed = static_cast<unsigned>(seed);
@@ -97,15 +98,17 @@ void write_fig4(const std::string& dir, const plan::PlanContext& ctx, mission::M
   const double t1 = std::min(r.mission_s, 3.0 * r.period_s);
   figures::write_fig4_sync(dir + "/fig4_sync.png", ctx, sim, r, agent, 0.0, t1);
   figures::write_fig4_snapshot(dir + "/fig4_snapshot.png", ctx, sim, r, std::min(r.mission_s, 2.5 * r.period_s));
+  if (!video.empty()) figures::write_mission_video(video, ctx, sim, r);
 }
 
 }  // namespace
 
 int sim(int argc, char** argv) {
-  cli::Args args(argc, argv, 2, {"--cycles", "--seeds", "--seed", "--out", "--threads"}, {"--all-configs"});
+  cli::Args args(argc, argv, 2, {"--cycles", "--seeds", "--seed", "--out", "--threads", "--video"}, {"--all-configs"});
   if (args.positional().size() != 1 || !args.has("--out"))
     throw cli::UsageError(
-        "usage: gather sim PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--all-configs] [--threads T]");
+        "usage: gather sim PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--all-configs] [--threads T] "
+        "[--video FILE.mp4|.avi]");
   const auto t_start = Clock::now();
   const mission::MissionPlan mp = mission::load_mission_plan(args.positional()[0]);
   const Scenario s = on_planning_grid(load_scenario(mp.file.scenario), mp.file.grid_factor);
@@ -116,6 +119,11 @@ int sim(int argc, char** argv) {
   if (cycles < 1) throw cli::UsageError("--cycles must be >= 1");
   if (seeds < 1) throw cli::UsageError("--seeds must be >= 1");
   if (threads < 1) throw cli::UsageError("--threads must be >= 1");
+  if (args.has("--video")) {
+    std::string ext = std::filesystem::path(args.get("--video")).extension().string();
+    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (ext != ".mp4" && ext != ".avi") throw cli::UsageError("--video must name a .mp4 or .avi file, got '" + args.get("--video") + "'");
+  }
   const std::string out = args.get("--out");
   std::filesystem::create_directories(out);
 
@@ -170,7 +178,7 @@ int sim(int argc, char** argv) {
   }
   if (!goals || !cyc || !summary) throw Error(out, "cannot write the CSV files");
   if (args.on("--all-configs")) figures::write_fig3(out, runs, s.planner.methods, s.planner.alpha, s.planner.beta);
-  write_fig4(out, ctx, own, cycles, seed0);
+  write_fig4(out, ctx, own, cycles, seed0, args.get("--video", ""));
 
   const double total_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_start).count();
   if (outputs.size() == 1) {

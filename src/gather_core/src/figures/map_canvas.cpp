@@ -41,7 +41,8 @@ void write_png(const std::string& path, const cv::Mat& img) {
 
 MapCanvas::MapCanvas(const OccupancyGrid& g, cv::Vec3b free_colour) : grid_(g) {
   const int big = std::max(g.width(), g.height());
-  scale_ = big < 500 ? 2.0 : (big > 1600 ? 1600.0 / big : 1.0);
+  // Small (or coarse planning) grids are magnified to about 1200 px.
+  scale_ = big < 800 ? std::floor(1200.0 / big) : (big > 1600 ? 1600.0 / big : 1.0);
   cells_.create(g.height(), g.width(), CV_8UC3);
   for (int r = 0; r < g.height(); ++r)
     for (int c = 0; c < g.width(); ++c) {

@@ -1,11 +1,14 @@
 #include "gather_core/figures/mission_figures.hpp"
 
 #include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <limits>
+#include <map>
 
 #include "gather_core/error.hpp"
 #include "gather_core/fmm/path.hpp"
@@ -174,55 +177,126 @@ void write_fig4_sync(const std::string& path, const plan::PlanContext& ctx, cons
                {LegendItem::kCircle, cv::Scalar(60, 200, 60), "hand-over"}});
 }
 
-void write_fig4_snapshot(const std::string& path, const plan::PlanContext& ctx, const mission::MissionSimulator& sim,
-                         const mission::MissionResult& result, double t) {
-  const OccupancyGrid& g = ctx.scenario.grid;
-  const mission::MissionPlan& plan = sim.plan();
-  MapCanvas canvas(g);
-  paint_segments(canvas, ctx, plan);
-  const auto& lines = line_palette();
-  for (int c = 0; c < plan.file.collectors; ++c)
-    canvas.polyline(plan.file.routes[static_cast<std::size_t>(c)].waypoints, lines[static_cast<std::size_t>(c) % lines.size()], 2);
-  const int cycle = static_cast<int>(std::floor(t / result.period_s));
-  for (const auto& goal : result.goals) {
-    if (goal.cycle != cycle) continue;
-    cv::Scalar colour(150, 150, 150);  // pending
-    if (goal.measured_at >= 0 && goal.measured_at <= t) colour = cv::Scalar(0, 170, 255);        // carried
-    if (goal.delivered_at >= 0 && goal.delivered_at <= t) colour = cv::Scalar(60, 190, 60);     // delivered
-    canvas.dot(goal.point, colour, 3);
+namespace {
+
+// Draws the mission at any time: the segments and routes are painted once,
+// each frame copies them and adds goals, agents and the OC. Worker positions
+// follow their legs' geodesic paths, each marched once and cached.
+class MissionRenderer {
+ public:
+  MissionRenderer(const plan::PlanContext& ctx, const mission::MissionSimulator& sim, const mission::MissionResult& result)
+      : ctx_(ctx), sim_(sim), result_(result), base_(ctx.scenario.grid), fm_(ctx.scenario.grid) {
+    const mission::MissionPlan& plan = sim.plan();
+    paint_segments(base_, ctx, plan);
+    for (int c = 0; c < plan.file.collectors; ++c)
+      base_.polyline(plan.file.routes[static_cast<std::size_t>(c)].waypoints, colour(c), 2);
+    for (std::size_t i = 0; i < result.legs.size(); ++i) legs_of_[result.legs[i].agent].push_back(i);
   }
-  fmm::FastMarching fm(g);
-  for (const auto& a : plan.file.agents) {
-    if (a.collector) {
-      const Point2 p = sim.route(a.id).position(t);
-      const cv::Scalar col = lines[static_cast<std::size_t>(a.id) % lines.size()];
-      const int half = 6;
-      const cv::Point q = canvas.px(p);
-      cv::rectangle(canvas.image(), q - cv::Point(half, half), q + cv::Point(half, half), col, cv::FILLED);
-      cv::rectangle(canvas.image(), q - cv::Point(half, half), q + cv::Point(half, half), cv::Scalar(0, 0, 0), 1);
-      continue;
+
+  cv::Mat frame(double t) {
+    MapCanvas canvas = base_;
+    canvas.image() = base_.image().clone();
+    const mission::MissionPlan& plan = sim_.plan();
+    const int cycle = std::min(static_cast<int>(std::floor(t / result_.period_s)), static_cast<int>(result_.cycles.size()) - 1);
+    for (const auto& goal : result_.goals) {
+      if (goal.cycle != cycle) continue;
+      cv::Scalar c = kPending;
+      if (goal.measured_at >= 0 && goal.measured_at <= t) c = kCarried;
+      if (goal.delivered_at >= 0 && goal.delivered_at <= t) c = kDelivered;
+      if (goal.measured_at < 0 && goal.expired_at >= 0 && goal.expired_at <= t) continue;  // expired: gone
+      canvas.dot(goal.point, c, 3);
     }
-    Point2 p = ctx.scenario.grid.cell_center(ctx.oc_cell);
-    for (const mission::Leg& leg : result.legs) {
-      if (leg.agent != a.id || leg.t0 > t) continue;
+    for (const auto& a : plan.file.agents) {
+      if (a.collector) {
+        const cv::Point q = canvas.px(sim_.route(a.id).position(t));
+        const int half = 6;
+        cv::rectangle(canvas.image(), q - cv::Point(half, half), q + cv::Point(half, half), colour(a.id), cv::FILLED);
+        cv::rectangle(canvas.image(), q - cv::Point(half, half), q + cv::Point(half, half), cv::Scalar(0, 0, 0), 1);
+        continue;
+      }
+      canvas.dot(worker_at(a.id, t), a.delivers_to >= 0 ? colour(a.delivers_to) : cv::Scalar(0, 0, 0), 6);
+    }
+    canvas.oc(ctx_.scenario.oc);
+    char caption[256];
+    std::snprintf(caption, sizeof caption, "Fig. 4b: %s, %d collectors, %d workers at t = %.0f s (cycle %d)",
+                  plan.file.method.c_str(), plan.file.collectors, plan.file.workers, t, cycle);
+    return canvas.framed(caption, {{LegendItem::kSquare, colour(0), "collector"},
+                                   {LegendItem::kCircle, colour(0), "its workers"},
+                                   {LegendItem::kCircle, cv::Scalar(0, 0, 0), "OC worker"},
+                                   {LegendItem::kCircle, kPending, "goal pending"},
+                                   {LegendItem::kCircle, kCarried, "goal carried"},
+                                   {LegendItem::kCircle, kDelivered, "goal delivered"},
+                                   {LegendItem::kSquare, cv::Scalar(150, 150, 150), "OC radio coverage (shaded)"}});
+  }
+
+ private:
+  static cv::Scalar colour(int collector) {
+    const auto& lines = line_palette();
+    return lines[static_cast<std::size_t>(collector) % lines.size()];
+  }
+
+  Point2 worker_at(int agent, double t) {
+    Point2 p = ctx_.scenario.grid.cell_center(ctx_.oc_cell);
+    for (std::size_t i : legs_of_[agent]) {
+      const mission::Leg& leg = result_.legs[i];
+      if (leg.t0 > t) break;
       if (leg.t1 <= t) {
         p = leg.to;
-      } else {
-        p = along(leg_path(fm, g, leg), leg.t1 > leg.t0 ? (t - leg.t0) / (leg.t1 - leg.t0) : 1.0);
+        continue;
       }
+      auto it = paths_.find(i);
+      if (it == paths_.end()) it = paths_.emplace(i, leg_path(fm_, ctx_.scenario.grid, leg)).first;
+      p = along(it->second, leg.t1 > leg.t0 ? (t - leg.t0) / (leg.t1 - leg.t0) : 1.0);
     }
-    canvas.dot(p, a.delivers_to >= 0 ? lines[static_cast<std::size_t>(a.delivers_to) % lines.size()] : cv::Scalar(0, 0, 0), 6);
+    return p;
   }
-  canvas.oc(ctx.scenario.oc);
-  char caption[256];
-  std::snprintf(caption, sizeof caption, "Fig. 4b: %s, %d collectors, %d workers at t = %.0f s (cycle %d)",
-                plan.file.method.c_str(), plan.file.collectors, plan.file.workers, t, cycle);
-  canvas.save(path, caption,
-              {{LegendItem::kSquare, lines[0], "collector"}, {LegendItem::kCircle, lines[0], "its workers"},
-               {LegendItem::kCircle, cv::Scalar(0, 0, 0), "OC worker"},
-               {LegendItem::kCircle, cv::Scalar(150, 150, 150), "goal pending"},
-               {LegendItem::kCircle, cv::Scalar(0, 170, 255), "goal carried"},
-               {LegendItem::kCircle, cv::Scalar(60, 190, 60), "goal delivered"}});
+
+  const cv::Scalar kPending{150, 150, 150}, kCarried{0, 170, 255}, kDelivered{60, 190, 60};
+  const plan::PlanContext& ctx_;
+  const mission::MissionSimulator& sim_;
+  const mission::MissionResult& result_;
+  MapCanvas base_;
+  fmm::FastMarching fm_;
+  std::map<int, std::vector<std::size_t>> legs_of_;  // agent -> its legs in time order
+  std::map<std::size_t, std::vector<Point2>> paths_;
+};
+
+}  // namespace
+
+void write_fig4_snapshot(const std::string& path, const plan::PlanContext& ctx, const mission::MissionSimulator& sim,
+                         const mission::MissionResult& result, double t) {
+  MissionRenderer renderer(ctx, sim, result);
+  write_png(path, renderer.frame(t));
+}
+
+void write_mission_video(const std::string& path, const plan::PlanContext& ctx, const mission::MissionSimulator& sim,
+                         const mission::MissionResult& result, double fps, int frames) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  int fourcc = 0;
+  if (ext == ".mp4") fourcc = cv::VideoWriter::fourcc('m', 'p', '4', 'v');
+  else if (ext == ".avi") fourcc = cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
+  else throw Error(path, "video must be .mp4 or .avi, got '" + ext + "'");
+  if (!(fps > 0) || frames < 2) throw Error(path, "video needs fps > 0 and at least 2 frames");
+  const double end = std::max(result.end_s, result.mission_s);
+  MissionRenderer renderer(ctx, sim, result);
+  std::error_code ec;
+  if (std::filesystem::path(path).has_parent_path()) std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
+  cv::VideoWriter writer;
+  cv::Size size;
+  for (int i = 0; i < frames; ++i) {
+    cv::Mat img = renderer.frame(end * i / (frames - 1));
+    if (i == 0) {
+      size = cv::Size(img.cols + img.cols % 2, img.rows + img.rows % 2);  // even sizes for the encoders
+      if (!writer.open(path, cv::CAP_FFMPEG, fourcc, fps, size)) throw Error(path, "cannot write video (OpenCV/FFmpeg)");
+    }
+    cv::Mat even(size, img.type(), cv::Scalar(255, 255, 255));
+    img(cv::Rect(0, 0, std::min(img.cols, size.width), std::min(img.rows, size.height)))
+        .copyTo(even(cv::Rect(0, 0, std::min(img.cols, size.width), std::min(img.rows, size.height))));
+    writer.write(even);
+  }
+  writer.release();
+  if (!std::filesystem::exists(path) || std::filesystem::file_size(path) == 0) throw Error(path, "cannot write video");
 }
 
 }  // namespace figures

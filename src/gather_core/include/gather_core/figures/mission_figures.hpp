@@ -44,5 +44,13 @@ void write_fig4_sync(const std::string& path, const plan::PlanContext& ctx, cons
 void write_fig4_snapshot(const std::string& path, const plan::PlanContext& ctx, const mission::MissionSimulator& sim,
                          const mission::MissionResult& result, double t);
 
+// An animation of the mission (the seed's demo video): `frames` Fig. 4b
+// frames evenly from t = 0 to the end of the run (the last delivery), at
+// `fps` frames per second; .mp4 (MPEG-4 Part 2) or .avi (Motion JPEG) by
+// OpenCV's FFmpeg backend. Throws gather::Error naming the file for another
+// extension or when it cannot be written.
+void write_mission_video(const std::string& path, const plan::PlanContext& ctx, const mission::MissionSimulator& sim,
+                         const mission::MissionResult& result, double fps = 10.0, int frames = 300);
+
 }  // namespace figures
 }  // namespace gather
