@@ -163,11 +163,11 @@ TEST(MissionTest, WorkerThatMissesItsCollectorDeliversOnTheNextPass) {
 }
 
 TEST(MissionTest, RequestsArrivingTogetherLeaveOnlyTheNewest) {
-  // T = 10 s, route 29 s: one departure every 3 requests (t = 0, 30, ...).
+  // T = 10 s, route 29 s: driven back to back (t = 0, 29, 58, ...).
   // Requests 1 (t = 10 s) and 2 (t = 20 s) both wait for the collector to
   // re-enter the coverage (26.95 s) and reach the worker together at the
-  // next pass (44.5 s): request 2 supersedes request 1, whose goal expires
-  // there unmeasured. Request 0 is valid until 44.5 s: both goals are measured.
+  // next pass (43.5 s): request 2 supersedes request 1, whose goal expires
+  // there unmeasured. Request 0 is valid until 43.5 s: both goals are measured.
   Scenario s = corridor();
   s.mission.period = 10.0;
   const plan::PlanContext ctx(s);
@@ -183,7 +183,7 @@ TEST(MissionTest, RequestsArrivingTogetherLeaveOnlyTheNewest) {
   EXPECT_EQ(goal_at(r, 17.05, 0).state, mission::GoalState::kDelivered);
   EXPECT_NEAR(goal_at(r, 17.05, 0).measured_at, 16.5, 1e-3);
   EXPECT_EQ(goal_at(r, 5.05, 1).state, mission::GoalState::kExpired);
-  EXPECT_NEAR(goal_at(r, 5.05, 1).expired_at, 44.5, 1e-3);
+  EXPECT_NEAR(goal_at(r, 5.05, 1).expired_at, 43.5, 1e-3);
 }
 
 class MissionOfficeTest : public testing_support::SmallOfficeTest {};

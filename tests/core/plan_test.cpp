@@ -152,14 +152,14 @@ TEST(LoopScheduleTest, LoopsFitIntoTheRequestPeriod) {
   EXPECT_DOUBLE_EQ(s.offset_at(90.0), 29.0);  // waiting at the OC
 }
 
-TEST(LoopScheduleTest, LongRouteDepartsEveryFewRequests) {
-  const plan::LoopSchedule s(29.0, 10.0);  // one loop per 3 requests
+TEST(LoopScheduleTest, LongRouteIsDrivenBackToBack) {
+  const plan::LoopSchedule s(29.0, 10.0);  // longer than T: no waiting
   EXPECT_EQ(s.loops(), 1);
-  EXPECT_DOUBLE_EQ(s.super_period(), 30.0);
-  EXPECT_DOUBLE_EQ(s.next_departure(10.0), 30.0);
-  EXPECT_DOUBLE_EQ(s.next_at(14.5, 15.0), 44.5);
+  EXPECT_DOUBLE_EQ(s.super_period(), 29.0);
+  EXPECT_DOUBLE_EQ(s.next_departure(10.0), 29.0);
+  EXPECT_DOUBLE_EQ(s.next_at(14.5, 15.0), 43.5);
   EXPECT_DOUBLE_EQ(s.offset_at(25.0), 25.0);
-  EXPECT_DOUBLE_EQ(s.offset_at(29.5), 29.0);
+  EXPECT_DOUBLE_EQ(s.offset_at(29.5), 0.5);
   const plan::LoopSchedule exact(20.0, 20.0);  // a route of exactly T: back to back
   EXPECT_EQ(exact.loops(), 1);
   EXPECT_DOUBLE_EQ(exact.next_departure(5.0), 20.0);

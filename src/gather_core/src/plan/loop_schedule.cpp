@@ -15,8 +15,10 @@ LoopSchedule::LoopSchedule(double travel, double request_period)
     return;
   }
   // 1e-9 relative: a route of exactly T (or T / 2) fits, despite rounding.
-  const double k = std::max(1.0, std::ceil(travel_ / period_ - 1e-9));
-  super_ = k * period_;
+  // A route longer than T is driven back to back: waiting at the OC for the
+  // next request would idle the collector for up to a period, and the
+  // request it carries out is at most one period old anyway.
+  super_ = travel_ > period_ * (1.0 + 1e-9) ? travel_ : period_;
   loops_ = std::max(1, static_cast<int>(std::floor(super_ / travel_ + 1e-9)));
 }
 

@@ -4,12 +4,16 @@
 // A collector leaves the OC when a request is issued, so it carries the
 // request out at once. Its route takes P = length / speed. If loops fit, it
 // drives floor(T / P) loops back to back in one request period T and then
-// waits at the OC for the next request; a route longer than T takes
-// K = ceil(P / T) request periods per loop (one departure every K T: the
-// requests issued in between go out with the next departure, or expire).
-// In general: a super-period S = K T holds m = floor(S / P) loops starting at
-// 0, P, ..., (m - 1) P after each multiple of S, and the collector waits at
-// the OC for the rest of S.
+// waits at the OC for the next request. A route longer than T is driven
+// back to back, without waiting: each loop carries out the newest request
+// issued before it left (at most one period old).
+// In general: a super-period S (T, or P for a long route) holds
+// m = floor(S / P) loops starting at 0, P, ..., (m - 1) P after each
+// multiple of S, and the collector waits at the OC for the rest of S.
+// (The first version waited for the next request after a long loop too, so
+// a route of 1.2 T served one request in two; driving on serves 5 in 6:
+// +2-3 goals per cycle for the collector configurations of maps/office,
+// with refresh times 5-10% longer.)
 //
 // The planner's estimate and the simulator's timetable both use this, so the
 // model and the execution follow one protocol.
