@@ -16,6 +16,48 @@ constexpr uint8_t kFar = 0, kBand = 1, kAccepted = 2, kPinned = 3;
 template <class E>
 bool later(const E& a, const E& b) { return a.t > b.t || (a.t == b.t && a.p > b.p); }
 
+// The untidy bucket queue of grow() and grow_quota(): a ring of buckets half
+// the cheapest cell crossing wide, FIFO inside a bucket; O(1) per insert.
+// The caller drains current() by index (inserts may append to it), then
+// calls advance().
+class BucketRing {
+ public:
+  BucketRing(std::vector<std::vector<uint32_t>>& buckets, float res, float min_slowness, float max_slowness, double base)
+      : buckets_(buckets), width_(0.5f * res * min_slowness), base_(base) {
+    n_ = static_cast<std::size_t>(std::ceil(res * max_slowness / width_)) + 3;
+    inv_width_ = 1.0 / static_cast<double>(width_);
+    if (buckets_.size() < n_) buckets_.resize(n_);
+    for (auto& b : buckets_) b.clear();
+  }
+  void insert(float t, uint32_t p) {
+    const double d = (static_cast<double>(t) - base_) * inv_width_;
+    std::size_t idx = d <= 0.0 ? 0 : static_cast<std::size_t>(d);
+    if (idx > n_ - 2) idx = n_ - 2;
+    std::size_t j = cur_ + idx;  // < 2 n: no division in this hot path
+    if (j >= n_) j -= n_;
+    buckets_[j].push_back(p);
+    ++pending_;
+  }
+  std::vector<uint32_t>& current() { return buckets_[cur_]; }
+  void taken() { --pending_; }  // one entry of current() consumed
+  void advance() {
+    buckets_[cur_].clear();
+    if (++cur_ == n_) cur_ = 0;
+    base_ += width_;
+  }
+  std::size_t pending() const { return pending_; }
+  double base() const { return base_; }
+  float width() const { return width_; }
+  void jump_to(double base) { base_ = base; }  // only while nothing is pending
+
+ private:
+  std::vector<std::vector<uint32_t>>& buckets_;
+  float width_;
+  double base_;
+  double inv_width_ = 1.0;
+  std::size_t n_ = 0, cur_ = 0, pending_ = 0;
+};
+
 }  // namespace
 
 FrontGrowth::FrontGrowth(int width, int height, double resolution, const std::vector<uint8_t>& region)
@@ -116,36 +158,23 @@ void FrontGrowth::grow(const std::vector<Front>& fronts, std::vector<int32_t>& l
   sources_.clear();
   for (uint32_t p : touched_) sources_.push_back(Entry{time_[p], p});
   std::sort(sources_.begin(), sources_.end(), [](const Entry& a, const Entry& b) { return later(b, a); });
-  const float width = 0.5f * res_ * min_slowness_;
-  const std::size_t nbuckets = static_cast<std::size_t>(std::ceil(res_ * max_slowness_ / width)) + 3;
-  const double inv_width = 1.0 / static_cast<double>(width);
-  if (buckets_.size() < nbuckets) buckets_.resize(nbuckets);
-  for (auto& b : buckets_) b.clear();
-  double base = sources_.front().t;
-  std::size_t cur = 0, pending = 0, next_source = 0;
-  auto insert = [&](float t, uint32_t p) {
-    const double d = (static_cast<double>(t) - base) * inv_width;
-    std::size_t idx = d <= 0.0 ? 0 : static_cast<std::size_t>(d);
-    if (idx > nbuckets - 2) idx = nbuckets - 2;
-    std::size_t j = cur + idx;  // < 2 nbuckets: no division in this hot path
-    if (j >= nbuckets) j -= nbuckets;
-    buckets_[j].push_back(p);
-    ++pending;
-  };
+  BucketRing ring(buckets_, res_, min_slowness_, max_slowness_, sources_.front().t);
+  std::size_t next_source = 0;
   const std::ptrdiff_t nb[4] = {-1, 1, -static_cast<std::ptrdiff_t>(stride_), static_cast<std::ptrdiff_t>(stride_)};
   for (;;) {
-    while (next_source < sources_.size() && sources_[next_source].t < base + width) {
-      insert(sources_[next_source].t, sources_[next_source].p);
+    while (next_source < sources_.size() && sources_[next_source].t < ring.base() + ring.width()) {
+      ring.insert(sources_[next_source].t, sources_[next_source].p);
       ++next_source;
     }
-    if (pending == 0) {
+    if (ring.pending() == 0) {
       if (next_source == sources_.size()) break;
-      base = sources_[next_source].t;  // jump over an empty stretch of time
+      ring.jump_to(sources_[next_source].t);  // jump over an empty stretch of time
       continue;
     }
-    for (std::size_t i = 0; i < buckets_[cur].size(); ++i) {
-      const uint32_t p = buckets_[cur][i];
-      --pending;
+    std::vector<uint32_t>& bucket = ring.current();
+    for (std::size_t i = 0; i < bucket.size(); ++i) {
+      const uint32_t p = bucket[i];
+      ring.taken();
       if (state_[p] == kAccepted) continue;
       state_[p] = kAccepted;
       const int32_t lab = label_[p];
@@ -159,13 +188,11 @@ void FrontGrowth::grow(const std::vector<Front>& fronts, std::vector<int32_t>& l
           state_[q] = kBand;
           time_[q] = t;
           label_[q] = lab;
-          insert(t, static_cast<uint32_t>(q));
+          ring.insert(t, static_cast<uint32_t>(q));
         }
       }
     }
-    buckets_[cur].clear();
-    if (++cur == nbuckets) cur = 0;
-    base += width;
+    ring.advance();
   }
   labels.assign(n, 0);
   if (times) times->assign(n, kInf);
@@ -229,30 +256,16 @@ std::size_t FrontGrowth::grow_quota(std::size_t seed, std::size_t quota, int32_t
   // The untidy bucket queue of grow(): O(1) per cell; a cell is accepted
   // once, from an accepted neighbour of this front, so the front is
   // 4-connected.
-  const float width = 0.5f * res_ * min_slowness_;
-  const std::size_t nbuckets = static_cast<std::size_t>(std::ceil(res_ * max_slowness_ / width)) + 3;
-  const double inv_width = 1.0 / static_cast<double>(width);
-  if (buckets_.size() < nbuckets) buckets_.resize(nbuckets);
-  for (auto& b : buckets_) b.clear();
-  double base = 0.0;
-  std::size_t cur = 0, pending = 0;
-  auto insert = [&](float t, uint32_t p) {
-    const double d = (static_cast<double>(t) - base) * inv_width;
-    std::size_t idx = d <= 0.0 ? 0 : static_cast<std::size_t>(d);
-    if (idx > nbuckets - 2) idx = nbuckets - 2;
-    std::size_t j = cur + idx;  // < 2 nbuckets: no division in this hot path
-    if (j >= nbuckets) j -= nbuckets;
-    buckets_[j].push_back(p);
-    ++pending;
-  };
-  insert(0.0f, static_cast<uint32_t>(s));
+  BucketRing ring(buckets_, res_, min_slowness_, max_slowness_, 0.0);
+  ring.insert(0.0f, static_cast<uint32_t>(s));
   const std::ptrdiff_t st = static_cast<std::ptrdiff_t>(stride_);
   const std::ptrdiff_t nb[4] = {-1, 1, -st, st};
   std::size_t taken = 0;
-  while (pending > 0 && taken < quota) {
-    for (std::size_t i = 0; i < buckets_[cur].size() && taken < quota; ++i) {
-      const uint32_t p = buckets_[cur][i];
-      --pending;
+  while (ring.pending() > 0 && taken < quota) {
+    std::vector<uint32_t>& bucket = ring.current();
+    for (std::size_t i = 0; i < bucket.size() && taken < quota; ++i) {
+      const uint32_t p = bucket[i];
+      ring.taken();
       if (state_[p] == kAccepted) continue;
       state_[p] = kAccepted;
       avail_[p] = 0;
@@ -268,14 +281,12 @@ std::size_t FrontGrowth::grow_quota(std::size_t seed, std::size_t quota, int32_t
           if (state_[q] == kFar) touched_.push_back(static_cast<uint32_t>(q));
           state_[q] = kBand;
           time_[q] = t;
-          insert(t, static_cast<uint32_t>(q));
+          ring.insert(t, static_cast<uint32_t>(q));
         }
       }
     }
     if (taken >= quota) break;
-    buckets_[cur].clear();
-    if (++cur == nbuckets) cur = 0;
-    base += width;
+    ring.advance();
   }
   for (uint32_t p : touched_) label_[p] = 0;
   return taken;
