@@ -405,7 +405,8 @@ WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, co
                                const std::vector<double>& pmf, double v, double T, int cycles) {
   WorkerRun run;
   const LoopSchedule sched(r.period, T);
-  auto arrival = [&](int req) { return req == 0 ? m.route_s / v : sched.next_at(m.route_s / v, req * T); };
+  // The request leaves with the first departure at or after its issue.
+  auto arrival = [&](int req) { return sched.next_at(m.route_s / v, sched.next_departure(req * T)); };
   for (int req = 0; req < cycles; ++req) {
     const double learn = arrival(req);
     const double fits = model.goals_within(v * (arrival(req + 1) - learn), static_cast<double>(pmf.size()));
