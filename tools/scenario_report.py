@@ -104,8 +104,9 @@ def report_scenario(a, sc):
     est = {(r["method"], int(r["collectors"])): r for r in read_csv(os.path.join(plan_dir, "report.csv"))}
     rows = read_csv(os.path.join(sim_dir, "summary.csv"))
     for r in rows:
-        for k in ("refresh_mean_s", "goals_per_cycle", "est_refresh_s", "est_goals"):
+        for k in ("refresh_mean_s", "goals_per_cycle", "est_refresh_s", "est_goals", "speedup"):
             r[k] = float(r[k])
+    speedup = statistics.median(r["speedup"] for r in rows)
     by_seed = {}
     for r in rows:
         by_seed.setdefault(r["seed"], []).append(r)
@@ -131,7 +132,7 @@ def report_scenario(a, sc):
     e_concl, e_best = conclusions(configs, "e_u")
     r_concl, r_best = conclusions(configs, "r_u")
     return dict(name=name, grid=grid, sweep_ms=sweep_ms, stages=stages, plan_wall=plan_wall, sim_wall=sim_wall,
-                slowest=int(slowest.group(1)) if slowest else None, configs=configs, e_concl=e_concl, e_best=e_best,
+                slowest=int(slowest.group(1)) if slowest else None, speedup=speedup, configs=configs, e_concl=e_concl, e_best=e_best,
                 r_concl=r_concl, r_best=r_best)
 
 
@@ -192,10 +193,12 @@ def main():
     for r in reports:
         L.append("\n## %s\n" % r["name"])
         L.append("Planning grid: %s. Sweep %.2f s wall (median), stages [ms, summed over configurations]: %s. "
-                 "`gather plan` command %.1f s; `gather sim --all-configs` %.0f s (slowest 10-cycle run %sx real time). "
+                 "`gather plan` command %.1f s; `gather sim --all-configs` %.0f s wall; one run of the scenario's cycles: "
+                 "median %.0fx real time, slowest %sx (summary.csv, %d runs). "
                  "Figures: `results/scenarios/%s/plan/` (Fig. 2, Fig. 3 E) and `results/scenarios/%s/sim/` (Fig. 3 with "
                  "R bands, Fig. 4).\n" % (r["grid"], r["sweep_ms"] / 1000.0, r["stages"], r["plan_wall"], r["sim_wall"],
-                                          r["slowest"], r["name"], r["name"]))
+                                          r["speedup"], r["slowest"], len(r["configs"]) * a.seeds, r["name"],
+                                          r["name"]))
         L.append("| method | N_c | E refresh [s] | R refresh [s] [lo–hi] | err | E goals | R goals [lo–hi] | err | E U | R U |")
         L.append("|---|---|---|---|---|---|---|---|---|---|")
         for c in r["configs"]:
