@@ -14,6 +14,7 @@
 #include "gather_core/mission/simulator.hpp"
 #include "gather_core/plan/plan_file.hpp"
 #include "gather_core/plan/planner.hpp"
+#include "gather_core/radio/radio_model.hpp"
 
 namespace gather {
 namespace {
@@ -59,6 +60,20 @@ mission::MissionPlan corridor_plan(const Scenario& s) {
   r.coverage_entries = {26.95, 29.0};
   p.routes = {r};
   return m;
+}
+
+// Writes a configuration as a plan directory (labels.png + plan.yaml, as
+// `gather plan` does) and loads it back as the simulator would.
+mission::MissionPlan through_plan_directory(const plan::PlanContext& ctx, const plan::ConfigurationPlan& cfg) {
+  static int count = 0;
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("gather_mission_test_" + std::to_string(::getpid()) + "_" + std::to_string(count++));
+  std::filesystem::create_directories(dir);
+  figures::write_label_png((dir / "labels.png").string(), cfg.partition);
+  plan::write_plan_file((dir / "plan.yaml").string(), plan::make_plan_file(ctx, cfg, "labels.png", 1));
+  mission::MissionPlan loaded = mission::load_mission_plan(dir.string());
+  std::filesystem::remove_all(dir);
+  return loaded;
 }
 
 const GoalRecord& goal_at(const MissionResult& r, double x, int cycle) {
@@ -120,27 +135,30 @@ TEST(MissionTest, CorridorDeliveryTimesAreExact) {
   opt.fixed_goals = {{0, Point2{5.05, 0.25}}, {0, Point2{17.05, 0.25}}, {1, Point2{19.05, 0.25}}};
   const MissionResult r = sim.run(opt);
   check_invariants(r, 2, 1);
-  // A: measured on the way (4.5 s), handed over at the first pass (14.5 s,
-  // the worker arrives exactly with the collector), dropped where the route
+  const double range = RadioModel(s.grid, s.radio).free_space_range();  // 2.07 m
+  // A: measured at 4.5 s with the collector driving alongside (they left the
+  // OC together at the same speed): taken at once, dropped where the route
   // re-enters the coverage (arc 26.95 m).
   const GoalRecord& a = goal_at(r, 5.05, 0);
   EXPECT_NEAR(a.measured_at, 4.5, 1e-3);
-  EXPECT_NEAR(a.picked_up_at, 14.5, 1e-3);
+  EXPECT_NEAR(a.picked_up_at, 4.5, 1e-3);
   EXPECT_NEAR(a.delivered_at, 26.95, 1e-3);
   EXPECT_EQ(a.delivered_by, 0);
-  // B lies beyond the pass: measured at 16.5 s, back at the pass at 18.5 s,
-  // the collector has gone: next pass at 43.5 s.
+  // B lies beyond the pass: measured at 16.5 s (the collector is 4 m away,
+  // driving back), back at the pass at 18.5 s; the collector's next loop
+  // (t = 29 s) comes within radio range of the pass at 43.5 s - range.
   const GoalRecord& b = goal_at(r, 17.05, 0);
   EXPECT_NEAR(b.measured_at, 16.5, 1e-3);
-  EXPECT_NEAR(b.picked_up_at, 43.5, 1e-3);
+  EXPECT_NEAR(b.picked_up_at, 43.5 - range, 1e-3);
   EXPECT_NEAR(b.delivered_at, 55.95, 1e-3);
   // The collector drives floor(100 / 29) = 3 loops per request period (t = 0,
   // 29, 58) and waits at the OC from 87 s. Request 1 (t = 100 s) leaves with
   // it and reaches the worker at the meeting area at 114.5 s; C is 4 m away:
-  // 118.5 s, back 122.5 s, next pass 143.5 s, dropped 155.95 s.
+  // 118.5 s, back 122.5 s; the loop of 129 s comes within range at
+  // 143.5 s - range and drops C at 155.95 s.
   const GoalRecord& c = goal_at(r, 19.05, 1);
   EXPECT_NEAR(c.measured_at, 118.5, 1e-3);
-  EXPECT_NEAR(c.picked_up_at, 143.5, 1e-3);
+  EXPECT_NEAR(c.picked_up_at, 143.5 - range, 1e-3);
   EXPECT_NEAR(c.delivered_at, 155.95, 1e-3);
   EXPECT_NEAR(r.cycles[0].refresh_mean_s, (26.95 + 55.95) / 2, 1e-3);
   EXPECT_NEAR(r.cycles[0].refresh_max_s, 55.95, 1e-3);
@@ -158,7 +176,8 @@ TEST(MissionTest, WorkerThatMissesItsCollectorDeliversOnTheNextPass) {
   const MissionResult r = sim.run(opt);
   check_invariants(r, 1, 1);
   const GoalRecord& g = r.goals.at(0);
-  EXPECT_NEAR(g.picked_up_at, 14.5 + 29.0, 1e-3);
+  const double range = RadioModel(s.grid, s.radio).free_space_range();
+  EXPECT_NEAR(g.picked_up_at, 14.5 + 29.0 - range, 1e-3);  // the next loop, in radio range of the pass
   EXPECT_NEAR(g.delivered_at, 14.5 + 29.0 + 12.45, 1e-3);
 }
 
@@ -247,12 +266,7 @@ TEST_F(MissionOfficeTest, NoCollectorsEveryWorkerDeliversToTheOc) {
 
 TEST_F(MissionOfficeTest, PlanDirectoryGivesTheSameMissionAsTheInMemoryPlan) {
   const auto cfg = plan::plan_configuration(*ctx_, partition::Method::kPap, 2);
-  const auto dir = std::filesystem::temp_directory_path() / ("gather_mission_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  figures::write_label_png((dir / "labels.png").string(), cfg.partition);
-  plan::write_plan_file((dir / "plan.yaml").string(), plan::make_plan_file(*ctx_, cfg, "labels.png", 1));
-  const mission::MissionPlan loaded = mission::load_mission_plan(dir.string());
-  std::filesystem::remove_all(dir);
+  const mission::MissionPlan loaded = through_plan_directory(*ctx_, cfg);
   EXPECT_EQ(loaded.labels, cfg.partition.labels);
   MissionOptions opt;
   opt.cycles = 3;
@@ -276,12 +290,7 @@ TEST(MissionCoarseGridTest, PlanOnACoarserGridRunsFromItsDirectory) {
   EXPECT_DOUBLE_EQ(s.grid.resolution(), 0.2);
   const plan::PlanContext ctx(s);
   const auto cfg = plan::plan_configuration(ctx, partition::Method::kBap, 2);
-  const auto dir = std::filesystem::temp_directory_path() / ("gather_coarse_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  figures::write_label_png((dir / "labels.png").string(), cfg.partition);
-  plan::write_plan_file((dir / "plan.yaml").string(), plan::make_plan_file(ctx, cfg, "labels.png", 1));
-  const mission::MissionPlan loaded = mission::load_mission_plan(dir.string());
-  std::filesystem::remove_all(dir);
+  const mission::MissionPlan loaded = through_plan_directory(ctx, cfg);
   EXPECT_EQ(loaded.file.grid_factor, 2);
   // The map's own grid does not fit the stored labels: a clear error.
   const plan::PlanContext fine(map);

@@ -19,6 +19,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kEps = 1e-9;        // [s] time tolerance
 constexpr int kMaxDecisions = 1000000;  // per worker: a loop that long is a bug
 constexpr double kWindowMargin = 1.0;   // [m] around a segment's bounding box for marches between its goals
+constexpr double kLinkProbe = 1.0;      // [s] between two radio link checks of a walking or waiting worker
 
 [[noreturn]] void bug(const std::string& what) { throw Error("mission", what); }
 
@@ -431,6 +432,46 @@ void MissionSimulator::simulate_collector_worker(const Worker& w, Run& run) {
   const std::size_t n_rv = w.rendezvous.size();
   int at_rv = -1;  // the rendezvous the worker stands at, -1 elsewhere
   double no_meeting_before = 0.0;  // [s] after a failed hand-over: the next try is a later pass
+  // Everything carried goes to the collector at t; it drops it at its next
+  // time inside the OC's coverage.
+  auto hand_over = [&](double t) {
+    const double drop = route.next_coverage_time(t);
+    for (int id : carried) {
+      GoalRecord& g = run.goals[static_cast<std::size_t>(id)];
+      if (g.picked_up_at >= 0 || g.delivered_at >= 0) bug("goal " + std::to_string(id) + " handed over twice");
+      g.picked_up_at = t, g.picked_up_by = w.collector;
+      g.delivered_at = drop, g.delivered_by = w.collector;
+    }
+    carried.clear();
+  };
+  // The collector also takes the data whenever the radio link holds on the
+  // way (not only at the planned pass): probed every kLinkProbe seconds while
+  // the worker walks from `from` to `to` during [t0, t1] or waits (from ==
+  // to); its position along a walk is interpolated on the straight line.
+  const double link_range = radio_.free_space_range();
+  auto pick_up_on_the_way = [&](Point2 from, Point2 to, double t0, double t1) {
+    if (carried.empty() || !(t1 > t0)) return;
+    auto linked_at = [&](double t) {
+      const double f = (t - t0) / (t1 - t0);
+      const Point2 p{from.x + f * (to.x - from.x), from.y + f * (to.y - from.y)};
+      const Point2 c = route.position(t);
+      return std::hypot(p.x - c.x, p.y - c.y) <= link_range && radio_.linked(p, c);
+    };
+    const int steps = std::max(1, static_cast<int>(std::ceil((t1 - t0) / kLinkProbe)));
+    for (int i = 0; i <= steps; ++i) {
+      double hi = t0 + (t1 - t0) * i / steps;
+      if (!linked_at(hi)) continue;
+      if (i > 0) {  // the link came up between two probes: find when, to 1e-4 s
+        double lo = t0 + (t1 - t0) * (i - 1) / steps;
+        while (hi - lo > 1e-4) {
+          const double mid = 0.5 * (lo + hi);
+          (linked_at(mid) ? hi : lo) = mid;
+        }
+      }
+      hand_over(hi);
+      return;
+    }
+  };
   for (int step = 0;; ++step) {
     if (step > kMaxDecisions) bug("worker " + std::to_string(w.agent) + " does not terminate");
     drop_expired(known, d, run.goals, t);
@@ -518,6 +559,7 @@ void MissionSimulator::simulate_collector_worker(const Worker& w, Run& run) {
       if (g.measured_at >= 0) bug("goal " + std::to_string(g.id) + " measured twice");
       g.measured_at = at[i], g.measured_by = w.agent;
       run.legs.push_back(Leg{w.agent, clock, at[i], here, g.point});
+      pick_up_on_the_way(here, g.point, clock, at[i]);
       here = g.point, clock = at[i];
       carried.push_back(g.id);
       known.erase(std::find(known.begin(), known.end(), order[i]));
@@ -525,18 +567,15 @@ void MissionSimulator::simulate_collector_worker(const Worker& w, Run& run) {
     const Point2 meet_point = grid.cell_center(w.rendezvous[rv]);
     const double dist = k == 0 ? pos_rv[rv] : d.from[static_cast<std::size_t>(order[k - 1])][n + rv];
     run.legs.push_back(Leg{w.agent, clock, clock + dist / v, here, meet_point});
+    pick_up_on_the_way(here, meet_point, clock, clock + dist / v);
+    pick_up_on_the_way(meet_point, meet_point, clock + dist / v, handover);
     pos = w.rendezvous[rv];
     at_rv = static_cast<int>(rv);
     t = handover;
-    if (radio_.linked(meet_point, route.position(t))) {
-      const double drop = route.next_coverage_time(t);
-      for (int id : carried) {
-        GoalRecord& g = run.goals[static_cast<std::size_t>(id)];
-        if (g.picked_up_at >= 0 || g.delivered_at >= 0) bug("goal " + std::to_string(id) + " handed over twice");
-        g.picked_up_at = t, g.picked_up_by = w.collector;
-        g.delivered_at = drop, g.delivered_by = w.collector;
-      }
-      carried.clear();
+    if (carried.empty()) {
+      // taken on the way: nothing left to hand over at the pass
+    } else if (radio_.linked(meet_point, route.position(t))) {
+      hand_over(t);
     } else {
       no_meeting_before = t + 1.0;  // the worker keeps its data for a later pass
     }
