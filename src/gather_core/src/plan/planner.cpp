@@ -338,6 +338,36 @@ double upload_after(const CollectorRoute& r, double s) {
   return std::max(0.0, r.length - s);
 }
 
+// Point of the route at arc length s [m] (`arc`: cumulative arc of its waypoints).
+Point2 route_point(const CollectorRoute& r, const std::vector<double>& arc, double s) {
+  if (s <= 0) return r.waypoints.front();
+  if (s >= arc.back()) return r.waypoints.back();
+  const std::size_t i = static_cast<std::size_t>(std::upper_bound(arc.begin(), arc.end(), s) - arc.begin()) - 1;
+  const double len = arc[i + 1] - arc[i], f = len > 0 ? (s - arc[i]) / len : 0.0;
+  return Point2{r.waypoints[i].x + f * (r.waypoints[i + 1].x - r.waypoints[i].x),
+                r.waypoints[i].y + f * (r.waypoints[i + 1].y - r.waypoints[i].y)};
+}
+
+// How far [m] past each pass the collector stays in radio contact with a
+// worker standing at the pass point (probed every 0.5 m, up to the route's
+// end): the simulator's collector takes data whenever the link holds, so
+// data ready a little after the pass still leaves on that loop.
+std::vector<double> pass_trails(const CollectorRoute& r, const MeetingArea& m, const RadioModel& radio) {
+  std::vector<double> arc(r.waypoints.size(), 0.0);
+  for (std::size_t i = 1; i < arc.size(); ++i) arc[i] = arc[i - 1] + dist(r.waypoints[i - 1], r.waypoints[i]);
+  std::vector<double> trails;
+  for (const double pass : m.passes) {
+    const Point2 at = route_point(r, arc, pass);
+    double trail = 0.0;
+    for (double s = pass + 0.5; s <= r.length && dist(at, route_point(r, arc, s)) <= radio.free_space_range(); s += 0.5) {
+      if (!radio.linked(at, route_point(r, arc, s))) break;
+      trail = s - pass;
+    }
+    trails.push_back(trail);
+  }
+  return trails;
+}
+
 // The estimate runs the execution protocol (docs/simulator.md) over the
 // mission's cycles on expected quantities instead of random goals: the
 // number of a segment's goals in a request is binomial (G goals, each in the
@@ -401,8 +431,8 @@ WorkerRun run_oc_worker(const TourModel& tour, const std::vector<double>& pmf, d
 // until then, goals evenly along its tour, and hands each goal over at the
 // first pass next to its segment after measuring it; the collector uploads
 // where its route next enters the coverage.
-WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, const TourModel& model,
-                               const std::vector<double>& pmf, double v, double T, int cycles) {
+WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, const std::vector<double>& trails,
+                               const TourModel& model, const std::vector<double>& pmf, double v, double T, int cycles) {
   WorkerRun run;
   const LoopSchedule sched(r.period, T);
   // The request leaves with the first departure at or after its issue.
@@ -419,8 +449,10 @@ WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, co
       for (int i = 1; i <= kSamples; ++i) {
         const double ready = learn + tour * i / kSamples;
         double best = kInf;
-        for (const double pass : m.passes)
-          best = std::min(best, sched.next_at(pass / v, ready) + upload_after(r, pass) / v);
+        for (std::size_t p = 0; p < m.passes.size(); ++p) {
+          const double last = m.passes[p] + trails[p];  // the link holds until the collector is here
+          best = std::min(best, sched.next_at(last / v, ready) + upload_after(r, last) / v);
+        }
         sum += best - req * T;
       }
       run.add(pmf[k] * n, sum / kSamples);
@@ -434,6 +466,7 @@ Estimates estimate(const PlanContext& ctx, const ConfigurationPlan& cfg, const P
   const double v = s.team.speed, T = ctx.cycle_period, c = opt.tsp_constant;
   const double G = s.mission.goals_per_request;
   const int cycles = std::max(1, s.mission.cycles);
+  const RadioModel radio(s.grid, s.radio);
   Estimates e;
   double weighted = 0.0;
   for (const WorkerSegment& seg : cfg.graph.segments) {
@@ -453,7 +486,7 @@ Estimates estimate(const PlanContext& ctx, const ConfigurationPlan& cfg, const P
                                   [&](const MeetingArea& a) { return a.segment == seg.id; });
       const TourModel model = tour_model(seg, false, c);
       w.tour_s = model.length(w.expected_goals) / v;
-      if (m != r.meetings.end()) run = run_collector_worker(r, *m, model, pmf, v, T, cycles);
+      if (m != r.meetings.end()) run = run_collector_worker(r, *m, pass_trails(r, *m, radio), model, pmf, v, T, cycles);
     }
     w.delivered_goals = run.delivered / cycles;
     w.refresh_s = run.delivered > 0 ? run.refresh_sum / run.delivered : 0.0;
