@@ -348,24 +348,34 @@ Point2 route_point(const CollectorRoute& r, const std::vector<double>& arc, doub
                 r.waypoints[i].y + f * (r.waypoints[i + 1].y - r.waypoints[i].y)};
 }
 
-// How far [m] past each pass the collector stays in radio contact with a
-// worker standing at the pass point (probed every 0.5 m, up to the route's
-// end): the simulator's collector takes data whenever the link holds, so
-// data ready a little after the pass still leaves on that loop.
-std::vector<double> pass_trails(const CollectorRoute& r, const MeetingArea& m, const RadioModel& radio) {
+// Stretches [m, arc] of the route on which the collector is in radio
+// contact with its worker: linked to the segment's centroid (where a
+// touring worker typically is) or to a pass point (where it goes to hand
+// over, and waits), probed every 0.5 m, plus the planned passes. The
+// simulator's collector takes data whenever the link holds, so these, not
+// only the passes, are where data changes hands. (Averaging the contact of
+// cells spread over the segment instead came out further from the
+// simulator: its workers walk towards a pass once they have data.)
+using Stretches = std::vector<std::pair<double, double>>;
+Stretches contact_stretches(const CollectorRoute& r, const MeetingArea& m, Point2 centroid, const RadioModel& radio) {
   std::vector<double> arc(r.waypoints.size(), 0.0);
   for (std::size_t i = 1; i < arc.size(); ++i) arc[i] = arc[i - 1] + dist(r.waypoints[i - 1], r.waypoints[i]);
-  std::vector<double> trails;
-  for (const double pass : m.passes) {
-    const Point2 at = route_point(r, arc, pass);
-    double trail = 0.0;
-    for (double s = pass + 0.5; s <= r.length && dist(at, route_point(r, arc, s)) <= radio.free_space_range(); s += 0.5) {
-      if (!radio.linked(at, route_point(r, arc, s))) break;
-      trail = s - pass;
-    }
-    trails.push_back(trail);
+  std::vector<Point2> from{centroid};
+  for (const double pass : m.passes) from.push_back(route_point(r, arc, pass));
+  const double range = radio.free_space_range();
+  Stretches stretches;
+  double open = -1.0;
+  constexpr double kStep = 0.5;
+  for (double s = 0.0;; s = std::min(r.length, s + kStep)) {
+    const Point2 p = route_point(r, arc, s);
+    bool linked = false;
+    for (const Point2& f : from) linked = linked || (dist(f, p) <= range && radio.linked(f, p));
+    if (linked && open < 0) open = s;
+    if ((!linked || s >= r.length) && open >= 0) stretches.emplace_back(open, s), open = -1.0;
+    if (s >= r.length) break;
   }
-  return trails;
+  for (const double pass : m.passes) stretches.emplace_back(pass, pass);
+  return stretches;
 }
 
 // The estimate runs the execution protocol (docs/simulator.md) over the
@@ -431,7 +441,7 @@ WorkerRun run_oc_worker(const TourModel& tour, const std::vector<double>& pmf, d
 // until then, goals evenly along its tour, and hands each goal over at the
 // first pass next to its segment after measuring it; the collector uploads
 // where its route next enters the coverage.
-WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, const std::vector<double>& trails,
+WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, const Stretches& contact,
                                const TourModel& model, const std::vector<double>& pmf, double v, double T, int cycles) {
   WorkerRun run;
   const LoopSchedule sched(r.period, T);
@@ -449,9 +459,11 @@ WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, co
       for (int i = 1; i <= kSamples; ++i) {
         const double ready = learn + tour * i / kSamples;
         double best = kInf;
-        for (std::size_t p = 0; p < m.passes.size(); ++p) {
-          const double last = m.passes[p] + trails[p];  // the link holds until the collector is here
-          best = std::min(best, sched.next_at(last / v, ready) + upload_after(r, last) / v);
+        for (const auto& [a, b] : contact) {
+          // The first time the collector is in this stretch at or after `ready`.
+          const double loop_start = sched.next_at(b / v, ready) - b / v;
+          const double handover = std::max(ready, loop_start + a / v);
+          best = std::min(best, handover + upload_after(r, (handover - loop_start) * v) / v);
         }
         sum += best - req * T;
       }
@@ -486,7 +498,8 @@ Estimates estimate(const PlanContext& ctx, const ConfigurationPlan& cfg, const P
                                   [&](const MeetingArea& a) { return a.segment == seg.id; });
       const TourModel model = tour_model(seg, false, c);
       w.tour_s = model.length(w.expected_goals) / v;
-      if (m != r.meetings.end()) run = run_collector_worker(r, *m, pass_trails(r, *m, radio), model, pmf, v, T, cycles);
+      if (m != r.meetings.end())
+        run = run_collector_worker(r, *m, contact_stretches(r, *m, seg.centroid_m, radio), model, pmf, v, T, cycles);
     }
     w.delivered_goals = run.delivered / cycles;
     w.refresh_s = run.delivered > 0 ? run.refresh_sum / run.delivered : 0.0;
