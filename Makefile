@@ -81,9 +81,11 @@ partition-report: build
 	tools/partition_report.sh $(WS)/devel/lib/gather_core
 
 # Plan (median sweep time of 3) and simulate every configuration (5 seeds) on
-# every scenario -> docs/scenarios.md; figures in results/scenarios/ (~6 min).
+# every scenario -> docs/scenarios.md, and on the office variants ->
+# docs/variants.md; figures in results/scenarios/ (~8 min).
 scenario-report: build
 	$(PYTHON) tools/scenario_report.py
+	$(PYTHON) tools/scenario_report.py --out docs/variants.md maps/variants/*.scenario.yaml
 
 clean:
 	rm -rf $(WS)/build $(WS)/devel $(WS)/install build results src/CMakeLists.txt

@@ -80,11 +80,12 @@ def report_scenario(a, sc):
     with open(sc) as f:
         spec = yaml.safe_load(f) or {}
     planner = spec.get("planner") or {}
-    alpha, beta = float(planner.get("alpha", 0.5)), float(planner.get("beta", 0.5))
+    alpha = 0.5 if planner.get("alpha") is None else float(planner["alpha"])  # gather's defaults
+    beta = 0.5 if planner.get("beta") is None else float(planner["beta"])
     out = os.path.join(a.results, name)
     plan_dir, sim_dir = os.path.join(out, "plan"), os.path.join(out, "sim")
     plans = []
-    for _ in range(max(1, a.repeat)):
+    for _ in range(a.repeat):
         stdout, wall = run([a.gather, "plan", sc, "--out", plan_dir])
         m = re.search(r"stages \[ms, summed over configurations\]: (.*); sweep wall (\d+) ms", stdout)
         if not m:
@@ -103,6 +104,8 @@ def report_scenario(a, sc):
 
     est = {(r["method"], int(r["collectors"])): r for r in read_csv(os.path.join(plan_dir, "report.csv"))}
     rows = read_csv(os.path.join(sim_dir, "summary.csv"))
+    if not est or not rows:
+        die("%s: empty report.csv or summary.csv in %s" % (name, out))
     for r in rows:
         for k in ("refresh_mean_s", "goals_per_cycle", "est_refresh_s", "est_goals", "speedup"):
             r[k] = float(r[k])
@@ -150,6 +153,8 @@ def main():
     ap.add_argument("--cycles", type=int, default=0, help="0 = the scenario's mission.cycles")
     ap.add_argument("scenarios", nargs="*")
     a = ap.parse_args()
+    if a.repeat < 1 or a.seeds < 1 or a.cycles < 0:
+        die("--repeat and --seeds must be >= 1, --cycles >= 0")
     if not os.access(a.gather, os.X_OK):
         die("no gather binary at %s (make build)" % a.gather)
     scenarios = a.scenarios or (sorted(glob.glob(os.path.join(REPO, "maps/*.scenario.yaml"))) +

@@ -64,13 +64,26 @@ double kept_share(const OccupancyGrid& grid, const std::vector<uint8_t>& reachab
 PlanningGrid choose_planning_grid(const OccupancyGrid& grid, Point2 oc, std::size_t max_cells, double min_kept) {
   PlanningGrid best;
   if (max_cells == 0 || grid.size() <= max_cells) return best;
+  // The smallest f whose blocks (counting those that stick out) fit the limit.
   int f = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(grid.size()) / static_cast<double>(max_cells))));
-  const std::vector<uint8_t> reachable = reachable_from(grid, grid.world_to_cell(oc));
+  auto blocks = [&](int k) {
+    return static_cast<std::size_t>((grid.width() + k - 1) / k) * static_cast<std::size_t>((grid.height() + k - 1) / k);
+  };
+  while (blocks(f) > max_cells) ++f;
+  const Cell oc_cell = grid.world_to_cell(oc);
+  const std::vector<uint8_t> reachable = reachable_from(grid, oc_cell);
   const std::size_t reachable_cells = static_cast<std::size_t>(std::count(reachable.begin(), reachable.end(), 1));
+  auto oc_block_free = [&](int k) {  // without coarsening the whole map
+    const Cell b{oc_cell.row / k * k, oc_cell.col / k * k};
+    for (int dr = 0; dr < k; ++dr)
+      for (int dc = 0; dc < k; ++dc)
+        if (!grid.is_free(Cell{b.row + dr, b.col + dc})) return false;
+    return true;
+  };
   for (; f >= 2; --f) {
+    if (!oc_block_free(f)) continue;
     const OccupancyGrid coarse = coarsen(grid, f);
     const Cell oc_block = coarse.world_to_cell(oc);
-    if (!coarse.is_free(oc_block)) continue;
     const double kept = kept_share(grid, reachable, reachable_cells, coarse, reachable_from(coarse, oc_block), f);
     if (kept >= min_kept) {
       best.factor = f, best.kept = kept;

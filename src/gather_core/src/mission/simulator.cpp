@@ -449,8 +449,9 @@ void MissionSimulator::simulate_collector_worker(const Worker& w, Run& run) {
   // the worker walks from `from` to `to` during [t0, t1] or waits (from ==
   // to); its position along a walk is interpolated on the straight line.
   const double link_range = radio_.free_space_range();
-  auto pick_up_on_the_way = [&](Point2 from, Point2 to, double t0, double t1) {
-    if (carried.empty() || !(t1 > t0)) return;
+  // Returns the time of the pick-up, or -1 if the link never came up.
+  auto pick_up_on_the_way = [&](Point2 from, Point2 to, double t0, double t1) -> double {
+    if (carried.empty() || !(t1 > t0)) return -1.0;
     auto linked_at = [&](double t) {
       const double f = (t - t0) / (t1 - t0);
       const Point2 p{from.x + f * (to.x - from.x), from.y + f * (to.y - from.y)};
@@ -469,8 +470,9 @@ void MissionSimulator::simulate_collector_worker(const Worker& w, Run& run) {
         }
       }
       hand_over(hi);
-      return;
+      return hi;
     }
+    return -1.0;
   };
   for (int step = 0;; ++step) {
     if (step > kMaxDecisions) bug("worker " + std::to_string(w.agent) + " does not terminate");
@@ -566,18 +568,20 @@ void MissionSimulator::simulate_collector_worker(const Worker& w, Run& run) {
     }
     const Point2 meet_point = grid.cell_center(w.rendezvous[rv]);
     const double dist = k == 0 ? pos_rv[rv] : d.from[static_cast<std::size_t>(order[k - 1])][n + rv];
-    run.legs.push_back(Leg{w.agent, clock, clock + dist / v, here, meet_point});
-    pick_up_on_the_way(here, meet_point, clock, clock + dist / v);
-    pick_up_on_the_way(meet_point, meet_point, clock + dist / v, handover);
+    const double arrive = clock + dist / v;
+    run.legs.push_back(Leg{w.agent, clock, arrive, here, meet_point});
+    pick_up_on_the_way(here, meet_point, clock, arrive);
+    const double taken = pick_up_on_the_way(meet_point, meet_point, arrive, handover);
     pos = w.rendezvous[rv];
     at_rv = static_cast<int>(rv);
-    t = handover;
     if (carried.empty()) {
-      // taken on the way: nothing left to hand over at the pass
-    } else if (radio_.linked(meet_point, route.position(t))) {
-      hand_over(t);
+      // Taken on the way: no need to wait for the pass; decide again as soon
+      // as the data is gone (at the pass, or when the collector came in range).
+      t = std::max(arrive, taken);
     } else {
-      no_meeting_before = t + 1.0;  // the worker keeps its data for a later pass
+      t = handover;
+      if (radio_.linked(meet_point, route.position(t))) hand_over(t);
+      else no_meeting_before = t + 1.0;  // the worker keeps its data for a later pass
     }
   }
 }

@@ -396,18 +396,21 @@ struct WorkerRun {
 // tail beyond a 1e-9 remainder is dropped.
 std::vector<double> goal_count_pmf(int G, double p) {
   p = std::clamp(p, 0.0, 1.0);
-  std::vector<double> pmf;
-  if (p >= 1.0) {
-    pmf.assign(static_cast<std::size_t>(G) + 1, 0.0);
-    pmf.back() = 1.0;
+  std::vector<double> pmf(static_cast<std::size_t>(G) + 1, 0.0);
+  if (p <= 0.0 || p >= 1.0) {
+    pmf[p <= 0.0 ? 0 : static_cast<std::size_t>(G)] = 1.0;
     return pmf;
   }
-  double q = std::pow(1.0 - p, G), total = 0.0;
-  for (int n = 0; n <= G && total < 1.0 - 1e-9; ++n) {
-    pmf.push_back(q);
-    total += q;
-    q *= (G - n) / static_cast<double>(n + 1) * p / (1.0 - p);
+  // In log space: (1 - p)^G underflows for large G (1000 goals, p = 0.55).
+  const double lg = std::lgamma(G + 1.0), lp = std::log(p), lq = std::log1p(-p);
+  double total = 0.0;
+  for (int n = 0; n <= G; ++n) {
+    const double ln = lg - std::lgamma(n + 1.0) - std::lgamma(G - n + 1.0) + n * lp + (G - n) * lq;
+    pmf[static_cast<std::size_t>(n)] = ln > -40.0 ? std::exp(ln) : 0.0;
+    total += pmf[static_cast<std::size_t>(n)];
   }
+  for (double& x : pmf) x /= total;
+  while (pmf.size() > 1 && pmf.back() == 0.0) pmf.pop_back();
   return pmf;
 }
 

@@ -93,8 +93,9 @@ Scenario load_scenario(const std::string& path) {
   p.alpha = planner.optional<double>("alpha", p.alpha);
   p.beta = planner.optional<double>("beta", p.beta);
   require(p.alpha >= 0 && p.beta >= 0 && p.alpha + p.beta > 0, path, "planner.alpha and beta must be >= 0, not both 0");
-  const int max_cells = planner.optional<int>("max_cells", static_cast<int>(p.max_cells));
-  require(max_cells >= 0, path, "planner.max_cells must be >= 0 (0 = plan on the map's own grid), got " + std::to_string(max_cells));
+  const long long max_cells = planner.optional<long long>("max_cells", static_cast<long long>(p.max_cells));
+  require(max_cells == 0 || max_cells >= 10000, path,
+          "planner.max_cells must be 0 (plan on the map's own grid) or >= 10000, got " + std::to_string(max_cells));
   p.max_cells = static_cast<std::size_t>(max_cells);
 
   s.map_meta = read_map_metadata(s.map_path);
