@@ -169,3 +169,22 @@ TEST(LoopScheduleTest, LongRouteIsDrivenBackToBack) {
 
 }  // namespace
 }  // namespace gather
+
+namespace gather {
+namespace {
+
+// Thousands of goals per request: the binomial goal count of a segment must
+// not underflow ((1 - p)^G is 0 in double precision here), or the estimate
+// would credit its worker with no goals at all.
+TEST(PlanEstimateTest, ManyGoalsPerRequestAreNotLostToUnderflow) {
+  Scenario s = testing_support::small_office();
+  s.mission.goals_per_request = 6000;
+  const plan::PlanContext ctx(s);
+  const auto cfg = plan::plan_configuration(ctx, partition::Method::kBap, 0);
+  for (const auto& w : cfg.estimates.workers) EXPECT_GT(w.delivered_goals, 1.0) << "segment " << w.segment;
+  EXPECT_GT(cfg.estimates.goals, 100.0);
+  EXPECT_LE(cfg.estimates.goals, 6000.0 + 1e-6);
+}
+
+}  // namespace
+}  // namespace gather
