@@ -448,8 +448,15 @@ WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, co
                                const TourModel& model, const std::vector<double>& pmf, double v, double T, int cycles) {
   WorkerRun run;
   const LoopSchedule sched(r.period, T);
-  // The request leaves with the first departure at or after its issue.
-  auto arrival = [&](int req) { return sched.next_at(m.route_s / v, sched.next_departure(req * T)); };
+  // The collector picks the request up at its first departure at or after
+  // the issue, or where its route re-enters the coverage midway if that
+  // comes first; it hands it over at the meeting area after that.
+  auto pickup = [&](double t) {
+    double first = sched.next_departure(t);
+    for (const double u : r.coverage_entries) first = std::min(first, sched.next_at(u / v, t));
+    return first;
+  };
+  auto arrival = [&](int req) { return sched.next_at(m.route_s / v, pickup(req * T)); };
   for (int req = 0; req < cycles; ++req) {
     const double learn = arrival(req);
     const double fits = model.goals_within(v * (arrival(req + 1) - learn), static_cast<double>(pmf.size()));
