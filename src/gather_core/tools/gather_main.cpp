@@ -29,8 +29,9 @@ const Subcommand kSubcommands[] = {
      "plan SCENARIO --out DIR [--config METHOD:NC] [--seed K] [--threads T]  deployment plan: utility sweep over "
      "(method, N_c), plan.yaml, report.csv, Fig. 2 and Fig. 3 (estimated)"},
     {"sim", gather::cmd::sim,
-     "sim PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S]  mission simulator: goals.csv, cycles.csv, "
-     "summary.csv (simulated vs estimated refresh and goals)"},
+     "sim PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--all-configs] [--threads T] [--video F.mp4|.avi]  "
+     "mission simulator: goals.csv, cycles.csv, summary.csv (simulated vs estimated refresh and goals), Fig. 3 bands "
+     "(--all-configs), Fig. 4, video"},
 };
 
 void usage(FILE* out) {
