@@ -132,6 +132,49 @@ inline void look_back_label(const float* t, int32_t* lab, const uint8_t* mask, s
   lab[x] = lab[m];
 }
 
+// A march's arrays as raw pointers, taken once per march.
+struct MarchGrid {
+  float* t;
+  int32_t* lab;            // nullptr without labels
+  const uint8_t* mask;
+  const float* cost;       // nullptr on a unit-speed map
+  float ucost;
+  std::size_t s;           // stride
+  bool weighted;           // per-front speed factors
+  const float* inv_w;
+  int look_back;
+};
+
+// Expands cell x (time tx): every 4-neighbour whose upwind update lowers its
+// time gets the new time u (and the label of its upwind front) and is handed
+// to `lowered(n, u, was_unreached)` to be queued. The one relax loop of the
+// bucket and the heap marches.
+template <bool kUnit, bool kLabels, bool kSecond, class Lowered>
+inline void relax_neighbours(const MarchGrid& g, uint32_t x, float tx, float final_below, Lowered&& lowered) {
+  float* const t = g.t;
+  const std::size_t s = g.s;
+  if (kLabels && g.look_back > 0) look_back_label(t, g.lab, g.mask, s, x, g.look_back);
+  const std::size_t offs[4] = {1, s, static_cast<std::size_t>(-1), static_cast<std::size_t>(0) - s};
+  for (std::size_t k = 0; k < 4; ++k) {
+    const std::size_t n = x + offs[k];
+    if (!g.mask[n]) continue;
+    const float tn = t[n];
+    if (!(tn > tx)) continue;
+    float c = kUnit ? g.ucost : g.cost[n];
+    std::size_t up = 0;
+    if (kLabels && g.weighted) {  // the front's own speed factor, from the front that leads here
+      up = upwind_neighbour(t, n, s);
+      c *= g.inv_w[g.lab[up]];
+    }
+    const float u = kSecond ? update_second(t, n, s, c, final_below) : update_first(t, n, s, c);
+    if (u < tn) {
+      t[n] = u;
+      if (kLabels) g.lab[n] = g.lab[g.weighted ? up : upwind_neighbour(t, n, s)];
+      lowered(n, u, !(tn < kInf));
+    }
+  }
+}
+
 }  // namespace
 
 FastMarching::FastMarching(const OccupancyGrid& grid)
@@ -392,38 +435,22 @@ void FastMarching::march_buckets(const SolveOptions& options) {
   bool stopped = false;
   late_.clear();
 
+  const MarchGrid grid{t, lab, mask, cost, ucost, s, weighted, inv_w, look_back};
   auto relax = [&](uint32_t x, float tx, float final_below, uint64_t cur) {
-    if (kLabels && look_back > 0) look_back_label(t, lab, mask, s, x, look_back);
-    const std::size_t offs[4] = {1, s, static_cast<std::size_t>(-1), static_cast<std::size_t>(0) - s};
-    for (std::size_t k = 0; k < 4; ++k) {
-      const std::size_t n = x + offs[k];
-      if (!mask[n]) continue;
-      const float tn = t[n];
-      if (!(tn > tx)) continue;
-      float c = kUnit ? ucost : cost[n];
-      std::size_t up = 0;
-      if (kLabels && weighted) {  // the front's own speed factor, from the front that leads here
-        up = upwind_neighbour(t, n, s);
-        c *= inv_w[lab[up]];
+    relax_neighbours<kUnit, kLabels, kSecond>(grid, x, tx, final_below, [&](std::size_t n, float u, bool unreached) {
+      if (unreached) note_touched(static_cast<uint32_t>(n));
+      const uint64_t b = bucket_of(u);
+      if (kExact && b <= cur) {
+        bheap_.push_back(order_key(u, static_cast<uint32_t>(n)));
+        std::push_heap(bheap_.begin(), bheap_.end(), std::greater<uint64_t>());
+      } else if (b < cur) {
+        late_.push_back(static_cast<uint32_t>(n));  // below the final edge (second order): expand now
+      } else {
+        buckets_[b & bmask].push_back(static_cast<uint32_t>(n));
+        ++pending;
       }
-      const float u = kSecond ? update_second(t, n, s, c, final_below) : update_first(t, n, s, c);
-      if (u < tn) {
-        if (!(tn < kInf)) note_touched(static_cast<uint32_t>(n));
-        t[n] = u;
-        if (kLabels) lab[n] = lab[weighted ? up : upwind_neighbour(t, n, s)];
-        const uint64_t b = bucket_of(u);
-        if (kExact && b <= cur) {
-          bheap_.push_back(order_key(u, static_cast<uint32_t>(n)));
-          std::push_heap(bheap_.begin(), bheap_.end(), std::greater<uint64_t>());
-        } else if (b < cur) {
-          late_.push_back(static_cast<uint32_t>(n));  // below the final edge (second order): expand now
-        } else {
-          buckets_[b & bmask].push_back(static_cast<uint32_t>(n));
-          ++pending;
-        }
-        ++pushed;
-      }
-    }
+      ++pushed;
+    });
   };
 
   while (pending > 0) {
@@ -535,6 +562,7 @@ void FastMarching::march_heap(const SolveOptions& options) {
   const bool weighted = !inv_front_speed_.empty();
   const float* const inv_w = inv_front_speed_.data();
   const int look_back = options.label_look_back;
+  const MarchGrid grid{t, lab, mask, cost, ucost, s, weighted, inv_w, look_back};
   auto later = [](const HeapEntry& a, const HeapEntry& b) { return a.key > b.key; };
 
   heap_.clear();
@@ -561,30 +589,12 @@ void FastMarching::march_heap(const SolveOptions& options) {
     if (targets_left > 0 && std::find(targets_.begin(), targets_.end(), x) != targets_.end()) {
       if (--targets_left == 0) stopped = true;  // expand it anyway: harmless, keeps neighbours consistent
     }
-    const float final_below = next_up(tx);
-    if (kLabels && look_back > 0) look_back_label(t, lab, mask, s, x, look_back);
-    const std::size_t offs[4] = {1, s, static_cast<std::size_t>(-1), static_cast<std::size_t>(0) - s};
-    for (std::size_t k = 0; k < 4; ++k) {
-      const std::size_t n = x + offs[k];
-      if (!mask[n]) continue;
-      const float tn = t[n];
-      if (!(tn > tx)) continue;
-      float c = kUnit ? ucost : cost[n];
-      std::size_t up = 0;
-      if (kLabels && weighted) {  // the front's own speed factor, from the front that leads here
-        up = upwind_neighbour(t, n, s);
-        c *= inv_w[lab[up]];
-      }
-      const float u = kSecond ? update_second(t, n, s, c, final_below) : update_first(t, n, s, c);
-      if (u < tn) {
-        if (!(tn < kInf)) note_touched(static_cast<uint32_t>(n));
-        t[n] = u;
-        if (kLabels) lab[n] = lab[weighted ? up : upwind_neighbour(t, n, s)];
-        heap_.push_back(HeapEntry{u, static_cast<uint32_t>(n)});
-        std::push_heap(heap_.begin(), heap_.end(), later);
-        ++pushed;
-      }
-    }
+    relax_neighbours<kUnit, kLabels, kSecond>(grid, x, tx, next_up(tx), [&](std::size_t n, float u, bool unreached) {
+      if (unreached) note_touched(static_cast<uint32_t>(n));
+      heap_.push_back(HeapEntry{u, static_cast<uint32_t>(n)});
+      std::push_heap(heap_.begin(), heap_.end(), later);
+      ++pushed;
+    });
     if (stopped) break;
   }
   if (stopped) {
