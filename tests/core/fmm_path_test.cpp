@@ -12,21 +12,14 @@
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/fmm/path.hpp"
 #include "gather_core/grid/map_loader.hpp"
+#include "predicate_grid.hpp"
 
 namespace gather {
 namespace fmm {
 namespace {
 
 OccupancyGrid grid_from(int w, int h, const std::function<bool(int, int)>& free, double res) {
-  std::vector<int8_t> v(static_cast<std::size_t>(w) * h);
-  std::vector<uint8_t> f(v.size());
-  for (int r = 0; r < h; ++r)
-    for (int c = 0; c < w; ++c) {
-      const bool fr = free(r, c);
-      f[static_cast<std::size_t>(r) * w + c] = fr;
-      v[static_cast<std::size_t>(r) * w + c] = fr ? 0 : 100;
-    }
-  return OccupancyGrid(w, h, res, Point2{1.0, -2.0}, v, f);
+  return testing_support::predicate_grid(w, h, free, res, Point2{1.0, -2.0});
 }
 
 // Rooms 50 cells apart, walls 3 cells thick, one 8-cell door per wall segment.

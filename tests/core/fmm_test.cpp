@@ -12,6 +12,7 @@
 #include "gather_core/error.hpp"
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/fmm/path.hpp"
+#include "predicate_grid.hpp"
 
 namespace gather {
 namespace fmm {
@@ -19,18 +20,9 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// A grid whose free cells are those where `free(row, col)` holds (rows bottom-up).
 OccupancyGrid make_grid(int w, int h, const std::function<bool(int, int)>& free, double res = 1.0,
                         Point2 origin = {0.0, 0.0}) {
-  std::vector<int8_t> v(static_cast<std::size_t>(w) * h);
-  std::vector<uint8_t> f(v.size());
-  for (int r = 0; r < h; ++r)
-    for (int c = 0; c < w; ++c) {
-      const bool fr = free(r, c);
-      f[static_cast<std::size_t>(r) * w + c] = fr;
-      v[static_cast<std::size_t>(r) * w + c] = fr ? 0 : 100;
-    }
-  return OccupancyGrid(w, h, res, origin, v, f);
+  return testing_support::predicate_grid(w, h, free, res, origin);
 }
 
 OccupancyGrid free_grid(int w, int h, double res = 1.0) {
