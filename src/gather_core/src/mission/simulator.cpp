@@ -98,8 +98,7 @@ static std::vector<double> arrival_times(const std::vector<int>& order, const Re
 MissionSimulator::~MissionSimulator() = default;
 
 MissionSimulator::MissionSimulator(const plan::PlanContext& ctx, MissionPlan plan)
-    : ctx_(ctx), plan_(std::move(plan)), radio_(ctx.scenario.grid, ctx.scenario.radio), fm_(ctx.scenario.grid),
-      coverage_field_(ctx.scenario.grid) {
+    : ctx_(ctx), plan_(std::move(plan)), radio_(ctx.scenario.grid, ctx.scenario.radio), fm_(ctx.scenario.grid) {
   const Scenario& s = ctx.scenario;
   const OccupancyGrid& grid = s.grid;
   const plan::PlanFile& pf = plan_.file;
@@ -225,24 +224,6 @@ MissionSimulator::MissionSimulator(const plan::PlanContext& ctx, MissionPlan pla
     fm_.copy_times(t);
     from_oc_.assign(t.begin(), t.end());
   }
-  // Way back into the coverage: one labelled march from its border cells.
-  const int w = grid.width(), h = grid.height();
-  const auto& cov = ctx.coverage;
-  for (int r = 0; r < h; ++r)
-    for (int c = 0; c < w; ++c) {
-      const std::size_t i = static_cast<std::size_t>(r) * w + c;
-      if (!cov[i]) continue;
-      const bool border = (c == 0 || !cov[i - 1]) || (c + 1 == w || !cov[i + 1]) ||
-                          (r == 0 || !cov[i - static_cast<std::size_t>(w)]) ||
-                          (r + 1 == h || !cov[i + static_cast<std::size_t>(w)]);
-      if (border) coverage_sources_.push_back(Cell{r, c});
-    }
-  std::vector<fmm::Source> sources;
-  for (Cell c : coverage_sources_) sources.push_back(fmm::Source::at_cell(c));
-  fmm::SolveOptions so;
-  so.labels = true;
-  so.label_look_back = 0;
-  coverage_field_.solve(sources, so);
 }
 
 MissionResult MissionSimulator::run(const MissionOptions& opt) {
@@ -611,10 +592,10 @@ void MissionSimulator::simulate_oc_worker(const Worker& w, Run& run) {
     carried.clear();
   };
   auto back_to_coverage = [&]() {
-    const double dist = coverage_field_.time(pos);
-    const int label = coverage_field_.label(pos);
+    const double dist = ctx_.coverage_field.time(pos);
+    const int label = ctx_.coverage_field.label(pos);
     if (!(dist < kInf) || label < 0) bug("worker " + std::to_string(w.agent) + " cannot reach the OC's coverage");
-    const Cell to = coverage_sources_[static_cast<std::size_t>(label)];
+    const Cell to = ctx_.coverage_border[static_cast<std::size_t>(label)];
     run.legs.push_back(Leg{w.agent, t, t + dist / v, grid.cell_center(pos), grid.cell_center(to)});
     t += dist / v, pos = to;
     at_landing = true;

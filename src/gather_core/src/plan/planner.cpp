@@ -523,7 +523,8 @@ Estimates estimate(const PlanContext& ctx, const ConfigurationPlan& cfg, const P
 
 }  // namespace
 
-PlanContext::PlanContext(const Scenario& s) : scenario(s), clearance(s.grid), oc_field(s.grid) {
+PlanContext::PlanContext(const Scenario& s)
+    : scenario(s), coverage_field(s.grid), clearance(s.grid), oc_field(s.grid) {
   const OccupancyGrid& grid = s.grid;
   oc_cell = grid.world_to_cell(s.oc);
   reachable = reachable_from(grid, oc_cell);
@@ -540,7 +541,8 @@ PlanContext::PlanContext(const Scenario& s) : scenario(s), clearance(s.grid), oc
   coverage = radio.coverage(s.oc);
   for (std::size_t i = 0; i < coverage.size(); ++i) coverage[i] = coverage[i] && reachable[i];
   coverage[grid.index(oc_cell)] = 1;
-  // Geodesic distance to the coverage: one march from its border cells.
+  // Geodesic distance to the coverage (and the way back into it): one
+  // labelled march from its border cells.
   std::vector<fmm::Source> sources;
   const int w = grid.width(), h = grid.height();
   for (int r = 0; r < h; ++r)
@@ -550,13 +552,15 @@ PlanContext::PlanContext(const Scenario& s) : scenario(s), clearance(s.grid), oc
       const bool border = (c == 0 || !coverage[i - 1]) || (c + 1 == w || !coverage[i + 1]) ||
                           (r == 0 || !coverage[i - static_cast<std::size_t>(w)]) ||
                           (r + 1 == h || !coverage[i + static_cast<std::size_t>(w)]);
-      if (border) sources.push_back(fmm::Source::at_cell(Cell{r, c}));
+      if (!border) continue;
+      coverage_border.push_back(Cell{r, c});
+      sources.push_back(fmm::Source::at_cell(Cell{r, c}));
     }
-  fmm::FastMarching fm(grid);
   fmm::SolveOptions so;
-  so.labels = false;
-  fm.solve(sources, so);
-  fm.copy_times(coverage_distance);
+  so.labels = true;
+  so.label_look_back = 0;
+  coverage_field.solve(sources, so);
+  coverage_field.copy_times(coverage_distance);
   for (std::size_t i = 0; i < coverage_distance.size(); ++i) {
     if (coverage[i]) coverage_distance[i] = 0.0;
     if (!reachable[i]) coverage_distance[i] = kInf;

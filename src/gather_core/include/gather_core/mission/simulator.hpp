@@ -128,8 +128,6 @@ class MissionSimulator {
   std::vector<int32_t> index_in_segment_;  // per cell: its index among its segment's cells, -1 none
   std::vector<float> from_oc_;             // [m] geodesic distance of every cell from the OC's cell
   fmm::FastMarching fm_;                 // reused for every tour distance
-  fmm::FastMarching coverage_field_;     // from the coverage border: way back to the OC
-  std::vector<Cell> coverage_sources_;
 };
 
 // Replays the goals' timestamps in time order, checks that every transition

@@ -36,6 +36,10 @@ struct PlanContext {
   std::size_t reachable_cells = 0;
   double reachable_area = 0.0;              // [m^2]
   std::vector<uint8_t> coverage;            // reachable cells linked to the OC by radio
+  std::vector<Cell> coverage_border;        // coverage cells next to a non-covered cell (or the map edge)
+  // Labelled unit-speed march from coverage_border: the way back into the
+  // coverage from any cell (time = distance [m]; label k = coverage_border[k]).
+  fmm::FastMarching coverage_field;
   std::vector<double> coverage_distance;    // [m] geodesic distance to the coverage, +inf unreachable
   double farthest = 0.0;                    // [m] largest coverage_distance over reachable cells
   double cycle_period = 0.0;                // [s] time between two OC requests
