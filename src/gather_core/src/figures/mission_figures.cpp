@@ -45,21 +45,6 @@ std::vector<Point2> leg_path(fmm::FastMarching& fm, const OccupancyGrid& grid, c
   return fmm::descend(fm, grid.cell_center(from));
 }
 
-// Point at fraction f in [0, 1] of a polyline's length.
-Point2 along(const std::vector<Point2>& path, double f) {
-  const double total = fmm::path_length(path);
-  double want = std::clamp(f, 0.0, 1.0) * total;
-  for (std::size_t i = 1; i < path.size(); ++i) {
-    const double len = std::hypot(path[i].x - path[i - 1].x, path[i].y - path[i - 1].y);
-    if (want <= len && len > 0) {
-      const double g = want / len;
-      return Point2{path[i - 1].x + g * (path[i].x - path[i - 1].x), path[i - 1].y + g * (path[i].y - path[i - 1].y)};
-    }
-    want -= len;
-  }
-  return path.back();
-}
-
 // Route polyline of a collector between times t0 and t1, sampled every ~0.5 m.
 std::vector<Point2> route_between(const mission::RouteTimetable& r, double t0, double t1, double speed) {
   std::vector<Point2> pts;
@@ -245,8 +230,14 @@ class MissionRenderer {
         continue;
       }
       auto it = paths_.find(i);
-      if (it == paths_.end()) it = paths_.emplace(i, leg_path(fm_, ctx_.scenario.grid, leg)).first;
-      p = along(it->second, leg.t1 > leg.t0 ? (t - leg.t0) / (leg.t1 - leg.t0) : 1.0);
+      if (it == paths_.end()) {
+        std::vector<Point2> path = leg_path(fm_, ctx_.scenario.grid, leg);
+        std::vector<double> arcs = fmm::path_arcs(path);
+        it = paths_.emplace(i, std::make_pair(std::move(path), std::move(arcs))).first;
+      }
+      const auto& [path, arcs] = it->second;
+      const double f = leg.t1 > leg.t0 ? std::clamp((t - leg.t0) / (leg.t1 - leg.t0), 0.0, 1.0) : 1.0;
+      p = fmm::point_at_arc(path, arcs, f * arcs.back());
     }
     return p;
   }
@@ -258,7 +249,7 @@ class MissionRenderer {
   MapCanvas base_;
   fmm::FastMarching fm_;
   std::map<int, std::vector<std::size_t>> legs_of_;  // agent -> its legs in time order
-  std::map<std::size_t, std::vector<Point2>> paths_;
+  std::map<std::size_t, std::pair<std::vector<Point2>, std::vector<double>>> paths_;  // leg -> path, its arcs
 };
 
 }  // namespace

@@ -185,6 +185,23 @@ double path_length(const std::vector<Point2>& path) {
   return len;
 }
 
+std::vector<double> path_arcs(const std::vector<Point2>& path) {
+  std::vector<double> arcs(path.size(), 0.0);
+  for (std::size_t i = 1; i < path.size(); ++i)
+    arcs[i] = arcs[i - 1] + std::hypot(path[i].x - path[i - 1].x, path[i].y - path[i - 1].y);
+  return arcs;
+}
+
+Point2 point_at_arc(const std::vector<Point2>& path, const std::vector<double>& arcs, double s) {
+  if (path.empty()) return Point2{};
+  if (path.size() == 1 || s <= 0) return path.front();
+  if (s >= arcs.back()) return path.back();
+  const std::size_t i = static_cast<std::size_t>(std::upper_bound(arcs.begin(), arcs.end(), s) - arcs.begin()) - 1;
+  const double len = arcs[i + 1] - arcs[i];
+  const double f = len > 0 ? (s - arcs[i]) / len : 0.0;
+  return Point2{path[i].x + f * (path[i + 1].x - path[i].x), path[i].y + f * (path[i + 1].y - path[i].y)};
+}
+
 double geodesic_time(FastMarching& fm, Point2 a, Point2 b, Order order) {
   // Reused between calls: a geodesic query allocates nothing once warm.
   static thread_local SolveOptions o;

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "gather_core/error.hpp"
+#include "gather_core/fmm/path.hpp"
 
 namespace gather {
 namespace mission {
@@ -21,9 +22,7 @@ RouteTimetable::RouteTimetable(const plan::CollectorRoute& route, double speed, 
     : points_(route.waypoints), speed_(speed) {
   if (!(speed > 0)) throw Error("route " + std::to_string(route.collector), "speed must be > 0");
   if (!(request_period > 0)) throw Error("route " + std::to_string(route.collector), "request period must be > 0");
-  arc_.assign(points_.size(), 0.0);
-  for (std::size_t i = 1; i < points_.size(); ++i)
-    arc_[i] = arc_[i - 1] + std::hypot(points_[i].x - points_[i - 1].x, points_[i].y - points_[i - 1].y);
+  arc_ = fmm::path_arcs(points_);
   length_ = points_.size() >= 2 ? arc_.back() : 0.0;
   schedule_ = plan::LoopSchedule(idle() ? 0.0 : length_ / speed_, request_period);
   if (idle()) return;
@@ -56,16 +55,7 @@ RouteTimetable::RouteTimetable(const plan::CollectorRoute& route, double speed, 
   if (inside_.empty()) throw Error("route " + std::to_string(route.collector), "never enters the OC's coverage");
 }
 
-Point2 RouteTimetable::position_at_arc(double s) const {
-  if (points_.empty()) return Point2{};
-  if (points_.size() == 1 || s <= 0) return points_.front();
-  if (s >= length_) return points_.back();
-  const auto it = std::upper_bound(arc_.begin(), arc_.end(), s);
-  const std::size_t i = static_cast<std::size_t>(it - arc_.begin()) - 1;
-  const double len = arc_[i + 1] - arc_[i];
-  const double f = len > 0 ? (s - arc_[i]) / len : 0.0;
-  return Point2{points_[i].x + f * (points_[i + 1].x - points_[i].x), points_[i].y + f * (points_[i + 1].y - points_[i].y)};
-}
+Point2 RouteTimetable::position_at_arc(double s) const { return fmm::point_at_arc(points_, arc_, s); }
 
 Point2 RouteTimetable::position(double t) const {
   if (idle()) return points_.empty() ? Point2{} : points_.front();

@@ -249,8 +249,7 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
 
   // Arc length of every waypoint, then each meeting area at the route point
   // nearest to its segment's entry cell, in visiting order.
-  std::vector<double> arc(route.waypoints.size(), 0.0);
-  for (std::size_t i = 1; i < arc.size(); ++i) arc[i] = arc[i - 1] + dist(route.waypoints[i - 1], route.waypoints[i]);
+  const std::vector<double> arc = fmm::path_arcs(route.waypoints);
   double from_s = 0.0;
   for (int stop : order) {
     const int seg = segments[static_cast<std::size_t>(stop - 1)];
@@ -288,12 +287,7 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
     std::vector<uint8_t> near(segments.size());
     const double total = arc.back();
     for (double at = 0.0;; at = std::min(total, at + step)) {
-      const auto it = std::upper_bound(arc.begin(), arc.end(), at);
-      const std::size_t i = it == arc.begin() ? 0 : std::min<std::size_t>(static_cast<std::size_t>(it - arc.begin()) - 1, arc.size() - 2);
-      const double seg_len = arc[i + 1] - arc[i];
-      const double t = seg_len > 0 ? (at - arc[i]) / seg_len : 0.0;
-      const Point2 p{route.waypoints[i].x + t * (route.waypoints[i + 1].x - route.waypoints[i].x),
-                     route.waypoints[i].y + t * (route.waypoints[i + 1].y - route.waypoints[i].y)};
+      const Point2 p = fmm::point_at_arc(route.waypoints, arc, at);
       std::fill(near.begin(), near.end(), 0);
       const Cell c = grid.world_to_cell(p);
       for (int dr = -rc; dr <= rc; dr += stride)
@@ -338,16 +332,6 @@ double upload_after(const CollectorRoute& r, double s) {
   return std::max(0.0, r.length - s);
 }
 
-// Point of the route at arc length s [m] (`arc`: cumulative arc of its waypoints).
-Point2 route_point(const CollectorRoute& r, const std::vector<double>& arc, double s) {
-  if (s <= 0) return r.waypoints.front();
-  if (s >= arc.back()) return r.waypoints.back();
-  const std::size_t i = static_cast<std::size_t>(std::upper_bound(arc.begin(), arc.end(), s) - arc.begin()) - 1;
-  const double len = arc[i + 1] - arc[i], f = len > 0 ? (s - arc[i]) / len : 0.0;
-  return Point2{r.waypoints[i].x + f * (r.waypoints[i + 1].x - r.waypoints[i].x),
-                r.waypoints[i].y + f * (r.waypoints[i + 1].y - r.waypoints[i].y)};
-}
-
 // Stretches [m, arc] of the route on which the collector is in radio
 // contact with its worker: linked to the segment's centroid (where a
 // touring worker typically is) or to a pass point (where it goes to hand
@@ -358,16 +342,15 @@ Point2 route_point(const CollectorRoute& r, const std::vector<double>& arc, doub
 // simulator: its workers walk towards a pass once they have data.)
 using Stretches = std::vector<std::pair<double, double>>;
 Stretches contact_stretches(const CollectorRoute& r, const MeetingArea& m, Point2 centroid, const RadioModel& radio) {
-  std::vector<double> arc(r.waypoints.size(), 0.0);
-  for (std::size_t i = 1; i < arc.size(); ++i) arc[i] = arc[i - 1] + dist(r.waypoints[i - 1], r.waypoints[i]);
+  const std::vector<double> arc = fmm::path_arcs(r.waypoints);
   std::vector<Point2> from{centroid};
-  for (const double pass : m.passes) from.push_back(route_point(r, arc, pass));
+  for (const double pass : m.passes) from.push_back(fmm::point_at_arc(r.waypoints, arc, pass));
   const double range = radio.free_space_range();
   Stretches stretches;
   double open = -1.0;
   constexpr double kStep = 0.5;
   for (double s = 0.0;; s = std::min(r.length, s + kStep)) {
-    const Point2 p = route_point(r, arc, s);
+    const Point2 p = fmm::point_at_arc(r.waypoints, arc, s);
     bool linked = false;
     for (const Point2& f : from) linked = linked || (dist(f, p) <= range && radio.linked(f, p));
     if (linked && open < 0) open = s;

@@ -30,6 +30,12 @@ std::vector<Point2> descend(const FastMarching& fm, Point2 from, const PathOptio
 // Sum of segment lengths [m].
 double path_length(const std::vector<Point2>& path);
 
+// Cumulative arc length [m] at each point of a polyline (0 at the first).
+std::vector<double> path_arcs(const std::vector<Point2>& path);
+// Point at arc length s [m] along a polyline whose cumulative arcs are
+// `arcs` (from path_arcs); clamped to its ends; {} for an empty polyline.
+Point2 point_at_arc(const std::vector<Point2>& path, const std::vector<double>& arcs, double s);
+
 // Geodesic travel time [s] (meters at unit speed) from `a` to `b` [m] at the
 // workspace's speed: one march from `a` that stops once `b` is reached.
 // kUnreached when no traversable path joins them. Overwrites fm's results.
