@@ -8,6 +8,7 @@
 
 #include "small_office.hpp"
 #include "gather_core/error.hpp"
+#include "gather_core/plan/plan_export.hpp"
 #include "gather_core/figures/mission_figures.hpp"
 #include "gather_core/figures/partition_figure.hpp"
 #include "gather_core/mission/mission_plan.hpp"

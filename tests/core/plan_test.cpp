@@ -8,6 +8,7 @@
 
 #include "small_office.hpp"
 #include "gather_core/error.hpp"
+#include "gather_core/plan/plan_export.hpp"
 #include "gather_core/plan/loop_schedule.hpp"
 #include "gather_core/plan/plan_file.hpp"
 #include "gather_core/plan/planner.hpp"

@@ -11,6 +11,7 @@
 #include "cli.hpp"
 #include "commands.hpp"
 #include "gather_core/error.hpp"
+#include "gather_core/plan/plan_export.hpp"
 #include "gather_core/figures/partition_figure.hpp"
 #include "gather_core/figures/plan_figures.hpp"
 #include "gather_core/plan/plan_file.hpp"

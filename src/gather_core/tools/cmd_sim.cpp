@@ -23,6 +23,7 @@
 #include "cli.hpp"
 #include "commands.hpp"
 #include "gather_core/error.hpp"
+#include "gather_core/plan/plan_export.hpp"
 #include "gather_core/figures/mission_figures.hpp"
 #include "gather_core/mission/mission_plan.hpp"
 #include "gather_core/mission/simulator.hpp"

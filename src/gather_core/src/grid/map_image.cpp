@@ -200,6 +200,49 @@ MapImage decode_png(const std::vector<uint8_t>& b, const std::string& path) {
   return img;
 }
 
+Gray16Image decode_gray16_png(const std::vector<uint8_t>& b, const std::string& path) {
+  std::string err;
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &err, png_on_error, png_on_warning);
+  if (!png) throw Error(path, "libpng: out of memory");
+  png_infop info = png_create_info_struct(png);
+  PngReader reader{&b, 0};
+  Gray16Image img;
+  std::vector<png_bytep> rows;
+  // As in decode_png: nothing with a destructor is created between setjmp
+  // and the reads below.
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw Error(path, "bad PNG: " + (err.empty() ? std::string("decode error") : err));
+  }
+  png_set_read_fn(png, &reader, png_read_from_vector);
+  png_set_user_limits(png, 100000, 100000);
+  png_read_info(png, info);
+  if (png_get_color_type(png, info) != PNG_COLOR_TYPE_GRAY || png_get_bit_depth(png, info) != 16) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw Error(path, "the label image must be a 16-bit single-channel PNG");
+  }
+#if __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  png_set_swap(png);  // PNG stores 16-bit samples big-endian; read them as host uint16_t
+#endif
+  png_read_update_info(png, info);
+  img.width = static_cast<int>(png_get_image_width(png, info));
+  img.height = static_cast<int>(png_get_image_height(png, info));
+  const std::size_t rowbytes = png_get_rowbytes(png, info);
+  const double want = static_cast<double>(rowbytes) * img.height;
+  if (rowbytes != static_cast<std::size_t>(img.width) * 2 || want > 1032.0 * static_cast<double>(b.size()) + 65536.0 ||
+      want > 2e9) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw Error(path, "truncated or corrupt PNG: header claims " + std::to_string(img.width) + "x" +
+                          std::to_string(img.height) + " pixels, the file is only " + std::to_string(b.size()) + " bytes");
+  }
+  img.pixels.resize(static_cast<std::size_t>(img.width) * img.height);
+  rows.resize(img.height);
+  for (int r = 0; r < img.height; ++r) rows[r] = reinterpret_cast<png_bytep>(img.pixels.data() + static_cast<std::size_t>(img.width) * r);
+  png_read_image(png, rows.data());
+  png_destroy_read_struct(&png, &info, nullptr);
+  return img;
+}
+
 }  // namespace
 
 MapImage read_map_image(const std::string& path) {
@@ -209,6 +252,17 @@ MapImage read_map_image(const std::string& path) {
   if (b.size() >= 2 && b[0] == 'P' && (b[1] == '2' || b[1] == '5')) return decode_pgm(b, path);
   if (b.empty()) throw Error(path, "empty image file");
   throw Error(path, "unknown image format (expected PNG or PGM P2/P5)");
+}
+
+}  // namespace gather
+
+namespace gather {
+
+Gray16Image read_gray16_png(const std::string& path) {
+  const std::vector<uint8_t> b = read_file(path);
+  static const uint8_t kPngMagic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (b.size() < 8 || std::memcmp(b.data(), kPngMagic, 8) != 0) throw Error(path, "not a PNG file");
+  return decode_gray16_png(b, path);
 }
 
 }  // namespace gather

@@ -1,22 +1,12 @@
 #include "gather_core/mission/mission_plan.hpp"
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <filesystem>
 
 #include "gather_core/error.hpp"
+#include "gather_core/grid/map_image.hpp"
 
 namespace gather {
 namespace mission {
-
-MissionPlan mission_plan(const plan::PlanContext& ctx, const plan::ConfigurationPlan& cfg, unsigned seed) {
-  MissionPlan m;
-  m.file = plan::make_plan_file(ctx, cfg, "", seed);
-  m.width = cfg.partition.width;
-  m.height = cfg.partition.height;
-  m.labels = cfg.partition.labels;
-  return m;
-}
 
 MissionPlan load_mission_plan(const std::string& plan_path) {
   namespace fs = std::filesystem;
@@ -26,15 +16,13 @@ MissionPlan load_mission_plan(const std::string& plan_path) {
   m.file = plan::read_plan_file(yaml.string());
   const fs::path png = yaml.parent_path() / m.file.labels_png;
   if (!fs::is_regular_file(png)) throw Error(png.string(), "no such label image (named by " + yaml.string() + ")");
-  const cv::Mat img = cv::imread(png.string(), cv::IMREAD_UNCHANGED);
-  if (img.empty()) throw Error(png.string(), "cannot read the label image");
-  if (img.type() != CV_16UC1) throw Error(png.string(), "the label image must be a 16-bit single-channel PNG");
-  m.width = img.cols;
-  m.height = img.rows;
+  const Gray16Image img = read_gray16_png(png.string());
+  m.width = img.width;
+  m.height = img.height;
   m.labels.assign(static_cast<std::size_t>(m.width) * m.height, 0);
   for (int r = 0; r < m.height; ++r)
     for (int c = 0; c < m.width; ++c) {
-      const int label = img.at<uint16_t>(m.height - 1 - r, c);
+      const int label = img.pixels[static_cast<std::size_t>(m.height - 1 - r) * m.width + c];
       if (label > m.file.workers)
         throw Error(png.string(), "label " + std::to_string(label) + " exceeds the plan's " +
                                       std::to_string(m.file.workers) + " workers");

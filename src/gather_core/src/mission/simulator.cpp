@@ -97,7 +97,7 @@ static std::vector<double> arrival_times(const std::vector<int>& order, const Re
 
 MissionSimulator::~MissionSimulator() = default;
 
-MissionSimulator::MissionSimulator(const plan::PlanContext& ctx, MissionPlan plan)
+MissionSimulator::MissionSimulator(const World& ctx, MissionPlan plan)
     : ctx_(ctx), plan_(std::move(plan)), radio_(ctx.scenario.grid, ctx.scenario.radio), fm_(ctx.scenario.grid) {
   const Scenario& s = ctx.scenario;
   const OccupancyGrid& grid = s.grid;

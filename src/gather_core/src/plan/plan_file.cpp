@@ -31,29 +31,6 @@ std::vector<yaml::Fields> items(const YAML::Node& root, const std::string& file,
 
 }  // namespace
 
-PlanFile make_plan_file(const PlanContext& ctx, const ConfigurationPlan& cfg, const std::string& labels_png,
-                        unsigned seed) {
-  PlanFile p;
-  p.scenario = std::filesystem::weakly_canonical(ctx.scenario.path).string();
-  p.method = partition::method_name(cfg.method);
-  p.collectors = cfg.collectors;
-  p.workers = cfg.workers;
-  p.seed = seed;
-  p.labels_png = labels_png;
-  const double map_res = ctx.scenario.map_meta.resolution;  // 0 for scenarios built in code
-  p.grid_factor = map_res > 0 ? std::max(1, static_cast<int>(std::lround(ctx.scenario.grid.resolution() / map_res))) : 1;
-  p.cycle_period_s = ctx.cycle_period;
-  p.est_refresh_s = cfg.estimates.refresh_s;
-  p.est_goals = cfg.estimates.goals;
-  p.utility = cfg.utility;
-  for (int c = 0; c < cfg.collectors; ++c) p.agents.push_back(AgentAssignment{c, true, 0, c});
-  for (int k = 1; k <= cfg.workers; ++k)
-    p.agents.push_back(AgentAssignment{cfg.collectors + k - 1, false, k, cfg.collector_of_segment[static_cast<std::size_t>(k - 1)]});
-  p.routes = cfg.routes;
-  p.workers_est = cfg.estimates.workers;
-  return p;
-}
-
 void write_plan_file(const std::string& path, const PlanFile& p) {
   YAML::Emitter y;
   y.SetDoublePrecision(9);
@@ -127,7 +104,8 @@ PlanFile read_plan_file(const std::string& path) {
     throw Error(path, "format '" + format + "' is not " + PlanFile::kFormat);
   p.scenario = f.required<std::string>("scenario");
   p.method = f.required<std::string>("method");
-  partition::parse_method(p.method);
+  if (p.method != "bap" && p.method != "pap" && p.method != "rap")
+    throw Error(path, "'method' must be bap, pap or rap, got '" + p.method.substr(0, 40) + "'");
   p.collectors = f.required<int>("collectors");
   p.workers = f.required<int>("workers");
   p.seed = f.required<unsigned>("seed");

@@ -506,43 +506,14 @@ Estimates estimate(const PlanContext& ctx, const ConfigurationPlan& cfg, const P
 
 }  // namespace
 
-PlanContext::PlanContext(const Scenario& s)
-    : scenario(s), coverage_field(s.grid), clearance(s.grid), oc_field(s.grid) {
+PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_field(s.grid) {
   const OccupancyGrid& grid = s.grid;
-  oc_cell = grid.world_to_cell(s.oc);
-  reachable = reachable_from(grid, oc_cell);
-  reachable_cells = static_cast<std::size_t>(std::count(reachable.begin(), reachable.end(), 1));
-  reachable_area = reachable_cells * grid.cell_area();
-  if (reachable_cells == 0) throw Error(s.path, "no free space is reachable from the OC");
   prepared.width = grid.width();
   prepared.height = grid.height();
   prepared.oc = oc_cell;
   prepared.reachable = reachable;
   prepared.reachable_cells = reachable_cells;
   prepared.clearance = clearance.values();
-  const RadioModel radio(grid, s.radio);
-  coverage = radio.coverage(s.oc);
-  for (std::size_t i = 0; i < coverage.size(); ++i) coverage[i] = coverage[i] && reachable[i];
-  coverage[grid.index(oc_cell)] = 1;
-  // Geodesic distance to the coverage (and the way back into it): one
-  // labelled march from its border cells.
-  std::vector<fmm::Source> sources;
-  const int w = grid.width(), h = grid.height();
-  for (int r = 0; r < h; ++r)
-    for (int c = 0; c < w; ++c) {
-      const std::size_t i = static_cast<std::size_t>(r) * w + c;
-      if (!coverage[i]) continue;
-      const bool border = (c == 0 || !coverage[i - 1]) || (c + 1 == w || !coverage[i + 1]) ||
-                          (r == 0 || !coverage[i - static_cast<std::size_t>(w)]) ||
-                          (r + 1 == h || !coverage[i + static_cast<std::size_t>(w)]);
-      if (!border) continue;
-      coverage_border.push_back(Cell{r, c});
-      sources.push_back(fmm::Source::at_cell(Cell{r, c}));
-    }
-  fmm::SolveOptions so;
-  so.labels = true;
-  so.label_look_back = 0;
-  coverage_field.solve(sources, so);
   coverage_field.copy_times(coverage_distance);
   for (std::size_t i = 0; i < coverage_distance.size(); ++i) {
     if (coverage[i]) coverage_distance[i] = 0.0;

@@ -24,4 +24,14 @@ struct MapImage {
 // Throws gather::Error("<path>: ...") on a missing, unknown or truncated file.
 MapImage read_map_image(const std::string& path);
 
+// A 16-bit single-channel PNG (the planner's segment label image), image
+// row 0 = top. Throws gather::Error("<path>: ...") on a missing, truncated or
+// corrupt file, or on a PNG that is not 16-bit gray.
+struct Gray16Image {
+  int width = 0;
+  int height = 0;
+  std::vector<uint16_t> pixels;  // row-major
+};
+Gray16Image read_gray16_png(const std::string& path);
+
 }  // namespace gather

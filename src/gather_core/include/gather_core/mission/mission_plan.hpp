@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "gather_core/plan/plan_file.hpp"
-#include "gather_core/plan/planner.hpp"
 
 namespace gather {
 namespace mission {
@@ -18,9 +17,6 @@ struct MissionPlan {
   int width = 0, height = 0;    // of the label image [cells]
   std::vector<int32_t> labels;  // row-major (row 0 = bottom), 0 = no segment, k = segment k
 };
-
-// The plan of `cfg` as `gather plan` would write it (no file is written).
-MissionPlan mission_plan(const plan::PlanContext& ctx, const plan::ConfigurationPlan& cfg, unsigned seed = 1);
 
 // Reads `plan_yaml` (or PLAN_DIR/plan.yaml when given a directory) and the
 // labels image it names (16-bit PNG, image row 0 = top of the map). Throws

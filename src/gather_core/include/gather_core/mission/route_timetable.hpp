@@ -12,7 +12,7 @@
 
 #include "gather_core/grid/occupancy_grid.hpp"
 #include "gather_core/plan/loop_schedule.hpp"
-#include "gather_core/plan/planner.hpp"
+#include "gather_core/plan/plan_types.hpp"
 
 namespace gather {
 namespace mission {

@@ -19,7 +19,7 @@
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/mission/mission_plan.hpp"
 #include "gather_core/mission/route_timetable.hpp"
-#include "gather_core/plan/planner.hpp"
+#include "gather_core/mission/world.hpp"
 #include "gather_core/radio/radio_model.hpp"
 
 namespace gather {
@@ -95,7 +95,7 @@ class MissionSimulator {
  public:
   // Keeps references to ctx (and its scenario). Throws gather::Error when the
   // plan does not fit the scenario (label image size, roles, routes).
-  MissionSimulator(const plan::PlanContext& ctx, MissionPlan plan);
+  MissionSimulator(const World& ctx, MissionPlan plan);
   ~MissionSimulator();
 
   // Runs `options.cycles` requests and drains the data measured meanwhile.
@@ -117,7 +117,7 @@ class MissionSimulator {
   // to `targets` (cells of its segment): a table per landing cell.
   void from_landing(const Worker& w, Cell landing, const std::vector<Cell>& targets, std::vector<double>& out);
 
-  const plan::PlanContext& ctx_;
+  const World& ctx_;
   MissionPlan plan_;
   double speed_ = 1.0;
   double period_ = 1.0;

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "gather_core/plan/planner.hpp"
+#include "gather_core/plan/plan_types.hpp"
 
 namespace gather {
 namespace plan {
@@ -35,10 +35,6 @@ struct PlanFile {
   std::vector<CollectorRoute> routes;
   std::vector<WorkerEstimate> workers_est;
 };
-
-// Agents 0..N_c-1 are the collectors, N_c..N-1 the workers of segments 1..N_w.
-PlanFile make_plan_file(const PlanContext& ctx, const ConfigurationPlan& cfg, const std::string& labels_png,
-                        unsigned seed);
 
 // Throws gather::Error naming the file on I/O or format errors.
 void write_plan_file(const std::string& path, const PlanFile& plan);

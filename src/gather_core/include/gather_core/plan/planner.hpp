@@ -14,6 +14,8 @@
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/grid/clearance.hpp"
 #include "gather_core/partition/partition.hpp"
+#include "gather_core/mission/world.hpp"
+#include "gather_core/plan/plan_types.hpp"
 #include "gather_core/plan/worker_graph.hpp"
 #include "gather_core/scenario/scenario.hpp"
 
@@ -27,19 +29,11 @@ struct PlannerOptions {
   int smoothing_passes = 3;     // OMPL B-spline passes on collector routes
 };
 
-// Everything that does not depend on the configuration, computed once.
-struct PlanContext {
+// Everything that does not depend on the configuration, computed once: the
+// execution world (OC cell, reachable space, coverage, the way back into it)
+// plus what only planning needs.
+struct PlanContext : mission::World {
   explicit PlanContext(const Scenario& scenario);
-  const Scenario& scenario;
-  Cell oc_cell;
-  std::vector<uint8_t> reachable;           // free cells 4-connected to the OC
-  std::size_t reachable_cells = 0;
-  double reachable_area = 0.0;              // [m^2]
-  std::vector<uint8_t> coverage;            // reachable cells linked to the OC by radio
-  std::vector<Cell> coverage_border;        // coverage cells next to a non-covered cell (or the map edge)
-  // Labelled unit-speed march from coverage_border: the way back into the
-  // coverage from any cell (time = distance [m]; label k = coverage_border[k]).
-  fmm::FastMarching coverage_field;
   std::vector<double> coverage_distance;    // [m] geodesic distance to the coverage, +inf unreachable
   double farthest = 0.0;                    // [m] largest coverage_distance over reachable cells
   double cycle_period = 0.0;                // [s] time between two OC requests
@@ -52,38 +46,6 @@ struct PlanContext {
   std::vector<double> route_speed;          // row-major [m/s relative]
   std::vector<uint8_t> roomy;               // 1 where the robot fits (route_speed == 1)
   fmm::FastMarching oc_field;               // solved from the OC on route_speed: legs from/to the OC
-};
-
-// Where a worker meets its collector: the route point nearest to the
-// segment's entry (where the request is handed over), and every stretch of the
-// route that passes next to the segment (where data can be handed over).
-struct MeetingArea {
-  int segment = 0;             // worker segment id
-  Point2 point;                // [m] on the route, next to the segment
-  double route_s = 0.0;        // [m] arc length of `point` from the route start
-  std::vector<double> passes;  // [m] arc lengths of the middles of the stretches passing next to the segment
-};
-
-// A collector's closed route: from the OC through its meeting areas and back
-// into the OC's coverage.
-struct CollectorRoute {
-  int collector = 0;              // 0..N_c-1
-  std::vector<int> segments;      // worker segments it serves, in visiting order
-  std::vector<Point2> waypoints;  // [m] polished, first and last at the OC
-  std::vector<MeetingArea> meetings;
-  double length = 0.0;            // [m]
-  double period = 0.0;            // [s] length / speed
-  double min_clearance = 0.0;     // [m] of the polished route
-  std::vector<double> coverage_entries;  // [m] arc lengths where the route enters the OC's coverage (uploads)
-};
-
-struct WorkerEstimate {
-  int segment = 0;
-  int collector = -1;             // -1: delivers to the OC directly
-  double expected_goals = 0.0;    // goals of one request falling in its segment
-  double delivered_goals = 0.0;   // of those, measured within the cycle
-  double tour_s = 0.0;            // [s] time to measure all its goals (tour + approach)
-  double refresh_s = 0.0;         // [s] mean request-to-delivery time of its goals
 };
 
 struct Estimates {

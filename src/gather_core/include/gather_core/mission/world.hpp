@@ -1,0 +1,39 @@
+#pragma once
+// What executing a plan needs to know of the map, computed once from the
+// scenario (on its planning grid): the OC's cell, the free space reachable
+// from it, the OC's radio coverage and the way back into it. The planner's
+// context (plan::PlanContext) extends it; the analytic simulator and every
+// agent role use it as it is, so an agent process carries no planning data.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "gather_core/fmm/fast_marching.hpp"
+#include "gather_core/grid/occupancy_grid.hpp"
+#include "gather_core/scenario/scenario.hpp"
+
+namespace gather {
+namespace mission {
+
+struct World {
+  // Keeps a reference to `scenario`, which must outlive the world. Throws
+  // gather::Error (naming the scenario file) when no free space is reachable
+  // from the OC.
+  explicit World(const Scenario& scenario);
+
+  const Scenario& scenario;
+  Cell oc_cell;
+  std::vector<uint8_t> reachable;           // free cells 4-connected to the OC
+  std::size_t reachable_cells = 0;
+  double reachable_area = 0.0;              // [m^2]
+  std::vector<uint8_t> coverage;            // reachable cells linked to the OC by radio
+  std::vector<Cell> coverage_border;        // coverage cells next to a non-covered cell (or the map edge)
+  // Labelled unit-speed march from coverage_border: the way back into the
+  // coverage from any cell (time = distance [m]; label k = coverage_border[k]).
+  fmm::FastMarching coverage_field;
+
+  bool covered(Cell c) const { return scenario.grid.contains(c) && coverage[scenario.grid.index(c)] != 0; }
+};
+
+}  // namespace mission
+}  // namespace gather

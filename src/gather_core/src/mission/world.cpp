@@ -1,0 +1,44 @@
+#include "gather_core/mission/world.hpp"
+
+#include <algorithm>
+
+#include "gather_core/error.hpp"
+#include "gather_core/grid/reachability.hpp"
+#include "gather_core/radio/radio_model.hpp"
+
+namespace gather {
+namespace mission {
+
+World::World(const Scenario& s) : scenario(s), coverage_field(s.grid) {
+  const OccupancyGrid& grid = s.grid;
+  oc_cell = grid.world_to_cell(s.oc);
+  reachable = reachable_from(grid, oc_cell);
+  reachable_cells = static_cast<std::size_t>(std::count(reachable.begin(), reachable.end(), 1));
+  reachable_area = reachable_cells * grid.cell_area();
+  if (reachable_cells == 0) throw Error(s.path, "no free space is reachable from the OC");
+  const RadioModel radio(grid, s.radio);
+  coverage = radio.coverage(s.oc);
+  for (std::size_t i = 0; i < coverage.size(); ++i) coverage[i] = coverage[i] && reachable[i];
+  coverage[grid.index(oc_cell)] = 1;
+  // The way back into the coverage: one labelled march from its border cells.
+  std::vector<fmm::Source> sources;
+  const int w = grid.width(), h = grid.height();
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c) {
+      const std::size_t i = static_cast<std::size_t>(r) * w + c;
+      if (!coverage[i]) continue;
+      const bool border = (c == 0 || !coverage[i - 1]) || (c + 1 == w || !coverage[i + 1]) ||
+                          (r == 0 || !coverage[i - static_cast<std::size_t>(w)]) ||
+                          (r + 1 == h || !coverage[i + static_cast<std::size_t>(w)]);
+      if (!border) continue;
+      coverage_border.push_back(Cell{r, c});
+      sources.push_back(fmm::Source::at_cell(Cell{r, c}));
+    }
+  fmm::SolveOptions so;
+  so.labels = true;
+  so.label_look_back = 0;
+  coverage_field.solve(sources, so);
+}
+
+}  // namespace mission
+}  // namespace gather
