@@ -19,6 +19,7 @@
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/mission/mission_plan.hpp"
 #include "gather_core/mission/route_timetable.hpp"
+#include "gather_core/mission/worker_policy.hpp"
 #include "gather_core/mission/world.hpp"
 #include "gather_core/radio/radio_model.hpp"
 
@@ -106,16 +107,9 @@ class MissionSimulator {
   const RouteTimetable& route(int collector) const { return routes_[static_cast<std::size_t>(collector)]; }
 
  private:
-  struct Worker;
   struct Run;
-  void simulate_worker(const Worker& w, Run& run);
-  void simulate_collector_worker(const Worker& w, Run& run);
-  void simulate_oc_worker(const Worker& w, Run& run);
-  // Distances [m] from the OC's cell to `targets` (a table, no march).
-  void from_oc(const std::vector<Cell>& targets, std::vector<double>& out) const;
-  // Distances [m] from a cell where an OC worker came back into the coverage
-  // to `targets` (cells of its segment): a table per landing cell.
-  void from_landing(const Worker& w, Cell landing, const std::vector<Cell>& targets, std::vector<double>& out);
+  void simulate_collector_worker(std::size_t w, Run& run);
+  void simulate_oc_worker(std::size_t w, Run& run);
 
   const World& ctx_;
   MissionPlan plan_;
@@ -123,11 +117,8 @@ class MissionSimulator {
   double period_ = 1.0;
   RadioModel radio_;
   std::vector<RouteTimetable> routes_;
-  std::vector<Worker> workers_;
-  std::vector<uint32_t> reachable_;      // row-major indices of the reachable cells
-  std::vector<int32_t> index_in_segment_;  // per cell: its index among its segment's cells, -1 none
-  std::vector<float> from_oc_;             // [m] geodesic distance of every cell from the OC's cell
-  fmm::FastMarching fm_;                 // reused for every tour distance
+  std::unique_ptr<SharedDistances> shared_;
+  std::vector<WorkerPolicy> workers_;  // the decisions of each worker, shared with the agents' worker role
 };
 
 // Replays the goals' timestamps in time order, checks that every transition

@@ -1,0 +1,187 @@
+#pragma once
+// A worker's decisions, shared by the analytic simulator (which runs every
+// worker's timeline in closed form) and the worker role of the agent runtime
+// (which executes them tick by tick, over messages): which goals of its
+// request it measures and in which order, where and when it meets its
+// collector, when a request reaches it, and for a worker of the OC how it
+// comes back into the coverage. One protocol, one code (docs/simulator.md,
+// "Model"; docs/runtime.md).
+//
+// The policy also owns the worker's distance tables (geodesic distances by
+// FMM between its goals, from its rendezvous cells, from where it came back
+// into the coverage). After the first request it decides without allocating:
+// its buffers are sized for `max_goals` goals a request at construction and
+// the FMM workspaces keep their memory.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "gather_core/fmm/fast_marching.hpp"
+#include "gather_core/mission/mission_plan.hpp"
+#include "gather_core/mission/route_timetable.hpp"
+#include "gather_core/mission/world.hpp"
+
+namespace gather {
+namespace mission {
+
+// A goal of the worker's current request as the worker knows it.
+struct KnownGoal {
+  int32_t id = 0;
+  Cell cell;
+  double deadline = 0.0;  // [s] unmeasured by then = expired
+};
+
+// Where a worker stands when it decides: its cell, and which precomputed
+// distance table applies there (a march from the cell otherwise).
+struct Spot {
+  Cell cell;
+  int rendezvous = -1;   // >= 0: at that rendezvous of its collector
+  bool landing = false;  // OC worker: where it came back into the coverage
+};
+
+// Tables every worker of a world shares: the FMM workspace on the whole map
+// (marches that leave a worker's window) and the distances from the OC's cell
+// (every worker starts there in the simulator). One per simulator; an agent
+// process has its own.
+struct SharedDistances {
+  explicit SharedDistances(const World& world, const std::vector<int32_t>& labels);
+  fmm::FastMarching fm;                    // unit speed, the whole map
+  std::vector<float> from_oc;              // [m] geodesic distance of every cell from the OC's cell
+  std::vector<int32_t> index_in_segment;   // per cell: its index among its segment's cells, -1 none
+};
+
+class WorkerPolicy {
+ public:
+  enum class Action {
+    kDone,            // nothing left, no request to come
+    kGoToRendezvous,  // walk to rendezvous `rendezvous` (how workers reach their segments)
+    kWait,            // wait where it is for the next request
+    kWork,            // measure tour[0..k), then (collector worker) walk to `rendezvous` and meet at `handover`
+    kBackToCoverage,  // OC worker: walk to `landing` (the nearest coverage cell)
+  };
+  struct Decision {
+    Action action = Action::kDone;
+    std::size_t k = 0;           // goals to measure: local indices tour[0..k), reached at at[0..k) [s]
+    const int* tour = nullptr;
+    const double* at = nullptr;
+    int rendezvous = -1;         // collector worker: where it hands over
+    double arrive = 0.0;         // [s] at the rendezvous (or the landing cell)
+    double handover = 0.0;       // [s] when its collector passes there
+    Cell landing;                // kBackToCoverage
+  };
+
+  // Worker `agent` of `plan` (not a collector). `route`: its collector's
+  // timetable (nullptr for a worker of the OC); it must outlive the policy,
+  // as must `world` and `shared`. Throws gather::Error (naming "plan") when
+  // the plan does not fit: a bad segment or collector, no meeting area or no
+  // reachable pass of the collector next to the segment.
+  WorkerPolicy(const World& world, const MissionPlan& plan, const plan::AgentAssignment& agent,
+               const RouteTimetable* route, SharedDistances& shared, std::size_t max_goals);
+  ~WorkerPolicy();
+  WorkerPolicy(WorkerPolicy&&) noexcept;
+
+  int agent() const { return agent_; }
+  int segment() const { return segment_; }
+  int collector() const { return collector_; }  // -1: delivers to the OC
+  bool delivers_to_oc() const { return collector_ < 0; }
+  const RouteTimetable* route() const { return route_; }
+  const std::vector<Cell>& rendezvous() const { return rendezvous_; }
+  Point2 rendezvous_point(int r) const;
+  double meeting_arc() const { return meeting_arc_; }  // [m] on the route
+
+  // Collector workers: when request `cycle` (issued at cycle * period [s])
+  // reaches the worker. Its collector has it when next inside the OC's
+  // coverage at or after the issue, and hands it over when it next passes
+  // the worker's meeting area. Request 0 is known from the start (t = 0).
+  // A request's goals expire when the next one reaches the worker:
+  // deadline(c) = learn_time(c + 1). Workers of the OC: +inf (they measure a
+  // request until they learn a newer one).
+  double learn_time(int cycle, double period) const;
+  double deadline(int cycle, double period) const;
+
+  // Learns a request: the goals of its segment (at most max_goals), which
+  // replace the previous request's; one march per goal to the later goals.
+  // Throws gather::Error when a goal is outside the segment or there are more
+  // than max_goals.
+  void learn(const KnownGoal* goals, std::size_t n);
+  std::size_t goals() const { return n_; }
+  std::size_t max_goals() const { return max_goals_; }
+  // Room for `max_goals` goals a request (allocates; learn() then does not).
+  void reserve(std::size_t max_goals);
+  const KnownGoal& goal(std::size_t local) const { return goals_[local]; }
+
+  // The next step of a worker at `at` at time t [s] whose unmeasured goals
+  // of the current request are `known` (local indices, deadlines not yet
+  // passed), `carrying` data not yet handed over, with `more_requests` still
+  // to come. Collector workers: `no_meeting_before` [s] excludes meetings
+  // before then (after a pass where the link failed). The returned pointers
+  // stay valid until the next call.
+  Decision decide(const Spot& at, double t, const int* known, std::size_t n_known, bool carrying, bool more_requests,
+                  double no_meeting_before = 0.0);
+
+  // OC workers: the nearest cell of the coverage from `from` and the way's
+  // length [m] (the labelled march from the coverage border). Throws
+  // gather::Error when the coverage cannot be reached.
+  std::pair<Cell, double> way_back(Cell from) const;
+
+  // Distances [m] between the current request's goals (local indices), and
+  // from goal i to rendezvous r.
+  double between(std::size_t i, std::size_t j) const { return from_[i * stride_ + j]; }
+  double goal_to_rendezvous(std::size_t i, std::size_t r) const { return from_[i * stride_ + n_ + r]; }
+
+ private:
+  void distances_from(const Spot& at);  // fills from_position_ for goals then rendezvous
+  void march(Cell from, const std::vector<Cell>& targets, double* out);
+  void march_in_window(Cell from, const std::vector<Cell>& targets, double* out);
+  void from_landing(Cell landing, const Cell* targets, std::size_t n, double* out);
+  void order_tour(const int* known, std::size_t n_known);
+  std::size_t arrival_times(double t);
+  double earliest_meeting(std::size_t k, double t, double no_meeting_before, int& best_rv) const;
+
+  const World& world_;
+  SharedDistances& shared_;
+  const RouteTimetable* route_ = nullptr;
+  int agent_ = 0, segment_ = 0, collector_ = -1;
+  double speed_ = 1.0;
+  double meeting_arc_ = 0.0;
+  std::vector<Cell> rendezvous_;        // cells of its collector's passes next to its segment
+  std::vector<double> rendezvous_arc_;  // [m] their arc positions on the route
+  // Geodesic distances [m] from each rendezvous to every cell of the segment
+  // (by the cell's index in its segment) and to the other rendezvous.
+  std::vector<std::vector<float>> rendezvous_to_cell_;
+  std::vector<std::vector<double>> rendezvous_to_rendezvous_;
+  std::vector<Cell> segment_cells_;     // by index in the segment
+  // A workspace on the segment's bounding box plus a margin, traversable only
+  // in the segment and within the margin of it: marches between goals stay
+  // small (a way that leaves the window is re-marched on the whole map).
+  std::unique_ptr<fmm::FastMarching> window_;
+  Cell window_origin_;
+  // OC workers: distances [m] from the coverage cells they came back to, to
+  // every cell of the segment (filled on first use, at most kMaxLandings).
+  std::vector<std::pair<std::size_t, std::vector<float>>> landing_to_cell_;
+
+  // The current request (capacity max_goals): goals, then the distance
+  // matrix from_[i * stride_ + j] to goal j (j < n_) and rendezvous n_ + r.
+  std::size_t max_goals_ = 0;
+  std::size_t n_ = 0;
+  std::size_t stride_ = 0;
+  std::vector<KnownGoal> goals_;
+  std::vector<Cell> cells_;          // goals then rendezvous cells
+  std::vector<double> from_;
+  std::vector<double> from_position_;  // [target]
+  std::vector<double> position_to_rv_;
+  // Decision buffers.
+  std::vector<int> tour_;
+  std::size_t tour_n_ = 0;
+  std::vector<double> at_;
+  std::vector<char> used_;
+  // March scratch.
+  std::vector<Cell> targets_, shifted_;
+  std::vector<double> tmp_;
+  std::vector<fmm::Source> source_;
+  fmm::SolveOptions solve_options_;
+};
+
+}  // namespace mission
+}  // namespace gather

@@ -1,0 +1,405 @@
+#include "gather_core/mission/worker_policy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "gather_core/error.hpp"
+#include "gather_core/mission/tour.hpp"
+
+namespace gather {
+namespace mission {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kEps = 1e-9;           // [s] time tolerance
+constexpr double kWindowMargin = 1.0;   // [m] around a segment's bounding box for marches between its goals
+constexpr std::size_t kMaxLandings = 16;  // per OC worker: landing tables kept; beyond, march each time
+
+[[noreturn]] void bug(const std::string& what) { throw Error("mission", what); }
+
+}  // namespace
+
+SharedDistances::SharedDistances(const World& world, const std::vector<int32_t>& labels) : fm(world.scenario.grid) {
+  const OccupancyGrid& grid = world.scenario.grid;
+  fmm::SolveOptions so;
+  so.labels = false;
+  fm.solve({fmm::Source::at_cell(world.oc_cell)}, so);
+  std::vector<double> t;
+  fm.copy_times(t);
+  from_oc.assign(t.begin(), t.end());
+  index_in_segment.assign(grid.size(), -1);
+  std::vector<int32_t> count;
+  for (std::size_t i = 0; i < labels.size() && i < grid.size(); ++i) {
+    const int k = labels[i];
+    if (k <= 0 || !world.reachable[i]) continue;
+    if (static_cast<std::size_t>(k) >= count.size()) count.resize(static_cast<std::size_t>(k) + 1, 0);
+    index_in_segment[i] = count[static_cast<std::size_t>(k)]++;
+  }
+}
+
+WorkerPolicy::~WorkerPolicy() = default;
+WorkerPolicy::WorkerPolicy(WorkerPolicy&&) noexcept = default;
+
+WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan::AgentAssignment& a,
+                           const RouteTimetable* route, SharedDistances& shared, std::size_t max_goals)
+    : world_(world), shared_(shared), route_(route), agent_(a.id), segment_(a.segment), collector_(a.delivers_to) {
+  const OccupancyGrid& grid = world.scenario.grid;
+  const plan::PlanFile& pf = mp.file;
+  const std::string where = "plan";
+  speed_ = world.scenario.team.speed;
+  if (a.collector) throw Error(where, "agent " + std::to_string(a.id) + " is a collector, not a worker");
+  if (segment_ < 1 || segment_ > pf.workers) throw Error(where, "agent " + std::to_string(a.id) + ": bad segment");
+  if (collector_ >= pf.collectors) throw Error(where, "agent " + std::to_string(a.id) + ": bad collector");
+  if (collector_ >= 0) {
+    if (!route_) throw Error(where, "agent " + std::to_string(a.id) + ": no timetable of its collector");
+    const plan::CollectorRoute& r = pf.routes[static_cast<std::size_t>(collector_)];
+    const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
+                                [&](const plan::MeetingArea& x) { return x.segment == segment_; });
+    if (m == r.meetings.end() || route_->idle())
+      throw Error(where, "collector " + std::to_string(collector_) + " has no meeting area for segment " +
+                             std::to_string(segment_));
+    meeting_arc_ = m->route_s;
+    for (double pass : m->passes) {
+      const Cell c = grid.world_to_cell(route_->position_at_arc(pass));
+      if (!grid.contains(c) || !world.reachable[grid.index(c)]) continue;
+      rendezvous_.push_back(c);
+      rendezvous_arc_.push_back(pass);
+    }
+    if (rendezvous_.empty())
+      throw Error(where, "segment " + std::to_string(segment_) + " has no reachable pass of its collector");
+  }
+  for (std::size_t i = 0; i < mp.labels.size() && i < grid.size(); ++i)
+    if (mp.labels[i] == segment_ && world.reachable[i]) segment_cells_.push_back(grid.cell(i));
+
+  // The window: the segment's bounding box plus the margin, traversable in
+  // the segment dilated by the margin (a square dilation, one pass along rows
+  // and one along columns): between its goals a worker stays in or next to
+  // its own area, as the planner assumes.
+  if (!segment_cells_.empty()) {
+    const int margin = static_cast<int>(std::ceil(kWindowMargin / grid.resolution()));
+    int r0 = grid.height(), r1 = -1, c0 = grid.width(), c1 = -1;
+    for (Cell c : segment_cells_) r0 = std::min(r0, c.row), r1 = std::max(r1, c.row), c0 = std::min(c0, c.col), c1 = std::max(c1, c.col);
+    r0 = std::max(0, r0 - margin), c0 = std::max(0, c0 - margin);
+    r1 = std::min(grid.height() - 1, r1 + margin), c1 = std::min(grid.width() - 1, c1 + margin);
+    const int ww = c1 - c0 + 1, wh = r1 - r0 + 1;
+    std::vector<int8_t> vals(static_cast<std::size_t>(ww) * wh);
+    std::vector<uint8_t> fr(vals.size());
+    for (int r = 0; r < wh; ++r)
+      for (int c = 0; c < ww; ++c) {
+        const std::size_t src = grid.index(Cell{r0 + r, c0 + c}), dst = static_cast<std::size_t>(r) * ww + c;
+        vals[dst] = grid.values()[src], fr[dst] = grid.free_mask()[src];
+      }
+    std::vector<uint8_t> near(vals.size(), 0), rows(vals.size(), 0);
+    for (Cell c : segment_cells_) near[static_cast<std::size_t>(c.row - r0) * ww + (c.col - c0)] = 1;
+    for (int r = 0; r < wh; ++r)
+      for (int c = 0, last = -1000000; c < ww; ++c) {
+        if (near[static_cast<std::size_t>(r) * ww + c]) last = c;
+        if (c - last <= margin) rows[static_cast<std::size_t>(r) * ww + c] = 1;
+      }
+    for (int r = 0; r < wh; ++r)
+      for (int c = ww - 1, last = 1000000; c >= 0; --c) {
+        if (near[static_cast<std::size_t>(r) * ww + c]) last = c;
+        if (last - c <= margin) rows[static_cast<std::size_t>(r) * ww + c] = 1;
+      }
+    std::fill(near.begin(), near.end(), 0);
+    for (int c = 0; c < ww; ++c) {
+      for (int r = 0, last = -1000000; r < wh; ++r) {
+        if (rows[static_cast<std::size_t>(r) * ww + c]) last = r;
+        if (r - last <= margin) near[static_cast<std::size_t>(r) * ww + c] = 1;
+      }
+      for (int r = wh - 1, last = 1000000; r >= 0; --r) {
+        if (rows[static_cast<std::size_t>(r) * ww + c]) last = r;
+        if (last - r <= margin) near[static_cast<std::size_t>(r) * ww + c] = 1;
+      }
+    }
+    for (std::size_t i = 0; i < fr.size(); ++i) fr[i] = fr[i] && near[i];
+    const Point2 o{grid.origin().x + c0 * grid.resolution(), grid.origin().y + r0 * grid.resolution()};
+    window_ = std::make_unique<fmm::FastMarching>(OccupancyGrid(ww, wh, grid.resolution(), o, vals, fr));
+    window_origin_ = Cell{r0, c0};
+  }
+
+  solve_options_.labels = false;
+  source_.resize(1);
+  if (collector_ >= 0) {
+    std::vector<Cell> targets = segment_cells_;
+    const std::size_t m = targets.size();
+    targets.insert(targets.end(), rendezvous_.begin(), rendezvous_.end());
+    for (Cell r : rendezvous_) {
+      fmm::SolveOptions so;
+      so.labels = false;
+      so.targets = targets;
+      shared_.fm.solve({fmm::Source::at_cell(r)}, so);
+      std::vector<float> to_cell(m);
+      for (std::size_t i = 0; i < m; ++i) to_cell[i] = static_cast<float>(shared_.fm.time(targets[i]));
+      std::vector<double> to_rv;
+      for (Cell q : rendezvous_) to_rv.push_back(shared_.fm.time(q));
+      rendezvous_to_cell_.push_back(std::move(to_cell));
+      rendezvous_to_rendezvous_.push_back(std::move(to_rv));
+    }
+  }
+
+  tmp_.reserve(segment_cells_.size());
+  solve_options_.targets.reserve(segment_cells_.size());
+  landing_to_cell_.reserve(kMaxLandings);
+  reserve(max_goals);
+}
+
+void WorkerPolicy::reserve(std::size_t max_goals) {
+  if (max_goals <= max_goals_ && !goals_.empty()) return;
+  max_goals_ = std::max(max_goals_, max_goals);
+  const std::size_t nr = rendezvous_.size(), m = max_goals_ + nr;
+  goals_.resize(max_goals_);
+  cells_.reserve(m);
+  from_.resize(max_goals_ * m, 0.0);
+  from_position_.resize(m, 0.0);
+  position_to_rv_.resize(nr, 0.0);
+  tour_.resize(max_goals_, 0);
+  at_.resize(max_goals_, 0.0);
+  used_.resize(max_goals_, 0);
+  targets_.reserve(m);
+  shifted_.reserve(m);
+  tmp_.reserve(m);
+  if (solve_options_.targets.capacity() < m) solve_options_.targets.reserve(m);
+}
+
+Point2 WorkerPolicy::rendezvous_point(int r) const {
+  return world_.scenario.grid.cell_center(rendezvous_[static_cast<std::size_t>(r)]);
+}
+
+double WorkerPolicy::learn_time(int cycle, double period) const {
+  if (cycle == 0) return 0.0;
+  if (!route_) return cycle * period;
+  return route_->next_time_at(meeting_arc_, route_->next_coverage_time(cycle * period));
+}
+
+double WorkerPolicy::deadline(int cycle, double period) const {
+  return route_ ? learn_time(cycle + 1, period) : kInf;
+}
+
+void WorkerPolicy::march(Cell from, const std::vector<Cell>& targets, double* out) {
+  source_[0] = fmm::Source::at_cell(from);
+  solve_options_.targets.assign(targets.begin(), targets.end());
+  shared_.fm.solve(source_, solve_options_);
+  for (std::size_t i = 0; i < targets.size(); ++i) out[i] = shared_.fm.time(targets[i]);
+}
+
+// Distances [m] from `from` to `targets`, all in the worker's window, marched
+// in the window; on the whole map if some target cannot be reached there.
+void WorkerPolicy::march_in_window(Cell from, const std::vector<Cell>& targets, double* out) {
+  if (window_) {
+    auto local = [&](Cell c) { return Cell{c.row - window_origin_.row, c.col - window_origin_.col}; };
+    bool inside = window_->contains(local(from));
+    shifted_.clear();
+    for (Cell c : targets) shifted_.push_back(local(c)), inside = inside && window_->contains(shifted_.back());
+    if (inside) {
+      source_[0] = fmm::Source::at_cell(local(from));
+      solve_options_.targets.assign(shifted_.begin(), shifted_.end());
+      window_->solve(source_, solve_options_);
+      bool all = true;
+      for (std::size_t i = 0; i < shifted_.size(); ++i) out[i] = window_->time(shifted_[i]), all = all && out[i] < kInf;
+      if (all) return;
+    }
+  }
+  march(from, targets, out);
+}
+
+void WorkerPolicy::learn(const KnownGoal* goals, std::size_t n) {
+  if (n > max_goals_)
+    throw Error("mission", "worker " + std::to_string(agent_) + ": " + std::to_string(n) + " goals in a request, at most " +
+                               std::to_string(max_goals_));
+  const OccupancyGrid& grid = world_.scenario.grid;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Cell c = goals[i].cell;
+    if (!grid.contains(c) || shared_.index_in_segment[grid.index(c)] < 0 || !world_.reachable[grid.index(c)])
+      throw Error("mission", "worker " + std::to_string(agent_) + ": goal " + std::to_string(goals[i].id) +
+                                 " is not in its segment");
+  }
+  const std::size_t nr = rendezvous_.size();
+  n_ = n;
+  stride_ = n + nr;
+  std::copy(goals, goals + n, goals_.begin());
+  cells_.clear();
+  for (std::size_t i = 0; i < n; ++i) cells_.push_back(goals[i].cell);
+  cells_.insert(cells_.end(), rendezvous_.begin(), rendezvous_.end());
+  std::fill(from_.begin(), from_.begin() + static_cast<long>(n * stride_), 0.0);
+  // Geodesic distances are symmetric (up to the march's discretisation): goal
+  // i marches to the later goals only, which halves the work.
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i + 1 < n) {
+      targets_.assign(cells_.begin() + static_cast<long>(i) + 1, cells_.begin() + static_cast<long>(n));
+      tmp_.resize(targets_.size());
+      march_in_window(cells_[i], targets_, tmp_.data());
+      for (std::size_t j = i + 1; j < n; ++j) from_[i * stride_ + j] = from_[j * stride_ + i] = tmp_[j - i - 1];
+    }
+    const std::size_t local = static_cast<std::size_t>(shared_.index_in_segment[grid.index(cells_[i])]);
+    for (std::size_t r = 0; r < nr; ++r) from_[i * stride_ + n + r] = rendezvous_to_cell_[r][local];
+  }
+}
+
+void WorkerPolicy::from_landing(Cell landing, const Cell* targets, std::size_t n, double* out) {
+  const OccupancyGrid& grid = world_.scenario.grid;
+  const std::size_t key = grid.index(landing);
+  auto it = std::find_if(landing_to_cell_.begin(), landing_to_cell_.end(), [&](const auto& e) { return e.first == key; });
+  if (it == landing_to_cell_.end()) {
+    targets_.assign(targets, targets + n);
+    if (landing_to_cell_.size() >= kMaxLandings) {
+      march(landing, targets_, out);
+      return;
+    }
+    tmp_.resize(segment_cells_.size());
+    march(landing, segment_cells_, tmp_.data());
+    landing_to_cell_.emplace_back(key, std::vector<float>(tmp_.begin(), tmp_.end()));
+    it = landing_to_cell_.end() - 1;
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    out[i] = it->second[static_cast<std::size_t>(shared_.index_in_segment[grid.index(targets[i])])];
+}
+
+void WorkerPolicy::distances_from(const Spot& at) {
+  const OccupancyGrid& grid = world_.scenario.grid;
+  const std::size_t nr = rendezvous_.size();
+  if (at.rendezvous >= 0) {
+    const std::size_t rv = static_cast<std::size_t>(at.rendezvous);
+    for (std::size_t i = 0; i < n_; ++i) from_position_[i] = from_[i * stride_ + n_ + rv];
+    for (std::size_t r = 0; r < nr; ++r) from_position_[n_ + r] = rendezvous_to_rendezvous_[rv][r];
+  } else if (at.cell == world_.oc_cell) {
+    for (std::size_t i = 0; i < cells_.size(); ++i) from_position_[i] = shared_.from_oc[grid.index(cells_[i])];
+  } else if (at.landing) {
+    from_landing(at.cell, cells_.data(), cells_.size(), from_position_.data());
+  } else {
+    march(at.cell, cells_, from_position_.data());
+  }
+}
+
+// Arrival times [s] at the goals of the tour, leaving at t; the list stops
+// before the first goal reached after its deadline. Returns how many.
+std::size_t WorkerPolicy::arrival_times(double t) {
+  double clock = t;
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < tour_n_; ++i) {
+    const std::size_t o = static_cast<std::size_t>(tour_[i]);
+    clock += (i == 0 ? from_position_[o] : from_[static_cast<std::size_t>(tour_[i - 1]) * stride_ + o]) / speed_;
+    if (clock > goals_[o].deadline + kEps) break;
+    at_[k++] = clock;
+  }
+  return k;
+}
+
+void WorkerPolicy::order_tour(const int* known, std::size_t n_known) {
+  mission::order_tour(TourDistances{from_position_.data(), from_.data(), stride_}, known, n_known, tour_.data(),
+                      used_.data());
+  tour_n_ = n_known;
+}
+
+// Earliest meeting with the collector after measuring the first k goals of
+// the tour: over every rendezvous, the collector's next pass after the
+// worker can be there (and not before no_meeting_before).
+double WorkerPolicy::earliest_meeting(std::size_t k, double t, double no_meeting_before, int& best_rv) const {
+  double best = kInf;
+  for (std::size_t r = 0; r < rendezvous_.size(); ++r) {
+    const double dist = k == 0 ? position_to_rv_[r] : from_[static_cast<std::size_t>(tour_[k - 1]) * stride_ + n_ + r];
+    if (!(dist < kInf)) continue;
+    const double arrive = std::max((k == 0 ? t : at_[k - 1]) + dist / speed_, no_meeting_before);
+    const double h = route_->next_time_at(rendezvous_arc_[r], arrive);
+    if (h < best) best = h, best_rv = static_cast<int>(r);
+  }
+  return best;
+}
+
+WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int* known, std::size_t n_known,
+                                            bool carrying, bool more_requests, double no_meeting_before) {
+  Decision d;
+  d.tour = tour_.data();
+  d.at = at_.data();
+  std::size_t kmax = 0;
+  tour_n_ = 0;
+  if (n_known > 0) {
+    distances_from(at);
+    order_tour(known, n_known);
+    kmax = arrival_times(t);
+  }
+  if (delivers_to_oc()) {
+    // Measure every goal that can still be measured in time, then come back.
+    if (kmax > 0) {
+      d.action = Action::kWork;
+      d.k = kmax;
+      return d;
+    }
+    if (!world_.covered(at.cell)) {
+      d.action = Action::kBackToCoverage;
+      const auto back = way_back(at.cell);
+      d.landing = back.first;
+      d.arrive = t + back.second / speed_;
+      return d;
+    }
+    d.action = more_requests ? Action::kWait : Action::kDone;
+    return d;
+  }
+
+  if (kmax == 0 && !carrying && !more_requests) return d;  // kDone
+  const OccupancyGrid& grid = world_.scenario.grid;
+  const std::size_t nr = rendezvous_.size();
+  if (n_known == 0 && at.rendezvous >= 0) {
+    std::copy(rendezvous_to_rendezvous_[static_cast<std::size_t>(at.rendezvous)].begin(),
+              rendezvous_to_rendezvous_[static_cast<std::size_t>(at.rendezvous)].end(), position_to_rv_.begin());
+  } else if (n_known == 0 && at.cell == world_.oc_cell) {
+    for (std::size_t r = 0; r < nr; ++r) position_to_rv_[r] = shared_.from_oc[grid.index(rendezvous_[r])];
+  } else if (n_known == 0) {
+    march(at.cell, rendezvous_, position_to_rv_.data());
+  } else {
+    for (std::size_t r = 0; r < nr; ++r) position_to_rv_[r] = from_position_[n_ + r];
+  }
+  if (kmax == 0 && !carrying) {
+    // Nothing to do: wait for the next request at the nearest pass (going
+    // there first: this is how workers reach their segments at the start).
+    if (at.rendezvous < 0) {
+      const std::size_t r = static_cast<std::size_t>(std::min_element(position_to_rv_.begin(), position_to_rv_.end()) -
+                                                     position_to_rv_.begin());
+      if (!(position_to_rv_[r] < kInf)) bug("worker " + std::to_string(agent_) + " cannot reach any pass of its collector");
+      d.action = Action::kGoToRendezvous;
+      d.rendezvous = static_cast<int>(r);
+      d.arrive = t + position_to_rv_[r] / speed_;
+      return d;
+    }
+    d.action = Action::kWait;
+    return d;
+  }
+  // The earliest meeting reachable after measuring at least one goal; then as
+  // many goals of the tour as still reach that same meeting.
+  int rv = 0;
+  std::size_t k = 0;
+  double handover = kInf;
+  if (kmax == 0) {
+    handover = earliest_meeting(0, t, no_meeting_before, rv);
+  } else {
+    int rv1 = 0;
+    const double first = earliest_meeting(1, t, no_meeting_before, rv1);
+    k = 1, rv = rv1, handover = first;
+    for (std::size_t j = 2; j <= kmax; ++j) {
+      int rvj = 0;
+      const double h = earliest_meeting(j, t, no_meeting_before, rvj);
+      if (h <= first + kEps) k = j, rv = rvj, handover = h;
+    }
+  }
+  if (!(handover < kInf)) bug("worker " + std::to_string(agent_) + " cannot reach any pass of its collector");
+  const double dist = k == 0 ? position_to_rv_[static_cast<std::size_t>(rv)]
+                             : from_[static_cast<std::size_t>(tour_[k - 1]) * stride_ + n_ + static_cast<std::size_t>(rv)];
+  d.action = Action::kWork;
+  d.k = k;
+  d.rendezvous = rv;
+  d.arrive = (k == 0 ? t : at_[k - 1]) + dist / speed_;
+  d.handover = handover;
+  return d;
+}
+
+std::pair<Cell, double> WorkerPolicy::way_back(Cell from) const {
+  const double dist = world_.coverage_field.time(from);
+  const int label = world_.coverage_field.label(from);
+  if (!(dist < kInf) || label < 0) bug("worker " + std::to_string(agent_) + " cannot reach the OC's coverage");
+  return {world_.coverage_border[static_cast<std::size_t>(label)], dist};
+}
+
+}  // namespace mission
+}  // namespace gather
