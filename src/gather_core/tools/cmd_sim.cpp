@@ -25,6 +25,7 @@
 #include "gather_core/error.hpp"
 #include "gather_core/plan/plan_export.hpp"
 #include "gather_core/figures/mission_figures.hpp"
+#include "gather_core/mission/mission_csv.hpp"
 #include "gather_core/mission/mission_plan.hpp"
 #include "gather_core/mission/simulator.hpp"
 #include "gather_core/plan/planner.hpp"
@@ -46,31 +47,16 @@ struct ConfigOutput {
 ConfigOutput simulate(mission::MissionSimulator& sim, int cycles, int seed0, int seeds) {
   const plan::PlanFile& pf = sim.plan().file;
   ConfigOutput out;
-  std::ostringstream goals, cyc, summary;
-  char line[640];
-  const std::string cfg = pf.method + "," + std::to_string(pf.collectors);
+  mission::RunLabel label{pf.method, pf.collectors, pf.workers, 0, cycles, pf.est_refresh_s, pf.est_goals};
   for (int k = 0; k < seeds; ++k) {
     mission::MissionOptions opt;
     opt.cycles = cycles;
     opt.seed = static_cast<unsigned>(seed0 + k);
+    label.seed = opt.seed;
     const mission::MissionResult r = sim.run(opt);
-    for (const auto& g : r.goals) {
-      std::snprintf(line, sizeof line, "%s,%u,%d,%d,%.3f,%.3f,%d,%d,%.3f,%.3f,%d,%.3f,%d,%.3f,%d,%s\n", cfg.c_str(),
-                    opt.seed, g.id, g.cycle, g.point.x, g.point.y, g.segment, g.worker, g.requested_at, g.measured_at,
-                    g.measured_by, g.picked_up_at, g.picked_up_by, g.delivered_at, g.delivered_by,
-                    mission::goal_state_name(g.state));
-      goals << line;
-    }
-    for (const auto& c : r.cycles) {
-      std::snprintf(line, sizeof line, "%s,%u,%d,%.3f,%d,%d,%d,%.3f,%.3f,%d,%d,%d,%d,%d\n", cfg.c_str(), opt.seed,
-                    c.cycle, c.requested_at, c.requested, c.delivered, c.expired, c.refresh_mean_s, c.refresh_max_s,
-                    c.total_requested, c.total_delivered, c.total_carried, c.total_pending, c.total_expired);
-      cyc << line;
-    }
-    std::snprintf(line, sizeof line, "%s,%d,%u,%d,%.3f,%.3f,%.2f,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f\n", cfg.c_str(),
-                  pf.workers, opt.seed, cycles, r.period_s, r.mission_s, r.wall_ms, r.speedup(), r.refresh_mean_s,
-                  r.refresh_max_s, r.goals_per_cycle, pf.est_refresh_s, pf.est_goals);
-    summary << line;
+    mission::append_goal_rows(out.goals, label, r.goals);
+    mission::append_cycle_rows(out.cycles, label, r.cycles);
+    mission::append_summary_row(out.summary, label, r);
     out.runs.refresh_s.push_back(r.refresh_mean_s);
     out.runs.goals.push_back(r.goals_per_cycle);
     out.wall_ms += r.wall_ms, out.mission_s += r.mission_s;
@@ -79,7 +65,6 @@ ConfigOutput simulate(mission::MissionSimulator& sim, int cycles, int seed0, int
   out.runs.method = partition::parse_method(pf.method);
   out.runs.collectors = pf.collectors;
   out.runs.est_refresh_s = pf.est_refresh_s, out.runs.est_goals = pf.est_goals, out.runs.est_utility = pf.utility;
-  out.goals = goals.str(), out.cycles = cyc.str(), out.summary = summary.str();
   return out;
 }
 
@@ -164,12 +149,9 @@ int sim(int argc, char** argv) {
   }
 
   std::ofstream goals(out + "/goals.csv"), cyc(out + "/cycles.csv"), summary(out + "/summary.csv");
-  goals << "method,collectors,seed,goal,cycle,x,y,segment,worker,requested_at,measured_at,measured_by,picked_up_at,"
-           "picked_up_by,delivered_at,delivered_by,state\n";
-  cyc << "method,collectors,seed,cycle,requested_at,requested,delivered,expired,refresh_mean_s,refresh_max_s,"
-         "total_requested,total_delivered,total_carried,total_pending,total_expired\n";
-  summary << "method,collectors,workers,seed,cycles,period_s,mission_s,wall_ms,speedup,refresh_mean_s,refresh_max_s,"
-             "goals_per_cycle,est_refresh_s,est_goals\n";
+  goals << mission::kGoalsCsvHeader;
+  cyc << mission::kCyclesCsvHeader;
+  summary << mission::kSummaryCsvHeader;
   double wall = 0.0, mission_s = 0.0, min_speedup = 1e300;
   std::vector<figures::ConfigRuns> runs;
   for (const ConfigOutput& o : outputs) {

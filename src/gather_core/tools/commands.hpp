@@ -9,6 +9,7 @@ int partition(int argc, char** argv);  // gather partition SCENARIO --method M -
 int radio(int argc, char** argv);      // gather radio SCENARIO ... (tools/cmd_radio.cpp)
 int plan(int argc, char** argv);       // gather plan SCENARIO --out DIR ... (tools/cmd_plan.cpp)
 int sim(int argc, char** argv);        // gather sim PLAN_DIR --out DIR ... (tools/cmd_sim.cpp)
+int run(int argc, char** argv);        // gather run PLAN_DIR --out DIR ... (gather_agent/tools/cmd_run.cpp)
 
 }  // namespace cmd
 }  // namespace gather

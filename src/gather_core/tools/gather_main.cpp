@@ -32,6 +32,13 @@ const Subcommand kSubcommands[] = {
      "sim PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--all-configs] [--threads T] [--video F.mp4|.avi]  "
      "mission simulator: goals.csv, cycles.csv, summary.csv (simulated vs estimated refresh and goals), Fig. 3 bands "
      "(--all-configs), Fig. 4, video"},
+#ifdef GATHER_WITH_RUN
+    {"run", gather::cmd::run,
+     "run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT] [--loss P] [--loss-seed N]  the agent "
+     "runtime, every role in one process (range gate, lockstep clock): goals.csv, cycles.csv, summary.csv, agents.csv"},
+#else
+    {"run", nullptr, "run PLAN_DIR --out DIR ...  (needs the gather_agent package: build with it)"},
+#endif
 };
 
 void usage(FILE* out) {
@@ -48,6 +55,10 @@ int main(int argc, char** argv) {
   }
   for (const auto& s : kSubcommands) {
     if (std::strcmp(argv[1], s.name) != 0) continue;
+    if (!s.run) {
+      std::fprintf(stderr, "gather %s: not built in this gather (build gather_agent beside gather_core)\n", s.name);
+      return 2;
+    }
     try {
       return s.run(argc, argv);
     } catch (const gather::cli::UsageError& e) {

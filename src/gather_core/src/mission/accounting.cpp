@@ -13,8 +13,8 @@ namespace {
 
 // At equal times: expiries first (a goal expires at the next request's time),
 // then a goal's own request, measurement, pick-up and delivery.
-enum Kind : int { kExpire = 0, kRequest = 1, kMeasure = 2, kPickup = 3, kDeliver = 4 };
-enum Where : uint8_t { kNone, kPendingAt, kWorker, kCollector, kDeliveredAt, kExpiredAt };
+enum Kind : int { kExpire = 0, kRequest = 1, kMeasure = 2, kPickup = 3, kDeliver = 4, kDrop = 5 };
+enum Where : uint8_t { kNone, kPendingAt, kWorker, kCollector, kDeliveredAt, kExpiredAt, kDroppedAt };
 
 struct Event {
   double t;
@@ -32,6 +32,7 @@ const char* goal_state_name(GoalState s) {
     case GoalState::kCarried: return "carried";
     case GoalState::kDelivered: return "delivered";
     case GoalState::kExpired: return "expired";
+    case GoalState::kDropped: return "dropped_overflow";
   }
   return "?";
 }
@@ -49,6 +50,7 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
     if (g.picked_up_at >= 0) events.push_back({g.picked_up_at, kPickup, id});
     if (g.delivered_at >= 0) events.push_back({g.delivered_at, kDeliver, id});
     if (g.expired_at >= 0) events.push_back({g.expired_at, kExpire, id});
+    if (g.dropped_at >= 0) events.push_back({g.dropped_at, kDrop, id});
     if (g.measured_at >= 0 && g.expired_at >= 0) broken("goal " + std::to_string(id) + " both measured and expired");
     if (g.measured_at >= 0 && g.measured_at > g.deadline + 1e-9)
       broken("goal " + std::to_string(id) + " measured after its deadline");
@@ -59,7 +61,7 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
     return a.goal < b.goal;
   });
   std::vector<uint8_t> where(goals.size(), kNone);
-  int requested = 0, pending = 0, on_workers = 0, on_collectors = 0, delivered = 0, expired = 0;
+  int requested = 0, pending = 0, on_workers = 0, on_collectors = 0, delivered = 0, expired = 0, dropped = 0;
   auto move = [&](const Event& e) {
     uint8_t& w = where[static_cast<std::size_t>(e.goal)];
     const std::string id = "goal " + std::to_string(e.goal);
@@ -85,19 +87,23 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
         if (w != kPendingAt) broken(id + " expired while not pending");
         w = kExpiredAt, --pending, ++expired;
         break;
+      case kDrop:
+        if (w != kWorker && w != kCollector) broken(id + " dropped while not carried");
+        (w == kWorker ? on_workers : on_collectors)--, ++dropped, w = kDroppedAt;
+        break;
     }
   };
   // Conservation, and the counters against a recount of the goals' states.
   auto check = [&](const std::string& when) {
     const int carried = on_workers + on_collectors;
-    if (requested != delivered + carried + pending + expired)
+    if (requested != delivered + carried + pending + expired + dropped)
       broken(when + ": requested " + std::to_string(requested) + " != delivered " + std::to_string(delivered) +
              " + carried " + std::to_string(carried) + " + pending " + std::to_string(pending) + " + expired " +
-             std::to_string(expired));
-    int n[6] = {0, 0, 0, 0, 0, 0};
+             std::to_string(expired) + " + dropped " + std::to_string(dropped));
+    int n[7] = {0, 0, 0, 0, 0, 0, 0};
     for (uint8_t w : where) ++n[w];
     if (n[kPendingAt] != pending || n[kWorker] != on_workers || n[kCollector] != on_collectors ||
-        n[kDeliveredAt] != delivered || n[kExpiredAt] != expired)
+        n[kDeliveredAt] != delivered || n[kExpiredAt] != expired || n[kDroppedAt] != dropped)
       broken(when + ": counters disagree with the goals' states");
   };
 
@@ -113,7 +119,7 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
     s.cycle = c;
     s.requested_at = c * period;
     s.total_requested = requested, s.total_delivered = delivered, s.total_carried = on_workers + on_collectors;
-    s.total_pending = pending, s.total_expired = expired;
+    s.total_pending = pending, s.total_expired = expired, s.total_dropped = dropped;
   }
   while (next < events.size()) move(events[next++]);
   check("end of run");
@@ -126,6 +132,8 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
     if (g.delivered_at >= 0) {
       const double r = g.delivered_at - g.requested_at;
       ++s.delivered, s.refresh_mean_s += r, s.refresh_max_s = std::max(s.refresh_max_s, r);
+    } else if (g.dropped_at >= 0) {
+      ++s.dropped;
     } else {
       ++s.expired;
     }

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "gather_core/error.hpp"
+#include "gather_core/mission/mission_csv.hpp"
 #include "gather_core/mission/requests.hpp"
 
 namespace gather {
@@ -135,22 +136,9 @@ MissionResult MissionSimulator::run(const MissionOptions& opt) {
     else g.state = g.delivered_at >= 0 ? GoalState::kDelivered : GoalState::kCarried;
   }
 
-  MissionResult res;
-  res.cycles = account(run.goals, opt.cycles, period_);
-  res.period_s = period_;
-  res.mission_s = opt.cycles * period_;
-  int delivered = 0;
-  double sum = 0.0;
-  for (const GoalRecord& g : run.goals) {
-    res.end_s = std::max({res.end_s, g.delivered_at, g.expired_at});
-    if (g.delivered_at < 0) continue;
-    const double r = g.delivered_at - g.requested_at;
-    ++delivered, sum += r, res.refresh_max_s = std::max(res.refresh_max_s, r);
-  }
-  res.refresh_mean_s = delivered > 0 ? sum / delivered : 0.0;
-  res.goals_per_cycle = static_cast<double>(delivered) / opt.cycles;
-  res.goals = std::move(run.goals);
-  res.legs = std::move(run.legs);
+  std::vector<Leg> legs = std::move(run.legs);
+  MissionResult res = mission_result(std::move(run.goals), opt.cycles, period_, 0.0);
+  res.legs = std::move(legs);
   res.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
   return res;
 }
@@ -173,6 +161,7 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
   std::vector<int> known;    // local indices of unmeasured goals of the current request
   std::vector<int> carried;  // goal ids measured and not yet handed over
   int at_rv = -1;  // the rendezvous the worker stands at, -1 elsewhere
+  bool at_meeting = false;  // it stands at its meeting point
   double no_meeting_before = 0.0;  // [s] after a failed hand-over: the next try is a later pass
   // Everything carried goes to the collector at t; it drops it at its next
   // time inside the OC's coverage.
@@ -224,13 +213,18 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
       learn(w, run.goals, mine[static_cast<std::size_t>(next_req)], grid, run.scratch, known);
       ++next_req;
     }
-    const WorkerPolicy::Decision dec = w.decide(Spot{pos, at_rv, false}, t, known.data(), known.size(), !carried.empty(),
-                                                next_req < run.cycles, no_meeting_before);
+    const WorkerPolicy::Decision dec = w.decide(Spot{pos, at_rv, false, at_meeting}, t, known.data(), known.size(),
+                                                !carried.empty(), next_req < run.cycles, no_meeting_before);
     if (dec.action == WorkerPolicy::Action::kDone) break;
     if (dec.action == WorkerPolicy::Action::kGoToRendezvous) {
       const Cell to = w.rendezvous()[static_cast<std::size_t>(dec.rendezvous)];
       run.legs.push_back(Leg{w.agent(), t, dec.arrive, grid.cell_center(pos), grid.cell_center(to)});
-      t = dec.arrive, pos = to, at_rv = dec.rendezvous;
+      t = dec.arrive, pos = to, at_rv = dec.rendezvous, at_meeting = false;
+      continue;
+    }
+    if (dec.action == WorkerPolicy::Action::kGoToMeeting) {
+      run.legs.push_back(Leg{w.agent(), t, dec.arrive, grid.cell_center(pos), grid.cell_center(dec.landing)});
+      t = dec.arrive, pos = dec.landing, at_rv = -1, at_meeting = true;
       continue;
     }
     if (dec.action == WorkerPolicy::Action::kWait) {
@@ -258,6 +252,7 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
     const double taken = pick_up_on_the_way(meet_point, meet_point, arrive, dec.handover);
     pos = w.rendezvous()[static_cast<std::size_t>(dec.rendezvous)];
     at_rv = dec.rendezvous;
+    at_meeting = false;
     if (carried.empty()) {
       // Taken on the way: no need to wait for the pass; decide again as soon
       // as the data is gone (at the pass, or when the collector came in range).

@@ -138,6 +138,17 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
       rendezvous_to_cell_.push_back(std::move(to_cell));
       rendezvous_to_rendezvous_.push_back(std::move(to_rv));
     }
+    const Cell mc = grid.world_to_cell(route_->position_at_arc(meeting_arc_));
+    if (grid.contains(mc) && world.reachable[grid.index(mc)]) {
+      meeting_cell_ = mc;
+      fmm::SolveOptions so;
+      so.labels = false;
+      so.targets = targets;
+      shared_.fm.solve({fmm::Source::at_cell(mc)}, so);
+      meeting_to_cell_.resize(m);
+      for (std::size_t i = 0; i < m; ++i) meeting_to_cell_[i] = static_cast<float>(shared_.fm.time(targets[i]));
+      for (Cell q : rendezvous_) meeting_to_rv_.push_back(shared_.fm.time(q));
+    }
   }
 
   tmp_.reserve(segment_cells_.size());
@@ -168,10 +179,14 @@ Point2 WorkerPolicy::rendezvous_point(int r) const {
   return world_.scenario.grid.cell_center(rendezvous_[static_cast<std::size_t>(r)]);
 }
 
-double WorkerPolicy::learn_time(int cycle, double period) const {
+double request_reaches_worker(const RouteTimetable& route, double meeting_arc, int cycle, double period) {
   if (cycle == 0) return 0.0;
-  if (!route_) return cycle * period;
-  return route_->next_time_at(meeting_arc_, route_->next_coverage_time(cycle * period));
+  return route.next_time_at(meeting_arc, route.next_coverage_time(cycle * period));
+}
+
+double WorkerPolicy::learn_time(int cycle, double period) const {
+  if (!route_) return cycle == 0 ? 0.0 : cycle * period;
+  return request_reaches_worker(*route_, meeting_arc_, cycle, period);
 }
 
 double WorkerPolicy::deadline(int cycle, double period) const {
@@ -183,6 +198,11 @@ void WorkerPolicy::march(Cell from, const std::vector<Cell>& targets, double* ou
   solve_options_.targets.assign(targets.begin(), targets.end());
   shared_.fm.solve(source_, solve_options_);
   for (std::size_t i = 0; i < targets.size(); ++i) out[i] = shared_.fm.time(targets[i]);
+}
+
+void WorkerPolicy::march_one(Cell from, Cell to, double& out) {
+  targets_.assign(1, to);
+  march(from, targets_, &out);
 }
 
 // Distances [m] from `from` to `targets`, all in the worker's window, marched
@@ -264,6 +284,10 @@ void WorkerPolicy::distances_from(const Spot& at) {
     const std::size_t rv = static_cast<std::size_t>(at.rendezvous);
     for (std::size_t i = 0; i < n_; ++i) from_position_[i] = from_[i * stride_ + n_ + rv];
     for (std::size_t r = 0; r < nr; ++r) from_position_[n_ + r] = rendezvous_to_rendezvous_[rv][r];
+  } else if (at.meeting && meeting_cell_.row >= 0) {
+    for (std::size_t i = 0; i < n_; ++i)
+      from_position_[i] = meeting_to_cell_[static_cast<std::size_t>(shared_.index_in_segment[grid.index(cells_[i])])];
+    for (std::size_t r = 0; r < nr; ++r) from_position_[n_ + r] = meeting_to_rv_[r];
   } else if (at.cell == world_.oc_cell) {
     for (std::size_t i = 0; i < cells_.size(); ++i) from_position_[i] = shared_.from_oc[grid.index(cells_[i])];
   } else if (at.landing) {
@@ -344,6 +368,8 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
   if (n_known == 0 && at.rendezvous >= 0) {
     std::copy(rendezvous_to_rendezvous_[static_cast<std::size_t>(at.rendezvous)].begin(),
               rendezvous_to_rendezvous_[static_cast<std::size_t>(at.rendezvous)].end(), position_to_rv_.begin());
+  } else if (n_known == 0 && at.meeting && meeting_cell_.row >= 0) {
+    std::copy(meeting_to_rv_.begin(), meeting_to_rv_.end(), position_to_rv_.begin());
   } else if (n_known == 0 && at.cell == world_.oc_cell) {
     for (std::size_t r = 0; r < nr; ++r) position_to_rv_[r] = shared_.from_oc[grid.index(rendezvous_[r])];
   } else if (n_known == 0) {
@@ -352,8 +378,26 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
     for (std::size_t r = 0; r < nr; ++r) position_to_rv_[r] = from_position_[n_ + r];
   }
   if (kmax == 0 && !carrying) {
-    // Nothing to do: wait for the next request at the nearest pass (going
-    // there first: this is how workers reach their segments at the start).
+    // Nothing to do: wait for the next request at the meeting point, where
+    // the collector hands it over (going there first: this is how workers
+    // reach their segments at the start).
+    if (meeting_cell_.row >= 0) {
+      if (at.meeting) {
+        d.action = Action::kWait;
+        return d;
+      }
+      double dist = kInf;
+      if (at.rendezvous >= 0) dist = meeting_to_rv_[static_cast<std::size_t>(at.rendezvous)];
+      else if (at.cell == world_.oc_cell) dist = shared_.from_oc[grid.index(meeting_cell_)];
+      else march_one(at.cell, meeting_cell_, dist);
+      if (dist < kInf) {
+        d.action = Action::kGoToMeeting;
+        d.landing = meeting_cell_;
+        d.arrive = t + dist / speed_;
+        return d;
+      }
+    }
+    // No way to the meeting point: the nearest pass.
     if (at.rendezvous < 0) {
       const std::size_t r = static_cast<std::size_t>(std::min_element(position_to_rv_.begin(), position_to_rv_.end()) -
                                                      position_to_rv_.begin());

@@ -26,7 +26,7 @@
 namespace gather {
 namespace mission {
 
-enum class GoalState : uint8_t { kPending, kCarried, kDelivered, kExpired };
+enum class GoalState : uint8_t { kPending, kCarried, kDelivered, kExpired, kDropped };
 const char* goal_state_name(GoalState s);
 
 struct GoalRecord {
@@ -44,6 +44,7 @@ struct GoalRecord {
   double delivered_at = -1.0;  // [s] inside the OC's coverage, -1 = never
   int delivered_by = -1;       // agent that brought it into coverage
   double expired_at = -1.0;    // [s] = deadline when never measured
+  double dropped_at = -1.0;    // [s] measured, but no buffer had room for its data (agent runtime only)
   GoalState state = GoalState::kPending;  // at the end of the run
 };
 
@@ -56,9 +57,11 @@ struct CycleStats {
   int delivered = 0;
   double refresh_mean_s = 0.0, refresh_max_s = 0.0;
   int expired = 0;            // goals of this request never measured
+  int dropped = 0;            // goals of this request measured and dropped (no room in a buffer)
   // Snapshot of all goals requested so far at the end of the cycle
   // (t = requested_at + period), as checked for conservation.
-  int total_requested = 0, total_delivered = 0, total_carried = 0, total_pending = 0, total_expired = 0;
+  int total_requested = 0, total_delivered = 0, total_carried = 0, total_pending = 0, total_expired = 0,
+      total_dropped = 0;
 };
 
 // One straight-in-time leg of an agent: it moves from `from` to `to` along
@@ -122,9 +125,10 @@ class MissionSimulator {
 };
 
 // Replays the goals' timestamps in time order, checks that every transition
-// is legal (pending -> carried -> delivered, pending -> expired; never twice)
-// and that requested = delivered + carried + pending + expired at the end of
-// every cycle and at the end of the run, and returns the per-cycle stats.
+// is legal (pending -> carried -> delivered, pending -> expired, carried ->
+// dropped; never twice) and that requested = delivered + carried + pending +
+// expired + dropped at the end of every cycle and at the end of the run, and
+// returns the per-cycle stats.
 // Throws gather::Error on any violation.
 std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles, double period);
 

@@ -38,6 +38,7 @@ struct Spot {
   Cell cell;
   int rendezvous = -1;   // >= 0: at that rendezvous of its collector
   bool landing = false;  // OC worker: where it came back into the coverage
+  bool meeting = false;  // collector worker: at its meeting point, waiting for a request
 };
 
 // Tables every worker of a world shares: the FMM workspace on the whole map
@@ -51,11 +52,19 @@ struct SharedDistances {
   std::vector<int32_t> index_in_segment;   // per cell: its index among its segment's cells, -1 none
 };
 
+// When request `cycle` (issued at cycle * period [s]) reaches a worker of
+// the collector driving `route`, whose meeting area is at arc `meeting_arc`
+// [m]: the collector has it when next inside the OC's coverage at or after
+// the issue, and hands it over when it next passes the meeting area.
+// Request 0 is known from the start (0).
+double request_reaches_worker(const RouteTimetable& route, double meeting_arc, int cycle, double period);
+
 class WorkerPolicy {
  public:
   enum class Action {
     kDone,            // nothing left, no request to come
-    kGoToRendezvous,  // walk to rendezvous `rendezvous` (how workers reach their segments)
+    kGoToRendezvous,  // walk to rendezvous `rendezvous` (only when the meeting point cannot be reached)
+    kGoToMeeting,     // walk to the meeting point (`landing`), where the next request is handed over
     kWait,            // wait where it is for the next request
     kWork,            // measure tour[0..k), then (collector worker) walk to `rendezvous` and meet at `handover`
     kBackToCoverage,  // OC worker: walk to `landing` (the nearest coverage cell)
@@ -68,7 +77,7 @@ class WorkerPolicy {
     int rendezvous = -1;         // collector worker: where it hands over
     double arrive = 0.0;         // [s] at the rendezvous (or the landing cell)
     double handover = 0.0;       // [s] when its collector passes there
-    Cell landing;                // kBackToCoverage
+    Cell landing;                // kBackToCoverage: the coverage cell; kGoToMeeting: the meeting point's cell
   };
 
   // Worker `agent` of `plan` (not a collector). `route`: its collector's
@@ -89,6 +98,11 @@ class WorkerPolicy {
   const std::vector<Cell>& rendezvous() const { return rendezvous_; }
   Point2 rendezvous_point(int r) const;
   double meeting_arc() const { return meeting_arc_; }  // [m] on the route
+  // Where a worker with nothing to do waits for the next request: the cell
+  // of its meeting point on the route, where the collector hands requests
+  // over (so the worker hears it there). Invalid (row -1) when that cell is
+  // not reachable; it then waits at its nearest pass.
+  Cell meeting_cell() const { return meeting_cell_; }
 
   // Collector workers: when request `cycle` (issued at cycle * period [s])
   // reaches the worker. Its collector has it when next inside the OC's
@@ -133,6 +147,7 @@ class WorkerPolicy {
  private:
   void distances_from(const Spot& at);  // fills from_position_ for goals then rendezvous
   void march(Cell from, const std::vector<Cell>& targets, double* out);
+  void march_one(Cell from, Cell to, double& out);
   void march_in_window(Cell from, const std::vector<Cell>& targets, double* out);
   void from_landing(Cell landing, const Cell* targets, std::size_t n, double* out);
   void order_tour(const int* known, std::size_t n_known);
@@ -152,6 +167,9 @@ class WorkerPolicy {
   std::vector<std::vector<float>> rendezvous_to_cell_;
   std::vector<std::vector<double>> rendezvous_to_rendezvous_;
   std::vector<Cell> segment_cells_;     // by index in the segment
+  Cell meeting_cell_{-1, -1};
+  std::vector<float> meeting_to_cell_;  // [m] from the meeting point to every cell of the segment
+  std::vector<double> meeting_to_rv_;   // [m] from the meeting point to each rendezvous
   // A workspace on the segment's bounding box plus a margin, traversable only
   // in the segment and within the margin of it: marches between goals stay
   // small (a way that leaves the window is re-marched on the whole map).

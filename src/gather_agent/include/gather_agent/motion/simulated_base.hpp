@@ -1,0 +1,57 @@
+#pragma once
+// Simulated kinematics of a worker: each leg follows a shortest path on the
+// map (one straight segment when the line of sight is free; otherwise an
+// 8-connected A* path, straightened wherever the straight line stays in
+// free space) and is driven at the constant pace that reaches its end at
+// the planned time (the plan's times are FMM lengths / team speed, so the
+// pace is the team speed up to the discretisations). A collector cannot be
+// driven by it.
+#include <vector>
+
+#include "gather_agent/motion/motion_backend.hpp"
+#include "gather_core/path/grid_astar.hpp"
+
+namespace gather {
+namespace agent {
+
+class SimulatedBase : public MotionBackend {
+ public:
+  // `paths`: an A* workspace on the grid the plan runs on (it may be shared
+  // by the bases of one process; it is only used inside go()). Room for
+  // `max_legs` legs a plan; paths are kept in buffers that grow only past
+  // their high-water mark.
+  SimulatedBase(const OccupancyGrid& grid, GridAStar& paths, Point2 start, std::size_t max_legs);
+
+  void go(const Waypoint* legs, std::size_t n, double depart) override;
+  void hold() override;
+  void follow(const mission::RouteTimetable& timetable) override;  // throws: workers only
+  void advance(double now) override;
+  Point2 pose() const override { return pose_; }
+  std::size_t legs_done() const override { return done_; }
+  double arrived_at(std::size_t leg) const override { return legs_[leg].arrive; }
+  std::size_t max_legs() const override { return max_legs_; }
+
+  // The current plan's path from `leg`'s start to its end [m] (for views).
+  std::size_t path_points(std::size_t leg) const { return spans_[leg].second - spans_[leg].first; }
+  Point2 path_point(std::size_t leg, std::size_t i) const { return points_[spans_[leg].first + i]; }
+
+ private:
+  bool line_of_sight(Point2 a, Point2 b) const;
+  void plan_path(Point2 from, Point2 to);  // appends the leg's polyline to points_
+
+  const OccupancyGrid& grid_;
+  GridAStar& paths_;
+  std::size_t max_legs_;
+  Point2 pose_;
+  double now_ = 0.0;
+  std::vector<Waypoint> legs_;
+  std::size_t n_ = 0, done_ = 0;
+  double depart_ = 0.0;
+  std::vector<Point2> points_;                               // every leg's polyline, one after the other
+  std::vector<std::pair<std::size_t, std::size_t>> spans_;  // [first, last) in points_ per leg
+  std::vector<double> lengths_;                             // [m] per leg
+  std::vector<Cell> cells_;                                 // scratch: an A* path
+};
+
+}  // namespace agent
+}  // namespace gather

@@ -1,0 +1,56 @@
+#pragma once
+// The collector role: drives its route on the plan's timetable
+// (mission::RouteTimetable, loops synchronised with the OC's requests),
+// takes the newest request from the OC and hands it to each of its workers
+// as it passes their meeting area, takes their data under custody (acks
+// what it stored, refuses what does not fit) and delivers it to the OC
+// whenever it is inside the coverage.
+#include <cstdint>
+#include <vector>
+
+#include "gather_agent/roles/role.hpp"
+
+namespace gather {
+namespace agent {
+
+class CollectorRole : public Role {
+ public:
+  // Collector `agent` of team.plan (its route is team.routes[its index]).
+  CollectorRole(TeamSetup& team, int agent, MotionBackend& motion);
+
+  void step(double now, const Message* const* inbox, std::size_t n, Outbox& out) override;
+  RoleKind kind() const override { return RoleKind::kCollector; }
+  RoleReport report() const override;
+  const Custody* custody() const override { return &custody_; }
+  int32_t newest_request() const override { return complete_ ? request_id_ : -1; }
+  int collector() const { return collector_; }
+
+ private:
+  struct Served {
+    int16_t agent;
+    double meeting_arc;   // [m]
+    int32_t handed = -1;  // newest request handed to it
+  };
+  void on_request(const RequestPart& part);
+  void hand_request(Served& w, double now, Outbox& out);
+  Served* served(int16_t agent);
+
+  TeamSetup& team_;
+  int collector_ = 0;
+  const mission::RouteTimetable& route_;
+  Custody custody_;
+  std::vector<Served> workers_;
+  // The newest request, as received (every part), to pass on as it is.
+  std::vector<RequestPart> parts_;
+  int32_t request_id_ = -1;
+  uint64_t seen_ = 0;
+  bool complete_ = false;
+  double prev_ = -1.0;  // [s] time of the previous step
+  bool contact_prev_ = false;
+  double next_beacon_ = 0.0;
+  RoleReport counters_;
+  std::vector<int32_t> acks_;
+};
+
+}  // namespace agent
+}  // namespace gather

@@ -1,0 +1,60 @@
+#pragma once
+// The OC role: issues a request every period (the goals drawn as the
+// analytic simulator draws them: mission::draw_goals), passes the newest one
+// to a collector or a worker of the OC that lacks it, acks every item it
+// receives and keeps the ledger of every goal (requested, measured, picked
+// up, delivered, expired, dropped), from which the mission's goals.csv is
+// written. The mission is done when every request is issued and every goal
+// resolved.
+#include <cstdint>
+#include <vector>
+
+#include "gather_agent/roles/role.hpp"
+#include "gather_core/mission/simulator.hpp"
+
+namespace gather {
+namespace agent {
+
+class OcRole : public Role {
+ public:
+  OcRole(TeamSetup& team, MotionBackend& station);
+
+  void step(double now, const Message* const* inbox, std::size_t n, Outbox& out) override;
+  RoleKind kind() const override { return RoleKind::kOc; }
+  RoleReport report() const override;
+  int32_t newest_request() const override { return issued_ - 1; }
+
+  bool done() const { return issued_ == team_.params.cycles && resolved_count_ == goals_.size(); }
+  int issued() const { return issued_; }
+  // Goals of the requests issued so far (ids 0 .. requested() - 1).
+  std::size_t requested() const;
+  const std::vector<mission::GoalRecord>& goals() const { return goals_; }
+  bool resolved(int32_t goal) const { return resolved_[static_cast<std::size_t>(goal)] != 0; }
+  std::size_t resolved_count() const { return resolved_count_; }
+  int64_t invalid_items() const { return invalid_; }
+  int64_t duplicate_items() const { return duplicates_; }
+  // Items each agent delivered (by agent id).
+  int64_t delivered_by(int agent) const { return delivered_by_[static_cast<std::size_t>(agent)]; }
+
+ private:
+  void issue(int cycle, int16_t dest, double now, Outbox& out);
+  // Applies one item from `sender` at `now`; false if it names no goal of
+  // this mission (it is acked all the same, so its sender lets go).
+  bool apply(const DataItem& item, int16_t sender, double now);
+  void resolve(mission::GoalRecord& g, mission::GoalState state);
+
+  TeamSetup& team_;
+  int per_request_ = 0;
+  std::vector<mission::GoalRecord> goals_;  // every cycle's, drawn up front; requested_at set at the issue
+  std::vector<uint32_t> cell_of_;           // grid index of each goal's cell
+  std::vector<uint8_t> resolved_;
+  std::size_t resolved_count_ = 0;
+  int issued_ = 0;
+  std::vector<double> answered_at_;         // [s] by agent: last time it was passed the newest request
+  std::vector<int64_t> delivered_by_;
+  std::vector<int32_t> acks_;
+  int64_t invalid_ = 0, duplicates_ = 0;
+};
+
+}  // namespace agent
+}  // namespace gather

@@ -1,0 +1,143 @@
+#pragma once
+// What a role is: a state machine that knows only the plan, its own pose and
+// clock, and the messages it receives. Each control step takes the time and
+// this tick's inbox, and yields the messages to send (an Outbox) and the
+// motion to make (commands to its MotionBackend). No LCM, no ROS, no
+// threads, no wall clock inside: the same roles run in one process
+// (runner/team_runner) and one process per robot (gather_agent).
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "gather_agent/messages.hpp"
+#include "gather_agent/motion/motion_backend.hpp"
+#include "gather_agent/roles/custody.hpp"
+#include "gather_core/mission/mission_plan.hpp"
+#include "gather_core/mission/route_timetable.hpp"
+#include "gather_core/mission/worker_policy.hpp"
+#include "gather_core/mission/world.hpp"
+#include "gather_core/path/grid_astar.hpp"
+#include "gather_core/radio/radio_model.hpp"
+
+namespace gather {
+namespace agent {
+
+// The mission the OC runs, as every agent must know it (the OC's plan
+// announcement carries it; see runner/lockstep).
+struct MissionParams {
+  int cycles = 10;
+  unsigned seed = 1;
+  int goals_per_request = 40;
+  std::size_t data_capacity = 0;    // custody buffer: measured items (0: 4 x goals_per_request, at least 64)
+  std::size_t notice_capacity = 0;  // custody buffer: notices (0: as data_capacity)
+  double beacon_period = 1.0;       // [s] agent state broadcast
+  double resend_after = 1.0;        // [s] in contact without an ack: send again
+};
+
+// Everything the roles of one team share, read-only once built (except the
+// FMM workspace in `distances`, used by one role at a time): the world, the
+// plan, the collectors' timetables, the radio model. One per process.
+class TeamSetup {
+ public:
+  // Throws gather::Error (naming "plan") when the plan does not fit the
+  // world: label image size, agent ids, roles, routes.
+  TeamSetup(const mission::World& world, const mission::MissionPlan& plan, const MissionParams& params);
+
+  const mission::World& world;
+  const mission::MissionPlan& plan;
+  MissionParams params;
+  double period = 0.0;  // [s] between two requests
+  double speed = 0.0;   // [m/s]
+  RadioModel radio;
+  std::vector<mission::RouteTimetable> routes;  // by collector index
+  std::unique_ptr<mission::SharedDistances> distances;
+  std::unique_ptr<GridAStar> paths;  // A* on the reachable cells, for the simulated bases
+
+  int agents() const { return static_cast<int>(assignment_.size()); }
+  const plan::AgentAssignment& assignment(int agent) const { return assignment_[static_cast<std::size_t>(agent)]; }
+  int collector_agent(int collector) const { return collector_agent_[static_cast<std::size_t>(collector)]; }
+  int worker_of_segment(int segment) const { return worker_of_segment_[static_cast<std::size_t>(segment)]; }
+  // Link between two positions [m] (the free-space range first, cheap).
+  bool linked(Point2 a, Point2 b) const;
+  // Where agent `agent` waits before the mission (free cells next to the OC).
+  Point2 start_pose(int agent) const { return start_[static_cast<std::size_t>(agent)]; }
+  // Deadline [s] of a goal of request `cycle` for worker `agent`: when the
+  // next request reaches it (+inf for workers of the OC).
+  double deadline(int agent, int cycle) const;
+
+ private:
+  std::vector<plan::AgentAssignment> assignment_;  // by agent id
+  std::vector<int> collector_agent_;               // agent id by collector index
+  std::vector<int> worker_of_segment_;             // agent id by segment, -1 none
+  std::vector<double> meeting_arc_;                // [m] by agent id (workers of collectors)
+  std::vector<Point2> start_;
+  double range_ = 0.0;
+};
+
+// Messages a step sends, at most `capacity` (the rest is refused and counted).
+class Outbox {
+ public:
+  explicit Outbox(std::size_t capacity) : messages_(capacity) {}
+  // A message to fill, with its header's kind and destination set; nullptr
+  // when the outbox is full.
+  Message* add(Kind kind, int16_t dest);
+  void clear() { n_ = 0; }
+  std::size_t size() const { return n_; }
+  const Message& operator[](std::size_t i) const { return messages_[i]; }
+  Message& operator[](std::size_t i) { return messages_[i]; }
+  int64_t refused() const { return refused_; }
+
+ private:
+  std::vector<Message> messages_;
+  std::size_t n_ = 0;
+  int64_t refused_ = 0;
+};
+
+// Per-role counters: what `make run` and the summaries print, and what the
+// conservation check adds up.
+struct RoleReport {
+  RoleKind role = RoleKind::kWorker;
+  int id = 0;
+  int64_t measured = 0;       // goals measured and stored
+  int64_t dropped = 0;        // goals measured whose data could not be stored
+  int64_t expired = 0;        // goals expired (notices made)
+  int64_t skipped = 0;        // requests skipped (notices made)
+  int64_t pending = 0;        // goals known and not yet measured
+  int64_t refused_full = 0;   // items refused because the custody buffer was full
+  int64_t lost_notices = 0;   // notices that found no room (must stay 0)
+  int64_t requests = 0;       // newest request known
+};
+
+class Role {
+ public:
+  Role(int16_t id, MotionBackend& motion) : id_(id), motion_(motion) {}
+  virtual ~Role() = default;
+  Role(const Role&) = delete;
+  Role& operator=(const Role&) = delete;
+
+  // One control step at mission time `now` [s], after the motion backend
+  // was advanced to `now`: `inbox` holds this tick's messages for this role
+  // (already past the range gate), in (sender, seq) order.
+  virtual void step(double now, const Message* const* inbox, std::size_t n, Outbox& out) = 0;
+  virtual RoleKind kind() const = 0;
+  virtual RoleReport report() const = 0;
+  // Items this role holds in custody (nullptr: none).
+  virtual const Custody* custody() const { return nullptr; }
+  // Newest request this role knows (-1: none), carried in every header.
+  virtual int32_t newest_request() const = 0;
+
+  int16_t id() const { return id_; }
+  MotionBackend& motion() { return motion_; }
+  const MotionBackend& motion() const { return motion_; }
+
+ protected:
+  // A message with this role's header filled in (sender, time, pose, request).
+  Message* send(Outbox& out, Kind kind, int16_t dest, double now);
+
+  int16_t id_;
+  MotionBackend& motion_;
+};
+
+}  // namespace agent
+}  // namespace gather

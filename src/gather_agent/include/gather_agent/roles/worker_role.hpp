@@ -1,0 +1,83 @@
+#pragma once
+// The worker role: visits the goals of its segment and hands their data on,
+// to its collector (meeting it on the move at a pass of its route) or to the
+// OC (coming back into the coverage). Its decisions are the analytic
+// simulator's (mission::WorkerPolicy); this class executes them tick by tick
+// over messages: requests arrive as messages, data leaves under custody
+// (kept until acked), expired goals and skipped requests are reported to the
+// OC as notices. docs/runtime.md describes the states.
+#include <cstdint>
+#include <vector>
+
+#include "gather_agent/roles/role.hpp"
+
+namespace gather {
+namespace agent {
+
+class WorkerRole : public Role {
+ public:
+  // Worker `agent` of team.plan. Throws gather::Error when the plan gives it
+  // no segment, or its collector no meeting area for it.
+  WorkerRole(TeamSetup& team, int agent, MotionBackend& motion);
+
+  void step(double now, const Message* const* inbox, std::size_t n, Outbox& out) override;
+  RoleKind kind() const override { return RoleKind::kWorker; }
+  RoleReport report() const override;
+  const Custody* custody() const override { return &custody_; }
+  int32_t newest_request() const override { return std::max(resolved_, request_.complete() ? request_.id : -1); }
+
+  enum class Phase { kStart, kReady, kMoving, kAtPass, kSettling, kWaiting, kDone };
+  Phase phase() const { return phase_; }
+  const mission::WorkerPolicy& policy() const { return policy_; }
+  bool delivers_to_oc() const { return policy_.delivers_to_oc(); }
+  int16_t upstream() const { return upstream_; }  // its collector's agent id, or kOc
+
+ private:
+  // The newest request being received (parts may come in several messages).
+  struct Incoming {
+    int32_t id = -1;
+    uint16_t parts = 0;
+    uint64_t seen = 0;  // bit per part
+    std::vector<mission::KnownGoal> mine;  // goals of this worker's segment
+    bool complete() const { return id >= 0 && parts > 0 && seen == (parts >= 64 ? ~0ull : ((1ull << parts) - 1)); }
+  };
+
+  void on_request(const RequestPart& part, int16_t sender);
+  void measure(int local, double at);
+  void notice(ItemKind kind, int32_t key, double at);
+  void skip_overdue(double now);
+  void expire_overdue(double now);
+  bool settled(double now, bool contact);
+  void decide(double now);
+  bool contact(double now) const;  // with its upstream, as predicted by the radio model
+  double due_time() const;         // [s] when the next request should reach it
+
+  TeamSetup& team_;
+  mission::WorkerPolicy policy_;
+  Custody custody_;
+  int16_t upstream_ = kOc;
+  Phase phase_ = Phase::kStart;
+  Incoming request_;         // newest request received (maybe not yet learned)
+  int32_t resolved_ = -1;    // every request up to this one is learned or skipped
+  std::vector<int> known_;   // local indices of the learned request's unmeasured goals
+  // The plan being executed.
+  std::vector<Waypoint> legs_;
+  std::vector<int> leg_goal_;  // local goal index per leg, -1 for the pass / landing
+  std::size_t n_legs_ = 0, legs_seen_ = 0;
+  bool plan_is_work_ = false;
+  int target_rv_ = -1, at_rv_ = -1;
+  bool ends_at_landing_ = false, at_landing_ = false;
+  bool ends_at_meeting_ = false, at_meeting_ = false;
+  double handover_ = 0.0, no_meeting_before_ = 0.0;
+  // Contact and state messages.
+  bool contact_prev_ = false;
+  bool heard_oc_ = false;     // OC workers: the OC answered since it came back into the coverage
+  int32_t oc_newest_ = -1;    // the newest request the OC said it has
+  double next_beacon_ = 0.0, last_hello_ = -1e300;
+  std::vector<mission::KnownGoal> scratch_;
+  RoleReport counters_;
+  std::vector<mission::KnownGoal> none_;
+};
+
+}  // namespace agent
+}  // namespace gather

@@ -1,0 +1,89 @@
+#pragma once
+// The whole team in one process: every role (the OC's included) on an
+// in-memory bus, under the same range gate and the same lockstep clock as
+// the multi-process fleet, without threads. Tick k is at t = k * tick: every
+// motion backend advances to t, then every role steps with the messages
+// sent in tick k - 1 (gated, in (sender, seq) order), and what they send is
+// delivered in tick k + 1. A run ends when the OC has issued every request
+// and every goal is resolved (delivered, expired or dropped), or at the time
+// limit. Same plan, seed and tick: the same run, bit for bit, as the
+// multi-process one (runner/lockstep.hpp).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gather_agent/runner/team.hpp"
+#include "gather_core/mission/simulator.hpp"
+
+namespace gather {
+namespace agent {
+
+struct RunOptions {
+  double tick = 0.1;        // [s] of mission time per tick (the control rate), (0, 0.1]
+  double loss = 0.0;        // injected message loss probability, [0, 1)
+  uint64_t loss_seed = 1;
+  double time_limit = 0.0;  // [s] of mission time; 0: automatic (time_limit())
+  std::size_t inbox = 1024; // messages an agent takes per tick (the rest is counted as overflow)
+  std::size_t outbox = 256; // messages a role sends per tick
+};
+
+// Mission time after which an unfinished run stops: the requests, then
+// room to drain (five periods and three loops of the longest route).
+double time_limit(const TeamSetup& team);
+
+struct RunOutcome {
+  bool completed = false;     // every goal resolved
+  std::string failure;        // why not
+  int64_t ticks = 0;
+  double end_s = 0.0;         // [s] mission time of the last tick
+  double wall_ms = 0.0;
+  mission::MissionResult result;  // when completed: accounting, metrics, per-cycle stats
+  std::vector<AgentSummary> agents;  // by agent id
+  LinkCounters oc_link;
+  int64_t messages = 0;       // sent by everyone
+  int64_t invalid_items = 0;  // items the OC could not place
+  int64_t duplicate_items = 0;
+};
+
+class TeamRunner {
+ public:
+  TeamRunner(TeamSetup& team, const RunOptions& options);
+  ~TeamRunner();
+  RunOutcome run();
+
+  // For tests: the roles after (or during) a run.
+  Role& role(int agent);
+  OcRole& oc();
+
+  // One tick (run() calls it until done); public for tests that inspect
+  // the roles in between. Returns false once the mission is over.
+  bool tick();
+  int64_t ticks() const { return ticks_; }
+  double now() const { return ticks_ * options_.tick; }
+
+ private:
+  TeamSetup& team_;
+  RunOptions options_;
+  RangeGate gate_;
+  std::vector<AgentUnit> units_;  // [0] the OC, then agents 0..N-1
+  std::vector<Outbox> outboxes_;
+  std::vector<LinkCounters> links_;
+  std::vector<uint32_t> seq_;
+  std::vector<Message> sent_, next_;
+  std::vector<const Message*> inbox_;
+  int64_t ticks_ = 0;
+  int next_check_ = 0;  // the next cycle end to check conservation at
+  double limit_ = 0.0;
+  std::vector<int32_t> custody_scratch_;
+};
+
+// Conservation over a team in one process (custody read from the roles).
+void check_team_conservation(const OcRole& oc, const std::vector<AgentUnit>& agents, double now,
+                             std::vector<int32_t>& scratch);
+
+// The summaries of a run, by agent id.
+std::vector<AgentSummary> summarize(const OcRole& oc, const std::vector<const Role*>& roles,
+                                    const std::vector<LinkCounters>& links);
+
+}  // namespace agent
+}  // namespace gather

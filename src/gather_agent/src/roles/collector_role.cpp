@@ -1,0 +1,135 @@
+#include "gather_agent/roles/collector_role.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "gather_core/error.hpp"
+
+namespace gather {
+namespace agent {
+
+CollectorRole::CollectorRole(TeamSetup& team, int agent, MotionBackend& motion)
+    : Role(static_cast<int16_t>(agent), motion),
+      team_(team),
+      collector_(team.assignment(agent).delivers_to),
+      route_(team.routes[static_cast<std::size_t>(team.assignment(agent).delivers_to)]),
+      custody_(team.params.data_capacity, team.params.notice_capacity) {
+  const plan::CollectorRoute& r = team.plan.file.routes[static_cast<std::size_t>(collector_)];
+  for (const plan::MeetingArea& m : r.meetings) {
+    const int w = team.worker_of_segment(m.segment);
+    if (w < 0 || team.assignment(w).delivers_to != collector_)
+      throw Error("plan", "collector " + std::to_string(collector_) + " meets segment " + std::to_string(m.segment) +
+                              ", whose worker is not its own");
+    workers_.push_back(Served{static_cast<int16_t>(w), m.route_s, -1});
+  }
+  const std::size_t g = static_cast<std::size_t>(team.params.goals_per_request);
+  parts_.resize(std::max<std::size_t>(1, (g + kRequestPartGoals - 1) / kRequestPartGoals));
+  acks_.reserve(kMaxBatch);
+  next_beacon_ = team.params.beacon_period * static_cast<double>(agent % 10) / 10.0;
+  counters_.role = RoleKind::kCollector;
+  counters_.id = agent;
+  motion.follow(route_);
+}
+
+RoleReport CollectorRole::report() const {
+  RoleReport r = counters_;
+  r.requests = newest_request();
+  return r;
+}
+
+CollectorRole::Served* CollectorRole::served(int16_t agent) {
+  for (Served& w : workers_)
+    if (w.agent == agent) return &w;
+  return nullptr;
+}
+
+void CollectorRole::on_request(const RequestPart& part) {
+  if (part.request < request_id_ || part.request >= team_.params.cycles) return;
+  if (part.parts == 0 || part.parts > kMaxRequestParts || part.part >= part.parts || part.count > kRequestPartGoals) return;
+  if (part.parts > parts_.size()) parts_.resize(part.parts);  // a larger request than the scenario's
+  if (part.request > request_id_) request_id_ = part.request, seen_ = 0, complete_ = false;
+  if ((seen_ >> part.part) & 1) return;
+  seen_ |= 1ull << part.part;
+  parts_[part.part] = part;
+  complete_ = seen_ == (part.parts >= 64 ? ~0ull : ((1ull << part.parts) - 1));
+}
+
+void CollectorRole::hand_request(Served& w, double now, Outbox& out) {
+  if (!complete_ || w.handed >= request_id_) return;
+  const uint16_t parts = parts_[0].parts;
+  for (uint16_t p = 0; p < parts; ++p)
+    if (Message* m = send(out, Kind::kRequest, w.agent, now)) m->request = parts_[p];
+  w.handed = request_id_;
+}
+
+void CollectorRole::step(double now, const Message* const* inbox, std::size_t n, Outbox& out) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const Message& m = *inbox[i];
+    if (m.h.dest != id_ && m.h.dest != kBroadcast) continue;
+    switch (m.h.kind) {
+      case Kind::kRequest:
+        if (m.h.sender == kOc) on_request(m.request);
+        break;
+      case Kind::kAck:
+        if (m.h.sender == kOc && m.h.dest == id_) custody_.acked(m.ack.keys, std::min<std::size_t>(m.ack.count, kMaxBatch));
+        break;
+      case Kind::kData: {
+        Served* w = served(m.h.sender);
+        if (!w || m.h.dest != id_) break;
+        acks_.clear();
+        const std::size_t count = std::min<std::size_t>(m.data.count, kMaxBatch);
+        for (std::size_t k = 0; k < count; ++k) {
+          DataItem item = m.data.items[k];
+          if (item.kind == ItemKind::kMeasured && item.picked_up_by < 0) item.picked_up_by = id_, item.picked_up_at = now;
+          if (custody_.put(item) == Custody::Put::kFull) {
+            ++counters_.refused_full;  // not acked: the worker keeps it
+            continue;
+          }
+          acks_.push_back(item.key);
+        }
+        if (Message* a = send(out, Kind::kAck, w->agent, now)) {
+          a->ack.count = static_cast<uint16_t>(acks_.size());
+          std::copy(acks_.begin(), acks_.end(), a->ack.keys);
+        }
+        // A worker that lacks the request it should have (it missed the
+        // meeting area) gets it now.
+        if (m.h.request < request_id_ && w->handed >= request_id_) w->handed = -1, hand_request(*w, now, out);
+        break;
+      }
+      case Kind::kState: {
+        Served* w = served(m.h.sender);
+        if (w && m.h.request < request_id_ && w->handed >= request_id_) w->handed = -1, hand_request(*w, now, out);
+        break;
+      }
+    }
+  }
+  // The request goes to each worker as the route passes its meeting area.
+  for (Served& w : workers_)
+    if (route_.next_time_at(w.meeting_arc, prev_ < 0 ? 0.0 : prev_) <= now) hand_request(w, now, out);
+  prev_ = now;
+
+  // Deliver while inside the coverage; say hello when entering it (the OC
+  // passes on its newest request).
+  const bool in_contact = team_.linked(motion_.pose(), team_.world.scenario.oc);
+  if (in_contact && custody_.size() > 0) {
+    DataBatch batch;
+    if (custody_.due(now, team_.params.resend_after, !contact_prev_, batch) > 0)
+      if (Message* m = send(out, Kind::kData, kOc, now)) m->data = batch;
+  }
+  auto state = [&](int16_t dest) {
+    if (Message* m = send(out, Kind::kState, dest, now)) {
+      m->state.role = RoleKind::kCollector;
+      m->state.carried = static_cast<uint16_t>(std::min<std::size_t>(custody_.data(), 65535));
+      m->state.notices = static_cast<uint16_t>(std::min<std::size_t>(custody_.notices(), 65535));
+    }
+  };
+  if (in_contact && !contact_prev_) state(kOc);
+  if (now >= next_beacon_) {
+    state(kBroadcast);
+    while (next_beacon_ <= now) next_beacon_ += team_.params.beacon_period;
+  }
+  contact_prev_ = in_contact;
+}
+
+}  // namespace agent
+}  // namespace gather

@@ -1,0 +1,156 @@
+#include "gather_agent/roles/oc_role.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "gather_core/mission/requests.hpp"
+
+namespace gather {
+namespace agent {
+
+OcRole::OcRole(TeamSetup& team, MotionBackend& station) : Role(kOc, station), team_(team) {
+  const OccupancyGrid& grid = team.world.scenario.grid;
+  per_request_ = team.params.goals_per_request;
+  const std::vector<mission::DrawnGoal> drawn =
+      mission::draw_goals(team.world, team.params.seed, team.params.cycles, per_request_);
+  goals_.reserve(drawn.size());
+  for (const mission::DrawnGoal& d : drawn) {
+    mission::GoalRecord g;
+    g.id = static_cast<int>(goals_.size());
+    g.cycle = d.cycle;
+    g.point = grid.cell_center(d.cell);
+    g.segment = team.plan.labels[grid.index(d.cell)];
+    g.worker = g.segment > 0 ? team.worker_of_segment(g.segment) : -1;
+    g.requested_at = -1.0;
+    g.deadline = g.worker >= 0 ? team.deadline(g.worker, g.cycle) : std::numeric_limits<double>::infinity();
+    goals_.push_back(g);
+    cell_of_.push_back(static_cast<uint32_t>(grid.index(d.cell)));
+  }
+  resolved_.assign(goals_.size(), 0);
+  answered_at_.assign(static_cast<std::size_t>(team.agents()), -1.0);
+  delivered_by_.assign(static_cast<std::size_t>(team.agents()), 0);
+  acks_.reserve(kMaxBatch);
+}
+
+std::size_t OcRole::requested() const { return static_cast<std::size_t>(issued_) * static_cast<std::size_t>(per_request_); }
+
+RoleReport OcRole::report() const {
+  RoleReport r;
+  r.role = RoleKind::kOc;
+  r.id = kOc;
+  r.requests = newest_request();
+  r.pending = static_cast<int64_t>(requested() - resolved_count_);
+  return r;
+}
+
+void OcRole::issue(int cycle, int16_t dest, double now, Outbox& out) {
+  const int parts = std::max(1, (per_request_ + kRequestPartGoals - 1) / kRequestPartGoals);
+  const std::size_t first = static_cast<std::size_t>(cycle) * static_cast<std::size_t>(per_request_);
+  for (int p = 0; p < parts; ++p) {
+    Message* m = send(out, Kind::kRequest, dest, now);
+    if (!m) return;
+    RequestPart& r = m->request;
+    r.request = cycle;
+    r.issued_at = goals_.empty() ? now : goals_[std::min(first, goals_.size() - 1)].requested_at;
+    r.first_goal = static_cast<int32_t>(first);
+    r.total = per_request_;
+    r.part = static_cast<uint16_t>(p);
+    r.parts = static_cast<uint16_t>(parts);
+    const int begin = p * kRequestPartGoals, end = std::min(per_request_, begin + kRequestPartGoals);
+    r.count = static_cast<uint16_t>(std::max(0, end - begin));
+    for (int k = begin; k < end; ++k) r.cells[k - begin] = cell_of_[first + static_cast<std::size_t>(k)];
+  }
+}
+
+void OcRole::resolve(mission::GoalRecord& g, mission::GoalState state) {
+  g.state = state;
+  resolved_[static_cast<std::size_t>(g.id)] = 1;
+  ++resolved_count_;
+}
+
+bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
+  if (item.kind == ItemKind::kSkipped) {
+    const int c = skipped_request(item.key);
+    if (c < 0 || c >= issued_ || item.by < 0 || item.by >= team_.agents() || skipped_worker(item.key) != item.by)
+      return false;
+    const std::size_t first = static_cast<std::size_t>(c) * static_cast<std::size_t>(per_request_);
+    for (std::size_t i = first; i < first + static_cast<std::size_t>(per_request_); ++i) {
+      mission::GoalRecord& g = goals_[i];
+      if (g.worker != item.by || resolved_[i]) continue;
+      g.expired_at = std::max(item.at, g.requested_at);
+      resolve(g, mission::GoalState::kExpired);
+    }
+    return true;
+  }
+  if (item.key < 0 || static_cast<std::size_t>(item.key) >= requested()) return false;
+  mission::GoalRecord& g = goals_[static_cast<std::size_t>(item.key)];
+  if (g.worker != item.by) return false;
+  if (resolved_[static_cast<std::size_t>(item.key)]) {
+    ++duplicates_;
+    return true;
+  }
+  switch (item.kind) {
+    case ItemKind::kMeasured:
+      g.measured_at = item.at, g.measured_by = item.by;
+      g.picked_up_at = item.picked_up_at, g.picked_up_by = item.picked_up_by;
+      g.delivered_at = now, g.delivered_by = sender;
+      ++delivered_by_[static_cast<std::size_t>(sender)];
+      resolve(g, mission::GoalState::kDelivered);
+      break;
+    case ItemKind::kExpired:
+      g.expired_at = std::max(item.at, g.requested_at);
+      resolve(g, mission::GoalState::kExpired);
+      break;
+    case ItemKind::kDropped:
+      g.measured_at = item.at, g.measured_by = item.by;
+      g.dropped_at = item.at;
+      resolve(g, mission::GoalState::kDropped);
+      break;
+    default:
+      return false;
+  }
+  return true;
+}
+
+void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox& out) {
+  // A request every period: broadcast to whoever is in the coverage.
+  while (issued_ < team_.params.cycles && now >= issued_ * team_.period - 1e-9) {
+    const std::size_t first = requested();
+    for (std::size_t i = first; i < first + static_cast<std::size_t>(per_request_); ++i) goals_[i].requested_at = now;
+    ++issued_;
+    issue(issued_ - 1, kBroadcast, now, out);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const Message& m = *inbox[i];
+    const int16_t s = m.h.sender;
+    if (s < 0 || s >= team_.agents()) continue;
+    if (m.h.dest == kOc && m.h.kind == Kind::kData) {
+      acks_.clear();
+      const std::size_t count = std::min<std::size_t>(m.data.count, kMaxBatch);
+      for (std::size_t k = 0; k < count; ++k) {
+        if (!apply(m.data.items[k], s, now)) ++invalid_;
+        acks_.push_back(m.data.items[k].key);  // acked either way: its sender lets go
+      }
+      if (Message* a = send(out, Kind::kAck, s, now)) {
+        a->ack.count = static_cast<uint16_t>(acks_.size());
+        std::copy(acks_.begin(), acks_.end(), a->ack.keys);
+      }
+    } else if (m.h.dest == kOc && m.h.kind == Kind::kState) {
+      if (Message* a = send(out, Kind::kAck, s, now)) a->ack.count = 0;  // "heard you"
+    } else {
+      continue;
+    }
+    // Collectors and workers of the OC take requests from the OC: one that
+    // lacks the newest gets it (once a tick).
+    const plan::AgentAssignment& a = team_.assignment(s);
+    const bool from_oc = a.collector || a.delivers_to < 0;
+    if (from_oc && m.h.request < issued_ - 1 && answered_at_[static_cast<std::size_t>(s)] < now) {
+      answered_at_[static_cast<std::size_t>(s)] = now;
+      issue(issued_ - 1, s, now, out);
+    }
+  }
+}
+
+}  // namespace agent
+}  // namespace gather

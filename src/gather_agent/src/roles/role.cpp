@@ -1,0 +1,144 @@
+#include "gather_agent/roles/role.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "gather_core/error.hpp"
+#include "gather_core/scenario/start_poses.hpp"
+
+namespace gather {
+namespace agent {
+
+const char* kind_name(Kind k) {
+  switch (k) {
+    case Kind::kRequest: return "request";
+    case Kind::kData: return "data";
+    case Kind::kAck: return "ack";
+    case Kind::kState: return "state";
+  }
+  return "?";
+}
+
+const char* item_kind_name(ItemKind k) {
+  switch (k) {
+    case ItemKind::kMeasured: return "measured";
+    case ItemKind::kExpired: return "expired";
+    case ItemKind::kDropped: return "dropped";
+    case ItemKind::kSkipped: return "skipped";
+  }
+  return "?";
+}
+
+const char* role_kind_name(RoleKind r) {
+  switch (r) {
+    case RoleKind::kWorker: return "worker";
+    case RoleKind::kCollector: return "collector";
+    case RoleKind::kOc: return "oc";
+  }
+  return "?";
+}
+
+TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, const MissionParams& prm)
+    : world(w), plan(p), params(prm), radio(w.scenario.grid, w.scenario.radio) {
+  const OccupancyGrid& grid = w.scenario.grid;
+  const plan::PlanFile& pf = p.file;
+  const std::string where = "plan";
+  if (p.width != grid.width() || p.height != grid.height())
+    throw Error(where, "label image is " + std::to_string(p.width) + "x" + std::to_string(p.height) +
+                           ", the scenario's map " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()));
+  const int n = static_cast<int>(pf.agents.size());
+  if (n < 1 || n > kMaxTeam) throw Error(where, "a team of " + std::to_string(n) + " agents (1.." + std::to_string(kMaxTeam) + ")");
+  if (n != w.scenario.team.agents)
+    throw Error(where, "plans " + std::to_string(n) + " agents, the scenario's team has " +
+                           std::to_string(w.scenario.team.agents));
+  if (pf.collectors < 0 || pf.workers < 1 || pf.collectors + pf.workers != n)
+    throw Error(where, "collectors + workers must be the " + std::to_string(n) + " agents");
+  if (static_cast<int>(pf.routes.size()) != pf.collectors) throw Error(where, "one route per collector expected");
+  period = pf.cycle_period_s;
+  speed = w.scenario.team.speed;
+  if (!(period > 0) || !std::isfinite(period)) throw Error(where, "cycle_period_s must be > 0");
+  if (params.cycles < 1 || params.cycles > kMaxRequests) throw Error(where, "cycles must be in 1..100000");
+  if (params.goals_per_request < 0) throw Error(where, "goals per request must be >= 0");
+  if (params.data_capacity == 0)
+    params.data_capacity = std::max<std::size_t>(64, 4 * static_cast<std::size_t>(params.goals_per_request));
+  if (params.notice_capacity == 0) params.notice_capacity = params.data_capacity;
+
+  assignment_.assign(static_cast<std::size_t>(n), plan::AgentAssignment{});
+  std::vector<char> seen(static_cast<std::size_t>(n), 0);
+  collector_agent_.assign(static_cast<std::size_t>(pf.collectors), -1);
+  worker_of_segment_.assign(static_cast<std::size_t>(pf.workers) + 1, -1);
+  for (const plan::AgentAssignment& a : pf.agents) {
+    const std::string who = "agent " + std::to_string(a.id);
+    if (a.id < 0 || a.id >= n || seen[static_cast<std::size_t>(a.id)]) throw Error(where, who + ": ids must be 0.." + std::to_string(n - 1) + ", once each");
+    seen[static_cast<std::size_t>(a.id)] = 1;
+    assignment_[static_cast<std::size_t>(a.id)] = a;
+    if (a.collector) {
+      if (a.delivers_to < 0 || a.delivers_to >= pf.collectors || collector_agent_[static_cast<std::size_t>(a.delivers_to)] >= 0)
+        throw Error(where, who + ": collector index must be 0.." + std::to_string(pf.collectors - 1) + ", once each");
+      collector_agent_[static_cast<std::size_t>(a.delivers_to)] = a.id;
+    } else {
+      if (a.segment < 1 || a.segment > pf.workers || worker_of_segment_[static_cast<std::size_t>(a.segment)] >= 0)
+        throw Error(where, who + ": segment must be 1.." + std::to_string(pf.workers) + ", one worker each");
+      if (a.delivers_to < -1 || a.delivers_to >= pf.collectors)
+        throw Error(where, who + ": collector must be -1 (the OC) or 0.." + std::to_string(pf.collectors - 1));
+      worker_of_segment_[static_cast<std::size_t>(a.segment)] = a.id;
+    }
+  }
+  for (const plan::CollectorRoute& r : pf.routes) {
+    for (const Point2& q : r.waypoints)
+      if (!std::isfinite(q.x) || !std::isfinite(q.y)) throw Error(where, "collector " + std::to_string(r.collector) + ": a waypoint is not finite");
+    routes.emplace_back(r, speed, period, grid, w.coverage);
+  }
+  meeting_arc_.assign(static_cast<std::size_t>(n), 0.0);
+  for (const plan::AgentAssignment& a : pf.agents) {
+    if (a.collector || a.delivers_to < 0) continue;
+    const plan::CollectorRoute& r = pf.routes[static_cast<std::size_t>(a.delivers_to)];
+    const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
+                                [&](const plan::MeetingArea& x) { return x.segment == a.segment; });
+    if (m == r.meetings.end())
+      throw Error(where, "collector " + std::to_string(a.delivers_to) + " has no meeting area for segment " + std::to_string(a.segment));
+    meeting_arc_[static_cast<std::size_t>(a.id)] = m->route_s;
+  }
+  distances = std::make_unique<mission::SharedDistances>(w, p.labels);
+  paths = std::make_unique<GridAStar>(grid, w.reachable);
+  start_ = start_poses(grid, w.scenario.oc, n);
+  range_ = radio.free_space_range();
+}
+
+bool TeamSetup::linked(Point2 a, Point2 b) const {
+  return std::hypot(a.x - b.x, a.y - b.y) <= range_ && radio.linked(a, b);
+}
+
+double TeamSetup::deadline(int agent, int cycle) const {
+  const plan::AgentAssignment& a = assignment(agent);
+  if (a.collector || a.delivers_to < 0) return std::numeric_limits<double>::infinity();
+  return mission::request_reaches_worker(routes[static_cast<std::size_t>(a.delivers_to)],
+                                         meeting_arc_[static_cast<std::size_t>(agent)], cycle + 1, period);
+}
+
+Message* Outbox::add(Kind kind, int16_t dest) {
+  if (n_ >= messages_.size()) {
+    ++refused_;
+    return nullptr;
+  }
+  Message& m = messages_[n_++];
+  m.h = Header{};
+  m.h.kind = kind;
+  m.h.dest = dest;
+  return &m;
+}
+
+Message* Role::send(Outbox& out, Kind kind, int16_t dest, double now) {
+  Message* m = out.add(kind, dest);
+  if (!m) return nullptr;
+  m->h.sender = id_;
+  m->h.t = now;
+  m->h.pos = motion_.pose();
+  m->h.request = newest_request();
+  return m;
+}
+
+}  // namespace agent
+}  // namespace gather

@@ -1,0 +1,334 @@
+#include "gather_agent/roles/worker_role.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <cstdio>
+#include <cstdlib>
+
+#include "gather_core/error.hpp"
+
+namespace gather {
+namespace agent {
+namespace {
+
+int trace_id() {
+  static const int id = std::getenv("GATHER_TRACE") ? std::atoi(std::getenv("GATHER_TRACE")) : -100;
+  return id;
+}
+#define TRACE(...) \
+  if (id_ == trace_id()) std::fprintf(stderr, __VA_ARGS__)
+
+constexpr double kEps = 1e-9;  // [s] as the simulator's time tolerance
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Room for this many goals of one request in a worker's segment before its
+// buffers grow: four times its share, at least 16, at most every goal.
+std::size_t initial_goals(const TeamSetup& team) {
+  const std::size_t g = static_cast<std::size_t>(team.params.goals_per_request);
+  const std::size_t share = 4 * g / static_cast<std::size_t>(std::max(1, team.plan.file.workers));
+  return std::min(g, std::max<std::size_t>(16, share));
+}
+
+}  // namespace
+
+WorkerRole::WorkerRole(TeamSetup& team, int agent, MotionBackend& motion)
+    : Role(static_cast<int16_t>(agent), motion),
+      team_(team),
+      policy_(team.world, team.plan, team.assignment(agent),
+              team.assignment(agent).delivers_to >= 0 ? &team.routes[static_cast<std::size_t>(team.assignment(agent).delivers_to)]
+                                                      : nullptr,
+              *team.distances, initial_goals(team)),
+      custody_(team.params.data_capacity, team.params.notice_capacity) {
+  if (policy_.collector() >= 0) upstream_ = static_cast<int16_t>(team.collector_agent(policy_.collector()));
+  const std::size_t g = static_cast<std::size_t>(team.params.goals_per_request);
+  request_.mine.reserve(initial_goals(team));
+  scratch_.reserve(initial_goals(team));
+  known_.reserve(g);
+  legs_.resize(g + 2);
+  leg_goal_.resize(g + 2);
+  if (motion.max_legs() < g + 2)
+    throw Error("agent " + std::to_string(agent), "its motion backend takes " + std::to_string(motion.max_legs()) +
+                                                      " legs, a plan may need " + std::to_string(g + 2));
+  // Beacons spread over the period, so they do not all go out in one tick.
+  next_beacon_ = team.params.beacon_period * static_cast<double>(agent % 10) / 10.0;
+  counters_.role = RoleKind::kWorker;
+  counters_.id = agent;
+}
+
+RoleReport WorkerRole::report() const {
+  RoleReport r = counters_;
+  r.pending = static_cast<int64_t>(known_.size());
+  r.requests = newest_request();
+  return r;
+}
+
+bool WorkerRole::contact(double now) const {
+  const Point2 here = motion_.pose();
+  if (policy_.delivers_to_oc()) return team_.linked(here, team_.world.scenario.oc);
+  return team_.linked(here, policy_.route()->position(now));
+}
+
+double WorkerRole::due_time() const {
+  if (resolved_ + 1 >= team_.params.cycles) return kInf;
+  if (policy_.delivers_to_oc()) return (resolved_ + 1) * team_.period;
+  return resolved_ < 0 ? 0.0 : team_.deadline(id_, resolved_);
+}
+
+void WorkerRole::on_request(const RequestPart& part, int16_t) {
+  const OccupancyGrid& grid = team_.world.scenario.grid;
+  if (part.request <= resolved_ || part.request < request_.id) return;  // old news
+  if (part.request >= team_.params.cycles || part.parts == 0 || part.parts > kMaxRequestParts ||
+      part.part >= part.parts || part.count > kRequestPartGoals)
+    return;  // not a request of this mission
+  TRACE("request %d part %d from %d\n", part.request, part.part, 0);
+  if (part.request > request_.id) {
+    request_.id = part.request;
+    request_.parts = part.parts;
+    request_.seen = 0;
+    request_.mine.clear();
+  }
+  if (part.parts != request_.parts || ((request_.seen >> part.part) & 1)) return;
+  request_.seen |= 1ull << part.part;
+  for (uint16_t k = 0; k < part.count; ++k) {
+    const uint32_t cell = part.cells[k];
+    if (cell >= grid.size() || !team_.world.reachable[cell] || team_.plan.labels[cell] != policy_.segment()) continue;
+    const int32_t goal = part.first_goal + static_cast<int32_t>(part.part) * kRequestPartGoals + k;
+    request_.mine.push_back(mission::KnownGoal{goal, grid.cell(cell), 0.0});
+  }
+}
+
+void WorkerRole::notice(ItemKind kind, int32_t key, double at) {
+  DataItem item;
+  item.key = key, item.kind = kind, item.by = id_, item.at = at;
+  if (custody_.put(item) == Custody::Put::kFull) ++counters_.lost_notices;
+  if (kind == ItemKind::kExpired) ++counters_.expired;
+  if (kind == ItemKind::kSkipped) ++counters_.skipped;
+  if (kind == ItemKind::kDropped) ++counters_.dropped;
+}
+
+void WorkerRole::measure(int local, double at) {
+  const int32_t goal = policy_.goal(static_cast<std::size_t>(local)).id;
+  known_.erase(std::find(known_.begin(), known_.end(), local));
+  if (custody_.data_full()) {
+    notice(ItemKind::kDropped, goal, at);  // the measurement has no room: reported, never silently lost
+    return;
+  }
+  DataItem item;
+  item.key = goal, item.kind = ItemKind::kMeasured, item.by = id_, item.at = at;
+  custody_.put(item);
+  ++counters_.measured;
+}
+
+// Collector workers: a request whose deadline has passed before it reached
+// the worker can no longer be measured (it was superseded on the way, or
+// never heard): its goals here expire, reported as one notice.
+void WorkerRole::skip_overdue(double now) {
+  if (policy_.delivers_to_oc()) return;
+  while (resolved_ + 1 < team_.params.cycles) {
+    const int c = resolved_ + 1;
+    const double d = team_.deadline(id_, c);
+    if (d > now + kEps) break;
+    notice(ItemKind::kSkipped, skipped_key(c, id_), d);
+    TRACE("%.1f skip request %d (deadline %.1f)\n", now, c, d);
+    resolved_ = c;
+  }
+}
+
+void WorkerRole::expire_overdue(double now) {
+  for (std::size_t i = 0; i < known_.size();) {
+    const mission::KnownGoal& g = policy_.goal(static_cast<std::size_t>(known_[i]));
+    if (g.deadline <= now + kEps) {
+      notice(ItemKind::kExpired, g.id, g.deadline);
+      known_.erase(known_.begin() + static_cast<long>(i));
+    } else {
+      ++i;
+    }
+  }
+}
+
+bool WorkerRole::settled(double now, bool in_contact) {
+  switch (phase_) {
+    case Phase::kStart:
+      return request_.complete() && request_.id > resolved_;
+    case Phase::kReady:
+      return true;
+    case Phase::kMoving:
+    case Phase::kDone:
+      return false;
+    case Phase::kAtPass:
+      // Decide again once the data is gone (taken on the way or at the pass);
+      // a pass without a link keeps the data for a later one.
+      if (custody_.data() == 0) return true;
+      if (now >= handover_ && !in_contact) {
+        no_meeting_before_ = handover_ + 1.0;
+        return true;
+      }
+      return false;
+    case Phase::kSettling:
+      // Back in the coverage: everything delivered, and the OC said which
+      // request is newest (and passed it on if this worker lacked it).
+      return custody_.data() == 0 && heard_oc_ && oc_newest_ <= newest_request();
+    case Phase::kWaiting:
+      return (request_.complete() && request_.id > resolved_) || resolved_ + 1 >= team_.params.cycles;
+  }
+  return false;
+}
+
+void WorkerRole::decide(double now) {
+  const OccupancyGrid& grid = team_.world.scenario.grid;
+  const bool oc_worker = policy_.delivers_to_oc();
+  if (request_.complete() && request_.id > resolved_) {
+    // Requests in between never reached this worker; what is left of the
+    // older one is superseded by the newer.
+    for (int c = resolved_ + 1; c < request_.id; ++c)
+      notice(ItemKind::kSkipped, skipped_key(c, id_), oc_worker ? now : team_.deadline(id_, c));
+    for (int local : known_) notice(ItemKind::kExpired, policy_.goal(static_cast<std::size_t>(local)).id, now);
+    known_.clear();
+    const double deadline = team_.deadline(id_, request_.id);
+    scratch_.assign(request_.mine.begin(), request_.mine.end());
+    for (mission::KnownGoal& g : scratch_) g.deadline = deadline;
+    policy_.reserve(scratch_.size());
+    policy_.learn(scratch_.data(), scratch_.size());
+    for (std::size_t i = 0; i < scratch_.size(); ++i) known_.push_back(static_cast<int>(i));
+    resolved_ = request_.id;
+  }
+  const bool more = resolved_ + 1 < team_.params.cycles;
+  const mission::Spot spot{grid.world_to_cell(motion_.pose()), at_rv_, at_landing_, at_meeting_};
+  const mission::WorkerPolicy::Decision d =
+      policy_.decide(spot, now, known_.data(), known_.size(), custody_.data() > 0, more, no_meeting_before_);
+  TRACE("%.1f decide: resolved %d known %zu carrying %zu -> action %d k %zu rv %d arrive %.1f handover %.1f\n", now,
+        resolved_, known_.size(), custody_.data(), static_cast<int>(d.action), d.k, d.rendezvous, d.arrive, d.handover);
+
+  n_legs_ = 0, legs_seen_ = 0;
+  plan_is_work_ = false, ends_at_landing_ = false, ends_at_meeting_ = false, target_rv_ = -1;
+  auto leg = [&](Point2 p, double arrive, int goal) {
+    legs_[n_legs_] = Waypoint{p, arrive};
+    leg_goal_[n_legs_++] = goal;
+  };
+  using Action = mission::WorkerPolicy::Action;
+  switch (d.action) {
+    case Action::kDone:
+      motion_.hold();
+      phase_ = Phase::kDone;
+      return;
+    case Action::kWait:
+      motion_.hold();
+      phase_ = Phase::kWaiting;
+      return;
+    case Action::kGoToRendezvous:
+      leg(policy_.rendezvous_point(d.rendezvous), d.arrive, -1);
+      target_rv_ = d.rendezvous;
+      break;
+    case Action::kBackToCoverage:
+      leg(grid.cell_center(d.landing), d.arrive, -1);
+      ends_at_landing_ = true;
+      break;
+    case Action::kGoToMeeting:
+      leg(grid.cell_center(d.landing), d.arrive, -1);
+      ends_at_meeting_ = true;
+      break;
+    case Action::kWork:
+      for (std::size_t i = 0; i < d.k; ++i)
+        leg(grid.cell_center(policy_.goal(static_cast<std::size_t>(d.tour[i])).cell), d.at[i], d.tour[i]);
+      if (!oc_worker) {
+        leg(policy_.rendezvous_point(d.rendezvous), d.arrive, -1);
+        target_rv_ = d.rendezvous;
+        handover_ = d.handover;
+        plan_is_work_ = true;
+      } else {
+        const Cell last = policy_.goal(static_cast<std::size_t>(d.tour[d.k - 1])).cell;
+        if (!team_.world.covered(last)) {
+          const auto back = policy_.way_back(last);
+          leg(grid.cell_center(back.first), d.at[d.k - 1] + back.second / team_.speed, -1);
+          ends_at_landing_ = true;
+        }
+      }
+      break;
+  }
+  motion_.go(legs_.data(), n_legs_, now);
+  phase_ = Phase::kMoving;
+  at_rv_ = -1, at_landing_ = false, at_meeting_ = false;
+}
+
+void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Outbox& out) {
+  const bool oc_worker = policy_.delivers_to_oc();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Message& m = *inbox[i];
+    if (oc_worker && m.h.sender == kOc) heard_oc_ = true, oc_newest_ = std::max(oc_newest_, m.h.request);
+    if (m.h.dest != id_ && m.h.dest != kBroadcast) continue;
+    switch (m.h.kind) {
+      case Kind::kRequest:
+        // A worker of a collector hears requests from its collector only
+        // (request 0 comes from the OC: the whole team starts next to it).
+        if (m.h.sender == upstream_ || (m.h.sender == kOc && (oc_worker || m.request.request == 0)))
+          on_request(m.request, m.h.sender);
+        break;
+      case Kind::kAck:
+        if (m.h.sender == upstream_ && m.h.dest == id_) custody_.acked(m.ack.keys, std::min<std::size_t>(m.ack.count, kMaxBatch));
+        break;
+      default:
+        break;
+    }
+  }
+  // The plan's progress: goals reached are measured at their arrival time.
+  if (phase_ == Phase::kMoving) {
+    const std::size_t done = std::min(motion_.legs_done(), n_legs_);
+    for (; legs_seen_ < done; ++legs_seen_)
+      if (leg_goal_[legs_seen_] >= 0) measure(leg_goal_[legs_seen_], motion_.arrived_at(legs_seen_));
+    if (done == n_legs_) {
+      at_rv_ = target_rv_;
+      at_landing_ = ends_at_landing_;
+      at_meeting_ = ends_at_meeting_;
+      if (!oc_worker) {
+        phase_ = plan_is_work_ ? Phase::kAtPass : Phase::kReady;
+      } else if (team_.world.covered(team_.world.scenario.grid.world_to_cell(motion_.pose()))) {
+        phase_ = Phase::kSettling;
+        heard_oc_ = false;
+        last_hello_ = -kInf;
+      } else {
+        phase_ = Phase::kReady;
+      }
+    }
+  }
+  skip_overdue(now);
+  expire_overdue(now);
+  const bool in_contact = contact(now);
+  if (settled(now, in_contact)) decide(now);
+
+  // Custody: everything due goes upstream while in contact.
+  if (in_contact && custody_.size() > 0) {
+    DataBatch batch;
+    if (custody_.due(now, team_.params.resend_after, !contact_prev_, batch) > 0) {
+      if (Message* m = send(out, Kind::kData, upstream_, now)) m->data = batch;
+    }
+  }
+  // State: a hello when it needs to hear from upstream, and the beacon.
+  auto state = [&](int16_t dest) {
+    if (Message* m = send(out, Kind::kState, dest, now)) {
+      m->state.role = RoleKind::kWorker;
+      m->state.carried = static_cast<uint16_t>(std::min<std::size_t>(custody_.data(), 65535));
+      m->state.notices = static_cast<uint16_t>(std::min<std::size_t>(custody_.notices(), 65535));
+      m->state.pending = static_cast<uint16_t>(std::min<std::size_t>(known_.size(), 65535));
+      m->state.measured = static_cast<int32_t>(counters_.measured);
+    }
+  };
+  const double resend = team_.params.resend_after;
+  if (oc_worker && phase_ == Phase::kSettling && !heard_oc_ && now - last_hello_ >= resend) {
+    state(kOc);
+    last_hello_ = now;
+  } else if (!oc_worker && in_contact && now >= due_time() && (!contact_prev_ || now - last_hello_ >= resend)) {
+    state(upstream_);  // a request is due: the collector passes it on
+    TRACE("%.1f hello to collector (due %.1f)\n", now, due_time());
+    last_hello_ = now;
+  }
+  if (now >= next_beacon_) {
+    state(kBroadcast);
+    while (next_beacon_ <= now) next_beacon_ += team_.params.beacon_period;
+  }
+  contact_prev_ = in_contact;
+}
+
+}  // namespace agent
+}  // namespace gather

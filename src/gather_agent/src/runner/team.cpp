@@ -1,0 +1,64 @@
+#include "gather_agent/runner/team.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "gather_agent/motion/route_follower.hpp"
+#include "gather_agent/motion/simulated_base.hpp"
+#include "gather_agent/roles/collector_role.hpp"
+#include "gather_agent/roles/worker_role.hpp"
+#include "gather_core/error.hpp"
+
+namespace gather {
+namespace agent {
+
+AgentUnit make_agent(TeamSetup& team, int agent) {
+  if (agent < 0 || agent >= team.agents())
+    throw Error("plan", "agent " + std::to_string(agent) + " is not in the team of " + std::to_string(team.agents()));
+  AgentUnit u;
+  const Point2 start = team.start_pose(agent);
+  if (team.assignment(agent).collector) {
+    u.motion = std::make_unique<RouteFollower>(start);
+    u.role = std::make_unique<CollectorRole>(team, agent, *u.motion);
+  } else {
+    const std::size_t legs = static_cast<std::size_t>(team.params.goals_per_request) + 2;
+    u.motion = std::make_unique<SimulatedBase>(team.world.scenario.grid, *team.paths, start, legs);
+    u.role = std::make_unique<WorkerRole>(team, agent, *u.motion);
+  }
+  return u;
+}
+
+AgentUnit make_oc(TeamSetup& team) {
+  AgentUnit u;
+  u.motion = std::make_unique<Station>(team.world.scenario.oc);
+  u.role = std::make_unique<OcRole>(team, *u.motion);
+  return u;
+}
+
+void check_conservation(const OcRole& oc, int64_t measured_total, std::vector<int32_t>& custody, double now) {
+  std::sort(custody.begin(), custody.end());
+  custody.erase(std::unique(custody.begin(), custody.end()), custody.end());
+  int64_t carried = 0;
+  for (int32_t key : custody)
+    if (key >= 0 && static_cast<std::size_t>(key) < oc.goals().size() && !oc.resolved(key)) ++carried;
+  int64_t delivered = 0, expired = 0, dropped = 0;
+  for (const mission::GoalRecord& g : oc.goals()) {
+    if (!oc.resolved(g.id)) continue;
+    delivered += g.state == mission::GoalState::kDelivered;
+    expired += g.state == mission::GoalState::kExpired;
+    dropped += g.state == mission::GoalState::kDropped;
+  }
+  if (measured_total != delivered + carried)
+    throw Error("conservation", "at t = " + std::to_string(now) + " s: " + std::to_string(measured_total) +
+                                    " goals measured and stored, but " + std::to_string(delivered) + " delivered + " +
+                                    std::to_string(carried) + " carried (data lost)");
+  const int64_t requested = static_cast<int64_t>(oc.requested());
+  const int64_t pending = requested - delivered - carried - expired - dropped;
+  if (pending < 0)
+    throw Error("conservation", "at t = " + std::to_string(now) + " s: requested " + std::to_string(requested) +
+                                    " < delivered " + std::to_string(delivered) + " + carried " + std::to_string(carried) +
+                                    " + expired " + std::to_string(expired) + " + dropped " + std::to_string(dropped));
+}
+
+}  // namespace agent
+}  // namespace gather

@@ -1,0 +1,144 @@
+#include "gather_agent/runner/team_runner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "gather_agent/roles/worker_role.hpp"
+
+#include "gather_core/error.hpp"
+#include "gather_core/mission/mission_csv.hpp"
+
+namespace gather {
+namespace agent {
+
+double time_limit(const TeamSetup& team) {
+  double longest = 0.0;
+  for (const mission::RouteTimetable& r : team.routes) longest = std::max(longest, r.period());
+  return (team.params.cycles + 5) * team.period + 3.0 * longest;
+}
+
+void check_team_conservation(const OcRole& oc, const std::vector<AgentUnit>& agents, double now,
+                             std::vector<int32_t>& scratch) {
+  scratch.clear();
+  int64_t measured = 0;
+  for (const AgentUnit& u : agents) {
+    if (u.role->kind() == RoleKind::kWorker) measured += u.role->report().measured;
+    if (const Custody* c = u.role->custody())
+      for (std::size_t i = 0; i < c->size(); ++i)
+        if (c->item(i).kind == ItemKind::kMeasured) scratch.push_back(c->item(i).key);
+  }
+  check_conservation(oc, measured, scratch, now);
+}
+
+std::vector<AgentSummary> summarize(const OcRole& oc, const std::vector<const Role*>& roles,
+                                    const std::vector<LinkCounters>& links) {
+  std::vector<AgentSummary> out;
+  for (std::size_t i = 0; i < roles.size(); ++i) {
+    AgentSummary s;
+    s.id = roles[i]->id();
+    s.role = roles[i]->kind();
+    s.report = roles[i]->report();
+    s.link = links[i];
+    if (const Custody* c = roles[i]->custody()) s.carried = static_cast<int64_t>(c->data());
+    s.delivered = oc.delivered_by(s.id);
+    out.push_back(s);
+  }
+  return out;
+}
+
+TeamRunner::TeamRunner(TeamSetup& team, const RunOptions& options)
+    : team_(team), options_(options), gate_(team, options.loss, options.loss_seed) {
+  if (!(options_.tick > 0.0) || options_.tick > 0.1 + 1e-12)
+    throw Error("--tick", "must be in (0, 0.1] s (the control rate), got " + std::to_string(options_.tick));
+  if (!(options_.loss >= 0.0) || !(options_.loss < 1.0))
+    throw Error("--loss", "must be in [0, 1), got " + std::to_string(options_.loss));
+  units_.push_back(make_oc(team));
+  for (int a = 0; a < team.agents(); ++a) units_.push_back(make_agent(team, a));
+  for (std::size_t i = 0; i < units_.size(); ++i) outboxes_.emplace_back(options_.outbox);
+  links_.assign(units_.size(), LinkCounters{});
+  seq_.assign(units_.size(), 0);
+  sent_.reserve(units_.size() * 8);
+  next_.reserve(units_.size() * 8);
+  inbox_.reserve(options_.inbox);
+  limit_ = options_.time_limit > 0 ? options_.time_limit : time_limit(team);
+}
+
+TeamRunner::~TeamRunner() = default;
+
+Role& TeamRunner::role(int agent) { return *units_[static_cast<std::size_t>(agent) + 1].role; }
+OcRole& TeamRunner::oc() { return static_cast<OcRole&>(*units_[0].role); }
+
+bool TeamRunner::tick() {
+  const double t = now();
+  next_.clear();
+  for (std::size_t i = 0; i < units_.size(); ++i) {
+    AgentUnit& u = units_[i];
+    u.motion->advance(t);
+    gather_inbox(sent_, u.role->id(), u.motion->pose(), gate_, links_[i], inbox_);
+    Outbox& out = outboxes_[i];
+    out.clear();
+    u.role->step(t, inbox_.data(), inbox_.size(), out);
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      Message m = out[k];
+      m.h.seq = seq_[i]++;
+      m.h.tick = ticks_;
+      next_.push_back(m);
+    }
+    links_[i].sent += static_cast<int64_t>(out.size());
+  }
+  std::swap(sent_, next_);
+  ++ticks_;
+  // Conservation at every cycle's end.
+  while (next_check_ < team_.params.cycles && t >= (next_check_ + 1) * team_.period) {
+    check_team_conservation(oc(), units_, t, custody_scratch_);
+    ++next_check_;
+  }
+  return !oc().done() && t < limit_;
+}
+
+RunOutcome TeamRunner::run() {
+  const auto t0 = std::chrono::steady_clock::now();
+  while (tick()) {
+  }
+  RunOutcome out;
+  out.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  out.ticks = ticks_;
+  out.end_s = (ticks_ - 1) * options_.tick;
+  out.completed = oc().done();
+  std::vector<const Role*> roles;
+  std::vector<LinkCounters> links;
+  for (std::size_t i = 1; i < units_.size(); ++i) roles.push_back(units_[i].role.get()), links.push_back(links_[i]);
+  out.agents = summarize(oc(), roles, links);
+  out.oc_link = links_[0];
+  for (const LinkCounters& l : links_) out.messages += l.sent;
+  out.invalid_items = oc().invalid_items();
+  out.duplicate_items = oc().duplicate_items();
+  if (!out.completed && std::getenv("GATHER_DEBUG")) {
+    for (const mission::GoalRecord& g : oc().goals()) {
+      if (static_cast<std::size_t>(g.id) >= oc().requested() || oc().resolved(g.id)) continue;
+      std::string where;
+      for (std::size_t i = 1; i < units_.size(); ++i)
+        if (const Custody* c = units_[i].role->custody())
+          for (std::size_t k = 0; k < c->size(); ++k)
+            if (c->item(k).key == g.id) where += " held by " + std::to_string(i - 1) + "(" + item_kind_name(c->item(k).kind) + ")";
+      const Role& w = *units_[static_cast<std::size_t>(g.worker) + 1].role;
+      std::fprintf(stderr, "unresolved goal %d cycle %d worker %d seg %d deadline %.1f:%s worker knows %d phase %d\n", g.id, g.cycle,
+                   g.worker, g.segment, g.deadline, where.c_str(), w.newest_request(),
+                   w.kind() == RoleKind::kWorker ? static_cast<int>(static_cast<const WorkerRole&>(w).phase()) : -1);
+    }
+  }
+  if (!out.completed) {
+    out.failure = "mission not finished at t = " + std::to_string(out.end_s) + " s (limit " + std::to_string(limit_) +
+                  " s): " + std::to_string(oc().requested() - oc().resolved_count()) + " of " +
+                  std::to_string(oc().requested()) + " goals unresolved";
+    return out;
+  }
+  out.result = mission::mission_result(oc().goals(), team_.params.cycles, team_.period, out.wall_ms);
+  return out;
+}
+
+}  // namespace agent
+}  // namespace gather

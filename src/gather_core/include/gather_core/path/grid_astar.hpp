@@ -1,0 +1,41 @@
+#pragma once
+// Shortest 8-connected paths on a grid's traversable cells by A* (octile
+// heuristic; no diagonal step past a blocked corner). A reusable workspace
+// bound to one grid: arrays are allocated once (9 B/cell) and reset by
+// generation stamps, the open list keeps its capacity, so a search after the
+// first allocates nothing unless its open list outgrows every earlier one.
+// Used where a path between two points is needed, not a field: A* explores
+// a band around the path, where a march would flood a disc of its length.
+#include <cstdint>
+#include <vector>
+
+#include "gather_core/grid/occupancy_grid.hpp"
+
+namespace gather {
+
+class GridAStar {
+ public:
+  // `traversable`: row-major, 1 where a path may go (e.g. the reachable cells).
+  GridAStar(const OccupancyGrid& grid, const std::vector<uint8_t>& traversable);
+
+  // Cell centres from `from`'s cell to `to`'s cell into `out` (cleared
+  // first); false (out empty) when `to` cannot be reached or an end is not
+  // traversable.
+  bool find(Cell from, Cell to, std::vector<Cell>& out);
+  bool traversable(Cell c) const { return grid_.contains(c) && free_[grid_.index(c)] != 0; }
+
+ private:
+  struct Open {
+    float f;
+    uint32_t index;
+  };
+  const OccupancyGrid& grid_;
+  const std::vector<uint8_t>& free_;
+  std::vector<float> g_;
+  std::vector<uint32_t> stamp_;
+  std::vector<uint8_t> dir_;  // step that reached the cell (0..7)
+  std::vector<Open> open_;
+  uint32_t generation_ = 0;
+};
+
+}  // namespace gather

@@ -1,0 +1,74 @@
+#include "gather_core/path/grid_astar.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+namespace gather {
+namespace {
+
+constexpr int kDr[8] = {0, 0, 1, -1, 1, 1, -1, -1};
+constexpr int kDc[8] = {1, -1, 0, 0, 1, -1, 1, -1};
+constexpr float kDiag = 1.41421356f;
+
+}  // namespace
+
+GridAStar::GridAStar(const OccupancyGrid& grid, const std::vector<uint8_t>& traversable)
+    : grid_(grid), free_(traversable), g_(grid.size(), 0.0f), stamp_(grid.size(), 0), dir_(grid.size(), 0) {
+  open_.reserve(4096);
+}
+
+bool GridAStar::find(Cell from, Cell to, std::vector<Cell>& out) {
+  out.clear();
+  if (!traversable(from) || !traversable(to)) return false;
+  if (++generation_ == 0) {  // wrapped: stamps are stale everywhere
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    generation_ = 1;
+  }
+  const int w = grid_.width();
+  auto h = [&](std::size_t i) {
+    const float dx = static_cast<float>(std::abs(static_cast<int>(i % static_cast<std::size_t>(w)) - to.col));
+    const float dy = static_cast<float>(std::abs(static_cast<int>(i / static_cast<std::size_t>(w)) - to.row));
+    return std::max(dx, dy) + (kDiag - 1.0f) * std::min(dx, dy);
+  };
+  auto later = [](const Open& a, const Open& b) { return a.f > b.f; };
+  const std::size_t start = grid_.index(from), goal = grid_.index(to);
+  open_.clear();
+  g_[start] = 0.0f, stamp_[start] = generation_;
+  open_.push_back(Open{h(start), static_cast<uint32_t>(start)});
+  bool found = false;
+  while (!open_.empty()) {
+    std::pop_heap(open_.begin(), open_.end(), later);
+    const Open top = open_.back();
+    open_.pop_back();
+    const std::size_t i = top.index;
+    if (i == goal) {
+      found = true;
+      break;
+    }
+    if (top.f > g_[i] + h(i) + 1e-3f) continue;  // stale entry
+    const Cell c = grid_.cell(i);
+    for (int k = 0; k < 8; ++k) {
+      const Cell n{c.row + kDr[k], c.col + kDc[k]};
+      if (!traversable(n)) continue;
+      if (k >= 4 && (!traversable(Cell{c.row + kDr[k], c.col}) || !traversable(Cell{c.row, c.col + kDc[k]}))) continue;
+      const std::size_t j = grid_.index(n);
+      const float gj = g_[i] + (k >= 4 ? kDiag : 1.0f);
+      if (stamp_[j] == generation_ && g_[j] <= gj) continue;
+      g_[j] = gj, stamp_[j] = generation_, dir_[j] = static_cast<uint8_t>(k);
+      open_.push_back(Open{gj + h(j), static_cast<uint32_t>(j)});
+      std::push_heap(open_.begin(), open_.end(), later);
+    }
+  }
+  if (!found) return false;
+  for (Cell c = to;;) {
+    out.push_back(c);
+    if (c == from) break;
+    const int k = dir_[grid_.index(c)];
+    c = Cell{c.row - kDr[k], c.col - kDc[k]};
+  }
+  std::reverse(out.begin(), out.end());
+  return true;
+}
+
+}  // namespace gather
