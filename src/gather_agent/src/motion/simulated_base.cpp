@@ -9,11 +9,27 @@
 
 namespace gather {
 namespace agent {
+namespace {
 
-SimulatedBase::SimulatedBase(const OccupancyGrid& grid, GridAStar& paths, Point2 start, std::size_t max_legs)
-    : grid_(grid), paths_(paths), max_legs_(max_legs), pose_(start), legs_(max_legs), spans_(max_legs), lengths_(max_legs) {
+constexpr double kDetour = 1.2;  // a way via the home region at most this much longer than planned
+
+}  // namespace
+
+SimulatedBase::SimulatedBase(const OccupancyGrid& grid, GridAStar& paths, Point2 start, std::size_t max_legs,
+                             double speed, const fmm::FastMarching* home, const std::vector<uint8_t>* home_mask)
+    : grid_(grid),
+      speed_(speed),
+      paths_(paths),
+      home_(home_mask ? home : nullptr),
+      home_mask_(home_mask),
+      max_legs_(max_legs),
+      pose_(start),
+      legs_(max_legs),
+      spans_(max_legs),
+      lengths_(max_legs) {
   points_.reserve(max_legs * 8 + 256);
-  cells_.reserve(static_cast<std::size_t>(4 * (grid.width() + grid.height())));
+  cells_.reserve(static_cast<std::size_t>(8 * (grid.width() + grid.height())));
+  tail_.reserve(static_cast<std::size_t>(4 * (grid.width() + grid.height())));
 }
 
 void SimulatedBase::follow(const mission::RouteTimetable&) {
@@ -25,24 +41,75 @@ void SimulatedBase::hold() {
   points_.clear();
 }
 
-// The segment a-b stays in traversable cells (sampled every fifth of a cell).
+// The segment a-b stays in traversable cells: every cell it passes through
+// (Amanatides-Woo traversal in cell coordinates).
 bool SimulatedBase::line_of_sight(Point2 a, Point2 b) const {
-  const double len = std::hypot(b.x - a.x, b.y - a.y);
-  const int steps = std::max(1, static_cast<int>(std::ceil(len / (0.2 * grid_.resolution()))));
-  for (int i = 0; i <= steps; ++i) {
-    const double f = static_cast<double>(i) / steps;
-    if (!paths_.traversable(grid_.world_to_cell(Point2{a.x + f * (b.x - a.x), a.y + f * (b.y - a.y)}))) return false;
+  const double r = grid_.resolution();
+  const double ax = (a.x - grid_.origin().x) / r, ay = (a.y - grid_.origin().y) / r;
+  const double bx = (b.x - grid_.origin().x) / r, by = (b.y - grid_.origin().y) / r;
+  int cx = static_cast<int>(std::floor(ax)), cy = static_cast<int>(std::floor(ay));
+  const int ex = static_cast<int>(std::floor(bx)), ey = static_cast<int>(std::floor(by));
+  const double dx = bx - ax, dy = by - ay;
+  const int sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double tdx = dx != 0 ? std::abs(1.0 / dx) : inf, tdy = dy != 0 ? std::abs(1.0 / dy) : inf;
+  double tmx = dx != 0 ? ((dx > 0 ? (cx + 1 - ax) : (ax - cx)) * tdx) : inf;
+  double tmy = dy != 0 ? ((dy > 0 ? (cy + 1 - ay) : (ay - cy)) * tdy) : inf;
+  const int steps = std::abs(ex - cx) + std::abs(ey - cy);
+  for (int i = 0;; ++i) {
+    if (!paths_.traversable(Cell{cy, cx})) return false;
+    if (i >= steps) return true;
+    if (tmx < tmy) cx += sx, tmx += tdx;
+    else cy += sy, tmy += tdy;
   }
+}
+
+// Cells from `from` down the home field (8-connected steepest descent, no
+// corner cutting) to where it bottoms out, a cell of the region's border.
+Cell SimulatedBase::descend(Cell from, std::vector<Cell>& out) const {
+  out.clear();
+  out.push_back(from);
+  Cell c = from;
+  const std::size_t guard = out.capacity();
+  while (out.size() < guard) {
+    double best = home_->time(c);
+    Cell next = c;
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) {
+        const Cell n{c.row + dr, c.col + dc};
+        if ((dr == 0 && dc == 0) || !paths_.traversable(n)) continue;
+        if (dr != 0 && dc != 0 && (!paths_.traversable(Cell{c.row + dr, c.col}) || !paths_.traversable(Cell{c.row, c.col + dc})))
+          continue;
+        if (home_->time(n) < best) best = home_->time(n), next = n;
+      }
+    if (next == c) break;
+    c = next;
+    out.push_back(c);
+  }
+  return c;
+}
+
+bool SimulatedBase::home_path(Cell a, Cell b) {
+  if (!home_ || !home_->reached(a) || !home_->reached(b)) return false;
+  if (home_->time(b) == 0.0) return descend(a, cells_) == b;  // back into the region, where `to` is
+  const bool a_inside = (*home_mask_)[grid_.index(a)] != 0, b_inside = (*home_mask_)[grid_.index(b)] != 0;
+  if (!a_inside || b_inside) return false;
+  // Out of the region: leave it where `to` is nearest to it, the way `to`
+  // would come back, reversed.
+  const Cell exit = descend(b, tail_);
+  if (!paths_.find(a, exit, cells_)) return false;
+  cells_.insert(cells_.end(), tail_.rbegin() + 1, tail_.rend());
   return true;
 }
 
-void SimulatedBase::plan_path(Point2 from, Point2 to) {
+void SimulatedBase::plan_path(Point2 from, Point2 to, bool search) {
   if (line_of_sight(from, to)) {
     points_.push_back(from);
     points_.push_back(to);
     return;
   }
-  if (!paths_.find(grid_.world_to_cell(from), grid_.world_to_cell(to), cells_)) {
+  const Cell a = grid_.world_to_cell(from), b = grid_.world_to_cell(to);
+  if (!(!search && home_path(a, b)) && !paths_.find(a, b, cells_)) {
     points_.push_back(from);  // no way (an end off the free space): straight, as planned times say
     points_.push_back(to);
     return;
@@ -64,14 +131,25 @@ void SimulatedBase::go(const Waypoint* legs, std::size_t n, double depart) {
   n_ = n, done_ = 0, depart_ = depart;
   points_.clear();
   Point2 from = pose_;
-  for (std::size_t i = 0; i < n; ++i) {
-    spans_[i].first = points_.size();
-    plan_path(from, legs[i].point);
-    spans_[i].second = points_.size();
+  auto length = [&](std::size_t i) {
     double len = 0.0;
     for (std::size_t k = spans_[i].first + 1; k < spans_[i].second; ++k)
       len += std::hypot(points_[k].x - points_[k - 1].x, points_[k].y - points_[k - 1].y);
-    lengths_[i] = len;
+    return len;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    spans_[i].first = points_.size();
+    plan_path(from, legs[i].point, false);
+    spans_[i].second = points_.size();
+    lengths_[i] = length(i);
+    // A way through the home region much longer than the plan's: search.
+    const double planned = (legs[i].arrive - (i == 0 ? depart : legs[i - 1].arrive)) * speed_;
+    if (lengths_[i] > kDetour * planned && spans_[i].second - spans_[i].first > 2) {
+      points_.resize(spans_[i].first);
+      plan_path(from, legs[i].point, true);
+      spans_[i].second = points_.size();
+      lengths_[i] = length(i);
+    }
     from = legs[i].point;
   }
   advance(std::max(now_, depart));

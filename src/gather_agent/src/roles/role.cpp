@@ -102,7 +102,7 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
     meeting_arc_[static_cast<std::size_t>(a.id)] = m->route_s;
   }
   distances = std::make_unique<mission::SharedDistances>(w, p.labels);
-  paths = std::make_unique<GridAStar>(grid, w.reachable);
+  paths = std::make_unique<GridAStar>(grid, w.reachable, &w.coverage_field);
   start_ = start_poses(grid, w.scenario.oc, n);
   range_ = radio.free_space_range();
 }

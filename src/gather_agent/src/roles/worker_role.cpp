@@ -294,7 +294,10 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
   }
   skip_overdue(now);
   expire_overdue(now);
-  const bool in_contact = contact(now);
+  // The radio model is asked only when contact matters: data to hand on, a
+  // pass to meet at, a request due from the collector.
+  const bool need = custody_.size() > 0 || phase_ == Phase::kAtPass || (!oc_worker && now >= due_time());
+  const bool in_contact = need && contact(now);
   if (settled(now, in_contact)) decide(now);
 
   // Custody: everything due goes upstream while in contact.

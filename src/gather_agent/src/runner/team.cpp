@@ -22,7 +22,8 @@ AgentUnit make_agent(TeamSetup& team, int agent) {
     u.role = std::make_unique<CollectorRole>(team, agent, *u.motion);
   } else {
     const std::size_t legs = static_cast<std::size_t>(team.params.goals_per_request) + 2;
-    u.motion = std::make_unique<SimulatedBase>(team.world.scenario.grid, *team.paths, start, legs);
+    u.motion = std::make_unique<SimulatedBase>(team.world.scenario.grid, *team.paths, start, legs, team.speed,
+                                               &team.world.coverage_field, &team.world.coverage);
     u.role = std::make_unique<WorkerRole>(team, agent, *u.motion);
   }
   return u;

@@ -13,8 +13,8 @@ constexpr float kDiag = 1.41421356f;
 
 }  // namespace
 
-GridAStar::GridAStar(const OccupancyGrid& grid, const std::vector<uint8_t>& traversable)
-    : grid_(grid), free_(traversable), g_(grid.size(), 0.0f), stamp_(grid.size(), 0), dir_(grid.size(), 0) {
+GridAStar::GridAStar(const OccupancyGrid& grid, const std::vector<uint8_t>& traversable, const fmm::FastMarching* landmark)
+    : grid_(grid), free_(traversable), landmark_(landmark), inv_res_(static_cast<float>(1.0 / grid.resolution())), g_(grid.size(), 0.0f), stamp_(grid.size(), 0), closed_(grid.size(), 0), dir_(grid.size(), 0) {
   open_.reserve(4096);
 }
 
@@ -23,19 +23,29 @@ bool GridAStar::find(Cell from, Cell to, std::vector<Cell>& out) {
   if (!traversable(from) || !traversable(to)) return false;
   if (++generation_ == 0) {  // wrapped: stamps are stale everywhere
     std::fill(stamp_.begin(), stamp_.end(), 0);
+    std::fill(closed_.begin(), closed_.end(), 0);
     generation_ = 1;
   }
   const int w = grid_.width();
+  // Octile distance, or the difference of the landmark distances when
+  // larger (|d(n) - d(to)| <= d(n, to) for a distance field d, so both are
+  // lower bounds; the landmark steers long searches along the corridors).
+  const float to_mark = landmark_ ? static_cast<float>(landmark_->time(to)) * inv_res_ : 0.0f;
   auto h = [&](std::size_t i) {
-    const float dx = static_cast<float>(std::abs(static_cast<int>(i % static_cast<std::size_t>(w)) - to.col));
-    const float dy = static_cast<float>(std::abs(static_cast<int>(i / static_cast<std::size_t>(w)) - to.row));
-    return std::max(dx, dy) + (kDiag - 1.0f) * std::min(dx, dy);
+    const Cell c{static_cast<int>(i / static_cast<std::size_t>(w)), static_cast<int>(i % static_cast<std::size_t>(w))};
+    const float dx = static_cast<float>(std::abs(c.col - to.col)), dy = static_cast<float>(std::abs(c.row - to.row));
+    const float octile = std::max(dx, dy) + (kDiag - 1.0f) * std::min(dx, dy);
+    if (!landmark_) return octile;
+    const float mark = static_cast<float>(landmark_->time(c)) * inv_res_;
+    return mark < 1e30f && to_mark < 1e30f ? std::max(octile, std::abs(mark - to_mark)) : octile;
   };
-  auto later = [](const Open& a, const Open& b) { return a.f > b.f; };
+  // Equal f (common on a grid) goes deeper first: on open floor the search
+  // then runs along the path instead of filling the area of equal f.
+  auto later = [](const Open& a, const Open& b) { return a.f > b.f || (a.f == b.f && a.g < b.g); };
   const std::size_t start = grid_.index(from), goal = grid_.index(to);
   open_.clear();
   g_[start] = 0.0f, stamp_[start] = generation_;
-  open_.push_back(Open{h(start), static_cast<uint32_t>(start)});
+  open_.push_back(Open{h(start), 0.0f, static_cast<uint32_t>(start)});
   bool found = false;
   while (!open_.empty()) {
     std::pop_heap(open_.begin(), open_.end(), later);
@@ -46,7 +56,8 @@ bool GridAStar::find(Cell from, Cell to, std::vector<Cell>& out) {
       found = true;
       break;
     }
-    if (top.f > g_[i] + h(i) + 1e-3f) continue;  // stale entry
+    if (closed_[i] == generation_) continue;  // expanded already (a stale entry)
+    closed_[i] = generation_;
     const Cell c = grid_.cell(i);
     for (int k = 0; k < 8; ++k) {
       const Cell n{c.row + kDr[k], c.col + kDc[k]};
@@ -54,9 +65,9 @@ bool GridAStar::find(Cell from, Cell to, std::vector<Cell>& out) {
       if (k >= 4 && (!traversable(Cell{c.row + kDr[k], c.col}) || !traversable(Cell{c.row, c.col + kDc[k]}))) continue;
       const std::size_t j = grid_.index(n);
       const float gj = g_[i] + (k >= 4 ? kDiag : 1.0f);
-      if (stamp_[j] == generation_ && g_[j] <= gj) continue;
+      if (closed_[j] == generation_ || (stamp_[j] == generation_ && g_[j] <= gj)) continue;
       g_[j] = gj, stamp_[j] = generation_, dir_[j] = static_cast<uint8_t>(k);
-      open_.push_back(Open{gj + h(j), static_cast<uint32_t>(j)});
+      open_.push_back(Open{gj + h(j), gj, static_cast<uint32_t>(j)});
       std::push_heap(open_.begin(), open_.end(), later);
     }
   }

@@ -19,6 +19,31 @@ double RadioModel::received_for(double d_m, int walls) const {
   return received_without_walls(d_m) - params_.wall_loss_db * std::min(walls, params_.max_walls);
 }
 
+// Walls a link that receives `clear` [dBm] without walls can afford (same
+// arithmetic as received_for), computed, not counted up: max_walls may be huge.
+int RadioModel::affordable_walls(double clear) const {
+  const double sens = params_.sensitivity_dbm, loss = params_.wall_loss_db;
+  const int most = params_.max_walls;
+  if (!(loss > 0.0)) return most;
+  const double guess = std::floor((clear - sens) / loss);
+  int k = guess <= 0 ? 0 : guess >= most ? most : static_cast<int>(guess);
+  while (k > 0 && clear - loss * k < sens) --k;
+  while (k < most && clear - loss * (k + 1) >= sens) ++k;
+  return k;
+}
+
+bool RadioModel::linked(Point2 a, Point2 b) const {
+  const double clear = received_without_walls(std::hypot(b.x - a.x, b.y - a.y));
+  if (clear < params_.sensitivity_dbm) return false;
+  // Counting walls stops one past the affordable ones (a long segment
+  // through many walls costs no more than its first few).
+  const int affordable = affordable_walls(clear);
+  if (affordable >= params_.max_walls) return true;
+  const double r = grid_.resolution();
+  const Point2 o = grid_.origin();
+  return count_walls((a.x - o.x) / r, (a.y - o.y) / r, (b.x - o.x) / r, (b.y - o.y) / r, affordable + 1) <= affordable;
+}
+
 int RadioModel::count_walls(double ax, double ay, double bx, double by, int stop_at) const {
   // Amanatides-Woo traversal of every cell the segment passes through, in
   // cell coordinates (x = col, y = row, cell (c, r) spans [c, c+1) x [r, r+1)).
@@ -90,8 +115,7 @@ void RadioModel::coverage(Point2 tx, std::vector<uint8_t>& mask) const {
       const double clear = received_without_walls(d);
       if (clear < sens) continue;
       // Walls this link can afford (same arithmetic as received_for); counting stops one past them.
-      int affordable = 0;
-      while (affordable < params_.max_walls && clear - params_.wall_loss_db * (affordable + 1) >= sens) ++affordable;
+      const int affordable = affordable_walls(clear);
       if (affordable >= params_.max_walls ||
           count_walls(ax, ay, (p.x - o.x) / res, (p.y - o.y) / res, affordable + 1) <= affordable)
         mask[i] = 1;

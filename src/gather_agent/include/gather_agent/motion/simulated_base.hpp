@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gather_agent/motion/motion_backend.hpp"
+#include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/path/grid_astar.hpp"
 
 namespace gather {
@@ -20,7 +21,16 @@ class SimulatedBase : public MotionBackend {
   // by the bases of one process; it is only used inside go()). Room for
   // `max_legs` legs a plan; paths are kept in buffers that grow only past
   // their high-water mark.
-  SimulatedBase(const OccupancyGrid& grid, GridAStar& paths, Point2 start, std::size_t max_legs);
+  // `home`, `home_mask` (optional): a region the base often drives out of
+  // and back into (the OC's coverage: mission::World::coverage and
+  // coverage_field, a unit-speed march from the region's border cells). A
+  // leg back to a border cell walks down that field; a leg from inside the
+  // region out to a point leaves it where the point is nearest to it, the
+  // way the point would come back (reversed): both without a search across
+  // the map.
+  // `speed` [m/s]: the team speed the plan's times assume.
+  SimulatedBase(const OccupancyGrid& grid, GridAStar& paths, Point2 start, std::size_t max_legs, double speed,
+                const fmm::FastMarching* home = nullptr, const std::vector<uint8_t>* home_mask = nullptr);
 
   void go(const Waypoint* legs, std::size_t n, double depart) override;
   void hold() override;
@@ -37,10 +47,16 @@ class SimulatedBase : public MotionBackend {
 
  private:
   bool line_of_sight(Point2 a, Point2 b) const;
-  void plan_path(Point2 from, Point2 to);  // appends the leg's polyline to points_
+  Cell descend(Cell from, std::vector<Cell>& out) const;
+  bool home_path(Cell a, Cell b);  // into cells_ by the home field; false when it does not apply
+  // Appends the leg's polyline to points_; `search`: A* even where the home region would do.
+  void plan_path(Point2 from, Point2 to, bool search);
 
   const OccupancyGrid& grid_;
+  double speed_;
   GridAStar& paths_;
+  const fmm::FastMarching* home_;
+  const std::vector<uint8_t>* home_mask_;
   std::size_t max_legs_;
   Point2 pose_;
   double now_ = 0.0;
@@ -50,7 +66,7 @@ class SimulatedBase : public MotionBackend {
   std::vector<Point2> points_;                               // every leg's polyline, one after the other
   std::vector<std::pair<std::size_t, std::size_t>> spans_;  // [first, last) in points_ per leg
   std::vector<double> lengths_;                             // [m] per leg
-  std::vector<Cell> cells_;                                 // scratch: an A* path
+  std::vector<Cell> cells_, tail_;                          // scratch: a path of cells
 };
 
 }  // namespace agent

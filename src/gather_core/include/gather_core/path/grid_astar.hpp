@@ -1,7 +1,7 @@
 #pragma once
 // Shortest 8-connected paths on a grid's traversable cells by A* (octile
 // heuristic; no diagonal step past a blocked corner). A reusable workspace
-// bound to one grid: arrays are allocated once (9 B/cell) and reset by
+// bound to one grid: arrays are allocated once (13 B/cell) and reset by
 // generation stamps, the open list keeps its capacity, so a search after the
 // first allocates nothing unless its open list outgrows every earlier one.
 // Used where a path between two points is needed, not a field: A* explores
@@ -9,14 +9,19 @@
 #include <cstdint>
 #include <vector>
 
+#include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/grid/occupancy_grid.hpp"
 
 namespace gather {
 
 class GridAStar {
  public:
-  // `traversable`: row-major, 1 where a path may go (e.g. the reachable cells).
-  GridAStar(const OccupancyGrid& grid, const std::vector<uint8_t>& traversable);
+  // `traversable`: row-major, 1 where a path may go (e.g. the reachable
+  // cells). `landmark` (optional): a unit-speed distance field on the same
+  // grid (e.g. the distance to the OC's coverage); the difference of its
+  // values is a second lower bound that makes long searches across a map of
+  // rooms and corridors explore far fewer cells.
+  GridAStar(const OccupancyGrid& grid, const std::vector<uint8_t>& traversable, const fmm::FastMarching* landmark = nullptr);
 
   // Cell centres from `from`'s cell to `to`'s cell into `out` (cleared
   // first); false (out empty) when `to` cannot be reached or an end is not
@@ -26,13 +31,16 @@ class GridAStar {
 
  private:
   struct Open {
-    float f;
+    float f, g;
     uint32_t index;
   };
   const OccupancyGrid& grid_;
   const std::vector<uint8_t>& free_;
+  const fmm::FastMarching* landmark_;
+  float inv_res_;
   std::vector<float> g_;
-  std::vector<uint32_t> stamp_;
+  std::vector<uint32_t> stamp_;   // generation in which g_ was set
+  std::vector<uint32_t> closed_;  // generation in which the cell was expanded
   std::vector<uint8_t> dir_;  // step that reached the cell (0..7)
   std::vector<Open> open_;
   uint32_t generation_ = 0;

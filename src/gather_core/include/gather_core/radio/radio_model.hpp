@@ -23,7 +23,8 @@ class RadioModel {
   int walls_between(Point2 a, Point2 b) const;
   // Received power at b of a transmission from a [dBm].
   double received_dbm(Point2 a, Point2 b) const;
-  bool linked(Point2 a, Point2 b) const { return received_dbm(a, b) >= params_.sensitivity_dbm; }
+  // received_dbm(a, b) >= sensitivity, counting walls only as far as it matters.
+  bool linked(Point2 a, Point2 b) const;
 
   // Largest distance a link can span without walls [m].
   double free_space_range() const { return free_range_m_; }
@@ -44,6 +45,7 @@ class RadioModel {
   // Received power [dBm] over d_m [m] through `walls` walls.
   double received_for(double d_m, int walls) const;
   double received_without_walls(double d_m) const;
+  int affordable_walls(double clear_dbm) const;
   // Walls along a-b in cell units, stopping once `stop_at` walls are counted.
   int count_walls(double ax, double ay, double bx, double by, int stop_at) const;
 
