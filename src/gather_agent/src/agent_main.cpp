@@ -1,59 +1,48 @@
-// gather_agent: one robot of the team. Publishes its heartbeat over LCM until
-// SIGINT/SIGTERM. Exit status: 0 clean stop, 2 bad input, 1 runtime failure.
-#include <lcm/lcm-cpp.hpp>
-
-#include <chrono>
+// gather_agent: one robot of the team. Loads its plan, waits for the OC's
+// plan announcement (same digest or it refuses), then runs its role on the
+// OC's lockstep clock over LCM until the OC ends the mission.
+// Exit status: 0 mission done or stopped by SIGINT/SIGTERM, 2 bad input (a
+// bad flag, plan or scenario, a plan that differs from the OC's, a motion
+// backend that is not connected), 1 runtime failure (the OC went silent).
 #include <cstdio>
 #include <exception>
 
 #include "gather_agent/agent_options.hpp"
-#include "gather_agent/heartbeat.hpp"
-#include "gather_agent/lcm_open.hpp"
+#include "gather_agent/runner/lockstep.hpp"
 #include "gather_agent/shutdown_signal.hpp"
 #include "gather_core/error.hpp"
-#include "gather_core/scenario/scenario.hpp"
-#include "gather_core/scenario/start_poses.hpp"
 
 int main(int argc, char** argv) {
-  using Clock = std::chrono::steady_clock;
   gather::ShutdownSignal shutdown;  // first: block the signals before LCM starts anything
   gather::AgentOptions opt;
-  gather::Point2 start;
   try {
     opt = gather::parse_agent_options(argc, argv);
-    const gather::Scenario scenario = gather::load_scenario(opt.scenario);
-    if (opt.id >= scenario.team.agents)
-      throw gather::Error(opt.scenario, "agent --id " + std::to_string(opt.id) + " is not in the team (team.agents = " +
-                                            std::to_string(scenario.team.agents) + ")");
-    start = gather::start_poses(scenario.grid, scenario.oc, scenario.team.agents)[static_cast<std::size_t>(opt.id)];
+    if (opt.motion == "base")
+      throw gather::Error("--motion base", "not connected: this build has no driver for a real robot base (a real base "
+                                           "implements agent::MotionBackend, see docs/runtime.md)");
+    const gather::agent::LoadedPlan plan = gather::agent::load_plan(opt.plan);
+    gather::agent::LcmFleet fleet(opt.lcm_url, opt.reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(opt.lcm_url)
+                                                                     : opt.reply_url,
+                                  false);
+    gather::agent::LockstepAgent agent(plan, opt.id, fleet);
+    std::printf("gather_agent %d: plan %s (%s, %d collectors), waiting for the OC\n", opt.id, opt.plan.c_str(),
+                plan.plan.file.method.c_str(), plan.plan.file.collectors);
+    std::fflush(stdout);
+    std::string why;
+    switch (agent.run(shutdown, opt.silence_s, &why)) {
+      case gather::agent::LockstepAgent::End::kDone:
+      case gather::agent::LockstepAgent::End::kStopped:
+        return 0;
+      case gather::agent::LockstepAgent::End::kRefused:
+        std::fprintf(stderr, "gather_agent %d: %s\n", opt.id, why.c_str());
+        return 2;
+      case gather::agent::LockstepAgent::End::kSilent:
+        std::fprintf(stderr, "gather_agent %d: %s\n", opt.id, why.c_str());
+        return 1;
+    }
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "gather_agent: %s\n", e.what());
+    std::fprintf(stderr, "gather_agent%s: %s\n", opt.id >= 0 ? (" " + std::to_string(opt.id)).c_str() : "", e.what());
     return 2;
-  }
-
-  std::string lcm_error;
-  auto lcm = gather::open_lcm(opt.lcm_url, &lcm_error);
-  if (!lcm) {
-    std::fprintf(stderr, "gather_agent %d: %s\n", opt.id, lcm_error.c_str());
-    return 2;
-  }
-  std::printf("gather_agent %d: at [%.2f, %.2f] m, heartbeat %.1f Hz on %s\n", opt.id, start.x, start.y,
-              opt.heartbeat_hz, opt.lcm_url.empty() ? "the default LCM URL" : opt.lcm_url.c_str());
-  std::fflush(stdout);
-
-  gather::Heartbeat heartbeat(opt.id, gather::Role::kUnassigned, start);
-  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / opt.heartbeat_hz));
-  const auto t0 = Clock::now();
-  auto next = t0;
-  for (;;) {
-    const auto now = Clock::now();
-    const auto msg =
-        heartbeat.next(std::chrono::duration_cast<std::chrono::microseconds>(now.time_since_epoch()).count());
-    if (lcm->publish(gather::kAgentStateChannel, &msg) != 0)
-      std::fprintf(stderr, "gather_agent %d: publish failed (seq %lld)\n", opt.id, static_cast<long long>(msg.seq));
-    next += period;
-    if (next < now) next = now + period;  // fell behind (suspended?): do not burst
-    if (shutdown.wait_until(next)) break;
   }
   return 0;
 }

@@ -24,7 +24,7 @@ double parse_number(const std::string& flag, const char* s) {
 }  // namespace
 
 const char* agent_usage() {
-  return "usage: gather_agent --id K [--lcm-url URL] [--rate HZ] SCENARIO";
+  return "usage: gather_agent --id K --plan PLAN_DIR [--lcm-url URL] [--reply-url URL] [--motion sim|base] [--silence S]";
 }
 
 AgentOptions parse_agent_options(int argc, char** argv) {
@@ -41,21 +41,24 @@ AgentOptions parse_agent_options(int argc, char** argv) {
       if (v != std::floor(v) || v < 0 || v > 1e6) throw Error(kWhere, "--id expects an integer >= 0");
       o.id = static_cast<int>(v);
       have_id = true;
+    } else if (a == "--plan") {
+      o.plan = value(a);
     } else if (a == "--lcm-url") {
       o.lcm_url = value(a);
-    } else if (a == "--rate") {
-      o.heartbeat_hz = parse_number(a, value(a));
-      if (!(o.heartbeat_hz > 0 && o.heartbeat_hz <= 1000)) throw Error(kWhere, "--rate must be in (0, 1000] Hz");
-    } else if (a.size() > 1 && a[0] == '-') {
-      throw Error(kWhere, "unknown option " + a + " (" + agent_usage() + ")");
-    } else if (o.scenario.empty()) {
-      o.scenario = a;
+    } else if (a == "--reply-url") {
+      o.reply_url = value(a);
+    } else if (a == "--motion") {
+      o.motion = value(a);
+      if (o.motion != "sim" && o.motion != "base") throw Error(kWhere, "--motion must be sim or base, got '" + o.motion.substr(0, 40) + "'");
+    } else if (a == "--silence") {
+      o.silence_s = parse_number(a, value(a));
+      if (!(o.silence_s > 0 && o.silence_s <= 86400)) throw Error(kWhere, "--silence must be in (0, 86400] s");
     } else {
-      throw Error(kWhere, "more than one scenario given (" + std::string(agent_usage()) + ")");
+      throw Error(kWhere, "unexpected argument '" + a.substr(0, 60) + "' (" + agent_usage() + ")");
     }
   }
   if (!have_id) throw Error(kWhere, std::string("--id is required (") + agent_usage() + ")");
-  if (o.scenario.empty()) throw Error(kWhere, std::string("no scenario given (") + agent_usage() + ")");
+  if (o.plan.empty()) throw Error(kWhere, std::string("--plan is required (") + agent_usage() + ")");
   return o;
 }
 

@@ -1,19 +1,20 @@
 #include "gather_agent/lcm_open.hpp"
 
+#include <lcm/lcm.h>
 #include <unistd.h>
 
 #include <cstdio>
 
 namespace gather {
 
-std::unique_ptr<lcm::LCM> open_lcm(const std::string& url, std::string* error) {
+lcm_t* open_lcm_c(const std::string& url, std::string* error) {
   // LCM reports a bad URL by printing to stderr; catch that text so the caller
   // can print a single line.
   std::fflush(stderr);
   FILE* capture = std::tmpfile();
   const int saved = dup(2);
   if (capture) dup2(fileno(capture), 2);
-  auto lcm = std::make_unique<lcm::LCM>(url);
+  lcm_t* lcm = lcm_create(url.empty() ? nullptr : url.c_str());
   std::fflush(stderr);
   if (capture) dup2(saved, 2);
   close(saved);
@@ -28,11 +29,12 @@ std::unique_ptr<lcm::LCM> open_lcm(const std::string& url, std::string* error) {
     }
     std::fclose(capture);
   }
-  if (lcm->good()) {
+  if (lcm) {
     if (!reason.empty()) std::fprintf(stderr, "%s\n", reason.c_str());  // LCM warnings on a working instance
     return lcm;
   }
-  *error = "cannot open LCM URL '" + url + "'" + (reason.empty() ? "" : " (" + reason + ")");
+  *error = "cannot open LCM URL '" + (url.empty() ? std::string("(default)") : url) + "'" +
+           (reason.empty() ? "" : " (" + reason + ")");
   return nullptr;
 }
 

@@ -1,12 +1,17 @@
 // gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT]
-//                     [--loss P] [--loss-seed N]:
-// runs the plan with the agent runtime, every role in this process over an
-// in-memory bus under the range gate and the lockstep clock (the same roles
-// and clock as the multi-process fleet), for K seeds; writes goals.csv,
-// cycles.csv, summary.csv in the schema of `gather sim`, and agents.csv
-// (per agent and seed: role, goals measured / carried / delivered,
-// messages sent / received / gated / lost).
+//                     [--loss P] [--loss-seed N]
+//                     [--lcm [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R]]:
+// runs the plan with the agent runtime for K seeds: every role in this
+// process over an in-memory bus under the range gate and the lockstep
+// clock, or with --lcm one gather_agent process per agent over LCM (this
+// process is the OC and drives the clock; same roles, same gate, same
+// clock: the same goals.csv). Writes goals.csv, cycles.csv, summary.csv in
+// the schema of `gather sim`, and agents.csv (per agent and seed: role,
+// goals measured / carried / delivered, messages sent / received / gated /
+// lost). --lcm sends UDP multicast: only inside a private network namespace
+// (tools/netns-run) or with an explicit --lcm-url.
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +19,8 @@
 
 #include "cli.hpp"
 #include "commands.hpp"
+#include "gather_agent/runner/agent_fleet.hpp"
+#include "gather_agent/runner/lockstep.hpp"
 #include "gather_agent/runner/run_files.hpp"
 #include "gather_agent/runner/team_runner.hpp"
 #include "gather_core/error.hpp"
@@ -23,13 +30,54 @@
 
 namespace gather {
 namespace cmd {
+namespace {
+
+// One run with one gather_agent process per agent; this process is the OC.
+agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& plan, uint64_t digest,
+                               const agent::RunOptions& opt, double rate, const std::string& url,
+                               const std::string& reply_url, const std::string& agent_bin) {
+  agent::LcmFleet fleet(url, reply_url, true, team.agents());
+  AgentFleet processes({agent_bin, "--id", "{id}", "--plan", plan.dir, "--lcm-url", url, "--reply-url", reply_url},
+                       team.agents());
+  processes.start();
+  agent::MasterOptions mo;
+  mo.tick = opt.tick, mo.loss = opt.loss, mo.loss_seed = opt.loss_seed, mo.rate = rate;
+  agent::LockstepMaster master(team, fleet, digest, mo);
+  master.start(nullptr);
+  while (master.tick(nullptr)) {
+  }
+  agent::RunOutcome out = master.finish();
+  processes.stop(5.0);  // they end by themselves on the last tick
+  for (const AgentProcess& p : processes.agents())
+    if (p.exit_status != 0)
+      throw Error("agent " + std::to_string(p.id), "exited with status " + std::to_string(p.exit_status));
+  return out;
+}
+
+}  // namespace
 
 int run(int argc, char** argv) {
-  cli::Args args(argc, argv, 2, {"--cycles", "--seeds", "--seed", "--out", "--tick", "--loss", "--loss-seed"}, {});
+  cli::Args args(argc, argv, 2,
+                 {"--cycles", "--seeds", "--seed", "--out", "--tick", "--loss", "--loss-seed", "--lcm-url", "--reply-url",
+                  "--agent-bin", "--rate"},
+                 {"--lcm"});
   if (args.positional().size() != 1 || !args.has("--out"))
     throw cli::UsageError(
         "usage: gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT] [--loss P] "
-        "[--loss-seed N]");
+        "[--loss-seed N] [--lcm [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R]]");
+  const bool over_lcm = args.on("--lcm");
+  for (const char* flag : {"--lcm-url", "--reply-url", "--agent-bin", "--rate"})
+    if (args.has(flag) && !over_lcm) throw cli::UsageError(std::string(flag) + " needs --lcm");
+  std::string lcm_url = args.get("--lcm-url", "");
+  if (over_lcm && lcm_url.empty()) {
+    // UDP multicast on the host's own network is not what a simulation wants.
+    const char* netns = std::getenv("GATHER_NETNS");
+    if (!netns || std::string(netns) != "1")
+      throw cli::UsageError("--lcm sends UDP multicast: run it inside tools/netns-run, or give --lcm-url");
+    lcm_url = "udpm://239.255.76.67:7667?ttl=0";
+  }
+  const double rate = args.get_double("--rate", 0.0);
+  if (!(rate >= 0.0) || rate > 1e6) throw cli::UsageError("--rate must be >= 0 (0: as fast as the lockstep allows)");
   const auto t_start = std::chrono::steady_clock::now();
   const agent::LoadedPlan loaded = agent::load_plan(args.positional()[0]);
   agent::MissionParams params = agent::mission_params(loaded.scenario);
@@ -54,10 +102,22 @@ int run(int argc, char** argv) {
   agent::RunFiles files;
   double wall = 0.0, mission_s = 0.0, refresh = 0.0, per_cycle = 0.0, slowest = 1e300;
   int64_t messages = 0, ticks = 0;
+  std::string agent_bin;
+  uint64_t digest = 0;
+  if (over_lcm) {
+    agent_bin = find_agent_binary(args.get("--agent-bin", ""));
+    if (agent_bin.empty())
+      throw Error(args.has("--agent-bin") ? "--agent-bin" : "gather run --lcm",
+                  args.has("--agent-bin") ? "'" + args.get("--agent-bin") + "' is not an executable file"
+                                          : "gather_agent not found beside gather, in CMAKE_PREFIX_PATH or PATH");
+    digest = agent::plan_digest(loaded);
+  }
   for (int k = 0; k < seeds; ++k) {
     team.params.seed = static_cast<unsigned>(seed0 + k);
-    agent::TeamRunner runner(team, opt);
-    const agent::RunOutcome r = runner.run();
+    const agent::RunOutcome r = over_lcm ? run_over_lcm(team, loaded, digest, opt, rate, lcm_url,
+                                                        args.get("--reply-url", agent::LcmFleet::reply_url_for(lcm_url)),
+                                                        agent_bin)
+                                         : agent::TeamRunner(team, opt).run();
     if (!r.completed) throw Error(args.positional()[0], r.failure);
     files.add(pf, team.params, r);
     wall += r.wall_ms, mission_s += r.result.mission_s;
@@ -67,10 +127,11 @@ int run(int argc, char** argv) {
   }
   files.write(out);
   const double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
-  std::printf("%s Nc=%d Nw=%d: %d seeds x %d cycles of %.1f s, agent runtime in one process (tick %.3f s%s); refresh "
+  std::printf("%s Nc=%d Nw=%d: %d seeds x %d cycles of %.1f s, agent runtime %s (tick %.3f s%s); refresh "
               "%.1f s (est. %.1f), goals per cycle %.2f (est. %.2f); %lld ticks, %lld messages; run %.0f ms for %.0f s "
               "of mission = %.0fx real time (slowest seed %.0fx); total %.0f ms -> %s\n",
-              pf.method.c_str(), pf.collectors, pf.workers, seeds, params.cycles, pf.cycle_period_s, opt.tick,
+              pf.method.c_str(), pf.collectors, pf.workers, seeds, params.cycles, pf.cycle_period_s,
+              over_lcm ? ("over LCM, " + std::to_string(pf.agents.size()) + " agent processes").c_str() : "in one process", opt.tick,
               opt.loss > 0 ? (", loss " + std::to_string(opt.loss)).c_str() : "", refresh / seeds, pf.est_refresh_s,
               per_cycle / seeds, pf.est_goals, static_cast<long long>(ticks), static_cast<long long>(messages), wall,
               mission_s, wall > 0 ? mission_s * 1000.0 / wall : 0.0, slowest, total_ms, out.c_str());

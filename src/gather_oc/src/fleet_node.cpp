@@ -12,7 +12,7 @@
 
 #include "gather_core/scenario/scenario.hpp"
 #include "gather_oc/launch_paths.hpp"
-#include "gather_oc/agent_fleet.hpp"
+#include "gather_agent/runner/agent_fleet.hpp"
 
 namespace {
 

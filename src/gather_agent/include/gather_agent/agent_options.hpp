@@ -6,9 +6,11 @@ namespace gather {
 
 struct AgentOptions {
   int id = -1;                 // --id K, 0 <= K < N
-  std::string lcm_url;         // --lcm-url URL; empty = LCM's default (LCM_DEFAULT_URL)
-  double heartbeat_hz = 2.0;   // --rate HZ, heartbeat rate
-  std::string scenario;        // positional
+  std::string plan;            // --plan PLAN_DIR (a `gather plan` output: plan.yaml, labels.png)
+  std::string lcm_url;         // --lcm-url URL; empty = LCM_DEFAULT_URL or LCM's default
+  std::string reply_url;       // --reply-url URL; empty = the LCM URL's port + 1 (lockstep replies)
+  std::string motion = "sim";  // --motion sim|base
+  double silence_s = 30.0;     // --silence S: stop when the OC is silent this long
 };
 
 // Parses argv; throws gather::Error("gather_agent", ...) on a bad command line.

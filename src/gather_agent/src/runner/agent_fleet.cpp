@@ -1,7 +1,8 @@
-#include "gather_oc/agent_fleet.hpp"
+#include "gather_agent/runner/agent_fleet.hpp"
 
 #include <signal.h>
 #include <sys/prctl.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -16,7 +17,10 @@
 namespace gather {
 namespace {
 
-bool executable(const std::string& p) { return !p.empty() && access(p.c_str(), X_OK) == 0; }
+bool executable(const std::string& p) {
+  struct stat st;
+  return !p.empty() && ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode) && access(p.c_str(), X_OK) == 0;
+}
 
 std::vector<std::string> split(const char* s, char sep) {
   std::vector<std::string> out;
@@ -38,6 +42,18 @@ int decode_status(int status) {
 
 std::string find_agent_binary(const std::string& explicit_path) {
   if (!explicit_path.empty()) return executable(explicit_path) ? explicit_path : "";
+  // Beside the running binary: devel/lib/gather_core/gather ->
+  // devel/lib/gather_agent/gather_agent (catkin), build/plain/gather_core/gather
+  // -> build/plain/gather_agent (plain CMake).
+  char self[4096];
+  const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+  if (n > 0) {
+    self[n] = '\0';
+    std::string dir(self);
+    dir = dir.substr(0, dir.rfind('/'));
+    for (const std::string& p : {dir + "/gather_agent", dir + "/../gather_agent/gather_agent", dir + "/../gather_agent"})
+      if (executable(p)) return p;
+  }
   for (const auto& prefix : split(std::getenv("CMAKE_PREFIX_PATH"), ':')) {
     const std::string p = prefix + "/lib/gather_agent/gather_agent";
     if (executable(p)) return p;

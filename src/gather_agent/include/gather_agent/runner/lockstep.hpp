@@ -1,0 +1,139 @@
+#pragma once
+// The team over LCM, one process per agent, on the OC's lockstep clock.
+//
+// Before the mission the OC announces the plan (its digest and the mission
+// parameters) until every agent replied READY (its own copy of the plan has
+// the same digest) or one REFUSED. Then, tick after tick (t = k * tick):
+//   1. the OC publishes tick k with the number of radio messages sent in
+//      tick k - 1 by everyone;
+//   2. every agent (and the OC's own role) waits until it has received all
+//      of them, advances its motion to t, takes those messages through the
+//      range gate in (sender, seq) order, steps its role, publishes what it
+//      sends (tagged k) and replies (what it sent, its pose and counters);
+//   3. the next tick starts when every agent has replied (or after a
+//      timeout, reported as an error naming the agent).
+// The inbox of a tick is the same set in the same order whatever the
+// arrival order or the load, so a run is the in-process run (TeamRunner),
+// bit for bit.
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gather_agent/runner/run_files.hpp"
+#include "gather_agent/runner/team.hpp"
+#include "gather_agent/runner/team_runner.hpp"
+#include "gather_agent/shutdown_signal.hpp"
+#include "gather_agent/transport/lcm_fleet.hpp"
+
+namespace gather {
+namespace agent {
+
+// FNV-1a 64 over the bytes of everything a run depends on: plan.yaml, its
+// labels image, the scenario, its map YAML and image. Throws gather::Error
+// naming a file it cannot read.
+uint64_t plan_digest(const LoadedPlan& plan);
+
+// One agent process: its role, its motion, the radio and the clock.
+class LockstepAgent {
+ public:
+  // `plan` must outlive the agent.
+  LockstepAgent(const LoadedPlan& plan, int id, LcmFleet& fleet);
+  ~LockstepAgent();
+
+  enum class End { kDone, kStopped, kRefused, kSilent };
+  // Runs until the OC ends the mission (kDone), SIGINT/SIGTERM (kStopped),
+  // the OC's plan differs from this agent's (kRefused: `why` says how), or
+  // nothing was heard from the OC for `silence_s` seconds (kSilent).
+  End run(ShutdownSignal& signal, double silence_s, std::string* why);
+
+ private:
+  bool take_plan(std::string* why);
+  void step(const Tick& tick);
+  bool inbox_complete(const Tick& tick) const;
+
+  const LoadedPlan& plan_;
+  int id_;
+  LcmFleet& fleet_;
+  uint64_t digest_;
+  std::unique_ptr<mission::World> world_;
+  std::unique_ptr<TeamSetup> team_;
+  std::unique_ptr<RangeGate> gate_;
+  AgentUnit unit_;
+  std::unique_ptr<Outbox> outbox_;
+  LinkCounters link_;
+  uint32_t seq_ = 0;
+  int64_t next_tick_ = 0;
+  int64_t late_ = 0;
+  double tick_s_ = 0.1;
+  std::vector<Message> held_;               // radio messages of ticks not yet processed
+  std::vector<Message> current_;            // the messages of the tick being processed
+  std::vector<const Message*> inbox_;
+  Reply reply_;
+};
+
+struct MasterOptions {
+  double tick = 0.1;             // [s] of mission time per tick
+  double loss = 0.0;             // injected loss of the range gate
+  uint64_t loss_seed = 1;
+  double rate = 0.0;             // times real time (0: as fast as the lockstep allows)
+  double ready_timeout_s = 60.0; // for every agent to say READY
+  double reply_timeout_s = 10.0; // for every agent to reply to a tick
+  double time_limit = 0.0;       // [s] of mission time; 0: time_limit(team)
+};
+
+// The OC's side: announces the plan, drives the clock, runs the OC role.
+class LockstepMaster {
+ public:
+  LockstepMaster(TeamSetup& team, LcmFleet& fleet, uint64_t digest, const MasterOptions& options);
+  ~LockstepMaster();
+
+  // Announces the plan until every agent is READY. Throws gather::Error
+  // naming the agents that refused or stayed silent. `signal` (optional)
+  // aborts the wait.
+  void start(ShutdownSignal* signal);
+  // One tick; false once the mission is over (every goal resolved, or the
+  // time limit). Throws gather::Error when an agent does not reply in time.
+  bool tick(ShutdownSignal* signal);
+  // Ends the mission (the agents stop) and returns what happened.
+  RunOutcome finish();
+
+  int64_t ticks() const { return tick_; }
+  double now() const { return tick_ * options_.tick; }
+  OcRole& oc() { return static_cast<OcRole&>(*oc_.role); }
+  // The last reply of each agent (pose, role, counters), by agent id.
+  const std::vector<Reply>& agents() const { return last_; }
+  int64_t messages() const { return messages_; }
+  // Wall time spent waiting for replies, running the OC role, pacing [ms].
+  double wait_ms() const { return wait_ms_; }
+  double oc_ms() const { return oc_ms_; }
+
+ private:
+  void collect_replies(int64_t tick, ReplyStatus want, double timeout_s, ShutdownSignal* signal);
+
+  TeamSetup& team_;
+  LcmFleet& fleet_;
+  uint64_t digest_;
+  MasterOptions options_;
+  RangeGate gate_;
+  AgentUnit oc_;
+  Outbox outbox_;
+  LinkCounters link_;
+  uint32_t seq_ = 0;
+  int64_t tick_ = 0;
+  int32_t sent_before_ = 0;
+  int next_check_ = 0;
+  double limit_ = 0.0;
+  int64_t messages_ = 0;
+  std::vector<Reply> last_;
+  std::vector<uint8_t> replied_;
+  std::vector<Message> held_, current_;
+  std::vector<const Message*> inbox_;
+  std::vector<int32_t> keys_;
+  std::chrono::steady_clock::time_point started_;
+  double wait_ms_ = 0.0, oc_ms_ = 0.0;
+  bool finished_ = false;
+};
+
+}  // namespace agent
+}  // namespace gather

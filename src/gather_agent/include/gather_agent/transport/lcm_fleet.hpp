@@ -1,0 +1,131 @@
+#pragma once
+// The fleet over LCM: the radio (requests, data, acks, agent states), the
+// plan announcement and the lockstep clock's ticks on one LCM URL, the tick
+// replies on a second one that only the OC listens to (so 20 agents do not
+// each receive 20 replies a tick). The only code that sees the generated
+// LCM types (lcm/*.lcm): it converts them to and from the domain structs at
+// this edge, and counts and drops anything that does not decode, carries
+// another schema version, names an agent outside the team or holds values
+// out of range. Handlers only queue; nothing is decoded twice.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gather_agent/messages.hpp"
+#include "gather_agent/roles/role.hpp"
+#include "gather_agent/transport/range_gate.hpp"
+
+typedef struct _lcm_t lcm_t;
+
+namespace gather {
+namespace agent {
+
+// Channels.
+extern const char* const kRequestChannel;  // GATHER_REQUEST
+extern const char* const kDataChannel;     // GATHER_DATA
+extern const char* const kAckChannel;      // GATHER_ACK
+extern const char* const kStateChannel;    // GATHER_STATE
+extern const char* const kPlanChannel;     // GATHER_PLAN
+extern const char* const kTickChannel;     // GATHER_TICK
+extern const char* const kReplyChannel;    // GATHER_REPLY
+
+// The OC's plan announcement: what every agent must run.
+struct PlanAnnounce {
+  uint64_t digest = 0;
+  int agents = 0;
+  MissionParams params;
+  double tick = 0.1;
+  double loss = 0.0;
+  uint64_t loss_seed = 1;
+};
+
+struct Tick {
+  int64_t tick = 0;
+  double t = 0.0;
+  int32_t sent_before = 0;  // radio messages sent in tick - 1 by everyone
+  bool report = false;      // replies carry custody keys
+  bool done = false;        // the mission is over
+};
+
+enum class ReplyStatus : uint8_t { kReady = 1, kRefused = 2, kStepped = 3 };
+
+struct Reply {
+  int64_t tick = -1;
+  int16_t agent = 0;
+  ReplyStatus status = ReplyStatus::kStepped;
+  int32_t sent = 0;
+  Point2 pose;
+  RoleKind role = RoleKind::kWorker;
+  int phase = 0;
+  RoleReport report;
+  int32_t carried = 0, notices = 0;
+  LinkCounters link;
+  int64_t late = 0;
+  std::vector<int32_t> keys;  // custody keys of measured items (report ticks)
+};
+
+// Every counter of what the transport refused.
+struct TransportCounters {
+  int64_t undecodable = 0;    // does not decode as its channel's type
+  int64_t wrong_version = 0;  // another schema version
+  int64_t out_of_range = 0;   // an id outside the team, a count past its bound, a non-finite number
+  int64_t queue_full = 0;     // arrived while the receive queue was full
+  int64_t total() const { return undecodable + wrong_version + out_of_range + queue_full; }
+};
+
+class LcmFleet {
+ public:
+  // Opens `url` (radio, plan, ticks) and `reply_url` (replies). `listen_replies`:
+  // the OC's side (subscribes to replies; agents only publish there).
+  // `team`: ids 0..team-1 (kMaxTeam until the plan is known). Throws
+  // gather::Error("--lcm-url", ...) naming the URL when LCM cannot open it.
+  LcmFleet(const std::string& url, const std::string& reply_url, bool listen_replies, int team = kMaxTeam);
+  ~LcmFleet();
+  LcmFleet(const LcmFleet&) = delete;
+  LcmFleet& operator=(const LcmFleet&) = delete;
+
+  void set_team(int agents) { team_ = agents; }
+
+  // Publish; false (and counted) when LCM refuses.
+  bool publish(const Message& m);
+  bool publish(const PlanAnnounce& p);
+  bool publish(const Tick& t);
+  bool publish(const Reply& r);
+
+  // Dispatches what arrived, waiting up to `timeout_ms` for something;
+  // false when nothing came.
+  bool handle(int timeout_ms);
+
+  // What arrived, in arrival order; the caller takes and clears.
+  std::vector<Message>& radio() { return radio_; }
+  std::vector<Tick>& ticks() { return ticks_; }
+  std::vector<Reply>& replies() { return replies_; }
+  std::vector<PlanAnnounce>& plans() { return plans_; }
+  const TransportCounters& refused() const { return refused_; }
+  int64_t publish_failures() const { return publish_failures_; }
+
+  // The reply URL for a radio URL: the same multicast group, port + 1
+  // ("udpm://239.255.76.67:7667?ttl=0" -> "...:7668?ttl=0"); other
+  // providers: the same URL.
+  static std::string reply_url_for(const std::string& url);
+
+  // Handlers (called by LCM; public for the C callbacks).
+  void on_radio(const char* channel, const void* data, int size);
+  void on_clock(const char* channel, const void* data, int size);
+
+ private:
+  lcm_t* lcm_ = nullptr;
+  lcm_t* reply_lcm_ = nullptr;
+  int team_;
+  bool listen_replies_;
+  std::vector<Message> radio_;
+  std::vector<Tick> ticks_;
+  std::vector<Reply> replies_;
+  std::vector<PlanAnnounce> plans_;
+  TransportCounters refused_;
+  int64_t publish_failures_ = 0;
+  std::vector<uint8_t> buffer_;  // encoding
+};
+
+}  // namespace agent
+}  // namespace gather

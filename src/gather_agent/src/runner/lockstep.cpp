@@ -1,0 +1,369 @@
+#include "gather_agent/runner/lockstep.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "gather_agent/roles/worker_role.hpp"
+#include "gather_core/error.hpp"
+#include "gather_core/mission/mission_csv.hpp"
+
+namespace gather {
+namespace agent {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr std::size_t kHeld = 8192;  // radio messages held for the ticks to come
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+void fnv1a(uint64_t& h, const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path, "cannot read (needed for the plan's digest)");
+  char buf[65536];
+  while (in) {
+    in.read(buf, sizeof buf);
+    for (std::streamsize i = 0; i < in.gcount(); ++i) h = (h ^ static_cast<uint8_t>(buf[i])) * 1099511628211ull;
+  }
+}
+
+bool signalled(ShutdownSignal* s) { return s && s->wait_until(Clock::now()); }
+
+// Moves the messages of `tick` - 1 from `held` into `current` (and drops,
+// counting them, any older ones that came too late).
+void take_tick(std::vector<Message>& held, std::vector<Message>& current, int64_t tick, int64_t& late) {
+  current.clear();
+  std::size_t keep = 0;
+  for (std::size_t i = 0; i < held.size(); ++i) {
+    if (held[i].h.tick == tick - 1) current.push_back(held[i]);
+    else if (held[i].h.tick < tick - 1) ++late;
+    else held[keep++] = held[i];
+  }
+  held.resize(keep);
+}
+
+std::size_t count_tick(const std::vector<Message>& held, int64_t tick) {
+  std::size_t n = 0;
+  for (const Message& m : held) n += m.h.tick == tick - 1;
+  return n;
+}
+
+void absorb(LcmFleet& fleet, std::vector<Message>& held, LinkCounters& link) {
+  for (const Message& m : fleet.radio()) {
+    if (held.size() >= held.capacity()) {
+      ++link.overflow;
+      continue;
+    }
+    held.push_back(m);
+  }
+  fleet.radio().clear();
+}
+
+}  // namespace
+
+uint64_t plan_digest(const LoadedPlan& p) {
+  namespace fs = std::filesystem;
+  const fs::path yaml = fs::is_directory(p.dir) ? fs::path(p.dir) / "plan.yaml" : fs::path(p.dir);
+  uint64_t h = 14695981039346656037ull;
+  fnv1a(h, yaml.string());
+  fnv1a(h, (yaml.parent_path() / p.plan.file.labels_png).string());
+  fnv1a(h, p.scenario.path);
+  fnv1a(h, p.scenario.map_path);
+  fnv1a(h, p.scenario.map_meta.image);
+  return h;
+}
+
+// --- agent -----------------------------------------------------------------
+
+LockstepAgent::LockstepAgent(const LoadedPlan& plan, int id, LcmFleet& fleet)
+    : plan_(plan), id_(id), fleet_(fleet), digest_(plan_digest(plan)) {
+  if (id < 0 || id >= static_cast<int>(plan.plan.file.agents.size()))
+    throw Error(plan.dir, "agent --id " + std::to_string(id) + " is not in the plan's team of " +
+                              std::to_string(plan.plan.file.agents.size()));
+  world_ = std::make_unique<mission::World>(plan.scenario);
+  held_.reserve(kHeld);
+  current_.reserve(kHeld);
+  inbox_.reserve(1024);
+  reply_.keys.reserve(4096);
+}
+
+LockstepAgent::~LockstepAgent() = default;
+
+bool LockstepAgent::take_plan(std::string* why) {
+  const PlanAnnounce& p = fleet_.plans().back();
+  char hex[2][17];
+  std::snprintf(hex[0], sizeof hex[0], "%016llx", static_cast<unsigned long long>(digest_));
+  std::snprintf(hex[1], sizeof hex[1], "%016llx", static_cast<unsigned long long>(p.digest));
+  if (p.digest != digest_) {
+    *why = plan_.dir + ": this agent's plan (plan.yaml, labels, scenario, map) has digest " + hex[0] +
+           ", the OC's " + hex[1] + ": they are not the same plan";
+    return false;
+  }
+  if (p.agents != static_cast<int>(plan_.plan.file.agents.size())) {
+    *why = plan_.dir + ": the OC runs a team of " + std::to_string(p.agents) + " agents";
+    return false;
+  }
+  team_ = std::make_unique<TeamSetup>(*world_, plan_.plan, p.params);
+  gate_ = std::make_unique<RangeGate>(*team_, p.loss, p.loss_seed);
+  unit_ = make_agent(*team_, id_);
+  outbox_ = std::make_unique<Outbox>(256);
+  tick_s_ = p.tick;
+  fleet_.set_team(p.agents);
+  return true;
+}
+
+bool LockstepAgent::inbox_complete(const Tick& tick) const {
+  return count_tick(held_, tick.tick) >= static_cast<std::size_t>(tick.sent_before);
+}
+
+void LockstepAgent::step(const Tick& tick) {
+  Role& role = *unit_.role;
+  unit_.motion->advance(tick.t);
+  take_tick(held_, current_, tick.tick, late_);
+  gather_inbox(current_, role.id(), unit_.motion->pose(), *gate_, link_, inbox_);
+  Outbox& out = *outbox_;
+  out.clear();
+  role.step(tick.t, inbox_.data(), inbox_.size(), out);
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    out[k].h.seq = seq_++;
+    out[k].h.tick = tick.tick;
+    fleet_.publish(out[k]);
+  }
+  link_.sent += static_cast<int64_t>(out.size());
+  link_.bad = fleet_.refused().total();
+  reply_.tick = tick.tick;
+  reply_.agent = static_cast<int16_t>(id_);
+  reply_.status = ReplyStatus::kStepped;
+  reply_.sent = static_cast<int32_t>(out.size());
+  reply_.pose = unit_.motion->pose();
+  reply_.role = role.kind();
+  reply_.phase = role.kind() == RoleKind::kWorker ? static_cast<int>(static_cast<const WorkerRole&>(role).phase()) : 0;
+  reply_.report = role.report();
+  const Custody* c = role.custody();
+  reply_.carried = c ? static_cast<int32_t>(c->data()) : 0;
+  reply_.notices = c ? static_cast<int32_t>(c->notices()) : 0;
+  reply_.link = link_;
+  reply_.late = late_;
+  reply_.keys.clear();
+  if (tick.report && c)
+    for (std::size_t i = 0; i < c->size(); ++i)
+      if (c->item(i).kind == ItemKind::kMeasured) reply_.keys.push_back(c->item(i).key);
+  fleet_.publish(reply_);
+}
+
+LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, std::string* why) {
+  auto heard = Clock::now();
+  bool have_tick = false;
+  Tick pending;
+  auto tick_since = Clock::now();
+  for (;;) {
+    if (signal.wait_until(Clock::now())) return End::kStopped;
+    fleet_.handle(have_tick ? 20 : 100);
+    absorb(fleet_, held_, link_);
+    if (!fleet_.plans().empty()) {
+      heard = Clock::now();
+      if (!team_ && !take_plan(why)) {
+        Reply r;
+        r.tick = -1, r.agent = static_cast<int16_t>(id_), r.status = ReplyStatus::kRefused;
+        fleet_.publish(r);
+        return End::kRefused;
+      }
+      if (next_tick_ == 0) {  // (again) READY: the OC may not have heard the last one
+        Reply r;
+        r.tick = -1, r.agent = static_cast<int16_t>(id_), r.status = ReplyStatus::kReady;
+        r.role = unit_.role->kind();
+        r.pose = unit_.motion->pose();
+        fleet_.publish(r);
+      }
+      fleet_.plans().clear();
+    }
+    for (const Tick& t : fleet_.ticks()) {
+      heard = Clock::now();
+      if (t.tick < next_tick_ || !team_) continue;
+      if (t.done) return End::kDone;
+      if (!have_tick || t.tick < pending.tick) pending = t, have_tick = true, tick_since = Clock::now();
+    }
+    fleet_.ticks().clear();
+    // A tick runs once every message of the one before is in; if some never
+    // come (lost on the host), it runs without them after a while.
+    while (have_tick && (inbox_complete(pending) || seconds_since(tick_since) > 5.0)) {
+      step(pending);
+      next_tick_ = pending.tick + 1;
+      have_tick = false;
+    }
+    if (seconds_since(heard) > silence_s) {
+      *why = "nothing heard from the OC for " + std::to_string(static_cast<int>(silence_s)) + " s";
+      return End::kSilent;
+    }
+  }
+}
+
+// --- master ----------------------------------------------------------------
+
+LockstepMaster::LockstepMaster(TeamSetup& team, LcmFleet& fleet, uint64_t digest, const MasterOptions& options)
+    : team_(team),
+      fleet_(fleet),
+      digest_(digest),
+      options_(options),
+      gate_(team, options.loss, options.loss_seed),
+      oc_(make_oc(team)),
+      outbox_(256) {
+  if (!(options_.tick > 0.0) || options_.tick > 0.1 + 1e-12)
+    throw Error("--tick", "must be in (0, 0.1] s (the control rate), got " + std::to_string(options_.tick));
+  if (!(options_.loss >= 0.0) || !(options_.loss < 1.0))
+    throw Error("--loss", "must be in [0, 1), got " + std::to_string(options_.loss));
+  if (!(options_.rate >= 0.0)) throw Error("--rate", "must be >= 0 (0: as fast as the lockstep allows)");
+  fleet_.set_team(team.agents());
+  last_.assign(static_cast<std::size_t>(team.agents()), Reply{});
+  for (int a = 0; a < team.agents(); ++a) last_[static_cast<std::size_t>(a)].agent = static_cast<int16_t>(a);
+  replied_.assign(static_cast<std::size_t>(team.agents()), 0);
+  held_.reserve(kHeld);
+  current_.reserve(kHeld);
+  inbox_.reserve(1024);
+  limit_ = options_.time_limit > 0 ? options_.time_limit : time_limit(team);
+}
+
+LockstepMaster::~LockstepMaster() = default;
+
+void LockstepMaster::collect_replies(int64_t tick, ReplyStatus want, double timeout_s, ShutdownSignal* signal) {
+  std::fill(replied_.begin(), replied_.end(), 0);
+  std::size_t missing = replied_.size();
+  const auto t0 = Clock::now();
+  auto last_announce = Clock::now() - std::chrono::seconds(1);
+  while (missing > 0) {
+    if (tick < 0 && seconds_since(last_announce) > 0.2) {  // the plan, again, for those that have not answered
+      PlanAnnounce p;
+      p.digest = digest_, p.agents = team_.agents(), p.params = team_.params;
+      p.tick = options_.tick, p.loss = options_.loss, p.loss_seed = options_.loss_seed;
+      fleet_.publish(p);
+      last_announce = Clock::now();
+    }
+    fleet_.handle(tick < 0 ? 50 : 5);
+    absorb(fleet_, held_, link_);
+    for (Reply& r : fleet_.replies()) {
+      if (r.tick != tick) continue;
+      const std::size_t a = static_cast<std::size_t>(r.agent);
+      if (r.status == ReplyStatus::kRefused)
+        throw Error("agent " + std::to_string(r.agent), "refused the plan: its plan files differ from the OC's (see its log)");
+      if (r.status != want || replied_[a]) continue;
+      replied_[a] = 1, --missing;
+      last_[a] = std::move(r);
+    }
+    fleet_.replies().clear();
+    if (missing > 0 && (seconds_since(t0) > timeout_s || signalled(signal))) {
+      std::string who;
+      int shown = 0;
+      for (std::size_t a = 0; a < replied_.size(); ++a)
+        if (!replied_[a] && shown++ < 10) who += (who.empty() ? "" : ", ") + std::to_string(a);
+      if (missing > 10) who += ", ...";
+      throw Error("lockstep", std::to_string(missing) + " agent(s) (" + who + ") did not " +
+                                  (tick < 0 ? "answer the plan announcement" : "reply to tick " + std::to_string(tick)) +
+                                  (signalled(signal) ? " before the stop" : " within " + std::to_string(static_cast<int>(timeout_s)) + " s"));
+    }
+  }
+}
+
+void LockstepMaster::start(ShutdownSignal* signal) {
+  collect_replies(-1, ReplyStatus::kReady, options_.ready_timeout_s, signal);
+  started_ = Clock::now();
+}
+
+bool LockstepMaster::tick(ShutdownSignal* signal) {
+  if (finished_) return false;
+  const int64_t k = tick_;
+  const double t = k * options_.tick;
+  if (options_.rate > 0.0) {
+    const auto at = started_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(t / options_.rate));
+    const auto w0 = Clock::now();
+    if (at > w0) {
+      if (signal ? signal->wait_until(at) : (std::this_thread::sleep_until(at), false))
+        throw Error("lockstep", "stopped by a signal at t = " + std::to_string(t) + " s");
+    }
+    wait_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - w0).count();
+  }
+  bool report = false;
+  for (int c = next_check_; c < team_.params.cycles && t >= (c + 1) * team_.period; ++c) report = true;
+  fleet_.publish(Tick{k, t, sent_before_, report, false});
+
+  // The OC's own role, as any agent: every message of the tick before first.
+  const auto w0 = Clock::now();
+  while (count_tick(held_, k) < static_cast<std::size_t>(sent_before_)) {
+    if (seconds_since(w0) > options_.reply_timeout_s)
+      throw Error("lockstep", "tick " + std::to_string(k) + ": " + std::to_string(count_tick(held_, k)) + " of the " +
+                                  std::to_string(sent_before_) + " messages of the tick before arrived");
+    fleet_.handle(5);
+    absorb(fleet_, held_, link_);
+  }
+  const auto o0 = Clock::now();
+  Role& oc_role = *oc_.role;
+  oc_.motion->advance(t);
+  int64_t late = 0;
+  take_tick(held_, current_, k, late);
+  gather_inbox(current_, oc_role.id(), oc_.motion->pose(), gate_, link_, inbox_);
+  outbox_.clear();
+  oc_role.step(t, inbox_.data(), inbox_.size(), outbox_);
+  for (std::size_t i = 0; i < outbox_.size(); ++i) {
+    outbox_[i].h.seq = seq_++;
+    outbox_[i].h.tick = k;
+    fleet_.publish(outbox_[i]);
+  }
+  link_.sent += static_cast<int64_t>(outbox_.size());
+  oc_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - o0).count();
+
+  const auto r0 = Clock::now();
+  collect_replies(k, ReplyStatus::kStepped, options_.reply_timeout_s, signal);
+  wait_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - r0).count();
+  int64_t sent = static_cast<int64_t>(outbox_.size());
+  for (const Reply& r : last_) sent += r.sent;
+  sent_before_ = static_cast<int32_t>(sent);
+  messages_ += sent;
+  // Conservation at every cycle's end, from the agents' own custody.
+  while (next_check_ < team_.params.cycles && t >= (next_check_ + 1) * team_.period) {
+    keys_.clear();
+    int64_t measured = 0;
+    for (const Reply& r : last_) {
+      if (r.role == RoleKind::kWorker) measured += r.report.measured;
+      keys_.insert(keys_.end(), r.keys.begin(), r.keys.end());
+    }
+    check_conservation(oc(), measured, keys_, t);
+    ++next_check_;
+  }
+  ++tick_;
+  return !oc().done() && t < limit_;
+}
+
+RunOutcome LockstepMaster::finish() {
+  RunOutcome out;
+  if (!finished_) {
+    for (int i = 0; i < 3; ++i) fleet_.publish(Tick{tick_, tick_ * options_.tick, sent_before_, false, true});
+    finished_ = true;
+  }
+  out.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - started_).count();
+  out.ticks = tick_;
+  out.end_s = (tick_ - 1) * options_.tick;
+  out.completed = oc().done();
+  for (const Reply& r : last_) {
+    AgentSummary s;
+    s.id = r.agent, s.role = r.role, s.report = r.report, s.link = r.link, s.carried = r.carried;
+    s.delivered = oc().delivered_by(r.agent);
+    out.agents.push_back(s);
+  }
+  out.oc_link = link_;
+  out.oc_link.bad = fleet_.refused().total();
+  out.messages = messages_;
+  out.invalid_items = oc().invalid_items();
+  out.duplicate_items = oc().duplicate_items();
+  if (!out.completed) {
+    out.failure = "mission not finished at t = " + std::to_string(out.end_s) + " s (limit " + std::to_string(limit_) +
+                  " s): " + std::to_string(oc().requested() - oc().resolved_count()) + " of " +
+                  std::to_string(oc().requested()) + " goals unresolved";
+    return out;
+  }
+  out.result = mission::mission_result(oc().goals(), team_.params.cycles, team_.period, out.wall_ms);
+  return out;
+}
+
+}  // namespace agent
+}  // namespace gather

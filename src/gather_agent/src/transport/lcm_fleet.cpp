@@ -1,0 +1,411 @@
+#include "gather_agent/transport/lcm_fleet.hpp"
+
+#include <lcm/lcm.h>
+#include <poll.h>
+#include <unistd.h>
+
+#include <gather_lcm/ack_t.hpp>
+#include <gather_lcm/agent_state_t.hpp>
+#include <gather_lcm/data_t.hpp>
+#include <gather_lcm/plan_t.hpp>
+#include <gather_lcm/request_t.hpp>
+#include <gather_lcm/tick_reply_t.hpp>
+#include <gather_lcm/tick_t.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "gather_agent/lcm_open.hpp"
+#include "gather_core/error.hpp"
+
+namespace gather {
+namespace agent {
+
+const char* const kRequestChannel = "GATHER_REQUEST";
+const char* const kDataChannel = "GATHER_DATA";
+const char* const kAckChannel = "GATHER_ACK";
+const char* const kStateChannel = "GATHER_STATE";
+const char* const kPlanChannel = "GATHER_PLAN";
+const char* const kTickChannel = "GATHER_TICK";
+const char* const kReplyChannel = "GATHER_REPLY";
+
+namespace {
+
+constexpr std::size_t kRadioQueue = 4096;  // messages held between two handle() drains
+constexpr std::size_t kBuffer = 32768;     // bytes: the largest encoded message (a reply with 4096 keys) fits
+
+static_assert(gather_lcm::request_t::MAX_GOALS == kRequestPartGoals, "request part size differs from the wire type");
+static_assert(gather_lcm::data_t::MAX_ITEMS == kMaxBatch, "data batch size differs from the wire type");
+static_assert(gather_lcm::ack_t::MAX_KEYS == kMaxBatch, "ack batch size differs from the wire type");
+
+bool finite(double x) { return std::isfinite(x); }
+
+// The wire objects decoded into (kept, so decoding allocates nothing).
+struct Wire {
+  gather_lcm::request_t request;
+  gather_lcm::data_t data;
+  gather_lcm::ack_t ack;
+  gather_lcm::agent_state_t state;
+  gather_lcm::plan_t plan;
+  gather_lcm::tick_t tick;
+  gather_lcm::tick_reply_t reply;
+};
+Wire& wire() {
+  static Wire w;
+  return w;
+}
+
+void to_wire(const Header& h, gather_lcm::header_t& w) {
+  w.schema_version = gather_lcm::header_t::SCHEMA_VERSION;
+  w.sender = h.sender;
+  w.dest = h.dest;
+  w.seq = static_cast<int32_t>(h.seq);
+  w.tick = h.tick;
+  w.t = h.t;
+  w.x = h.pos.x;
+  w.y = h.pos.y;
+  w.request = h.request;
+}
+
+void radio_handler(const lcm_recv_buf_t* rbuf, const char* channel, void* user) {
+  static_cast<LcmFleet*>(user)->on_radio(channel, rbuf->data, static_cast<int>(rbuf->data_size));
+}
+void clock_handler(const lcm_recv_buf_t* rbuf, const char* channel, void* user) {
+  static_cast<LcmFleet*>(user)->on_clock(channel, rbuf->data, static_cast<int>(rbuf->data_size));
+}
+
+}  // namespace
+
+std::string LcmFleet::reply_url_for(const std::string& url) {
+  const std::string scheme = "udpm://";
+  std::string u = url.empty() ? (std::getenv("LCM_DEFAULT_URL") ? std::getenv("LCM_DEFAULT_URL") : "") : url;
+  if (u.empty()) u = "udpm://239.255.76.67:7667?ttl=0";
+  if (u.compare(0, scheme.size(), scheme) != 0) return u;
+  const std::size_t q = u.find('?', scheme.size());
+  const std::string hostport = u.substr(scheme.size(), q == std::string::npos ? std::string::npos : q - scheme.size());
+  const std::string rest = q == std::string::npos ? "" : u.substr(q);
+  const std::size_t colon = hostport.rfind(':');
+  const std::string host = colon == std::string::npos ? hostport : hostport.substr(0, colon);
+  int port = 7667;
+  if (colon != std::string::npos) port = std::atoi(hostport.c_str() + colon + 1);
+  return scheme + host + ":" + std::to_string(port + 1) + rest;
+}
+
+LcmFleet::LcmFleet(const std::string& url, const std::string& reply_url, bool listen_replies, int team)
+    : team_(team), listen_replies_(listen_replies), buffer_(kBuffer) {
+  std::string error;
+  lcm_ = open_lcm_c(url, &error);
+  if (!lcm_) throw Error("--lcm-url", error);
+  reply_lcm_ = open_lcm_c(reply_url, &error);
+  if (!reply_lcm_) {
+    lcm_destroy(lcm_);
+    throw Error("--lcm-url", error + " (the tick replies' URL)");
+  }
+  radio_.reserve(kRadioQueue);
+  for (const char* ch : {kRequestChannel, kDataChannel, kAckChannel, kStateChannel})
+    lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, ch, radio_handler, this), 10000);
+  lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, kPlanChannel, clock_handler, this), 100);
+  lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, kTickChannel, clock_handler, this), 1000);
+  if (listen_replies)
+    lcm_subscription_set_queue_capacity(lcm_subscribe(reply_lcm_, kReplyChannel, clock_handler, this), 100000);
+}
+
+LcmFleet::~LcmFleet() {
+  if (lcm_) lcm_destroy(lcm_);
+  if (reply_lcm_) lcm_destroy(reply_lcm_);
+}
+
+bool LcmFleet::publish(const Message& m) {
+  Wire& w = wire();
+  int n = -1;
+  const char* channel = nullptr;
+  switch (m.h.kind) {
+    case Kind::kRequest: {
+      gather_lcm::request_t& r = w.request;
+      to_wire(m.h, r.h);
+      r.request = m.request.request;
+      r.issued_at = m.request.issued_at;
+      r.first_goal = m.request.first_goal;
+      r.total = m.request.total;
+      r.part = static_cast<int16_t>(m.request.part);
+      r.parts = static_cast<int16_t>(m.request.parts);
+      r.count = static_cast<int16_t>(m.request.count);
+      for (int i = 0; i < kRequestPartGoals; ++i) r.cells[i] = i < m.request.count ? static_cast<int32_t>(m.request.cells[i]) : 0;
+      n = r.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+      channel = kRequestChannel;
+      break;
+    }
+    case Kind::kData: {
+      gather_lcm::data_t& d = w.data;
+      to_wire(m.h, d.h);
+      d.count = static_cast<int16_t>(m.data.count);
+      for (int i = 0; i < kMaxBatch; ++i) {
+        gather_lcm::data_item_t& o = d.items[i];
+        if (i < m.data.count) {
+          const DataItem& it = m.data.items[i];
+          o.key = it.key, o.kind = static_cast<int8_t>(it.kind), o.by = it.by, o.at = it.at;
+          o.picked_up_by = it.picked_up_by, o.picked_up_at = it.picked_up_at;
+        } else {
+          o = gather_lcm::data_item_t{};
+        }
+      }
+      n = d.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+      channel = kDataChannel;
+      break;
+    }
+    case Kind::kAck: {
+      gather_lcm::ack_t& a = w.ack;
+      to_wire(m.h, a.h);
+      a.count = static_cast<int16_t>(m.ack.count);
+      for (int i = 0; i < kMaxBatch; ++i) a.keys[i] = i < m.ack.count ? m.ack.keys[i] : 0;
+      n = a.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+      channel = kAckChannel;
+      break;
+    }
+    case Kind::kState: {
+      gather_lcm::agent_state_t& s = w.state;
+      to_wire(m.h, s.h);
+      s.role = static_cast<int8_t>(m.state.role);
+      s.carried = static_cast<int16_t>(std::min<int>(m.state.carried, 32767));
+      s.notices = static_cast<int16_t>(std::min<int>(m.state.notices, 32767));
+      s.pending = static_cast<int16_t>(std::min<int>(m.state.pending, 32767));
+      s.measured = m.state.measured;
+      n = s.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+      channel = kStateChannel;
+      break;
+    }
+  }
+  if (n < 0 || lcm_publish(lcm_, channel, buffer_.data(), static_cast<unsigned>(n)) != 0) return ++publish_failures_, false;
+  return true;
+}
+
+bool LcmFleet::publish(const PlanAnnounce& p) {
+  gather_lcm::plan_t& w = wire().plan;
+  w.schema_version = gather_lcm::plan_t::SCHEMA_VERSION;
+  w.digest = static_cast<int64_t>(p.digest);
+  w.agents = p.agents;
+  w.cycles = p.params.cycles;
+  w.seed = static_cast<int32_t>(p.params.seed);
+  w.goals_per_request = p.params.goals_per_request;
+  w.data_capacity = static_cast<int32_t>(p.params.data_capacity);
+  w.notice_capacity = static_cast<int32_t>(p.params.notice_capacity);
+  w.beacon_period = p.params.beacon_period;
+  w.resend_after = p.params.resend_after;
+  w.tick = p.tick;
+  w.loss = p.loss;
+  w.loss_seed = static_cast<int64_t>(p.loss_seed);
+  const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+  if (n < 0 || lcm_publish(lcm_, kPlanChannel, buffer_.data(), static_cast<unsigned>(n)) != 0) return ++publish_failures_, false;
+  return true;
+}
+
+bool LcmFleet::publish(const Tick& t) {
+  gather_lcm::tick_t& w = wire().tick;
+  w.schema_version = gather_lcm::tick_t::SCHEMA_VERSION;
+  w.tick = t.tick;
+  w.t = t.t;
+  w.sent_before = t.sent_before;
+  w.report = t.report;
+  w.done = t.done;
+  const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+  if (n < 0 || lcm_publish(lcm_, kTickChannel, buffer_.data(), static_cast<unsigned>(n)) != 0) return ++publish_failures_, false;
+  return true;
+}
+
+bool LcmFleet::publish(const Reply& r) {
+  gather_lcm::tick_reply_t& w = wire().reply;
+  w.schema_version = gather_lcm::tick_reply_t::SCHEMA_VERSION;
+  w.tick = r.tick;
+  w.agent = r.agent;
+  w.status = static_cast<int8_t>(r.status);
+  w.sent = r.sent;
+  w.x = r.pose.x;
+  w.y = r.pose.y;
+  w.role = static_cast<int8_t>(r.role);
+  w.phase = static_cast<int8_t>(r.phase);
+  w.measured = static_cast<int32_t>(r.report.measured);
+  w.expired = static_cast<int32_t>(r.report.expired);
+  w.skipped = static_cast<int32_t>(r.report.skipped);
+  w.dropped = static_cast<int32_t>(r.report.dropped);
+  w.carried = r.carried;
+  w.notices = r.notices;
+  w.pending = static_cast<int32_t>(r.report.pending);
+  w.request = static_cast<int32_t>(r.report.requests);
+  w.refused_full = static_cast<int32_t>(r.report.refused_full);
+  w.lost_notices = static_cast<int32_t>(r.report.lost_notices);
+  w.link_sent = r.link.sent;
+  w.link_received = r.link.received;
+  w.link_gated = r.link.gated;
+  w.link_lost = r.link.lost;
+  w.link_bad = r.link.bad;
+  w.link_overflow = r.link.overflow;
+  w.late = r.late;
+  const std::size_t keys = std::min<std::size_t>(r.keys.size(), gather_lcm::tick_reply_t::MAX_KEYS);
+  w.n_keys = static_cast<int16_t>(keys);
+  w.keys.assign(r.keys.begin(), r.keys.begin() + static_cast<long>(keys));
+  const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+  if (n < 0 || lcm_publish(reply_lcm_, kReplyChannel, buffer_.data(), static_cast<unsigned>(n)) != 0)
+    return ++publish_failures_, false;
+  return true;
+}
+
+bool LcmFleet::handle(int timeout_ms) {
+  // An agent never asks for the replies' file descriptor: with LCM's udpm
+  // that would join the replies' group, and every agent would receive every
+  // other agent's replies.
+  pollfd fds[2] = {{lcm_get_fileno(lcm_), POLLIN, 0}, {listen_replies_ ? lcm_get_fileno(reply_lcm_) : -1, POLLIN, 0}};
+  const nfds_t n = listen_replies_ ? 2 : 1;
+  const int ready = ::poll(fds, n, timeout_ms);
+  if (ready <= 0) return false;
+  // Drain everything that is there without blocking again.
+  for (int round = 0; round < 1000; ++round) {
+    bool any = false;
+    if (fds[0].revents & POLLIN) lcm_handle(lcm_), any = true;
+    if (n > 1 && (fds[1].revents & POLLIN)) lcm_handle(reply_lcm_), any = true;
+    if (!any || ::poll(fds, n, 0) <= 0) break;
+  }
+  return true;
+}
+
+void LcmFleet::on_radio(const char* channel, const void* data, int size) {
+  Wire& w = wire();
+  Message m;
+  const gather_lcm::header_t* h = nullptr;
+  auto decoded = [&](int n) {
+    if (n != size) return ++refused_.undecodable, false;
+    return true;
+  };
+  if (std::strcmp(channel, kRequestChannel) == 0) {
+    if (!decoded(w.request.decode(data, 0, size))) return;
+    const gather_lcm::request_t& r = w.request;
+    h = &r.h;
+    if (r.count < 0 || r.count > kRequestPartGoals || r.parts < 1 || r.parts > kMaxRequestParts || r.part < 0 ||
+        r.part >= r.parts || r.request < 0 || r.total < 0 || r.first_goal < 0 || !finite(r.issued_at))
+      return void(++refused_.out_of_range);
+    m.h.kind = Kind::kRequest;
+    m.request.request = r.request;
+    m.request.issued_at = r.issued_at;
+    m.request.first_goal = r.first_goal;
+    m.request.total = r.total;
+    m.request.part = static_cast<uint16_t>(r.part);
+    m.request.parts = static_cast<uint16_t>(r.parts);
+    m.request.count = static_cast<uint16_t>(r.count);
+    for (int i = 0; i < r.count; ++i) {
+      if (r.cells[i] < 0) return void(++refused_.out_of_range);
+      m.request.cells[i] = static_cast<uint32_t>(r.cells[i]);
+    }
+  } else if (std::strcmp(channel, kDataChannel) == 0) {
+    if (!decoded(w.data.decode(data, 0, size))) return;
+    const gather_lcm::data_t& d = w.data;
+    h = &d.h;
+    if (d.count < 0 || d.count > kMaxBatch) return void(++refused_.out_of_range);
+    m.h.kind = Kind::kData;
+    m.data.count = static_cast<uint16_t>(d.count);
+    for (int i = 0; i < d.count; ++i) {
+      const gather_lcm::data_item_t& o = d.items[i];
+      if (o.kind < 1 || o.kind > 4 || !finite(o.at) || !finite(o.picked_up_at) || o.by < 0 || o.by >= team_ ||
+          o.picked_up_by < -1 || o.picked_up_by >= team_)
+        return void(++refused_.out_of_range);
+      DataItem& it = m.data.items[i];
+      it.key = o.key, it.kind = static_cast<ItemKind>(o.kind), it.by = o.by, it.at = o.at;
+      it.picked_up_by = o.picked_up_by, it.picked_up_at = o.picked_up_at;
+    }
+  } else if (std::strcmp(channel, kAckChannel) == 0) {
+    if (!decoded(w.ack.decode(data, 0, size))) return;
+    const gather_lcm::ack_t& a = w.ack;
+    h = &a.h;
+    if (a.count < 0 || a.count > kMaxBatch) return void(++refused_.out_of_range);
+    m.h.kind = Kind::kAck;
+    m.ack.count = static_cast<uint16_t>(a.count);
+    std::copy(a.keys, a.keys + a.count, m.ack.keys);
+  } else if (std::strcmp(channel, kStateChannel) == 0) {
+    if (!decoded(w.state.decode(data, 0, size))) return;
+    const gather_lcm::agent_state_t& s = w.state;
+    h = &s.h;
+    if (s.role < 1 || s.role > 3 || s.carried < 0 || s.notices < 0 || s.pending < 0) return void(++refused_.out_of_range);
+    m.h.kind = Kind::kState;
+    m.state.role = static_cast<RoleKind>(s.role);
+    m.state.carried = static_cast<uint16_t>(s.carried);
+    m.state.notices = static_cast<uint16_t>(s.notices);
+    m.state.pending = static_cast<uint16_t>(s.pending);
+    m.state.measured = s.measured;
+  } else {
+    return;
+  }
+  if (h->schema_version != gather_lcm::header_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
+  if (h->sender < kOc || h->sender >= team_ || (h->dest != kBroadcast && (h->dest < kOc || h->dest >= team_)) ||
+      h->seq < 0 || h->request < -1 || !finite(h->t) || !finite(h->x) || !finite(h->y))
+    return void(++refused_.out_of_range);
+  m.h.sender = h->sender;
+  m.h.dest = h->dest;
+  m.h.seq = static_cast<uint32_t>(h->seq);
+  m.h.tick = h->tick;
+  m.h.t = h->t;
+  m.h.pos = Point2{h->x, h->y};
+  m.h.request = h->request;
+  if (radio_.size() >= radio_.capacity()) return void(++refused_.queue_full);
+  radio_.push_back(m);
+}
+
+void LcmFleet::on_clock(const char* channel, const void* data, int size) {
+  Wire& w = wire();
+  if (std::strcmp(channel, kTickChannel) == 0) {
+    if (w.tick.decode(data, 0, size) != size) return void(++refused_.undecodable);
+    if (w.tick.schema_version != gather_lcm::tick_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
+    if (w.tick.tick < 0 || !finite(w.tick.t) || w.tick.sent_before < 0) return void(++refused_.out_of_range);
+    ticks_.push_back(Tick{w.tick.tick, w.tick.t, w.tick.sent_before, w.tick.report != 0, w.tick.done != 0});
+  } else if (std::strcmp(channel, kPlanChannel) == 0) {
+    if (w.plan.decode(data, 0, size) != size) return void(++refused_.undecodable);
+    const gather_lcm::plan_t& p = w.plan;
+    if (p.schema_version != gather_lcm::plan_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
+    if (p.agents < 1 || p.agents > kMaxTeam || p.cycles < 1 || p.cycles > kMaxRequests || p.goals_per_request < 0 ||
+        p.data_capacity < 1 || p.notice_capacity < 1 || !(p.tick > 0 && p.tick <= 0.1) || !(p.loss >= 0 && p.loss < 1) ||
+        !(p.beacon_period > 0) || !(p.resend_after > 0) || !finite(p.beacon_period) || !finite(p.resend_after))
+      return void(++refused_.out_of_range);
+    PlanAnnounce a;
+    a.digest = static_cast<uint64_t>(p.digest);
+    a.agents = p.agents;
+    a.params.cycles = p.cycles;
+    a.params.seed = static_cast<unsigned>(p.seed);
+    a.params.goals_per_request = p.goals_per_request;
+    a.params.data_capacity = static_cast<std::size_t>(p.data_capacity);
+    a.params.notice_capacity = static_cast<std::size_t>(p.notice_capacity);
+    a.params.beacon_period = p.beacon_period;
+    a.params.resend_after = p.resend_after;
+    a.tick = p.tick;
+    a.loss = p.loss;
+    a.loss_seed = static_cast<uint64_t>(p.loss_seed);
+    plans_.push_back(a);
+  } else if (std::strcmp(channel, kReplyChannel) == 0) {
+    if (w.reply.decode(data, 0, size) != size) return void(++refused_.undecodable);
+    const gather_lcm::tick_reply_t& r = w.reply;
+    if (r.schema_version != gather_lcm::tick_reply_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
+    if (r.agent < 0 || r.agent >= team_ || r.status < 1 || r.status > 3 || r.sent < 0 || r.n_keys < 0 ||
+        r.n_keys > gather_lcm::tick_reply_t::MAX_KEYS || !finite(r.x) || !finite(r.y))
+      return void(++refused_.out_of_range);
+    Reply o;
+    o.tick = r.tick;
+    o.agent = r.agent;
+    o.status = static_cast<ReplyStatus>(r.status);
+    o.sent = r.sent;
+    o.pose = Point2{r.x, r.y};
+    o.role = static_cast<RoleKind>(r.role);
+    o.phase = r.phase;
+    o.report.role = o.role;
+    o.report.id = r.agent;
+    o.report.measured = r.measured, o.report.expired = r.expired, o.report.skipped = r.skipped;
+    o.report.dropped = r.dropped, o.report.pending = r.pending, o.report.requests = r.request;
+    o.report.refused_full = r.refused_full, o.report.lost_notices = r.lost_notices;
+    o.carried = r.carried, o.notices = r.notices;
+    o.link.sent = r.link_sent, o.link.received = r.link_received, o.link.gated = r.link_gated;
+    o.link.lost = r.link_lost, o.link.bad = r.link_bad, o.link.overflow = r.link_overflow;
+    o.late = r.late;
+    o.keys.assign(r.keys.begin(), r.keys.end());
+    replies_.push_back(std::move(o));
+  }
+}
+
+}  // namespace agent
+}  // namespace gather
