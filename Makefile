@@ -9,7 +9,7 @@ PYTHON := /usr/bin/python3
 WS := catkin_ws
 PLAIN := build/plain
 SCENARIO ?= maps/office.scenario.yaml
-DURATION ?= 20
+CYCLES ?= 0
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
@@ -29,12 +29,13 @@ build: deps
 	catkin_make -C $(WS) -j$(JOBS) -DPYTHON_EXECUTABLE=$(PYTHON) -DCMAKE_BUILD_TYPE=Release --no-color
 
 # Runs the default mission (office) headless inside a private network
-# namespace (LCM multicast stays on a private loopback), records a bag,
-# prints the summary table.
+# namespace (LCM multicast stays on a private loopback): plans the scenario,
+# runs its cycles with one process per agent, records a bag, prints what
+# happened.
 run: build
 	rm -rf $(RESULTS)
 	tools/netns-run bash -c '$(SETUP) && roslaunch --log gather_oc mission.launch \
-	  scenario:=$(abspath $(SCENARIO)) duration:=$(DURATION) results_dir:=$(abspath $(RESULTS)) record:=true'
+	  scenario:=$(abspath $(SCENARIO)) cycles:=$(CYCLES) results_dir:=$(abspath $(RESULTS)) record:=true'
 	$(PYTHON) tools/mission_summary.py $(RESULTS)
 
 test: build test-plain test-ros test-cli test-e2e

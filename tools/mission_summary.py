@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""Prints the summary table of a mission run from its results directory
-(mission.yaml written by oc_node, fleet.yaml by fleet_node).
+"""Prints what a mission did, from its results directory (mission.yaml
+written by oc_node, fleet.yaml by fleet_node).
 
   tools/mission_summary.py results/mission
 
-Exit status 0 if the run is complete (every agent heard, every agent process
-stopped cleanly), 1 otherwise, 2 if the results are missing or unreadable.
+Exit status 0 if the mission is complete (every goal resolved, every agent
+process exited 0), 1 otherwise, 2 if the results are missing or unreadable.
 """
 import os
 import sys
@@ -30,33 +30,44 @@ def main():
         print("usage: mission_summary.py RESULTS_DIR", file=sys.stderr)
         return 2
     d = sys.argv[1]
-    mission = load(os.path.join(d, "mission.yaml"))
+    m = load(os.path.join(d, "mission.yaml"))
     fleet = load(os.path.join(d, "fleet.yaml"))
-    stops = {a["id"]: a for a in fleet["agents"]}
+    try:
+        exits = {a["id"]: a for a in fleet["agents"]}
+        cfg, run, goals, refresh = m["configuration"], m["run"], m["goals"], m["refresh"]
+    except (KeyError, TypeError) as e:
+        print("mission_summary: %s: missing field %s" % (d, e), file=sys.stderr)
+        return 2
 
-    print("mission  %s" % mission["scenario"])
-    print("map      %d x %d cells at %.3f m/cell, OC at [%.2f, %.2f] m" % (
-        mission["map"]["width"], mission["map"]["height"], mission["map"]["resolution"],
-        mission["oc"][0], mission["oc"][1]))
-    print("run      %.1f s, %d/%d agents heard, %d heartbeats, %d missed, %d rejected" % (
-        mission["duration_s"], mission["agents_heard"], mission["agents_expected"],
-        mission["heartbeats"], mission["missed"], mission["rejected"]))
+    print("mission  %s" % m["scenario"])
+    print("plan     %s: %s, %d collectors, %d workers" % (m["plan"], cfg["method"], cfg["collectors"], cfg["workers"]))
+    print("run      %d cycles of %.1f s over %s, tick %.2f s: %d ticks, %.1f s of mission in %.1f s = %.0fx real time, "
+          "%d messages" % (run["cycles"], run["period_s"], run["transport"], run["tick_s"], run["ticks"], run["end_s"],
+                           run["wall_s"], run["speedup"], run["messages"]))
+    if m["status"] != "ok":
+        print("FAILED   %s" % m.get("failure", "mission incomplete"))
+    else:
+        print("goals    %d requested, %d delivered (%.2f per cycle, est. %.2f), %d expired, %d dropped" % (
+            goals["requested"], goals["delivered"], goals["per_cycle"], goals["est_per_cycle"], goals["expired"],
+            goals["dropped"]))
+        print("refresh  mean %.1f s (est. %.1f s), max %.1f s" % (refresh["mean_s"], refresh["est_s"], refresh["max_s"]))
     print()
-    print("%5s  %-10s  %10s  %8s  %6s  %-18s  %4s  %9s" % (
-        "agent", "role", "heartbeats", "last_seq", "missed", "pose [m]", "exit", "stop [ms]"))
-    for a in mission["agents"]:
-        s = stops.get(a["id"], {})
-        latency = s.get("stop_latency_s", -1)
-        print("%5d  %-10s  %10d  %8d  %6d  %-18s  %4s  %9s" % (
-            a["id"], a["role"], a["heartbeats"], a["last_seq"], a["missed"],
-            "[%.2f, %.2f]" % tuple(a["pose"]) if a["heard"] else "never heard",
-            s.get("exit_status", "?"), "%.1f" % (latency * 1e3) if latency >= 0 else "-"))
+    cols = ("agent", "role", "measured", "carried", "delivered", "expired", "skipped", "dropped", "sent", "received",
+            "gated", "lost", "exit")
+    fmt = "%5s  %-9s  %8s  %7s  %9s  %7s  %7s  %7s  %6s  %8s  %7s  %5s  %4s"
+    print(fmt % cols)
+    for a in m["agents"]:
+        e = exits.get(a["id"], {})
+        print(fmt % (a["id"], a["role"], a["measured"], a["carried"], a["delivered"], a["expired"], a["skipped"],
+                     a["dropped"], a["sent"], a["received"], a["gated"], a["lost"], e.get("exit_status", "?")))
+    oc = m["oc"]
+    print(fmt % ("OC", "oc", "", "", sum(a["delivered"] for a in m["agents"]), "", "", "", oc["sent"], oc["received"],
+                 oc["gated"], oc["lost"], ""))
     print()
     bag = os.path.join(d, "mission.bag")
-    ok = mission["status"] == "ok" and fleet["status"] == "ok"
-    print("result   %s (mission %s, fleet %s)%s" % (
-        "OK" if ok else "FAILED", mission["status"], fleet["status"],
-        ", bag %s" % bag if os.path.exists(bag) else ""))
+    ok = m["status"] == "ok" and fleet["status"] == "ok"
+    print("result   %s (mission %s, fleet %s)%s" % ("OK" if ok else "FAILED", m["status"], fleet["status"],
+                                                    ", bag %s" % bag if os.path.exists(bag) else ""))
     return 0 if ok else 1
 
 

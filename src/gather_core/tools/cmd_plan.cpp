@@ -24,21 +24,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-void write_report(const std::string& path, const plan::SweepResult& sweep) {
-  std::ofstream out(path);
-  out << "method,collectors,workers,est_refresh_s,est_goals,utility,plan_ms,partition_ms,graph_ms,groups_ms,routes_ms,"
-         "estimate_ms\n";
-  char line[512];
-  for (const auto& c : sweep.configs) {
-    std::snprintf(line, sizeof line, "%s,%d,%d,%.3f,%.3f,%.4f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f\n",
-                  partition::method_name(c.method), c.collectors, c.workers, c.estimates.refresh_s, c.estimates.goals,
-                  c.utility, c.times.total(), c.times.partition_ms, c.times.graph_ms, c.times.groups_ms,
-                  c.times.routes_ms, c.times.estimate_ms);
-    out << line;
-  }
-  if (!out) throw Error(path, "cannot write report");
-}
-
 }  // namespace
 
 int plan(int argc, char** argv) {
@@ -82,11 +67,8 @@ int plan(int argc, char** argv) {
   }
   const plan::ConfigurationPlan& best = sweep.configs[static_cast<std::size_t>(sweep.best)];
 
-  std::filesystem::create_directories(out);
-  write_report(out + "/report.csv", sweep);
-  figures::write_label_png(out + "/labels.png", best.partition);
-  plan::write_plan_file(out + "/plan.yaml", plan::make_plan_file(ctx, best, "labels.png", opt.seed));
-  figures::write_plan_figures(out, ctx, best);
+  plan::write_plan_directory(out, ctx, best, opt.seed);
+  plan::write_sweep_report(out + "/report.csv", sweep);
   if (sweep.configs.size() > 1) figures::write_estimates_figure(out + "/fig3_estimated.png", sweep, s.planner.methods);
 
   std::printf("%-6s %3s %3s %12s %10s %8s %9s\n", "method", "Nc", "Nw", "refresh [s]", "goals", "U", "plan [ms]");

@@ -1,7 +1,10 @@
 // fleet_node: starts one gather_agent process per agent of the scenario (N
-// comes from the scenario, not from a hand-written node list), reports agents
-// that die, and on shutdown stops them all and writes `~results_dir/fleet.yaml`.
-// Exit status: 0 every agent ran until stopped and exited 0, 1 otherwise, 2 bad input.
+// comes from the scenario, not from a hand-written node list) once the OC
+// has published where the plan is (/gather/plan_dir), reports agents that
+// fail, and on shutdown stops those still running and writes
+// `~results_dir/fleet.yaml`. Agents end by themselves (exit 0) when the OC
+// ends the mission. Exit status: 0 every agent exited 0 within 1 s of its
+// stop, 1 otherwise, 2 bad input.
 #include <ros/ros.h>
 #include <yaml-cpp/yaml.h>
 
@@ -10,9 +13,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include "gather_agent/runner/agent_fleet.hpp"
+#include "gather_agent/transport/lcm_fleet.hpp"
 #include "gather_core/scenario/scenario.hpp"
 #include "gather_oc/launch_paths.hpp"
-#include "gather_agent/runner/agent_fleet.hpp"
 
 namespace {
 
@@ -25,9 +29,11 @@ void write_fleet_results(const std::string& path, const gather::AgentFleet& flee
   y << YAML::BeginMap << YAML::Key << "status" << YAML::Value << (ok ? "ok" : "failed");
   y << YAML::Key << "agents" << YAML::Value << YAML::BeginSeq;
   for (const auto& a : fleet.agents()) {
+    // exited_early: ended by itself (at the mission's end, or on an error:
+    // see exit_status); otherwise stopped with SIGTERM after stop_latency_s.
     y << YAML::Flow << YAML::BeginMap << YAML::Key << "id" << YAML::Value << a.id << YAML::Key << "exit_status"
-      << YAML::Value << a.exit_status << YAML::Key << "exited_early" << YAML::Value << a.exited_early << YAML::Key
-      << "stop_latency_s" << YAML::Value << a.stop_latency_s << YAML::EndMap;
+      << YAML::Value << a.exit_status << YAML::Key << "ended" << YAML::Value << (a.exited_early ? "by_itself" : "stopped")
+      << YAML::Key << "stop_latency_s" << YAML::Value << a.stop_latency_s << YAML::EndMap;
   }
   y << YAML::EndSeq << YAML::EndMap;
   std::error_code ec;
@@ -57,15 +63,17 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "fleet: %s\n", e.what());
     return 2;
   }
+  ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
-  std::string lcm_url, agent_bin, results_dir;
-  double rate_hz = 2.0;
+  std::string lcm_url, reply_url, agent_bin, results_dir;
+  double plan_timeout = 300.0;
   pnh.param<std::string>("lcm_url", lcm_url, "");
+  pnh.param<std::string>("reply_url", reply_url, "");
   pnh.param<std::string>("agent_bin", agent_bin, "");
   pnh.param<std::string>("results_dir", results_dir, "");
+  pnh.param("plan_timeout", plan_timeout, 300.0);
   results_dir = gather::resolve_launch_path(results_dir);
-  pnh.param("heartbeat_rate", rate_hz, 2.0);
-    const std::string bin = gather::find_agent_binary(agent_bin);
+  const std::string bin = gather::find_agent_binary(agent_bin);
   if (bin.empty()) {
     std::fprintf(stderr, "fleet: gather_agent binary not found (%s)\n",
                  agent_bin.empty() ? "searched CMAKE_PREFIX_PATH/lib/gather_agent and PATH; source the workspace"
@@ -73,9 +81,21 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  std::vector<std::string> command{bin, "--id", "{id}", "--rate", std::to_string(rate_hz)};
+  // The OC plans first (or checks the given plan), then says where it is.
+  std::string plan_dir;
+  const ros::WallTime t0 = ros::WallTime::now();
+  while (!g_stop && ros::ok() && !nh.getParam("/gather/plan_dir", plan_dir)) {
+    if ((ros::WallTime::now() - t0).toSec() > plan_timeout) {
+      std::fprintf(stderr, "fleet: the OC did not publish /gather/plan_dir within %.0f s\n", plan_timeout);
+      return 1;
+    }
+    ros::WallDuration(0.05).sleep();
+  }
+  if (g_stop || !ros::ok()) return 0;
+
+  std::vector<std::string> command{bin, "--id", "{id}", "--plan", plan_dir};
   if (!lcm_url.empty()) command.insert(command.end(), {"--lcm-url", lcm_url});
-  command.push_back(scenario_path);
+  command.insert(command.end(), {"--reply-url", reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(lcm_url) : reply_url});
   gather::AgentFleet fleet(command, agents);
   try {
     fleet.start();
@@ -83,25 +103,30 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "fleet: %s\n", e.what());
     return 1;
   }
-  ROS_INFO("fleet: started %d agents (%s)", agents, bin.c_str());
+  ROS_INFO("fleet: started %d agents (%s --plan %s)", agents, bin.c_str(), plan_dir.c_str());
 
   bool ok = true;
-  while (!g_stop && ros::ok()) {
+  int done = 0;
+  while (!g_stop && ros::ok() && done < agents) {
     for (int id : fleet.poll()) {
-      ok = false;
-      ROS_ERROR("fleet: agent %d ended early with status %d", id, fleet.agents()[static_cast<std::size_t>(id)].exit_status);
+      ++done;
+      const int status = fleet.agents()[static_cast<std::size_t>(id)].exit_status;
+      if (status != 0) {
+        ok = false;
+        ROS_ERROR("fleet: agent %d ended with status %d", id, status);
+      }
     }
-    ros::Duration(0.05).sleep();
+    ros::WallDuration(0.05).sleep();
   }
   fleet.stop(2.0);
   int slow = 0;
   for (const auto& a : fleet.agents()) {
     if (a.exit_status != 0) ok = false;
-    if (a.stop_latency_s > 1.0) ok = false, ++slow;
+    if (!a.exited_early && a.stop_latency_s > 1.0) ok = false, ++slow;
   }
   if (!results_dir.empty()) write_fleet_results(results_dir + "/fleet.yaml", fleet, ok);
-  std::printf("fleet: stopped %d agents: %s%s\n", agents, ok ? "all exited 0" : "FAILURES (see fleet.yaml)",
-              slow ? (", " + std::to_string(slow) + " took > 1 s").c_str() : "");
+  std::printf("fleet: %d agents: %s%s\n", agents, ok ? "all exited 0" : "FAILURES (see fleet.yaml)",
+              slow ? (", " + std::to_string(slow) + " took > 1 s to stop").c_str() : "");
   std::fflush(stdout);
   ros::shutdown();
   return ok ? 0 : 1;

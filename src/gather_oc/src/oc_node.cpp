@@ -1,29 +1,31 @@
-// oc_node: the Operation Center. Loads the scenario, publishes /map (latched)
-// and RViz markers, listens to the agents over LCM, and after `~duration`
-// seconds writes `~results_dir/mission.yaml` and a summary line.
-// Exit status: 0 all agents heard, 1 some never heard, 2 bad input.
+// oc_node: the Operation Center, a thin ROS wrapper around the OC role and
+// the lockstep clock of gather_agent. It plans the scenario (or takes
+// ~plan), tells the fleet where the plan is (/gather/plan_dir), announces
+// it over LCM, drives the mission tick by tick, publishes /map and RViz
+// markers, and at the end writes goals.csv, cycles.csv, summary.csv,
+// agents.csv and mission.yaml into ~results_dir and prints a summary line.
+// Exit status: 0 mission complete, 1 a runtime failure (agents silent, the
+// mission unfinished at its time limit), 2 bad input.
 #include <ros/ros.h>
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 
-#include "gather_agent/fleet_monitor.hpp"
-#include "gather_agent/lcm_open.hpp"
+#include "gather_agent/runner/lockstep.hpp"
+#include "gather_agent/runner/run_files.hpp"
 #include "gather_core/error.hpp"
+#include "gather_core/plan/plan_export.hpp"
 #include "gather_core/scenario/scenario.hpp"
 #include "gather_oc/launch_paths.hpp"
-#include "gather_oc/mission_results.hpp"
 #include "gather_oc/ros_conversions.hpp"
 
 namespace {
 
-struct StateHandler {
-  gather::FleetMonitor* fleet;
-  double now_s = 0.0;
-  void on_state(const lcm::ReceiveBuffer* rbuf, const std::string&) {
-    fleet->on_message(rbuf->data, static_cast<int>(rbuf->data_size), now_s);
-  }
-};
+int fail(int status, const std::string& what) {
+  std::fprintf(stderr, "oc_node: %s\n", what.c_str());
+  return status;
+}
 
 }  // namespace
 
@@ -33,82 +35,120 @@ int main(int argc, char** argv) {
   // talks to the ROS master, so bad input fails fast with one line.
   std::vector<std::string> args;
   ros::removeROSArgs(argc, argv, args);
-  if (args.size() != 2) {
-    std::fprintf(stderr, "oc_node: usage: oc_node SCENARIO (settings as private parameters ~duration, ~results_dir, ~lcm_url)\n");
-    return 2;
-  }
+  if (args.size() != 2)
+    return fail(2, "usage: oc_node SCENARIO (settings as private parameters ~plan, ~results_dir, ~cycles, ~seed, "
+                   "~rate, ~tick, ~lcm_url)");
   const std::string scenario_path = gather::resolve_launch_path(args[1]);
   gather::Scenario scenario;
   try {
     scenario = gather::load_scenario(scenario_path);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "oc_node: %s\n", e.what());
-    return 2;
+    return fail(2, e.what());
   }
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
-  std::string lcm_url, results_dir;
-  double duration_s = 0.0, marker_hz = 2.0;
+  nh.deleteParam("/gather/plan_dir");  // a previous run's, on a master that outlived it
+  std::string plan_dir, results_dir, lcm_url, reply_url;
+  int cycles = 0, seed = -1, loss_seed = 1;
+  double rate = 0.0, tick = 0.1, loss = 0.0, marker_hz = 2.0, ready_timeout = 60.0;
+  pnh.param<std::string>("plan", plan_dir, "");
+  pnh.param<std::string>("results_dir", results_dir, "results/mission");
   pnh.param<std::string>("lcm_url", lcm_url, "");
-  pnh.param<std::string>("results_dir", results_dir, "");
-  results_dir = gather::resolve_launch_path(results_dir);
-  pnh.param("duration", duration_s, 0.0);
+  pnh.param<std::string>("reply_url", reply_url, "");
+  pnh.param("cycles", cycles, 0);
+  pnh.param("seed", seed, -1);
+  pnh.param("rate", rate, 0.0);
+  pnh.param("tick", tick, 0.1);
+  pnh.param("loss", loss, 0.0);
+  pnh.param("loss_seed", loss_seed, 1);
   pnh.param("marker_rate", marker_hz, 2.0);
-    if (!(duration_s >= 0.0) || !(marker_hz > 0.0)) {
-    std::fprintf(stderr, "oc_node: ~duration must be >= 0 s and ~marker_rate > 0 Hz\n");
-    return 2;
-  }
-  std::string lcm_error;
-  auto lcm = gather::open_lcm(lcm_url, &lcm_error);
-  if (!lcm) {
-    std::fprintf(stderr, "oc_node: %s\n", lcm_error.c_str());
-    return 2;
-  }
+  pnh.param("ready_timeout", ready_timeout, 60.0);
+  results_dir = gather::resolve_launch_path(results_dir);
+  plan_dir = gather::resolve_launch_path(plan_dir);
+  if (cycles < 0 || cycles > 100000) return fail(2, "~cycles must be in 0..100000 (0: the scenario's), got " + std::to_string(cycles));
+  if (!(rate >= 0.0)) return fail(2, "~rate must be >= 0 (0: as fast as the lockstep allows)");
+  if (!(tick > 0.0 && tick <= 0.1)) return fail(2, "~tick must be in (0, 0.1] s");
+  if (!(loss >= 0.0 && loss < 1.0)) return fail(2, "~loss must be in [0, 1)");
+  if (!(marker_hz > 0.0)) return fail(2, "~marker_rate must be > 0 Hz");
+  if (!(ready_timeout > 0.0)) return fail(2, "~ready_timeout must be > 0 s");
 
-  gather::FleetMonitor fleet(scenario.team.agents);
-  StateHandler handler{&fleet};
-  lcm->subscribe(gather::kAgentStateChannel, &StateHandler::on_state, &handler);
+  // The plan: given, or the scenario's best configuration.
+  if (plan_dir.empty()) {
+    plan_dir = results_dir + "/plan";
+    try {
+      const std::string best = gather::plan::plan_scenario(scenario_path, plan_dir);
+      ROS_INFO("oc: planned %s: %s -> %s", scenario_path.c_str(), best.c_str(), plan_dir.c_str());
+    } catch (const std::exception& e) {
+      return fail(2, e.what());
+    }
+  }
+  plan_dir = std::filesystem::weakly_canonical(plan_dir).string();
+  std::unique_ptr<gather::agent::LoadedPlan> plan;
+  try {
+    plan = std::make_unique<gather::agent::LoadedPlan>(gather::agent::load_plan(plan_dir));
+    const auto same = [](const std::string& a, const std::string& b) {
+      return std::filesystem::weakly_canonical(a) == std::filesystem::weakly_canonical(b);
+    };
+    if (!same(plan->plan.file.scenario, scenario_path))
+      throw gather::Error(plan_dir + "/plan.yaml", "was planned for scenario " + plan->plan.file.scenario + ", not " + scenario_path);
+  } catch (const std::exception& e) {
+    return fail(2, e.what());
+  }
+  gather::agent::MissionParams params = gather::agent::mission_params(plan->scenario);
+  if (cycles > 0) params.cycles = cycles;
+  if (seed >= 0) params.seed = static_cast<unsigned>(seed);
 
   ros::Publisher map_pub = nh.advertise<nav_msgs::OccupancyGrid>("map", 1, /*latch=*/true);
   ros::Publisher marker_pub = nh.advertise<visualization_msgs::MarkerArray>("gather/markers", 1, /*latch=*/true);
   map_pub.publish(gather::to_map_msg(scenario.grid, "map", ros::Time::now()));
-  ROS_INFO("oc: scenario %s, map %dx%d at %.3f m/cell, expecting %d agents%s", scenario.path.c_str(),
-           scenario.grid.width(), scenario.grid.height(), scenario.grid.resolution(), scenario.team.agents,
-           duration_s > 0 ? (", mission of " + std::to_string(duration_s) + " s").c_str() : "");
+  nh.setParam("/gather/plan_dir", plan_dir);  // fleet_node starts the agents with it
 
-  using Clock = std::chrono::steady_clock;
-  const auto t0 = Clock::now();
-  const double marker_period = 1.0 / marker_hz;
-  double next_marker = 0.0;
-  double elapsed = 0.0;
-  while (ros::ok()) {
-    lcm->handleTimeout(20);
-    elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
-    handler.now_s = elapsed;
-    ros::spinOnce();
-    if (elapsed >= next_marker) {
-      marker_pub.publish(gather::team_markers(scenario.oc, fleet.agents(), "map", ros::Time::now(), elapsed,
-                                              3.0 * marker_period + 1.0));
-      next_marker += marker_period;
+  try {
+    const gather::mission::World world(plan->scenario);
+    gather::agent::TeamSetup team(world, plan->plan, params);
+    const std::string replies = reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(lcm_url) : reply_url;
+    gather::agent::LcmFleet fleet(lcm_url, replies, true, team.agents());
+    gather::agent::MasterOptions mo;
+    mo.tick = tick, mo.rate = rate, mo.loss = loss, mo.loss_seed = static_cast<uint64_t>(loss_seed);
+    mo.ready_timeout_s = ready_timeout;
+    gather::agent::LockstepMaster master(team, fleet, gather::agent::plan_digest(*plan), mo);
+    const gather::plan::PlanFile& pf = plan->plan.file;
+    ROS_INFO("oc: %s with %d collectors, %d agents, %d cycles of %.1f s; waiting for the fleet", pf.method.c_str(),
+             pf.collectors, team.agents(), params.cycles, team.period);
+    marker_pub.publish(gather::team_markers(scenario.oc, master.agents(), "map", ros::Time::now(), false));
+    master.start(nullptr);
+    ROS_INFO("oc: all %d agents ready, mission starts (tick %.2f s, %s)", team.agents(), tick,
+             rate > 0 ? (std::to_string(rate) + "x real time").c_str() : "as fast as the lockstep allows");
+    using Clock = std::chrono::steady_clock;
+    auto next_marker = Clock::now();
+    const auto marker_period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / marker_hz));
+    bool more = true;
+    while (more && ros::ok()) {
+      more = master.tick(nullptr);
+      if (Clock::now() >= next_marker) {
+        marker_pub.publish(gather::team_markers(scenario.oc, master.agents(), "map", ros::Time::now(), true));
+        next_marker = Clock::now() + marker_period;
+        ros::spinOnce();
+      }
     }
-    if (duration_s > 0.0 && elapsed >= duration_s) break;
+    marker_pub.publish(gather::team_markers(scenario.oc, master.agents(), "map", ros::Time::now(), true));
+    const gather::agent::RunOutcome out = master.finish();
+    gather::agent::RunSettings settings{"lcm", tick, rate, loss};
+    gather::agent::write_mission_yaml(results_dir + "/mission.yaml", *plan, params, settings, out);
+    if (!out.completed) return fail(1, out.failure + (ros::ok() ? "" : " (stopped)") + "; " + results_dir + "/mission.yaml");
+    gather::agent::RunFiles files;
+    files.add(pf, params, out);
+    files.write(results_dir);
+    std::printf("oc: mission done: %s Nc=%d, %d cycles, %zu goals requested, refresh %.1f s (est. %.1f), %.2f goals "
+                "per cycle (est. %.2f); %lld ticks in %.1f s = %.0fx real time -> %s\n",
+                pf.method.c_str(), pf.collectors, params.cycles, out.result.goals.size(), out.result.refresh_mean_s,
+                pf.est_refresh_s, out.result.goals_per_cycle, pf.est_goals, static_cast<long long>(out.ticks),
+                out.wall_ms / 1000.0, out.wall_ms > 0 ? out.end_s * 1000.0 / out.wall_ms : 0.0, results_dir.c_str());
+    std::fflush(stdout);
+  } catch (const std::exception& e) {
+    nh.deleteParam("/gather/plan_dir");
+    return fail(1, e.what());
   }
-
-  const gather::MissionSummary summary = gather::summarize(fleet, elapsed);
-  std::string results_file;
-  if (!results_dir.empty()) {
-    results_file = results_dir + "/mission.yaml";
-    try {
-      gather::write_mission_results(results_file, scenario, fleet, summary);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "oc_node: %s\n", e.what());
-      return 1;
-    }
-  }
-  std::printf("oc: mission %s after %.1f s: %d/%d agents heard, %lld heartbeats, %lld missed, %lld rejected%s%s\n",
-              summary.ok() ? "done" : "INCOMPLETE", summary.duration_s, summary.agents_heard,
-              summary.agents_expected, summary.heartbeats, summary.missed, summary.rejected,
-              results_file.empty() ? "" : " -> ", results_file.c_str());
-  std::fflush(stdout);
-  return summary.ok() ? 0 : 1;
+  nh.deleteParam("/gather/plan_dir");
+  return 0;
 }

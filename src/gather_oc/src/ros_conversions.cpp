@@ -9,14 +9,6 @@ std_msgs::ColorRGBA rgba(float r, float g, float b, float a = 1.0f) {
   return c;
 }
 
-std_msgs::ColorRGBA role_color(Role role) {
-  switch (role) {
-    case Role::kWorker: return rgba(0.12f, 0.47f, 0.71f);     // blue
-    case Role::kCollector: return rgba(0.1f, 0.1f, 0.1f);     // black
-    case Role::kUnassigned: break;
-  }
-  return rgba(1.0f, 0.6f, 0.0f);  // orange: heard, no role yet
-}
 
 }  // namespace
 
@@ -35,9 +27,8 @@ nav_msgs::OccupancyGrid to_map_msg(const OccupancyGrid& grid, const std::string&
   return m;
 }
 
-visualization_msgs::MarkerArray team_markers(Point2 oc, const std::vector<AgentRecord>& agents,
-                                             const std::string& frame, const ros::Time& stamp, double now_s,
-                                             double stale_after_s) {
+visualization_msgs::MarkerArray team_markers(Point2 oc, const std::vector<agent::Reply>& agents,
+                                             const std::string& frame, const ros::Time& stamp, bool started) {
   visualization_msgs::MarkerArray out;
   visualization_msgs::Marker base;
   base.header.frame_id = frame;
@@ -56,31 +47,29 @@ visualization_msgs::MarkerArray team_markers(Point2 oc, const std::vector<AgentR
   m.color = rgba(0.85f, 0.1f, 0.1f);
   out.markers.push_back(m);
 
-  for (std::size_t i = 0; i < agents.size(); ++i) {
-    const AgentRecord& a = agents[i];
-    if (!a.heard) continue;
-    const bool stale = now_s - a.last_heard_s > stale_after_s;
+  for (const agent::Reply& a : agents) {
     visualization_msgs::Marker s = base;
     s.ns = "agents";
-    s.id = static_cast<int>(i);
+    s.id = a.agent;
     s.type = visualization_msgs::Marker::SPHERE;
     s.pose.position.x = a.pose.x;
     s.pose.position.y = a.pose.y;
     s.pose.position.z = 0.2;
     s.scale.x = s.scale.y = s.scale.z = 0.4;
-    s.color = stale ? rgba(0.6f, 0.6f, 0.6f, 0.5f) : role_color(a.role);
+    s.color = !started ? rgba(1.0f, 0.55f, 0.0f)
+                       : a.role == agent::RoleKind::kCollector ? rgba(0.1f, 0.1f, 0.1f) : rgba(0.15f, 0.35f, 0.9f);
     out.markers.push_back(s);
 
     visualization_msgs::Marker t = base;
     t.ns = "agent_ids";
-    t.id = static_cast<int>(i);
+    t.id = a.agent;
     t.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
-    t.text = std::to_string(i);
+    t.text = std::to_string(a.agent);
     t.pose.position.x = a.pose.x;
     t.pose.position.y = a.pose.y + 0.4;
     t.pose.position.z = 0.5;
     t.scale.z = 0.35;
-    t.color = rgba(1.0f, 1.0f, 1.0f);
+    t.color = rgba(0.1f, 0.1f, 0.1f);
     out.markers.push_back(t);
   }
   return out;

@@ -331,7 +331,11 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
     ++next_check_;
   }
   ++tick_;
-  return !oc().done() && t < limit_;
+  // Done when every goal is resolved and every ack has landed (no agent
+  // still holds a copy of something the OC already has).
+  bool held = false;
+  for (const Reply& r : last_) held = held || r.carried > 0 || r.notices > 0;
+  return !(oc().done() && !held) && t < limit_;
 }
 
 RunOutcome LockstepMaster::finish() {

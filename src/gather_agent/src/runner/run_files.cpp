@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <yaml-cpp/yaml.h>
+
 #include "gather_core/error.hpp"
 
 namespace gather {
@@ -55,6 +57,70 @@ void append_agent_rows(std::string& out, const plan::PlanFile& plan, unsigned se
                   static_cast<long long>(a.link.bad), static_cast<long long>(a.link.overflow));
     out += line;
   }
+}
+
+void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const MissionParams& params,
+                        const RunSettings& settings, const RunOutcome& run) {
+  const plan::PlanFile& pf = plan.plan.file;
+  int64_t requested = 0, delivered = 0, expired = 0, dropped = 0;
+  for (const mission::GoalRecord& g : run.result.goals) {
+    ++requested;
+    delivered += g.state == mission::GoalState::kDelivered;
+    expired += g.state == mission::GoalState::kExpired;
+    dropped += g.state == mission::GoalState::kDropped;
+  }
+  YAML::Emitter y;
+  y.SetDoublePrecision(6);
+  y << YAML::BeginMap;
+  y << YAML::Key << "status" << YAML::Value << (run.completed ? "ok" : "incomplete");
+  if (!run.completed) y << YAML::Key << "failure" << YAML::Value << run.failure;
+  y << YAML::Key << "scenario" << YAML::Value << pf.scenario;
+  y << YAML::Key << "plan" << YAML::Value << std::filesystem::weakly_canonical(plan.dir).string();
+  y << YAML::Key << "map" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "width" << YAML::Value
+    << plan.scenario.grid.width() << YAML::Key << "height" << YAML::Value << plan.scenario.grid.height() << YAML::Key
+    << "resolution" << YAML::Value << plan.scenario.grid.resolution() << YAML::EndMap;
+  y << YAML::Key << "oc" << YAML::Value << YAML::Flow << YAML::BeginSeq << plan.scenario.oc.x << plan.scenario.oc.y
+    << YAML::EndSeq;
+  y << YAML::Key << "configuration" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "method"
+    << YAML::Value << pf.method << YAML::Key << "collectors" << YAML::Value << pf.collectors << YAML::Key << "workers"
+    << YAML::Value << pf.workers << YAML::EndMap;
+  y << YAML::Key << "run" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "transport" << YAML::Value
+    << settings.transport << YAML::Key << "cycles" << YAML::Value << params.cycles << YAML::Key << "seed" << YAML::Value
+    << params.seed << YAML::Key << "period_s" << YAML::Value << pf.cycle_period_s << YAML::Key << "tick_s"
+    << YAML::Value << settings.tick << YAML::Key << "rate" << YAML::Value << settings.rate << YAML::Key << "loss"
+    << YAML::Value << settings.loss << YAML::Key << "ticks" << YAML::Value << run.ticks << YAML::Key << "end_s"
+    << YAML::Value << run.end_s << YAML::Key << "wall_s" << YAML::Value << run.wall_ms / 1000.0 << YAML::Key
+    << "speedup" << YAML::Value << (run.wall_ms > 0 ? run.end_s * 1000.0 / run.wall_ms : 0.0) << YAML::Key
+    << "messages" << YAML::Value << run.messages << YAML::EndMap;
+  y << YAML::Key << "goals" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "requested" << YAML::Value
+    << requested << YAML::Key << "delivered" << YAML::Value << delivered << YAML::Key << "expired" << YAML::Value
+    << expired << YAML::Key << "dropped" << YAML::Value << dropped << YAML::Key << "per_cycle" << YAML::Value
+    << run.result.goals_per_cycle << YAML::Key << "est_per_cycle" << YAML::Value << pf.est_goals << YAML::EndMap;
+  y << YAML::Key << "refresh" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "mean_s" << YAML::Value
+    << run.result.refresh_mean_s << YAML::Key << "max_s" << YAML::Value << run.result.refresh_max_s << YAML::Key
+    << "est_s" << YAML::Value << pf.est_refresh_s << YAML::EndMap;
+  y << YAML::Key << "oc" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "sent" << YAML::Value
+    << run.oc_link.sent << YAML::Key << "received" << YAML::Value << run.oc_link.received << YAML::Key << "gated"
+    << YAML::Value << run.oc_link.gated << YAML::Key << "lost" << YAML::Value << run.oc_link.lost << YAML::Key << "bad"
+    << YAML::Value << run.oc_link.bad << YAML::Key << "invalid_items" << YAML::Value << run.invalid_items << YAML::Key
+    << "duplicate_items" << YAML::Value << run.duplicate_items << YAML::EndMap;
+  y << YAML::Key << "agents" << YAML::Value << YAML::BeginSeq;
+  for (const AgentSummary& a : run.agents) {
+    y << YAML::Flow << YAML::BeginMap << YAML::Key << "id" << YAML::Value << a.id << YAML::Key << "role" << YAML::Value
+      << role_kind_name(a.role) << YAML::Key << "measured" << YAML::Value << a.report.measured << YAML::Key << "carried"
+      << YAML::Value << a.carried << YAML::Key << "delivered" << YAML::Value << a.delivered << YAML::Key << "expired"
+      << YAML::Value << a.report.expired << YAML::Key << "skipped" << YAML::Value << a.report.skipped << YAML::Key
+      << "dropped" << YAML::Value << a.report.dropped << YAML::Key << "sent" << YAML::Value << a.link.sent << YAML::Key
+      << "received" << YAML::Value << a.link.received << YAML::Key << "gated" << YAML::Value << a.link.gated
+      << YAML::Key << "lost" << YAML::Value << a.link.lost << YAML::Key << "bad" << YAML::Value << a.link.bad
+      << YAML::EndMap;
+  }
+  y << YAML::EndSeq << YAML::EndMap;
+  std::error_code ec;
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
+  std::ofstream out(path);
+  out << y.c_str() << "\n";
+  if (!out) throw Error(path, "cannot write");
 }
 
 void RunFiles::add(const plan::PlanFile& plan, const MissionParams& params, const RunOutcome& run) {

@@ -96,7 +96,12 @@ bool TeamRunner::tick() {
     check_team_conservation(oc(), units_, t, custody_scratch_);
     ++next_check_;
   }
-  return !oc().done() && t < limit_;
+  // Done when every goal is resolved and every ack has landed (no agent
+  // still holds a copy of something the OC already has).
+  bool held = false;
+  for (const AgentUnit& u : units_)
+    if (const Custody* c = u.role->custody()) held = held || c->size() > 0;
+  return !(oc().done() && !held) && t < limit_;
 }
 
 RunOutcome TeamRunner::run() {

@@ -2,7 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
+
+#include "gather_core/error.hpp"
+#include "gather_core/figures/partition_figure.hpp"
+#include "gather_core/figures/plan_figures.hpp"
 
 namespace gather {
 namespace plan {
@@ -28,6 +34,49 @@ PlanFile make_plan_file(const PlanContext& ctx, const ConfigurationPlan& cfg, co
   p.routes = cfg.routes;
   p.workers_est = cfg.estimates.workers;
   return p;
+}
+
+void write_sweep_report(const std::string& path, const SweepResult& sweep) {
+  std::ofstream out(path);
+  out << "method,collectors,workers,est_refresh_s,est_goals,utility,plan_ms,partition_ms,graph_ms,groups_ms,routes_ms,"
+         "estimate_ms\n";
+  char line[512];
+  for (const auto& c : sweep.configs) {
+    std::snprintf(line, sizeof line, "%s,%d,%d,%.3f,%.3f,%.4f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f\n",
+                  partition::method_name(c.method), c.collectors, c.workers, c.estimates.refresh_s, c.estimates.goals,
+                  c.utility, c.times.total(), c.times.partition_ms, c.times.graph_ms, c.times.groups_ms,
+                  c.times.routes_ms, c.times.estimate_ms);
+    out << line;
+  }
+  if (!out) throw Error(path, "cannot write report");
+}
+
+
+std::string plan_scenario(const std::string& scenario_path, const std::string& dir, int threads) {
+  const Scenario map_scenario = load_scenario(scenario_path);
+  const Scenario s = on_planning_grid(map_scenario, planning_factor(map_scenario));
+  const PlanContext ctx(s);
+  PlannerOptions opt;
+  opt.seed = s.mission.seed;
+  opt.threads = threads;
+  const SweepResult sweep = plan::sweep(ctx, opt);
+  const ConfigurationPlan& best = sweep.configs[static_cast<std::size_t>(sweep.best)];
+  write_plan_directory(dir, ctx, best, opt.seed);
+  write_sweep_report(dir + "/report.csv", sweep);
+  char line[256];
+  std::snprintf(line, sizeof line, "%s with %d collectors and %d workers (U = %.3f, est. refresh %.1f s, %.2f goals per cycle of %.1f s)",
+                partition::method_name(best.method), best.collectors, best.workers, best.utility,
+                best.estimates.refresh_s, best.estimates.goals, ctx.cycle_period);
+  return line;
+}
+
+void write_plan_directory(const std::string& dir, const PlanContext& ctx, const ConfigurationPlan& cfg, unsigned seed) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw Error(dir, "cannot create the plan directory (" + ec.message() + ")");
+  figures::write_label_png(dir + "/labels.png", cfg.partition);
+  write_plan_file(dir + "/plan.yaml", make_plan_file(ctx, cfg, "labels.png", seed));
+  figures::write_plan_figures(dir, ctx, cfg);
 }
 
 }  // namespace plan

@@ -40,6 +40,22 @@ class RunFiles {
   std::string goals_, cycles_, summary_, agents_;
 };
 
+// How a mission was run (for mission.yaml).
+struct RunSettings {
+  std::string transport;  // "in-process" or "lcm"
+  double tick = 0.1;      // [s]
+  double rate = 0.0;      // times real time, 0: as fast as possible
+  double loss = 0.0;
+};
+
+// results_dir/mission.yaml: status (ok: every goal resolved), the plan's
+// configuration and estimates, goals requested / delivered / expired /
+// dropped, refresh mean and max, and per agent its role, goals measured,
+// carried, delivered, messages sent / received / gated / lost. Throws
+// gather::Error naming the file when it cannot write it.
+void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const MissionParams& params,
+                        const RunSettings& settings, const RunOutcome& run);
+
 extern const char* const kAgentsCsvHeader;
 void append_agent_rows(std::string& out, const plan::PlanFile& plan, unsigned seed, const std::vector<AgentSummary>& agents);
 

@@ -14,6 +14,19 @@ namespace plan {
 PlanFile make_plan_file(const PlanContext& ctx, const ConfigurationPlan& cfg, const std::string& labels_png,
                         unsigned seed);
 
+// report.csv of a sweep: one row per configuration (estimates, utility, stage times).
+void write_sweep_report(const std::string& path, const SweepResult& sweep);
+
+// Plans the scenario (on its planning grid) and writes the best
+// configuration into `dir` as `gather plan` does; returns one line saying
+// which configuration it is. Throws gather::Error naming the file on bad input.
+std::string plan_scenario(const std::string& scenario_path, const std::string& dir, int threads = 2);
+
+// Writes what executes `cfg` into `dir` (created): plan.yaml, labels.png
+// (16-bit segment labels) and the Fig. 2 panels of the configuration.
+// Throws gather::Error naming a file it cannot write.
+void write_plan_directory(const std::string& dir, const PlanContext& ctx, const ConfigurationPlan& cfg, unsigned seed);
+
 }  // namespace plan
 
 namespace mission {
