@@ -1,19 +1,37 @@
 // Runs the real gather_agent binary: start-up, clean exit on SIGTERM/SIGINT
-// within 1 s, and one-line errors with exit status 2 on bad input. LCM runs on
-// memq:// (in-process), so these tests send nothing on any network.
+// within 1 s while it waits for the OC, and one-line errors with exit status 2
+// on bad input. LCM runs on memq:// (in-process), so these tests send nothing
+// on any network. The plan is maps/office planned once into a temp directory.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "gather_core/plan/plan_export.hpp"
+
 namespace {
 
-const std::string kScenario = std::string(GATHER_REPO_DIR) + "/../shared/maps/ipa/office_a.scenario.yaml";
+const std::string kScenario = std::string(GATHER_REPO_DIR) + "/maps/office.scenario.yaml";
+
+// A plan of maps/office (pap, 4 collectors) in a temp directory, made once.
+const std::string& plan_dir() {
+  static const std::string dir = [] {
+    const std::string d = ::testing::TempDir() + "/gather_agent_process_test_plan_" + std::to_string(::getpid());
+    const gather::Scenario map = gather::load_scenario(kScenario);
+    const gather::Scenario s = gather::on_planning_grid(map, gather::planning_factor(map));
+    const gather::plan::PlanContext ctx(s);
+    gather::plan::write_plan_directory(d, ctx, gather::plan::plan_configuration(ctx, gather::partition::Method::kPap, 4), 1);
+    return d;
+  }();
+  return dir;
+}
 
 struct Child {
   pid_t pid = -1;
@@ -63,8 +81,8 @@ int wait_for(pid_t pid, std::chrono::milliseconds limit) {
 }
 
 void expect_clean_stop_on(int sig) {
-  Child c = spawn({GATHER_AGENT_BIN, "--id", "3", "--lcm-url", "memq://", "--rate", "20", kScenario});
-  std::this_thread::sleep_for(std::chrono::milliseconds(800));  // loading the map and running
+  Child c = spawn({GATHER_AGENT_BIN, "--id", "3", "--lcm-url", "memq://", "--plan", plan_dir()});
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // loading the plan, waiting for the OC
   ASSERT_EQ(waitpid(c.pid, nullptr, WNOHANG), 0) << "agent exited before the signal: " << read_all(c.err_fd);
   const auto t0 = std::chrono::steady_clock::now();
   kill(c.pid, sig);
@@ -94,12 +112,31 @@ void expect_bad_input(const std::vector<std::string>& args, const std::string& n
 }
 
 TEST(AgentProcess, BadInputGivesOneLineAndStatus2) {
-  expect_bad_input({GATHER_AGENT_BIN, kScenario}, "--id is required");
-  expect_bad_input({GATHER_AGENT_BIN, "--id", "x", kScenario}, "--id");
-  expect_bad_input({GATHER_AGENT_BIN, "--id", "0", "--bogus", kScenario}, "unknown option --bogus");
-  expect_bad_input({GATHER_AGENT_BIN, "--id", "0", "/nonexistent/s.yaml"}, "/nonexistent/s.yaml");
-  expect_bad_input({GATHER_AGENT_BIN, "--id", "20", "--lcm-url", "memq://", kScenario}, "not in the team");
-  expect_bad_input({GATHER_AGENT_BIN, "--id", "0", "--lcm-url", "bogus://x", kScenario}, "cannot open LCM URL");
+  const std::string bin = GATHER_AGENT_BIN, plan = plan_dir();
+  expect_bad_input({bin, "--plan", plan}, "--id is required");
+  expect_bad_input({bin, "--id", "0"}, "--plan is required");
+  expect_bad_input({bin, "--id", "x", "--plan", plan}, "--id");
+  expect_bad_input({bin, "--id", "0", "--bogus", "--plan", plan}, "unexpected argument '--bogus'");
+  expect_bad_input({bin, "--id", "0", "--plan", "/nonexistent/plan"}, "/nonexistent/plan");
+  expect_bad_input({bin, "--id", "20", "--lcm-url", "memq://", "--plan", plan}, "not in the plan's team of 20");
+  expect_bad_input({bin, "--id", "0", "--lcm-url", "bogus://x", "--plan", plan}, "cannot open LCM URL");
+  expect_bad_input({bin, "--id", "0", "--motion", "base", "--plan", plan}, "not connected");
+  expect_bad_input({bin, "--id", "0", "--motion", "wheels", "--plan", plan}, "--motion must be sim or base");
+}
+
+TEST(AgentProcess, APlanThatDoesNotMatchItsScenarioIsRefused) {
+  namespace fs = std::filesystem;
+  const std::string bad = ::testing::TempDir() + "/gather_agent_bad_plan_" + std::to_string(::getpid());
+  fs::remove_all(bad);
+  fs::copy(plan_dir(), bad);
+  // One agent more than the scenario's team.
+  std::ifstream in(bad + "/plan.yaml");
+  std::string yaml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  yaml.replace(yaml.find("routes:"), 7, "  - {id: 20, role: worker, segment: 17, collector: -1}\nroutes:");
+  std::ofstream(bad + "/plan.yaml") << yaml;
+  expect_bad_input({GATHER_AGENT_BIN, "--id", "0", "--lcm-url", "memq://", "--plan", bad}, "plan.yaml");
+  fs::remove_all(bad);
 }
 
 }  // namespace

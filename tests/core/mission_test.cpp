@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <set>
 
+#include "corridor.hpp"
 #include "small_office.hpp"
 #include "gather_core/error.hpp"
 #include "gather_core/plan/plan_export.hpp"
@@ -24,44 +25,9 @@ using mission::GoalRecord;
 using mission::MissionOptions;
 using mission::MissionResult;
 using mission::MissionSimulator;
+using testing_support::corridor;
+using testing_support::corridor_plan;
 
-
-// A 20 m x 0.5 m open corridor at 0.1 m/cell, team speed 1 m/s, radio range
-// 2.07 m (coverage: cell centres within 2 m of the OC at x = 0.55 m, i.e. x < 2.6 m).
-Scenario corridor() {
-  const int w = 200, h = 5;
-  Scenario s;
-  s.path = "corridor";
-  s.grid = OccupancyGrid(w, h, 0.1, Point2{0, 0}, std::vector<int8_t>(w * h, 0), std::vector<uint8_t>(w * h, 1));
-  s.oc = Point2{0.55, 0.25};
-  s.team.agents = 2;
-  s.team.speed = 1.0;
-  s.team.radius = 0.05;
-  s.radio.sensitivity_dbm = -49.5;
-  s.mission.period = 100.0;
-  return s;
-}
-
-// One collector driving OC (x = 0.55) -> x = 15.05 -> OC (29 m, 29 s), one
-// worker owning the whole corridor and meeting it at x = 15.05 (arc 14.5 m).
-mission::MissionPlan corridor_plan(const Scenario& s) {
-  mission::MissionPlan m;
-  m.width = s.grid.width(), m.height = s.grid.height();
-  m.labels.assign(s.grid.size(), 1);
-  plan::PlanFile& p = m.file;
-  p.method = "hand";
-  p.collectors = 1, p.workers = 1, p.cycle_period_s = 100.0;
-  p.agents = {plan::AgentAssignment{0, true, 0, 0}, plan::AgentAssignment{1, false, 1, 0}};
-  plan::CollectorRoute r;
-  r.collector = 0;
-  r.segments = {1};
-  r.waypoints = {Point2{0.55, 0.25}, Point2{15.05, 0.25}, Point2{0.55, 0.25}};
-  r.meetings = {plan::MeetingArea{1, Point2{15.05, 0.25}, 14.5, {14.5}}};
-  r.length = 29.0, r.period = 29.0;
-  r.coverage_entries = {26.95, 29.0};
-  p.routes = {r};
-  return m;
-}
 
 // Writes a configuration as a plan directory (labels.png + plan.yaml, as
 // `gather plan` does) and loads it back as the simulator would.

@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
     if (opt.motion == "base")
       throw gather::Error("--motion base", "not connected: this build has no driver for a real robot base (a real base "
                                            "implements agent::MotionBackend, see docs/runtime.md)");
-    const gather::agent::LoadedPlan plan = gather::agent::load_plan(opt.plan);
+    gather::agent::LoadedPlan plan = gather::agent::load_plan(opt.plan);
     gather::agent::LcmFleet fleet(opt.lcm_url, opt.reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(opt.lcm_url)
                                                                      : opt.reply_url,
                                   false);

@@ -47,7 +47,8 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
   while (master.tick(nullptr)) {
   }
   agent::RunOutcome out = master.finish();
-  processes.stop(5.0);  // they end by themselves on the last tick
+  processes.wait(5.0);  // they end by themselves on the last tick
+  processes.stop(2.0);
   for (const AgentProcess& p : processes.agents())
     if (p.exit_status != 0)
       throw Error("agent " + std::to_string(p.id), "exited with status " + std::to_string(p.exit_status));

@@ -27,6 +27,14 @@ int fail(int status, const std::string& what) {
   return status;
 }
 
+// The plan directory, checked against the scenario it must have been made for.
+std::unique_ptr<gather::agent::LoadedPlan> load_matching_plan(const std::string& dir, const std::string& scenario) {
+  auto plan = std::make_unique<gather::agent::LoadedPlan>(gather::agent::load_plan(dir));
+  if (std::filesystem::weakly_canonical(plan->plan.file.scenario) != std::filesystem::weakly_canonical(scenario))
+    throw gather::Error(dir + "/plan.yaml", "was planned for scenario " + plan->plan.file.scenario + ", not " + scenario);
+  return plan;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -35,23 +43,25 @@ int main(int argc, char** argv) {
   // talks to the ROS master, so bad input fails fast with one line.
   std::vector<std::string> args;
   ros::removeROSArgs(argc, argv, args);
-  if (args.size() != 2)
-    return fail(2, "usage: oc_node SCENARIO (settings as private parameters ~plan, ~results_dir, ~cycles, ~seed, "
-                   "~rate, ~tick, ~lcm_url)");
+  if (args.size() != 2 && args.size() != 3)
+    return fail(2, "usage: oc_node SCENARIO [PLAN_DIR] (no PLAN_DIR: plan the scenario; settings as private "
+                   "parameters ~results_dir, ~cycles, ~seed, ~rate, ~tick, ~lcm_url)");
   const std::string scenario_path = gather::resolve_launch_path(args[1]);
   gather::Scenario scenario;
+  std::unique_ptr<gather::agent::LoadedPlan> plan;
+  std::string plan_dir = args.size() == 3 ? gather::resolve_launch_path(args[2]) : "";
   try {
     scenario = gather::load_scenario(scenario_path);
+    if (!plan_dir.empty()) plan = load_matching_plan(plan_dir, scenario_path);
   } catch (const std::exception& e) {
     return fail(2, e.what());
   }
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
   nh.deleteParam("/gather/plan_dir");  // a previous run's, on a master that outlived it
-  std::string plan_dir, results_dir, lcm_url, reply_url;
+  std::string results_dir, lcm_url, reply_url;
   int cycles = 0, seed = -1, loss_seed = 1;
   double rate = 0.0, tick = 0.1, loss = 0.0, marker_hz = 2.0, ready_timeout = 60.0;
-  pnh.param<std::string>("plan", plan_dir, "");
   pnh.param<std::string>("results_dir", results_dir, "results/mission");
   pnh.param<std::string>("lcm_url", lcm_url, "");
   pnh.param<std::string>("reply_url", reply_url, "");
@@ -64,7 +74,6 @@ int main(int argc, char** argv) {
   pnh.param("marker_rate", marker_hz, 2.0);
   pnh.param("ready_timeout", ready_timeout, 60.0);
   results_dir = gather::resolve_launch_path(results_dir);
-  plan_dir = gather::resolve_launch_path(plan_dir);
   if (cycles < 0 || cycles > 100000) return fail(2, "~cycles must be in 0..100000 (0: the scenario's), got " + std::to_string(cycles));
   if (!(rate >= 0.0)) return fail(2, "~rate must be >= 0 (0: as fast as the lockstep allows)");
   if (!(tick > 0.0 && tick <= 0.1)) return fail(2, "~tick must be in (0, 0.1] s");
@@ -72,28 +81,18 @@ int main(int argc, char** argv) {
   if (!(marker_hz > 0.0)) return fail(2, "~marker_rate must be > 0 Hz");
   if (!(ready_timeout > 0.0)) return fail(2, "~ready_timeout must be > 0 s");
 
-  // The plan: given, or the scenario's best configuration.
-  if (plan_dir.empty()) {
+  // No plan given: the scenario's best configuration.
+  if (!plan) {
     plan_dir = results_dir + "/plan";
     try {
       const std::string best = gather::plan::plan_scenario(scenario_path, plan_dir);
       ROS_INFO("oc: planned %s: %s -> %s", scenario_path.c_str(), best.c_str(), plan_dir.c_str());
+      plan = load_matching_plan(plan_dir, scenario_path);
     } catch (const std::exception& e) {
       return fail(2, e.what());
     }
   }
   plan_dir = std::filesystem::weakly_canonical(plan_dir).string();
-  std::unique_ptr<gather::agent::LoadedPlan> plan;
-  try {
-    plan = std::make_unique<gather::agent::LoadedPlan>(gather::agent::load_plan(plan_dir));
-    const auto same = [](const std::string& a, const std::string& b) {
-      return std::filesystem::weakly_canonical(a) == std::filesystem::weakly_canonical(b);
-    };
-    if (!same(plan->plan.file.scenario, scenario_path))
-      throw gather::Error(plan_dir + "/plan.yaml", "was planned for scenario " + plan->plan.file.scenario + ", not " + scenario_path);
-  } catch (const std::exception& e) {
-    return fail(2, e.what());
-  }
   gather::agent::MissionParams params = gather::agent::mission_params(plan->scenario);
   if (cycles > 0) params.cycles = cycles;
   if (seed >= 0) params.seed = static_cast<unsigned>(seed);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "gather_core/error.hpp"
 #include "gather_core/mission/requests.hpp"
 
 namespace gather {
@@ -11,9 +12,22 @@ namespace agent {
 
 OcRole::OcRole(TeamSetup& team, MotionBackend& station) : Role(kOc, station), team_(team) {
   const OccupancyGrid& grid = team.world.scenario.grid;
-  per_request_ = team.params.goals_per_request;
-  const std::vector<mission::DrawnGoal> drawn =
-      mission::draw_goals(team.world, team.params.seed, team.params.cycles, per_request_);
+  std::vector<mission::DrawnGoal> drawn;
+  if (team.params.fixed_goals.empty()) {
+    drawn = mission::draw_goals(team.world, team.params.seed, team.params.cycles, team.params.goals_per_request);
+  } else {
+    for (int c = 0; c < team.params.cycles; ++c)
+      for (const auto& [cycle, p] : team.params.fixed_goals) {
+        const Cell cell = grid.world_to_cell(p);
+        if (cycle != c) continue;
+        if (!grid.contains(cell) || !team.world.reachable[grid.index(cell)])
+          throw Error("mission", "fixed goal off the reachable space");
+        drawn.push_back(mission::DrawnGoal{c, cell});
+      }
+  }
+  first_.assign(static_cast<std::size_t>(team.params.cycles) + 1, 0);
+  for (const mission::DrawnGoal& d : drawn) ++first_[static_cast<std::size_t>(d.cycle) + 1];
+  for (std::size_t c = 1; c < first_.size(); ++c) first_[c] += first_[c - 1];
   goals_.reserve(drawn.size());
   for (const mission::DrawnGoal& d : drawn) {
     mission::GoalRecord g;
@@ -33,7 +47,7 @@ OcRole::OcRole(TeamSetup& team, MotionBackend& station) : Role(kOc, station), te
   acks_.reserve(kMaxBatch);
 }
 
-std::size_t OcRole::requested() const { return static_cast<std::size_t>(issued_) * static_cast<std::size_t>(per_request_); }
+std::size_t OcRole::requested() const { return first_[static_cast<std::size_t>(issued_)]; }
 
 RoleReport OcRole::report() const {
   RoleReport r;
@@ -45,8 +59,9 @@ RoleReport OcRole::report() const {
 }
 
 void OcRole::issue(int cycle, int16_t dest, double now, Outbox& out) {
-  const int parts = std::max(1, (per_request_ + kRequestPartGoals - 1) / kRequestPartGoals);
-  const std::size_t first = static_cast<std::size_t>(cycle) * static_cast<std::size_t>(per_request_);
+  const std::size_t first = first_[static_cast<std::size_t>(cycle)];
+  const int count = static_cast<int>(first_[static_cast<std::size_t>(cycle) + 1] - first);
+  const int parts = std::max(1, (count + kRequestPartGoals - 1) / kRequestPartGoals);
   for (int p = 0; p < parts; ++p) {
     Message* m = send(out, Kind::kRequest, dest, now);
     if (!m) return;
@@ -54,10 +69,10 @@ void OcRole::issue(int cycle, int16_t dest, double now, Outbox& out) {
     r.request = cycle;
     r.issued_at = goals_.empty() ? now : goals_[std::min(first, goals_.size() - 1)].requested_at;
     r.first_goal = static_cast<int32_t>(first);
-    r.total = per_request_;
+    r.total = count;
     r.part = static_cast<uint16_t>(p);
     r.parts = static_cast<uint16_t>(parts);
-    const int begin = p * kRequestPartGoals, end = std::min(per_request_, begin + kRequestPartGoals);
+    const int begin = p * kRequestPartGoals, end = std::min(count, begin + kRequestPartGoals);
     r.count = static_cast<uint16_t>(std::max(0, end - begin));
     for (int k = begin; k < end; ++k) r.cells[k - begin] = cell_of_[first + static_cast<std::size_t>(k)];
   }
@@ -74,8 +89,7 @@ bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
     const int c = skipped_request(item.key);
     if (c < 0 || c >= issued_ || item.by < 0 || item.by >= team_.agents() || skipped_worker(item.key) != item.by)
       return false;
-    const std::size_t first = static_cast<std::size_t>(c) * static_cast<std::size_t>(per_request_);
-    for (std::size_t i = first; i < first + static_cast<std::size_t>(per_request_); ++i) {
+    for (std::size_t i = first_[static_cast<std::size_t>(c)]; i < first_[static_cast<std::size_t>(c) + 1]; ++i) {
       mission::GoalRecord& g = goals_[i];
       if (g.worker != item.by || resolved_[i]) continue;
       g.expired_at = std::max(item.at, g.requested_at);
@@ -116,8 +130,8 @@ bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
 void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox& out) {
   // A request every period: broadcast to whoever is in the coverage.
   while (issued_ < team_.params.cycles && now >= issued_ * team_.period - 1e-9) {
-    const std::size_t first = requested();
-    for (std::size_t i = first; i < first + static_cast<std::size_t>(per_request_); ++i) goals_[i].requested_at = now;
+    for (std::size_t i = first_[static_cast<std::size_t>(issued_)]; i < first_[static_cast<std::size_t>(issued_) + 1]; ++i)
+      goals_[i].requested_at = now;
     ++issued_;
     issue(issued_ - 1, kBroadcast, now, out);
   }

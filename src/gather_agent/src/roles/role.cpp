@@ -101,7 +101,7 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
       throw Error(where, "collector " + std::to_string(a.delivers_to) + " has no meeting area for segment " + std::to_string(a.segment));
     meeting_arc_[static_cast<std::size_t>(a.id)] = m->route_s;
   }
-  distances = std::make_unique<mission::SharedDistances>(w, p.labels);
+  distances = std::make_unique<mission::SharedDistances>(w, /*from_oc=*/false);  // agents start at their start poses
   paths = std::make_unique<GridAStar>(grid, w.reachable, &w.coverage_field);
   start_ = start_poses(grid, w.scenario.oc, n);
   range_ = radio.free_space_range();

@@ -48,6 +48,7 @@ WorkerRole::WorkerRole(TeamSetup& team, int agent, MotionBackend& motion)
   known_.reserve(g);
   legs_.resize(g + 2);
   leg_goal_.resize(g + 2);
+  policy_.reserve_all();  // no allocation in the control step after this
   if (motion.max_legs() < g + 2)
     throw Error("agent " + std::to_string(agent), "its motion backend takes " + std::to_string(motion.max_legs()) +
                                                       " legs, a plan may need " + std::to_string(g + 2));
@@ -93,7 +94,7 @@ void WorkerRole::on_request(const RequestPart& part, int16_t) {
   request_.seen |= 1ull << part.part;
   for (uint16_t k = 0; k < part.count; ++k) {
     const uint32_t cell = part.cells[k];
-    if (cell >= grid.size() || !team_.world.reachable[cell] || team_.plan.labels[cell] != policy_.segment()) continue;
+    if (cell >= grid.size() || !policy_.in_segment(grid.cell(cell))) continue;
     const int32_t goal = part.first_goal + static_cast<int32_t>(part.part) * kRequestPartGoals + k;
     request_.mine.push_back(mission::KnownGoal{goal, grid.cell(cell), 0.0});
   }

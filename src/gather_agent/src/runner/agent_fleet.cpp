@@ -117,6 +117,18 @@ std::vector<int> AgentFleet::poll() {
   return ended;
 }
 
+bool AgentFleet::wait(double seconds) {
+  const auto t0 = std::chrono::steady_clock::now();
+  for (;;) {
+    poll();
+    bool running = false;
+    for (const AgentProcess& a : agents_) running = running || a.running;
+    if (!running) return true;
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > seconds) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+}
+
 void AgentFleet::stop(double grace_s) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();

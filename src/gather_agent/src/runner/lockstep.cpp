@@ -1,5 +1,7 @@
 #include "gather_agent/runner/lockstep.hpp"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -15,7 +17,8 @@ namespace agent {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr std::size_t kHeld = 8192;  // radio messages held for the ticks to come
+constexpr std::size_t kHeld = 8192;   // radio messages held for the ticks to come
+constexpr std::size_t kOutbox = 64;   // messages a role sends in one tick
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -77,11 +80,12 @@ uint64_t plan_digest(const LoadedPlan& p) {
 
 // --- agent -----------------------------------------------------------------
 
-LockstepAgent::LockstepAgent(const LoadedPlan& plan, int id, LcmFleet& fleet)
+LockstepAgent::LockstepAgent(LoadedPlan& plan, int id, LcmFleet& fleet)
     : plan_(plan), id_(id), fleet_(fleet), digest_(plan_digest(plan)) {
   if (id < 0 || id >= static_cast<int>(plan.plan.file.agents.size()))
     throw Error(plan.dir, "agent --id " + std::to_string(id) + " is not in the plan's team of " +
                               std::to_string(plan.plan.file.agents.size()));
+  malloc_trim(0);  // the map at full resolution was read and coarsened: give it back
   world_ = std::make_unique<mission::World>(plan.scenario);
   held_.reserve(kHeld);
   current_.reserve(kHeld);
@@ -108,9 +112,11 @@ bool LockstepAgent::take_plan(std::string* why) {
   team_ = std::make_unique<TeamSetup>(*world_, plan_.plan, p.params);
   gate_ = std::make_unique<RangeGate>(*team_, p.loss, p.loss_seed);
   unit_ = make_agent(*team_, id_);
-  outbox_ = std::make_unique<Outbox>(256);
+  outbox_ = std::make_unique<Outbox>(kOutbox);
   tick_s_ = p.tick;
   fleet_.set_team(p.agents);
+  std::vector<int32_t>().swap(plan_.plan.labels);
+  malloc_trim(0);  // give back what loading the map and the plan used and freed
   return true;
 }
 
@@ -209,7 +215,7 @@ LockstepMaster::LockstepMaster(TeamSetup& team, LcmFleet& fleet, uint64_t digest
       options_(options),
       gate_(team, options.loss, options.loss_seed),
       oc_(make_oc(team)),
-      outbox_(256) {
+      outbox_(kOutbox) {
   if (!(options_.tick > 0.0) || options_.tick > 0.1 + 1e-12)
     throw Error("--tick", "must be in (0, 0.1] s (the control rate), got " + std::to_string(options_.tick));
   if (!(options_.loss >= 0.0) || !(options_.loss < 1.0))

@@ -76,11 +76,13 @@ bool TeamRunner::tick() {
   next_.clear();
   for (std::size_t i = 0; i < units_.size(); ++i) {
     AgentUnit& u = units_[i];
+    Outbox& out = outboxes_[i];
+    if (before_) before_();
     u.motion->advance(t);
     gather_inbox(sent_, u.role->id(), u.motion->pose(), gate_, links_[i], inbox_);
-    Outbox& out = outboxes_[i];
     out.clear();
     u.role->step(t, inbox_.data(), inbox_.size(), out);
+    if (after_) after_();
     for (std::size_t k = 0; k < out.size(); ++k) {
       Message m = out[k];
       m.h.seq = seq_[i]++;

@@ -194,6 +194,16 @@ FastMarching::FastMarching(const OccupancyGrid& grid)
   set_unit_speed();
 }
 
+void FastMarching::reserve_work(std::size_t targets, std::size_t front) {
+  targets_.reserve(targets);
+  seeds_.reserve(16);
+  sources_.reserve(4);
+  if (buckets_.size() < 16) buckets_.resize(16);
+  for (auto& b : buckets_) b.reserve(front);
+  late_.reserve(front);
+  if (times_.size() != mask_.size()) reset_times();  // sizes the times and the reset list
+}
+
 void FastMarching::set_unit_speed() {
   cost_.clear();
   cost_.shrink_to_fit();

@@ -75,7 +75,7 @@ MissionSimulator::MissionSimulator(const World& ctx, MissionPlan plan)
   if (!(period_ > 0)) throw Error(where, "cycle_period_s must be > 0");
   if (static_cast<int>(pf.routes.size()) != pf.collectors) throw Error(where, "one route per collector expected");
   for (const plan::CollectorRoute& r : pf.routes) routes_.emplace_back(r, speed_, period_, grid, ctx.coverage);
-  shared_ = std::make_unique<SharedDistances>(ctx, plan_.labels);
+  shared_ = std::make_unique<SharedDistances>(ctx);
   const std::size_t max_goals = static_cast<std::size_t>(std::max(0, s.mission.goals_per_request));
   for (const plan::AgentAssignment& a : pf.agents) {
     if (a.collector) continue;

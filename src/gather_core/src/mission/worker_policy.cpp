@@ -21,22 +21,20 @@ constexpr std::size_t kMaxLandings = 16;  // per OC worker: landing tables kept;
 
 }  // namespace
 
-SharedDistances::SharedDistances(const World& world, const std::vector<int32_t>& labels) : fm(world.scenario.grid) {
-  const OccupancyGrid& grid = world.scenario.grid;
+SharedDistances::SharedDistances(const World& world, bool with_from_oc) : fm(world.scenario.grid) {
+  if (!with_from_oc) return;
   fmm::SolveOptions so;
   so.labels = false;
   fm.solve({fmm::Source::at_cell(world.oc_cell)}, so);
   std::vector<double> t;
   fm.copy_times(t);
   from_oc.assign(t.begin(), t.end());
-  index_in_segment.assign(grid.size(), -1);
-  std::vector<int32_t> count;
-  for (std::size_t i = 0; i < labels.size() && i < grid.size(); ++i) {
-    const int k = labels[i];
-    if (k <= 0 || !world.reachable[i]) continue;
-    if (static_cast<std::size_t>(k) >= count.size()) count.resize(static_cast<std::size_t>(k) + 1, 0);
-    index_in_segment[i] = count[static_cast<std::size_t>(k)]++;
-  }
+}
+
+int32_t WorkerPolicy::segment_index(Cell c) const {
+  const int r = c.row - box_origin_.row, q = c.col - box_origin_.col;
+  if (r < 0 || q < 0 || r >= box_height_ || q >= box_width_) return -1;
+  return box_index_[static_cast<std::size_t>(r) * static_cast<std::size_t>(box_width_) + static_cast<std::size_t>(q)];
 }
 
 WorkerPolicy::~WorkerPolicy() = default;
@@ -72,6 +70,18 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
   }
   for (std::size_t i = 0; i < mp.labels.size() && i < grid.size(); ++i)
     if (mp.labels[i] == segment_ && world.reachable[i]) segment_cells_.push_back(grid.cell(i));
+  if (!segment_cells_.empty()) {
+    int r0 = grid.height(), r1 = -1, c0 = grid.width(), c1 = -1;
+    for (Cell c : segment_cells_) r0 = std::min(r0, c.row), r1 = std::max(r1, c.row), c0 = std::min(c0, c.col), c1 = std::max(c1, c.col);
+    box_origin_ = Cell{r0, c0};
+    box_width_ = c1 - c0 + 1, box_height_ = r1 - r0 + 1;
+    box_index_.assign(static_cast<std::size_t>(box_width_) * static_cast<std::size_t>(box_height_), -1);
+    for (std::size_t k = 0; k < segment_cells_.size(); ++k) {
+      const Cell c = segment_cells_[k];
+      box_index_[static_cast<std::size_t>(c.row - r0) * static_cast<std::size_t>(box_width_) + static_cast<std::size_t>(c.col - c0)] =
+          static_cast<int32_t>(k);
+    }
+  }
 
   // The window: the segment's bounding box plus the margin, traversable in
   // the segment dilated by the margin (a square dilation, one pass along rows
@@ -159,6 +169,7 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
 
 void WorkerPolicy::reserve(std::size_t max_goals) {
   if (max_goals <= max_goals_ && !goals_.empty()) return;
+  const bool grown = max_goals > max_goals_ && !goals_.empty();
   max_goals_ = std::max(max_goals_, max_goals);
   const std::size_t nr = rendezvous_.size(), m = max_goals_ + nr;
   goals_.resize(max_goals_);
@@ -173,6 +184,18 @@ void WorkerPolicy::reserve(std::size_t max_goals) {
   shifted_.reserve(m);
   tmp_.reserve(m);
   if (solve_options_.targets.capacity() < m) solve_options_.targets.reserve(m);
+  if (grown && window_) window_->reserve_work(m, 0);
+}
+
+void WorkerPolicy::reserve_all() {
+  const OccupancyGrid& grid = world_.scenario.grid;
+  shared_.fm.reserve_work(std::max(segment_cells_.size(), max_goals_ + rendezvous_.size()),
+                          static_cast<std::size_t>(8 * (grid.width() + grid.height())));
+  if (window_)
+    window_->reserve_work(max_goals_ + rendezvous_.size(), static_cast<std::size_t>(8 * (window_->width() + window_->height())));
+  if (delivers_to_oc())
+    while (landing_to_cell_.size() < kMaxLandings)
+      landing_to_cell_.emplace_back(static_cast<std::size_t>(-1), std::vector<float>(segment_cells_.size()));
 }
 
 Point2 WorkerPolicy::rendezvous_point(int r) const {
@@ -232,7 +255,7 @@ void WorkerPolicy::learn(const KnownGoal* goals, std::size_t n) {
   const OccupancyGrid& grid = world_.scenario.grid;
   for (std::size_t i = 0; i < n; ++i) {
     const Cell c = goals[i].cell;
-    if (!grid.contains(c) || shared_.index_in_segment[grid.index(c)] < 0 || !world_.reachable[grid.index(c)])
+    if (!grid.contains(c) || segment_index(c) < 0)
       throw Error("mission", "worker " + std::to_string(agent_) + ": goal " + std::to_string(goals[i].id) +
                                  " is not in its segment");
   }
@@ -253,7 +276,7 @@ void WorkerPolicy::learn(const KnownGoal* goals, std::size_t n) {
       march_in_window(cells_[i], targets_, tmp_.data());
       for (std::size_t j = i + 1; j < n; ++j) from_[i * stride_ + j] = from_[j * stride_ + i] = tmp_[j - i - 1];
     }
-    const std::size_t local = static_cast<std::size_t>(shared_.index_in_segment[grid.index(cells_[i])]);
+    const std::size_t local = static_cast<std::size_t>(segment_index(cells_[i]));
     for (std::size_t r = 0; r < nr; ++r) from_[i * stride_ + n + r] = rendezvous_to_cell_[r][local];
   }
 }
@@ -263,18 +286,25 @@ void WorkerPolicy::from_landing(Cell landing, const Cell* targets, std::size_t n
   const std::size_t key = grid.index(landing);
   auto it = std::find_if(landing_to_cell_.begin(), landing_to_cell_.end(), [&](const auto& e) { return e.first == key; });
   if (it == landing_to_cell_.end()) {
-    targets_.assign(targets, targets + n);
-    if (landing_to_cell_.size() >= kMaxLandings) {
+    // A free table (made up front by reserve_all), or a new one while there is room.
+    it = std::find_if(landing_to_cell_.begin(), landing_to_cell_.end(),
+                      [](const auto& e) { return e.first == static_cast<std::size_t>(-1); });
+    if (it == landing_to_cell_.end() && landing_to_cell_.size() < kMaxLandings) {
+      landing_to_cell_.emplace_back(static_cast<std::size_t>(-1), std::vector<float>(segment_cells_.size()));
+      it = landing_to_cell_.end() - 1;
+    }
+    if (it == landing_to_cell_.end()) {
+      targets_.assign(targets, targets + n);
       march(landing, targets_, out);
       return;
     }
     tmp_.resize(segment_cells_.size());
     march(landing, segment_cells_, tmp_.data());
-    landing_to_cell_.emplace_back(key, std::vector<float>(tmp_.begin(), tmp_.end()));
-    it = landing_to_cell_.end() - 1;
+    it->first = key;
+    std::copy(tmp_.begin(), tmp_.end(), it->second.begin());
   }
   for (std::size_t i = 0; i < n; ++i)
-    out[i] = it->second[static_cast<std::size_t>(shared_.index_in_segment[grid.index(targets[i])])];
+    out[i] = it->second[static_cast<std::size_t>(segment_index(targets[i]))];
 }
 
 void WorkerPolicy::distances_from(const Spot& at) {
@@ -286,9 +316,9 @@ void WorkerPolicy::distances_from(const Spot& at) {
     for (std::size_t r = 0; r < nr; ++r) from_position_[n_ + r] = rendezvous_to_rendezvous_[rv][r];
   } else if (at.meeting && meeting_cell_.row >= 0) {
     for (std::size_t i = 0; i < n_; ++i)
-      from_position_[i] = meeting_to_cell_[static_cast<std::size_t>(shared_.index_in_segment[grid.index(cells_[i])])];
+      from_position_[i] = meeting_to_cell_[static_cast<std::size_t>(segment_index(cells_[i]))];
     for (std::size_t r = 0; r < nr; ++r) from_position_[n_ + r] = meeting_to_rv_[r];
-  } else if (at.cell == world_.oc_cell) {
+  } else if (at.cell == world_.oc_cell && !shared_.from_oc.empty()) {
     for (std::size_t i = 0; i < cells_.size(); ++i) from_position_[i] = shared_.from_oc[grid.index(cells_[i])];
   } else if (at.landing) {
     from_landing(at.cell, cells_.data(), cells_.size(), from_position_.data());
@@ -370,7 +400,7 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
               rendezvous_to_rendezvous_[static_cast<std::size_t>(at.rendezvous)].end(), position_to_rv_.begin());
   } else if (n_known == 0 && at.meeting && meeting_cell_.row >= 0) {
     std::copy(meeting_to_rv_.begin(), meeting_to_rv_.end(), position_to_rv_.begin());
-  } else if (n_known == 0 && at.cell == world_.oc_cell) {
+  } else if (n_known == 0 && at.cell == world_.oc_cell && !shared_.from_oc.empty()) {
     for (std::size_t r = 0; r < nr; ++r) position_to_rv_[r] = shared_.from_oc[grid.index(rendezvous_[r])];
   } else if (n_known == 0) {
     march(at.cell, rendezvous_, position_to_rv_.data());
@@ -388,7 +418,7 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
       }
       double dist = kInf;
       if (at.rendezvous >= 0) dist = meeting_to_rv_[static_cast<std::size_t>(at.rendezvous)];
-      else if (at.cell == world_.oc_cell) dist = shared_.from_oc[grid.index(meeting_cell_)];
+      else if (at.cell == world_.oc_cell && !shared_.from_oc.empty()) dist = shared_.from_oc[grid.index(meeting_cell_)];
       else march_one(at.cell, meeting_cell_, dist);
       if (dist < kInf) {
         d.action = Action::kGoToMeeting;

@@ -14,18 +14,18 @@ constexpr float kDiag = 1.41421356f;
 }  // namespace
 
 GridAStar::GridAStar(const OccupancyGrid& grid, const std::vector<uint8_t>& traversable, const fmm::FastMarching* landmark)
-    : grid_(grid), free_(traversable), landmark_(landmark), inv_res_(static_cast<float>(1.0 / grid.resolution())), g_(grid.size(), 0.0f), stamp_(grid.size(), 0), closed_(grid.size(), 0), dir_(grid.size(), 0) {
-  open_.reserve(4096);
+    : grid_(grid), free_(traversable), landmark_(landmark), inv_res_(static_cast<float>(1.0 / grid.resolution())), g_(grid.size(), 0.0f), stamp_(grid.size(), 0), dir_(grid.size(), 0) {
+  open_.reserve(std::max<std::size_t>(4096, grid.size() / 4));  // the open list of a search across the map fits
 }
 
 bool GridAStar::find(Cell from, Cell to, std::vector<Cell>& out) {
   out.clear();
   if (!traversable(from) || !traversable(to)) return false;
-  if (++generation_ == 0) {  // wrapped: stamps are stale everywhere
+  if (++generation_ >= 32768) {  // wrapped: stamps are stale everywhere
     std::fill(stamp_.begin(), stamp_.end(), 0);
-    std::fill(closed_.begin(), closed_.end(), 0);
     generation_ = 1;
   }
+  const uint16_t seen = static_cast<uint16_t>(2 * generation_), closed = static_cast<uint16_t>(seen + 1);
   const int w = grid_.width();
   // Octile distance, or the difference of the landmark distances when
   // larger (|d(n) - d(to)| <= d(n, to) for a distance field d, so both are
@@ -44,7 +44,7 @@ bool GridAStar::find(Cell from, Cell to, std::vector<Cell>& out) {
   auto later = [](const Open& a, const Open& b) { return a.f > b.f || (a.f == b.f && a.g < b.g); };
   const std::size_t start = grid_.index(from), goal = grid_.index(to);
   open_.clear();
-  g_[start] = 0.0f, stamp_[start] = generation_;
+  g_[start] = 0.0f, stamp_[start] = seen;
   open_.push_back(Open{h(start), 0.0f, static_cast<uint32_t>(start)});
   bool found = false;
   while (!open_.empty()) {
@@ -56,8 +56,8 @@ bool GridAStar::find(Cell from, Cell to, std::vector<Cell>& out) {
       found = true;
       break;
     }
-    if (closed_[i] == generation_) continue;  // expanded already (a stale entry)
-    closed_[i] = generation_;
+    if (stamp_[i] == closed) continue;  // expanded already (a stale entry)
+    stamp_[i] = closed;
     const Cell c = grid_.cell(i);
     for (int k = 0; k < 8; ++k) {
       const Cell n{c.row + kDr[k], c.col + kDc[k]};
@@ -65,8 +65,8 @@ bool GridAStar::find(Cell from, Cell to, std::vector<Cell>& out) {
       if (k >= 4 && (!traversable(Cell{c.row + kDr[k], c.col}) || !traversable(Cell{c.row, c.col + kDc[k]}))) continue;
       const std::size_t j = grid_.index(n);
       const float gj = g_[i] + (k >= 4 ? kDiag : 1.0f);
-      if (closed_[j] == generation_ || (stamp_[j] == generation_ && g_[j] <= gj)) continue;
-      g_[j] = gj, stamp_[j] = generation_, dir_[j] = static_cast<uint8_t>(k);
+      if (stamp_[j] == closed || (stamp_[j] == seen && g_[j] <= gj)) continue;
+      g_[j] = gj, stamp_[j] = seen, dir_[j] = static_cast<uint8_t>(k);
       open_.push_back(Open{gj + h(j), gj, static_cast<uint32_t>(j)});
       std::push_heap(open_.begin(), open_.end(), later);
     }

@@ -44,7 +44,7 @@ class OcRole : public Role {
   void resolve(mission::GoalRecord& g, mission::GoalState state);
 
   TeamSetup& team_;
-  int per_request_ = 0;
+  std::vector<std::size_t> first_;          // first goal id of each cycle's request, and the total at the end
   std::vector<mission::GoalRecord> goals_;  // every cycle's, drawn up front; requested_at set at the issue
   std::vector<uint32_t> cell_of_;           // grid index of each goal's cell
   std::vector<uint8_t> resolved_;

@@ -33,6 +33,10 @@ struct MissionParams {
   std::size_t notice_capacity = 0;  // custody buffer: notices (0: as data_capacity)
   double beacon_period = 1.0;       // [s] agent state broadcast
   double resend_after = 1.0;        // [s] in contact without an ack: send again
+  // Tests: the OC requests these goals (cycle, point [m]) instead of drawing
+  // them (only the OC uses it; goals_per_request must be at least the
+  // largest count of a cycle).
+  std::vector<std::pair<int, Point2>> fixed_goals;
 };
 
 // Everything the roles of one team share, read-only once built (except the

@@ -29,6 +29,8 @@ class AgentFleet {
   void start();
   // Reaps children that have exited; returns the ids that ended since last call.
   std::vector<int> poll();
+  // Waits up to `seconds` for every agent to end by itself; true if all did.
+  bool wait(double seconds);
   // SIGTERM to every running agent, waits up to `grace_s`, then SIGKILL.
   void stop(double grace_s);
 

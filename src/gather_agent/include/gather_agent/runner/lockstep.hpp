@@ -37,8 +37,10 @@ uint64_t plan_digest(const LoadedPlan& plan);
 // One agent process: its role, its motion, the radio and the clock.
 class LockstepAgent {
  public:
-  // `plan` must outlive the agent.
-  LockstepAgent(const LoadedPlan& plan, int id, LcmFleet& fleet);
+  // `plan` must outlive the agent. Once its role is built, the agent drops
+  // the plan's label image (only the OC needs it; its role keeps its own
+  // segment): 4 B/cell less resident memory.
+  LockstepAgent(LoadedPlan& plan, int id, LcmFleet& fleet);
   ~LockstepAgent();
 
   enum class End { kDone, kStopped, kRefused, kSilent };
@@ -52,7 +54,7 @@ class LockstepAgent {
   void step(const Tick& tick);
   bool inbox_complete(const Tick& tick) const;
 
-  const LoadedPlan& plan_;
+  LoadedPlan& plan_;
   int id_;
   LcmFleet& fleet_;
   uint64_t digest_;

@@ -24,7 +24,7 @@ struct RunOptions {
   uint64_t loss_seed = 1;
   double time_limit = 0.0;  // [s] of mission time; 0: automatic (time_limit())
   std::size_t inbox = 1024; // messages an agent takes per tick (the rest is counted as overflow)
-  std::size_t outbox = 256; // messages a role sends per tick
+  std::size_t outbox = 64;  // messages a role sends per tick
 };
 
 // Mission time after which an unfinished run stops: the requests, then
@@ -59,6 +59,9 @@ class TeamRunner {
   // the roles in between. Returns false once the mission is over.
   bool tick();
   int64_t ticks() const { return ticks_; }
+  // Tests: called around each agent's control step (motion advance, inbox,
+  // role step), e.g. to count heap allocations there.
+  void set_step_hooks(void (*before)(), void (*after)()) { before_ = before, after_ = after; }
   double now() const { return ticks_ * options_.tick; }
 
  private:
@@ -75,6 +78,8 @@ class TeamRunner {
   int next_check_ = 0;  // the next cycle end to check conservation at
   double limit_ = 0.0;
   std::vector<int32_t> custody_scratch_;
+  void (*before_)() = nullptr;
+  void (*after_)() = nullptr;
 };
 
 // Conservation over a team in one process (custody read from the roles).

@@ -100,6 +100,11 @@ class FastMarching {
   void set_unit_speed();
   bool unit_speed() const { return cost_.empty(); }
 
+  // Reserves the working lists so that later solves with at most `targets`
+  // targets and fronts of at most `front` cells a bucket allocate nothing
+  // (for control loops that must not allocate; see WorkerPolicy). Allocates.
+  void reserve_work(std::size_t targets, std::size_t front);
+
   // Runs the march. Sources are labelled by their index in `sources`.
   // Throws gather::Error when `sources` is empty, a source is off the map or in
   // an obstacle, a target is off the map, or the options are invalid

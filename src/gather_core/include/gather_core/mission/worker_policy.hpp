@@ -43,13 +43,13 @@ struct Spot {
 
 // Tables every worker of a world shares: the FMM workspace on the whole map
 // (marches that leave a worker's window) and the distances from the OC's cell
-// (every worker starts there in the simulator). One per simulator; an agent
-// process has its own.
+// (every worker starts there in the simulator; `from_oc` false leaves it out,
+// e.g. for an agent that starts elsewhere: 4 B/cell less). One per
+// simulator; an agent process has its own.
 struct SharedDistances {
-  explicit SharedDistances(const World& world, const std::vector<int32_t>& labels);
+  explicit SharedDistances(const World& world, bool from_oc = true);
   fmm::FastMarching fm;                    // unit speed, the whole map
-  std::vector<float> from_oc;              // [m] geodesic distance of every cell from the OC's cell
-  std::vector<int32_t> index_in_segment;   // per cell: its index among its segment's cells, -1 none
+  std::vector<float> from_oc;              // [m] geodesic distance of every cell from the OC's cell (or empty)
 };
 
 // When request `cycle` (issued at cycle * period [s]) reaches a worker of
@@ -98,6 +98,8 @@ class WorkerPolicy {
   const std::vector<Cell>& rendezvous() const { return rendezvous_; }
   Point2 rendezvous_point(int r) const;
   double meeting_arc() const { return meeting_arc_; }  // [m] on the route
+  // A reachable cell of this worker's segment (where its goals are).
+  bool in_segment(Cell c) const { return segment_index(c) >= 0; }
   // Where a worker with nothing to do waits for the next request: the cell
   // of its meeting point on the route, where the collector hands requests
   // over (so the worker hears it there). Invalid (row -1) when that cell is
@@ -123,6 +125,9 @@ class WorkerPolicy {
   std::size_t max_goals() const { return max_goals_; }
   // Room for `max_goals` goals a request (allocates; learn() then does not).
   void reserve(std::size_t max_goals);
+  // For a control loop that must not allocate (an agent): every table and
+  // FMM work list up front, instead of on first use. Allocates.
+  void reserve_all();
   const KnownGoal& goal(std::size_t local) const { return goals_[local]; }
 
   // The next step of a worker at `at` at time t [s] whose unmeasured goals
@@ -167,6 +172,12 @@ class WorkerPolicy {
   std::vector<std::vector<float>> rendezvous_to_cell_;
   std::vector<std::vector<double>> rendezvous_to_rendezvous_;
   std::vector<Cell> segment_cells_;     // by index in the segment
+  // Index in segment_cells_ of each cell of the segment's bounding box (-1:
+  // not of the segment).
+  int32_t segment_index(Cell c) const;
+  Cell box_origin_;
+  int box_width_ = 0, box_height_ = 0;
+  std::vector<int32_t> box_index_;
   Cell meeting_cell_{-1, -1};
   std::vector<float> meeting_to_cell_;  // [m] from the meeting point to every cell of the segment
   std::vector<double> meeting_to_rv_;   // [m] from the meeting point to each rendezvous

@@ -1,7 +1,7 @@
 #pragma once
 // Shortest 8-connected paths on a grid's traversable cells by A* (octile
 // heuristic; no diagonal step past a blocked corner). A reusable workspace
-// bound to one grid: arrays are allocated once (13 B/cell) and reset by
+// bound to one grid: arrays are allocated once (7 B/cell) and reset by
 // generation stamps, the open list keeps its capacity, so a search after the
 // first allocates nothing unless its open list outgrows every earlier one.
 // Used where a path between two points is needed, not a field: A* explores
@@ -39,11 +39,12 @@ class GridAStar {
   const fmm::FastMarching* landmark_;
   float inv_res_;
   std::vector<float> g_;
-  std::vector<uint32_t> stamp_;   // generation in which g_ was set
-  std::vector<uint32_t> closed_;  // generation in which the cell was expanded
+  // 2 * generation when g_ was set in this search, + 1 once expanded; a
+  // search a new generation, the arrays refilled when it wraps.
+  std::vector<uint16_t> stamp_;
   std::vector<uint8_t> dir_;  // step that reached the cell (0..7)
   std::vector<Open> open_;
-  uint32_t generation_ = 0;
+  uint16_t generation_ = 0;
 };
 
 }  // namespace gather

@@ -1,0 +1,193 @@
+// The fleet's LCM edge: every message type survives a round trip through
+// LCM (memq://: inside this process, no network) unchanged, and whatever
+// does not decode, carries another schema version, names an agent outside
+// the team, or holds values out of range is counted and dropped, never
+// trusted and never a crash (a mutation fuzz of valid encodings included).
+#include <gtest/gtest.h>
+
+#include <gather_lcm/data_t.hpp>
+#include <gather_lcm/request_t.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "gather_agent/transport/lcm_fleet.hpp"
+
+namespace gather {
+namespace agent {
+namespace {
+
+Message base(Kind k, int16_t sender, int16_t dest) {
+  Message m;
+  m.h.kind = k, m.h.sender = sender, m.h.dest = dest, m.h.seq = 7, m.h.tick = 42, m.h.t = 4.2;
+  m.h.pos = Point2{1.25, -3.5}, m.h.request = 3;
+  return m;
+}
+
+Message roundtrip(LcmFleet& f, const Message& m) {
+  f.radio().clear();
+  EXPECT_TRUE(f.publish(m));
+  for (int i = 0; i < 50 && f.radio().empty(); ++i) f.handle(20);
+  EXPECT_EQ(f.radio().size(), 1u);
+  return f.radio().empty() ? Message{} : f.radio()[0];
+}
+
+void expect_header(const Header& a, const Header& b) {
+  EXPECT_EQ(a.kind, b.kind);
+  EXPECT_EQ(a.sender, b.sender);
+  EXPECT_EQ(a.dest, b.dest);
+  EXPECT_EQ(a.seq, b.seq);
+  EXPECT_EQ(a.tick, b.tick);
+  EXPECT_EQ(a.t, b.t);
+  EXPECT_EQ(a.pos.x, b.pos.x);
+  EXPECT_EQ(a.pos.y, b.pos.y);
+  EXPECT_EQ(a.request, b.request);
+}
+
+TEST(LcmFleet, EveryRadioMessageSurvivesTheRoundTrip) {
+  LcmFleet f("memq://", "memq://", true, 20);
+  Message r = base(Kind::kRequest, kOc, kBroadcast);
+  r.request.request = 3, r.request.issued_at = 300.5, r.request.first_goal = 120, r.request.total = 300;
+  r.request.part = 1, r.request.parts = 2, r.request.count = 44;
+  for (int i = 0; i < 44; ++i) r.request.cells[i] = static_cast<uint32_t>(1000 + 7 * i);
+  Message got = roundtrip(f, r);
+  expect_header(got.h, r.h);
+  EXPECT_EQ(got.request.first_goal, 120);
+  EXPECT_EQ(got.request.count, 44u);
+  EXPECT_EQ(got.request.cells[43], 1000u + 7 * 43);
+  EXPECT_EQ(got.request.part, 1u);
+
+  Message d = base(Kind::kData, 5, 0);
+  d.data.count = 3;
+  d.data.items[0] = DataItem{17, ItemKind::kMeasured, 5, 12.25, 0, 13.5};
+  d.data.items[1] = DataItem{18, ItemKind::kExpired, 5, 99.0, -1, -1.0};
+  d.data.items[2] = DataItem{skipped_key(4, 5), ItemKind::kSkipped, 5, 400.0, -1, -1.0};
+  got = roundtrip(f, d);
+  expect_header(got.h, d.h);
+  ASSERT_EQ(got.data.count, 3u);
+  EXPECT_EQ(got.data.items[0].picked_up_at, 13.5);
+  EXPECT_EQ(got.data.items[1].kind, ItemKind::kExpired);
+  EXPECT_EQ(skipped_request(got.data.items[2].key), 4);
+  EXPECT_EQ(skipped_worker(got.data.items[2].key), 5);
+
+  Message a = base(Kind::kAck, 0, 5);
+  a.ack.count = 2, a.ack.keys[0] = 17, a.ack.keys[1] = -9;
+  got = roundtrip(f, a);
+  EXPECT_EQ(got.ack.count, 2u);
+  EXPECT_EQ(got.ack.keys[1], -9);
+
+  Message s = base(Kind::kState, 5, kBroadcast);
+  s.state.role = RoleKind::kWorker, s.state.carried = 3, s.state.notices = 1, s.state.pending = 2, s.state.measured = 44;
+  got = roundtrip(f, s);
+  EXPECT_EQ(got.state.measured, 44);
+  EXPECT_EQ(got.state.pending, 2u);
+  EXPECT_EQ(f.refused().total(), 0);
+}
+
+TEST(LcmFleet, ClockAndPlanSurviveTheRoundTrip) {
+  LcmFleet f("memq://", "memq://", true, 20);
+  PlanAnnounce p;
+  p.digest = 0xfedcba9876543210ull, p.agents = 20, p.params.cycles = 7, p.params.seed = 9, p.params.goals_per_request = 40;
+  p.params.data_capacity = 160, p.params.notice_capacity = 160, p.tick = 0.05, p.loss = 0.25, p.loss_seed = 3;
+  f.publish(p);
+  f.publish(Tick{12, 1.2, 33, true, false});
+  Reply r;
+  r.tick = 12, r.agent = 4, r.sent = 2, r.pose = {3.5, 4.5}, r.role = RoleKind::kCollector, r.keys = {1, 2, 3};
+  r.report.measured = 9, r.link.gated = 77;
+  f.publish(r);
+  for (int i = 0; i < 50 && (f.plans().empty() || f.ticks().empty() || f.replies().empty()); ++i) f.handle(20);
+  ASSERT_EQ(f.plans().size(), 1u);
+  EXPECT_EQ(f.plans()[0].digest, p.digest);
+  EXPECT_EQ(f.plans()[0].params.cycles, 7);
+  EXPECT_EQ(f.plans()[0].loss, 0.25);
+  ASSERT_EQ(f.ticks().size(), 1u);
+  EXPECT_EQ(f.ticks()[0].sent_before, 33);
+  EXPECT_TRUE(f.ticks()[0].report);
+  ASSERT_EQ(f.replies().size(), 1u);
+  EXPECT_EQ(f.replies()[0].keys.size(), 3u);
+  EXPECT_EQ(f.replies()[0].link.gated, 77);
+  EXPECT_EQ(f.replies()[0].role, RoleKind::kCollector);
+}
+
+TEST(LcmFleet, GarbageTruncatedOversizedWrongVersionOutOfRangeAreCountedAndDropped) {
+  LcmFleet f("memq://", "memq://", true, 20);
+  std::vector<uint8_t> junk(100, 0xab);
+  f.on_radio(kDataChannel, junk.data(), static_cast<int>(junk.size()));
+  EXPECT_EQ(f.refused().undecodable, 1);
+
+  gather_lcm::data_t d{};
+  d.h.schema_version = gather_lcm::header_t::SCHEMA_VERSION;
+  d.h.sender = 3, d.h.dest = kOc;
+  d.count = 1;
+  d.items[0].kind = 1, d.items[0].by = 3, d.items[0].picked_up_by = -1;
+  std::vector<uint8_t> buf(static_cast<std::size_t>(d.getEncodedSize()));
+  d.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  f.on_radio(kDataChannel, buf.data(), static_cast<int>(buf.size()));
+  ASSERT_EQ(f.radio().size(), 1u);  // the valid one
+  f.on_radio(kDataChannel, buf.data(), static_cast<int>(buf.size()) - 5);  // truncated
+  std::vector<uint8_t> longer(buf);
+  longer.resize(buf.size() + 4096, 0);  // oversized: trailing bytes
+  f.on_radio(kDataChannel, longer.data(), static_cast<int>(longer.size()));
+  EXPECT_EQ(f.refused().undecodable, 3);
+
+  auto variant = [&](auto edit) {
+    gather_lcm::data_t e = d;
+    edit(e);
+    std::vector<uint8_t> b(static_cast<std::size_t>(e.getEncodedSize()));
+    e.encode(b.data(), 0, static_cast<int>(b.size()));
+    f.on_radio(kDataChannel, b.data(), static_cast<int>(b.size()));
+  };
+  variant([](gather_lcm::data_t& e) { e.h.schema_version = 1; });
+  EXPECT_EQ(f.refused().wrong_version, 1);
+  variant([](gather_lcm::data_t& e) { e.h.sender = 20; });  // outside a team of 20
+  variant([](gather_lcm::data_t& e) { e.h.dest = 99; });
+  variant([](gather_lcm::data_t& e) { e.count = 65; });
+  variant([](gather_lcm::data_t& e) { e.count = -1; });
+  variant([](gather_lcm::data_t& e) { e.h.x = std::nan(""); });
+  variant([](gather_lcm::data_t& e) { e.items[0].kind = 9; });
+  variant([](gather_lcm::data_t& e) { e.items[0].at = INFINITY; });
+  variant([](gather_lcm::data_t& e) { e.items[0].by = -4; });
+  EXPECT_EQ(f.refused().out_of_range, 8);
+  EXPECT_EQ(f.radio().size(), 1u);  // still only the valid one
+}
+
+TEST(LcmFleet, MutatedMessagesNeverCrashAndAreEitherValidOrCounted) {
+  LcmFleet f("memq://", "memq://", true, 20);
+  gather_lcm::request_t r{};
+  r.h.schema_version = gather_lcm::header_t::SCHEMA_VERSION;
+  r.h.sender = kOc, r.h.dest = kBroadcast, r.parts = 1, r.count = 40;
+  std::vector<uint8_t> valid(static_cast<std::size_t>(r.getEncodedSize()));
+  r.encode(valid.data(), 0, static_cast<int>(valid.size()));
+  std::mt19937_64 rng(11);
+  int64_t accepted = 0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    std::vector<uint8_t> b = valid;
+    const int flips = 1 + static_cast<int>(rng() % 8);
+    for (int k = 0; k < flips; ++k) b[rng() % b.size()] ^= static_cast<uint8_t>(1u << (rng() % 8));
+    if (rng() % 4 == 0) b.resize(rng() % b.size());
+    const char* channel = (rng() % 2) ? kRequestChannel : kStateChannel;
+    f.on_radio(channel, b.data(), static_cast<int>(b.size()));
+    accepted += static_cast<int64_t>(f.radio().size());
+    for (const Message& m : f.radio()) {
+      EXPECT_GE(m.h.sender, kOc);
+      EXPECT_LT(m.h.sender, 20);
+      EXPECT_TRUE(std::isfinite(m.h.t));
+      if (m.h.kind == Kind::kRequest) EXPECT_LE(m.request.count, kRequestPartGoals);
+    }
+    f.radio().clear();
+  }
+  EXPECT_EQ(accepted + f.refused().total(), n);
+  EXPECT_GT(f.refused().total(), n / 2);
+}
+
+TEST(LcmFleet, TheRepliesUrlIsTheRadiosPortPlusOne) {
+  EXPECT_EQ(LcmFleet::reply_url_for("udpm://239.255.76.67:7667?ttl=0"), "udpm://239.255.76.67:7668?ttl=0");
+  EXPECT_EQ(LcmFleet::reply_url_for("udpm://239.1.2.3:9000"), "udpm://239.1.2.3:9001");
+  EXPECT_EQ(LcmFleet::reply_url_for("udpm://239.1.2.3"), "udpm://239.1.2.3:7668");
+  EXPECT_EQ(LcmFleet::reply_url_for("memq://"), "memq://");
+}
+
+}  // namespace
+}  // namespace agent
+}  // namespace gather

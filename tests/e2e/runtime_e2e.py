@@ -1,0 +1,103 @@
+#!/usr/bin/env python3
+"""End-to-end test of the agent runtime without ROS: the same plans and seeds
+run in one process (`gather run`) and with one gather_agent process per agent
+over LCM (`gather run --lcm`, this test's process namespace only) must give
+byte-identical goals.csv, cycles.csv and agents.csv, on maps/office with
+collectors (pap:4) and without (bap:0). Agents whose plan differs from the
+OC's must refuse it (exit 2, one line), and `gather run --lcm` must fail with
+one line naming the agent. Each agent process stays within 16 MB resident.
+
+Must run inside a private network namespace:
+  tools/netns-run python3 tests/e2e/runtime_e2e.py
+"""
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+
+REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+GATHER = os.path.join(REPO, "catkin_ws", "devel", "lib", "gather_core", "gather")
+AGENT = os.path.join(REPO, "catkin_ws", "devel", "lib", "gather_agent", "gather_agent")
+results = []
+
+
+def check(name, ok, detail=""):
+    results.append(ok)
+    print("%s %s%s" % ("ok  " if ok else "FAIL", name, "" if ok else ": " + detail), flush=True)
+    return ok
+
+
+def run(args, timeout=300):
+    p = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=timeout)
+    return p.returncode, p.stdout, p.stderr
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--cycles", type=int, default=3)
+    ap.add_argument("--gather", default=GATHER)
+    ap.add_argument("--agent", default=AGENT)
+    a = ap.parse_args()
+    if os.environ.get("GATHER_NETNS") != "1":
+        print("runtime_e2e: run me inside tools/netns-run (LCM multicast must stay in a private namespace)",
+              file=sys.stderr)
+        return 2
+    tmp = tempfile.mkdtemp(prefix="gather_runtime_e2e_")
+    scenario = os.path.join(REPO, "maps", "office.scenario.yaml")
+    # Agent processes run under a wrapper that records their peak resident memory.
+    wrapper = os.path.join(tmp, "agent_with_memory.sh")
+    with open(wrapper, "w") as f:
+        f.write("#!/bin/bash\n# $2 is the agent id\nexec /usr/bin/time -f %%M -o %s/mem.$2 %s \"$@\"\n" % (tmp, a.agent))
+    os.chmod(wrapper, 0o755)
+    plans = {}
+    for config in ("pap:4", "bap:0"):
+        d = os.path.join(tmp, "plan_" + config.replace(":", ""))
+        rc, out, err = run([a.gather, "plan", scenario, "--config", config, "--out", d])
+        if not check("plan %s" % config, rc == 0, err):
+            continue
+        plans[config] = d
+        one = os.path.join(tmp, "one_" + config.replace(":", ""))
+        many = os.path.join(tmp, "lcm_" + config.replace(":", ""))
+        rc, out, err = run([a.gather, "run", d, "--cycles", str(a.cycles), "--seed", "3", "--out", one])
+        check("%s in one process" % config, rc == 0, err)
+        for f in os.listdir(tmp):
+            if f.startswith("mem."):
+                os.remove(os.path.join(tmp, f))
+        rc, out, err = run([a.gather, "run", d, "--cycles", str(a.cycles), "--seed", "3", "--out", many, "--lcm",
+                            "--agent-bin", wrapper])
+        if not check("%s over LCM, 20 agent processes" % config, rc == 0, err[-2000:]):
+            continue
+        for name in ("goals.csv", "cycles.csv", "agents.csv"):
+            same = open(os.path.join(one, name), "rb").read() == open(os.path.join(many, name), "rb").read()
+            check("%s: %s over LCM == in one process (byte for byte)" % (config, name), same)
+        mem = sorted(int(open(os.path.join(tmp, f)).read().split()[-1]) for f in os.listdir(tmp) if f.startswith("mem."))
+        if check("%s: peak memory of all 20 agents recorded" % config, len(mem) == 20, str(mem)):
+            print("     agent peak resident memory [MB]: median %.1f, max %.1f" % (mem[10] / 1024.0, mem[-1] / 1024.0))
+            check("%s: every agent within 16 MB resident" % config, mem[-1] <= 16 * 1024, "max %d kB" % mem[-1])
+
+    # A fleet started with another plan than the OC's: the agents refuse it.
+    if len(plans) == 2:
+        other = os.path.join(tmp, "other_plan.sh")
+        with open(other, "w") as f:
+            f.write("#!/bin/bash\nargs=(\"$@\"); for i in \"${!args[@]}\"; do [ \"${args[$i]}\" = --plan ] && "
+                    "args[$((i+1))]=%s; done\nexec %s \"${args[@]}\"\n" % (plans["bap:0"], a.agent))
+        os.chmod(other, 0o755)
+        rc, out, err = run([a.gather, "run", plans["pap:4"], "--cycles", "1", "--out", os.path.join(tmp, "refused"),
+                            "--lcm", "--agent-bin", other], timeout=120)
+        lines = [l for l in err.splitlines() if l.startswith("gather run")]
+        check("another plan: gather run --lcm fails with status 2", rc == 2, "status %d" % rc)
+        check("another plan: one line naming an agent that refused", len(lines) == 1 and "refused the plan" in lines[0],
+              err[-1500:])
+        check("another plan: the agents say why", "they are not the same plan" in err, err[-1500:])
+        rc, out, err = run([a.agent, "--id", "25", "--plan", plans["pap:4"]])
+        check("an agent id outside the team: status 2, one line", rc == 2 and err.count("\n") == 1 and
+              "not in the plan's team" in err, err)
+
+    failed = results.count(False)
+    print("%d passed, %d failed" % (len(results) - failed, failed))
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
