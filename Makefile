@@ -58,15 +58,21 @@ test-plain: deps
 	cmake --build $(PLAIN) -j$(JOBS)
 	cd $(PLAIN) && ctest --output-on-failure -j$(JOBS)
 
-# Every bad input gives one line naming the file and exit status 2, from every binary.
+# Every bad input gives one line naming the file and exit status 2, from every
+# binary: bad scenarios, and bad plan directories.
+G := $(WS)/devel/lib/gather_core/gather
 test-cli: build
-	tests/cli/bad_input.sh "$(WS)/devel/lib/gather_core/gather info"
-	tests/cli/bad_input.sh "$(WS)/devel/lib/gather_agent/gather_agent --id 0 --lcm-url memq://"
+	tests/cli/bad_input.sh "$(G) info"
 	tests/cli/bad_input.sh "$(WS)/devel/lib/gather_oc/oc_node"
 	tests/cli/bad_input.sh "$(WS)/devel/lib/gather_oc/fleet_node"
+	tests/cli/bad_plan.sh $(G) "$(G) run --out $(WS)/build/bad_plan_run"
+	tests/cli/bad_plan.sh $(G) "$(WS)/devel/lib/gather_agent/gather_agent --id 0 --lcm-url memq:// --silence 5 --plan"
+	tests/cli/bad_plan.sh $(G) "$(WS)/devel/lib/gather_oc/oc_node $(abspath maps/office.scenario.yaml)"
 
+# The agent runtime over LCM against one process (gather run --lcm), and
 # roslaunch gather_oc mission.launch end to end, in a private network namespace.
 test-e2e: build
+	tools/netns-run $(PYTHON) tests/e2e/runtime_e2e.py
 	tools/netns-run bash -c '$(SETUP) && $(PYTHON) tests/e2e/mission_e2e.py'
 
 # FMM against scikit-fmm on the shared benchmark grids, one table (docs/fmm.md);

@@ -44,18 +44,13 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
     : world(w), plan(p), params(prm), radio(w.scenario.grid, w.scenario.radio) {
   const OccupancyGrid& grid = w.scenario.grid;
   const plan::PlanFile& pf = p.file;
-  const std::string where = "plan";
+  const std::string where = p.source.empty() ? "plan" : p.source;
   if (p.width != grid.width() || p.height != grid.height())
     throw Error(where, "label image is " + std::to_string(p.width) + "x" + std::to_string(p.height) +
                            ", the scenario's map " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()));
   const int n = static_cast<int>(pf.agents.size());
   if (n < 1 || n > kMaxTeam) throw Error(where, "a team of " + std::to_string(n) + " agents (1.." + std::to_string(kMaxTeam) + ")");
-  if (n != w.scenario.team.agents)
-    throw Error(where, "plans " + std::to_string(n) + " agents, the scenario's team has " +
-                           std::to_string(w.scenario.team.agents));
-  if (pf.collectors < 0 || pf.workers < 1 || pf.collectors + pf.workers != n)
-    throw Error(where, "collectors + workers must be the " + std::to_string(n) + " agents");
-  if (static_cast<int>(pf.routes.size()) != pf.collectors) throw Error(where, "one route per collector expected");
+  mission::check_plan(p, w.scenario.team.agents);
   period = pf.cycle_period_s;
   speed = w.scenario.team.speed;
   if (!(period > 0) || !std::isfinite(period)) throw Error(where, "cycle_period_s must be > 0");
@@ -66,30 +61,19 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
   if (params.notice_capacity == 0) params.notice_capacity = params.data_capacity;
 
   assignment_.assign(static_cast<std::size_t>(n), plan::AgentAssignment{});
-  std::vector<char> seen(static_cast<std::size_t>(n), 0);
   collector_agent_.assign(static_cast<std::size_t>(pf.collectors), -1);
   worker_of_segment_.assign(static_cast<std::size_t>(pf.workers) + 1, -1);
-  for (const plan::AgentAssignment& a : pf.agents) {
-    const std::string who = "agent " + std::to_string(a.id);
-    if (a.id < 0 || a.id >= n || seen[static_cast<std::size_t>(a.id)]) throw Error(where, who + ": ids must be 0.." + std::to_string(n - 1) + ", once each");
-    seen[static_cast<std::size_t>(a.id)] = 1;
+  for (const plan::AgentAssignment& a : pf.agents) {  // check_plan made sure these are all valid and distinct
     assignment_[static_cast<std::size_t>(a.id)] = a;
-    if (a.collector) {
-      if (a.delivers_to < 0 || a.delivers_to >= pf.collectors || collector_agent_[static_cast<std::size_t>(a.delivers_to)] >= 0)
-        throw Error(where, who + ": collector index must be 0.." + std::to_string(pf.collectors - 1) + ", once each");
-      collector_agent_[static_cast<std::size_t>(a.delivers_to)] = a.id;
-    } else {
-      if (a.segment < 1 || a.segment > pf.workers || worker_of_segment_[static_cast<std::size_t>(a.segment)] >= 0)
-        throw Error(where, who + ": segment must be 1.." + std::to_string(pf.workers) + ", one worker each");
-      if (a.delivers_to < -1 || a.delivers_to >= pf.collectors)
-        throw Error(where, who + ": collector must be -1 (the OC) or 0.." + std::to_string(pf.collectors - 1));
-      worker_of_segment_[static_cast<std::size_t>(a.segment)] = a.id;
-    }
+    if (a.collector) collector_agent_[static_cast<std::size_t>(a.delivers_to)] = a.id;
+    else worker_of_segment_[static_cast<std::size_t>(a.segment)] = a.id;
   }
   for (const plan::CollectorRoute& r : pf.routes) {
-    for (const Point2& q : r.waypoints)
-      if (!std::isfinite(q.x) || !std::isfinite(q.y)) throw Error(where, "collector " + std::to_string(r.collector) + ": a waypoint is not finite");
-    routes.emplace_back(r, speed, period, grid, w.coverage);
+    try {
+      routes.emplace_back(r, speed, period, grid, w.coverage);
+    } catch (const Error& e) {
+      throw Error(where, e.what());
+    }
   }
   meeting_arc_.assign(static_cast<std::size_t>(n), 0.0);
   for (const plan::AgentAssignment& a : pf.agents) {
@@ -97,9 +81,7 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
     const plan::CollectorRoute& r = pf.routes[static_cast<std::size_t>(a.delivers_to)];
     const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
                                 [&](const plan::MeetingArea& x) { return x.segment == a.segment; });
-    if (m == r.meetings.end())
-      throw Error(where, "collector " + std::to_string(a.delivers_to) + " has no meeting area for segment " + std::to_string(a.segment));
-    meeting_arc_[static_cast<std::size_t>(a.id)] = m->route_s;
+    meeting_arc_[static_cast<std::size_t>(a.id)] = m->route_s;  // check_plan: there is one
   }
   distances = std::make_unique<mission::SharedDistances>(w, /*from_oc=*/false);  // agents start at their start poses
   paths = std::make_unique<GridAStar>(grid, w.reachable, &w.coverage_field);

@@ -30,9 +30,7 @@ LoadedPlan load_plan(const std::string& plan_dir) {
     throw Error(yaml.string(), "its labels are " + std::to_string(l.plan.width) + "x" + std::to_string(l.plan.height) +
                                    " cells, scenario " + l.plan.file.scenario + " on the plan's grid is " +
                                    std::to_string(g.width()) + "x" + std::to_string(g.height()));
-  if (static_cast<int>(l.plan.file.agents.size()) != l.scenario.team.agents)
-    throw Error(yaml.string(), "plans " + std::to_string(l.plan.file.agents.size()) + " agents, scenario " +
-                                   l.plan.file.scenario + " has a team of " + std::to_string(l.scenario.team.agents));
+  mission::check_plan(l.plan, l.scenario.team.agents);
   return l;
 }
 

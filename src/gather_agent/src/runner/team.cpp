@@ -14,7 +14,7 @@ namespace agent {
 
 AgentUnit make_agent(TeamSetup& team, int agent) {
   if (agent < 0 || agent >= team.agents())
-    throw Error("plan", "agent " + std::to_string(agent) + " is not in the team of " + std::to_string(team.agents()));
+    throw Error(team.plan.source.empty() ? "plan" : team.plan.source, "agent " + std::to_string(agent) + " is not in the team of " + std::to_string(team.agents()));
   AgentUnit u;
   const Point2 start = team.start_pose(agent);
   if (team.assignment(agent).collector) {

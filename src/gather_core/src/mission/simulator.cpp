@@ -66,7 +66,7 @@ MissionSimulator::MissionSimulator(const World& ctx, MissionPlan plan)
   const Scenario& s = ctx.scenario;
   const OccupancyGrid& grid = s.grid;
   const plan::PlanFile& pf = plan_.file;
-  const std::string where = "plan";
+  const std::string where = plan_.source.empty() ? "plan" : plan_.source;
   if (plan_.width != grid.width() || plan_.height != grid.height())
     throw Error(where, "label image is " + std::to_string(plan_.width) + "x" + std::to_string(plan_.height) +
                            ", the scenario's map " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()));
@@ -74,7 +74,13 @@ MissionSimulator::MissionSimulator(const World& ctx, MissionPlan plan)
   period_ = pf.cycle_period_s;
   if (!(period_ > 0)) throw Error(where, "cycle_period_s must be > 0");
   if (static_cast<int>(pf.routes.size()) != pf.collectors) throw Error(where, "one route per collector expected");
-  for (const plan::CollectorRoute& r : pf.routes) routes_.emplace_back(r, speed_, period_, grid, ctx.coverage);
+  for (const plan::CollectorRoute& r : pf.routes) {
+    try {
+      routes_.emplace_back(r, speed_, period_, grid, ctx.coverage);
+    } catch (const Error& e) {
+      throw Error(where, e.what());
+    }
+  }
   shared_ = std::make_unique<SharedDistances>(ctx);
   const std::size_t max_goals = static_cast<std::size_t>(std::max(0, s.mission.goals_per_request));
   for (const plan::AgentAssignment& a : pf.agents) {

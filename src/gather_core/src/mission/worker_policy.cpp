@@ -45,7 +45,7 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
     : world_(world), shared_(shared), route_(route), agent_(a.id), segment_(a.segment), collector_(a.delivers_to) {
   const OccupancyGrid& grid = world.scenario.grid;
   const plan::PlanFile& pf = mp.file;
-  const std::string where = "plan";
+  const std::string where = mp.source.empty() ? "plan" : mp.source;
   speed_ = world.scenario.team.speed;
   if (a.collector) throw Error(where, "agent " + std::to_string(a.id) + " is a collector, not a worker");
   if (segment_ < 1 || segment_ > pf.workers) throw Error(where, "agent " + std::to_string(a.id) + ": bad segment");
