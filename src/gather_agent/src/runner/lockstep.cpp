@@ -125,6 +125,7 @@ bool LockstepAgent::inbox_complete(const Tick& tick) const {
 }
 
 void LockstepAgent::step(const Tick& tick) {
+  const auto s0 = Clock::now();
   Role& role = *unit_.role;
   unit_.motion->advance(tick.t);
   take_tick(held_, current_, tick.tick, late_);
@@ -139,6 +140,8 @@ void LockstepAgent::step(const Tick& tick) {
   }
   link_.sent += static_cast<int64_t>(out.size());
   link_.bad = fleet_.refused().total();
+  step_us_ += std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - s0).count();
+  reply_.step_us = step_us_;
   reply_.tick = tick.tick;
   reply_.agent = static_cast<int16_t>(id_);
   reply_.status = ReplyStatus::kStepped;
@@ -291,7 +294,9 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   }
   bool report = false;
   for (int c = next_check_; c < team_.params.cycles && t >= (c + 1) * team_.period; ++c) report = true;
+  const auto p0 = Clock::now();
   fleet_.publish(Tick{k, t, sent_before_, report, false});
+  publish_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - p0).count();
 
   // The OC's own role, as any agent: every message of the tick before first.
   const auto w0 = Clock::now();
@@ -302,6 +307,7 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
     fleet_.handle(5);
     absorb(fleet_, held_, link_);
   }
+  inbox_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - w0).count();
   const auto o0 = Clock::now();
   Role& oc_role = *oc_.role;
   oc_.motion->advance(t);
@@ -342,6 +348,12 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   bool held = false;
   for (const Reply& r : last_) held = held || r.carried > 0 || r.notices > 0;
   return !(oc().done() && !held) && t < limit_;
+}
+
+double LockstepMaster::agents_step_ms() const {
+  double us = 0.0;
+  for (const Reply& r : last_) us += static_cast<double>(r.step_us);
+  return us / 1000.0;
 }
 
 RunOutcome LockstepMaster::finish() {

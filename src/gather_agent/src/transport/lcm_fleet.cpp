@@ -242,6 +242,7 @@ bool LcmFleet::publish(const Reply& r) {
   w.link_bad = r.link.bad;
   w.link_overflow = r.link.overflow;
   w.late = r.late;
+  w.step_us = r.step_us;
   const std::size_t keys = std::min<std::size_t>(r.keys.size(), gather_lcm::tick_reply_t::MAX_KEYS);
   w.n_keys = static_cast<int16_t>(keys);
   w.keys.assign(r.keys.begin(), r.keys.begin() + static_cast<long>(keys));
@@ -402,6 +403,7 @@ void LcmFleet::on_clock(const char* channel, const void* data, int size) {
     o.link.sent = r.link_sent, o.link.received = r.link_received, o.link.gated = r.link_gated;
     o.link.lost = r.link_lost, o.link.bad = r.link_bad, o.link.overflow = r.link_overflow;
     o.late = r.late;
+    o.step_us = r.step_us;
     o.keys.assign(r.keys.begin(), r.keys.end());
     replies_.push_back(std::move(o));
   }

@@ -67,6 +67,7 @@ class LockstepAgent {
   uint32_t seq_ = 0;
   int64_t next_tick_ = 0;
   int64_t late_ = 0;
+  int64_t step_us_ = 0;
   double tick_s_ = 0.1;
   std::vector<Message> held_;               // radio messages of ticks not yet processed
   std::vector<Message> current_;            // the messages of the tick being processed
@@ -109,6 +110,10 @@ class LockstepMaster {
   // Wall time spent waiting for replies, running the OC role, pacing [ms].
   double wait_ms() const { return wait_ms_; }
   double oc_ms() const { return oc_ms_; }
+  double publish_ms() const { return publish_ms_; }  // publishing the ticks
+  double inbox_ms() const { return inbox_ms_; }      // the OC waiting for the previous tick's messages
+  // The agents' control steps so far, summed over the agents [ms of CPU].
+  double agents_step_ms() const;
 
  private:
   void collect_replies(int64_t tick, ReplyStatus want, double timeout_s, ShutdownSignal* signal);
@@ -133,7 +138,7 @@ class LockstepMaster {
   std::vector<const Message*> inbox_;
   std::vector<int32_t> keys_;
   std::chrono::steady_clock::time_point started_;
-  double wait_ms_ = 0.0, oc_ms_ = 0.0;
+  double wait_ms_ = 0.0, oc_ms_ = 0.0, publish_ms_ = 0.0, inbox_ms_ = 0.0;
   bool finished_ = false;
 };
 
