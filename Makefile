@@ -13,7 +13,7 @@ CYCLES ?= 0
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build run test test-ros test-plain test-cli test-e2e bench-fmm partition-report scenario-report clean help
+.PHONY: all deps build run test test-ros test-plain test-cli test-e2e bench-fmm bench-runtime partition-report scenario-report runtime-report clean help
 
 all: build
 
@@ -82,6 +82,16 @@ bench-fmm: build
 	cmake -S src/gather_core -B build/bench -DCMAKE_BUILD_TYPE=Release -DGATHER_BUILD_BENCH=ON -DBUILD_TESTING=OFF > /dev/null
 	cmake --build build/bench -j$(JOBS) --target gather_fmm_micro
 	build/bench/gather_fmm_micro --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+
+# The agent runtime on maps/office: in one process and one process per agent
+# over LCM (x real time, messages/s, where a tick goes, agent memory); ~3 min.
+bench-runtime: build
+	tools/netns-run $(PYTHON) bench/runtime_bench.py
+
+# The agents against the analytic simulator on maps/office and office_a, and
+# over LCM against one process -> docs/runtime_equivalence.md (~4 min).
+runtime-report: build
+	tools/netns-run $(PYTHON) tools/runtime_report.py
 
 # Partition metrics of BAP/PAP/RAP on every map -> docs/partitions.md.
 partition-report: build

@@ -76,6 +76,11 @@ def main():
             print("     agent peak resident memory [MB]: median %.1f, max %.1f" % (mem[10] / 1024.0, mem[-1] / 1024.0))
             check("%s: every agent within 16 MB resident" % config, mem[-1] <= 16 * 1024, "max %d kB" % mem[-1])
 
+    # The robot's binary carries no planning libraries.
+    ldd = subprocess.run(["ldd", a.agent], stdout=subprocess.PIPE, text=True).stdout
+    heavy = [l.split()[0] for l in ldd.splitlines() if "opencv" in l or "ompl" in l]
+    check("gather_agent links neither OpenCV nor OMPL", not heavy, str(heavy))
+
     # A fleet started with another plan than the OC's: the agents refuse it.
     if len(plans) == 2:
         other = os.path.join(tmp, "other_plan.sh")
