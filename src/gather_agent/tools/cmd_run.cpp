@@ -1,6 +1,7 @@
 // gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT]
 //                     [--loss P] [--loss-seed N]
-//                     [--lcm [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R]]:
+//                     [--lcm [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R]
+//                            [--clock lockstep|wall]]:
 // runs the plan with the agent runtime for K seeds: every role in this
 // process over an in-memory bus under the range gate and the lockstep
 // clock, or with --lcm one gather_agent process per agent over LCM (this
@@ -9,7 +10,9 @@
 // the schema of `gather sim`, and agents.csv (per agent and seed: role,
 // goals measured / carried / delivered, messages sent / received / gated /
 // lost). --lcm sends UDP multicast: only inside a private network namespace
-// (tools/netns-run) or with an explicit --lcm-url.
+// (tools/netns-run) or with an explicit --lcm-url. --clock wall runs the
+// fleet as real robots would (no ticks: mission time is the wall clock x
+// --rate, default 1): not reproducible, no per-agent counters.
 #include <chrono>
 #include <cstdlib>
 #include <cstdio>
@@ -34,7 +37,7 @@ namespace {
 
 // One run with one gather_agent process per agent; this process is the OC.
 agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& plan, uint64_t digest,
-                               const agent::RunOptions& opt, double rate, const std::string& url,
+                               const agent::RunOptions& opt, double rate, bool wall, const std::string& url,
                                const std::string& reply_url, const std::string& agent_bin) {
   agent::LcmFleet fleet(url, reply_url, true, team.agents());
   AgentFleet processes({agent_bin, "--id", "{id}", "--plan", plan.dir, "--lcm-url", url, "--reply-url", reply_url},
@@ -42,6 +45,7 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
   processes.start();
   agent::MasterOptions mo;
   mo.tick = opt.tick, mo.loss = opt.loss, mo.loss_seed = opt.loss_seed, mo.rate = rate;
+  if (wall) mo.clock = agent::ClockMode::kWall;
   agent::LockstepMaster master(team, fleet, digest, mo);
   const auto t0 = std::chrono::steady_clock::now();
   master.start(nullptr);
@@ -51,6 +55,13 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
   agent::RunOutcome out = master.finish();
   // Where the time goes (wall of the ticks, and the agents' own CPU).
   const double wall_s = out.wall_ms / 1000.0, ticks = static_cast<double>(std::max<int64_t>(1, out.ticks));
+  if (wall) {
+    std::printf("over LCM on the wall clock at %g x: %lld control steps of the OC, %lld radio messages from the OC\n",
+                rate, static_cast<long long>(out.ticks), static_cast<long long>(out.messages));
+    processes.wait(5.0);
+    processes.stop(2.0);
+    return out;
+  }
   std::printf("over LCM: %lld ticks, %lld radio messages = %.0f messages/s; agents ready after %.2f s; per tick %.3f ms "
               "of wall: publishing the tick %.3f ms, the OC's inbox %.3f ms, its role %.3f ms, waiting for the agents' "
               "replies %.3f ms (their control steps: %.3f ms of CPU summed over %d processes), the rest %.3f ms\n",
@@ -72,14 +83,14 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
 int run(int argc, char** argv) {
   cli::Args args(argc, argv, 2,
                  {"--cycles", "--seeds", "--seed", "--out", "--tick", "--loss", "--loss-seed", "--lcm-url", "--reply-url",
-                  "--agent-bin", "--rate"},
+                  "--agent-bin", "--rate", "--clock"},
                  {"--lcm"});
   if (args.positional().size() != 1 || !args.has("--out"))
     throw cli::UsageError(
         "usage: gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT] [--loss P] "
-        "[--loss-seed N] [--lcm [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R]]");
+        "[--loss-seed N] [--lcm [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R] [--clock lockstep|wall]]");
   const bool over_lcm = args.on("--lcm");
-  for (const char* flag : {"--lcm-url", "--reply-url", "--agent-bin", "--rate"})
+  for (const char* flag : {"--lcm-url", "--reply-url", "--agent-bin", "--rate", "--clock"})
     if (args.has(flag) && !over_lcm) throw cli::UsageError(std::string(flag) + " needs --lcm");
   std::string lcm_url = args.get("--lcm-url", "");
   if (over_lcm && lcm_url.empty()) {
@@ -89,8 +100,12 @@ int run(int argc, char** argv) {
       throw cli::UsageError("--lcm sends UDP multicast: run it inside tools/netns-run, or give --lcm-url");
     lcm_url = "udpm://239.255.76.67:7667?ttl=0";
   }
-  const double rate = args.get_double("--rate", 0.0);
+  const std::string clock = args.get("--clock", "lockstep");
+  if (clock != "lockstep" && clock != "wall") throw cli::UsageError("--clock must be lockstep or wall, got '" + clock.substr(0, 40) + "'");
+  const bool wall_clock = clock == "wall";
+  const double rate = args.get_double("--rate", wall_clock ? 1.0 : 0.0);
   if (!(rate >= 0.0) || rate > 1e6) throw cli::UsageError("--rate must be >= 0 (0: as fast as the lockstep allows)");
+  if (wall_clock && !(rate > 0.0)) throw cli::UsageError("--rate must be > 0 with --clock wall (mission seconds per wall second)");
   const auto t_start = std::chrono::steady_clock::now();
   const agent::LoadedPlan loaded = agent::load_plan(args.positional()[0]);
   agent::MissionParams params = agent::mission_params(loaded.scenario);
@@ -127,7 +142,7 @@ int run(int argc, char** argv) {
   }
   for (int k = 0; k < seeds; ++k) {
     team.params.seed = static_cast<unsigned>(seed0 + k);
-    const agent::RunOutcome r = over_lcm ? run_over_lcm(team, loaded, digest, opt, rate, lcm_url,
+    const agent::RunOutcome r = over_lcm ? run_over_lcm(team, loaded, digest, opt, rate, wall_clock, lcm_url,
                                                         args.get("--reply-url", agent::LcmFleet::reply_url_for(lcm_url)),
                                                         agent_bin)
                                          : agent::TeamRunner(team, opt).run();

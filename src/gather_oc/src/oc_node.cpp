@@ -59,12 +59,13 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
   nh.deleteParam("/gather/plan_dir");  // a previous run's, on a master that outlived it
-  std::string results_dir, lcm_url, reply_url;
+  std::string results_dir, lcm_url, reply_url, clock;
   int cycles = 0, seed = -1, loss_seed = 1;
   double rate = 0.0, tick = 0.1, loss = 0.0, marker_hz = 2.0, ready_timeout = 60.0;
   pnh.param<std::string>("results_dir", results_dir, "results/mission");
   pnh.param<std::string>("lcm_url", lcm_url, "");
   pnh.param<std::string>("reply_url", reply_url, "");
+  pnh.param<std::string>("clock", clock, "lockstep");
   pnh.param("cycles", cycles, 0);
   pnh.param("seed", seed, -1);
   pnh.param("rate", rate, 0.0);
@@ -75,7 +76,9 @@ int main(int argc, char** argv) {
   pnh.param("ready_timeout", ready_timeout, 60.0);
   results_dir = gather::resolve_launch_path(results_dir);
   if (cycles < 0 || cycles > 100000) return fail(2, "~cycles must be in 0..100000 (0: the scenario's), got " + std::to_string(cycles));
+  if (clock != "lockstep" && clock != "wall") return fail(2, "~clock must be lockstep or wall, got '" + clock.substr(0, 40) + "'");
   if (!(rate >= 0.0)) return fail(2, "~rate must be >= 0 (0: as fast as the lockstep allows)");
+  if (clock == "wall" && rate == 0.0) rate = 1.0;  // the wall clock runs at real time unless told otherwise
   if (!(tick > 0.0 && tick <= 0.1)) return fail(2, "~tick must be in (0, 0.1] s");
   if (!(loss >= 0.0 && loss < 1.0)) return fail(2, "~loss must be in [0, 1)");
   if (!(marker_hz > 0.0)) return fail(2, "~marker_rate must be > 0 Hz");
@@ -110,6 +113,7 @@ int main(int argc, char** argv) {
     gather::agent::MasterOptions mo;
     mo.tick = tick, mo.rate = rate, mo.loss = loss, mo.loss_seed = static_cast<uint64_t>(loss_seed);
     mo.ready_timeout_s = ready_timeout;
+    if (clock == "wall") mo.clock = gather::agent::ClockMode::kWall;
     gather::agent::LockstepMaster master(team, fleet, gather::agent::plan_digest(*plan), mo);
     const gather::plan::PlanFile& pf = plan->plan.file;
     ROS_INFO("oc: %s with %d collectors, %d agents, %d cycles of %.1f s; waiting for the fleet", pf.method.c_str(),
@@ -132,7 +136,7 @@ int main(int argc, char** argv) {
     }
     marker_pub.publish(gather::team_markers(scenario.oc, master.agents(), "map", ros::Time::now(), true));
     const gather::agent::RunOutcome out = master.finish();
-    gather::agent::RunSettings settings{"lcm", tick, rate, loss};
+    gather::agent::RunSettings settings{clock == "wall" ? "lcm, wall clock" : "lcm", tick, rate, loss};
     gather::agent::write_mission_yaml(results_dir + "/mission.yaml", *plan, params, settings, out);
     if (!out.completed) return fail(1, out.failure + (ros::ok() ? "" : " (stopped)") + "; " + results_dir + "/mission.yaml");
     gather::agent::RunFiles files;

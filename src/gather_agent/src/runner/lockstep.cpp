@@ -22,6 +22,12 @@ constexpr std::size_t kOutbox = 64;   // messages a role sends in one tick
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+// Wall time [us since the epoch]: what every process of a fleet on one
+// host (or on NTP-synchronised robots) agrees on.
+int64_t realtime_us() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
 void fnv1a(uint64_t& h, const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path, "cannot read (needed for the plan's digest)");
@@ -114,6 +120,8 @@ bool LockstepAgent::take_plan(std::string* why) {
   unit_ = make_agent(*team_, id_);
   outbox_ = std::make_unique<Outbox>(kOutbox);
   tick_s_ = p.tick;
+  clock_ = p.clock;
+  rate_ = p.rate;
   fleet_.set_team(p.agents);
   std::vector<int32_t>().swap(plan_.plan.labels);
   malloc_trim(0);  // give back what loading the map and the plan used and freed
@@ -162,6 +170,27 @@ void LockstepAgent::step(const Tick& tick) {
   fleet_.publish(reply_);
 }
 
+// Wall-clock mode: the role steps every tick_s_ / rate_ seconds of wall time
+// with whatever arrived since the step before (through the gate, in
+// (sender, seq) order); nothing waits for anybody, so a run is not
+// reproducible, as on real robots.
+void LockstepAgent::step_wall(double t) {
+  Role& role = *unit_.role;
+  unit_.motion->advance(t);
+  current_.swap(held_);
+  held_.clear();
+  gather_inbox(current_, role.id(), unit_.motion->pose(), *gate_, link_, inbox_);
+  Outbox& out = *outbox_;
+  out.clear();
+  role.step(t, inbox_.data(), inbox_.size(), out);
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    out[k].h.seq = seq_++;
+    out[k].h.tick = -1;
+    fleet_.publish(out[k]);
+  }
+  link_.sent += static_cast<int64_t>(out.size());
+}
+
 LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, std::string* why) {
   auto heard = Clock::now();
   bool have_tick = false;
@@ -169,7 +198,7 @@ LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, 
   auto tick_since = Clock::now();
   for (;;) {
     if (signal.wait_until(Clock::now())) return End::kStopped;
-    fleet_.handle(have_tick ? 20 : 100);
+    fleet_.handle(have_tick ? 20 : wall_start_us_ > 0 ? wall_wait_ms_ : 100);
     absorb(fleet_, held_, link_);
     if (!fleet_.plans().empty()) {
       heard = Clock::now();
@@ -190,11 +219,30 @@ LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, 
     }
     for (const Tick& t : fleet_.ticks()) {
       heard = Clock::now();
-      if (t.tick < next_tick_ || !team_) continue;
+      if (!team_) continue;
       if (t.done) return End::kDone;
+      if (clock_ == ClockMode::kWall) {
+        if (wall_start_us_ == 0 && t.start_us > 0) wall_start_us_ = t.start_us, next_tick_ = 1;
+        continue;
+      }
+      if (t.tick < next_tick_) continue;
       if (!have_tick || t.tick < pending.tick) pending = t, have_tick = true, tick_since = Clock::now();
     }
     fleet_.ticks().clear();
+    if (clock_ == ClockMode::kWall && wall_start_us_ > 0) {
+      // Mission time from the wall clock; a step each tick_s_ / rate_ of wall time.
+      const double t = static_cast<double>(realtime_us() - wall_start_us_) * 1e-6 * rate_;
+      if (t >= wall_next_) {
+        step_wall(std::max(0.0, t));
+        wall_next_ = std::max(wall_next_ + tick_s_, t);
+      }
+      wall_wait_ms_ = std::clamp(static_cast<int>((wall_next_ - t) / rate_ * 1000.0), 0, 20);
+      if (seconds_since(heard) > silence_s) {
+        *why = "nothing heard from the OC for " + std::to_string(static_cast<int>(silence_s)) + " s";
+        return End::kSilent;
+      }
+      continue;
+    }
     // A tick runs once every message of the one before is in; if some never
     // come (lost on the host), it runs without them after a while.
     while (have_tick && (inbox_complete(pending) || seconds_since(tick_since) > 5.0)) {
@@ -224,6 +272,8 @@ LockstepMaster::LockstepMaster(TeamSetup& team, LcmFleet& fleet, uint64_t digest
   if (!(options_.loss >= 0.0) || !(options_.loss < 1.0))
     throw Error("--loss", "must be in [0, 1), got " + std::to_string(options_.loss));
   if (!(options_.rate >= 0.0)) throw Error("--rate", "must be >= 0 (0: as fast as the lockstep allows)");
+  if (options_.clock == ClockMode::kWall && !(options_.rate > 0.0))
+    throw Error("--rate", "must be > 0 with the wall clock (mission seconds per wall second)");
   fleet_.set_team(team.agents());
   last_.assign(static_cast<std::size_t>(team.agents()), Reply{});
   for (int a = 0; a < team.agents(); ++a) last_[static_cast<std::size_t>(a)].agent = static_cast<int16_t>(a);
@@ -246,6 +296,7 @@ void LockstepMaster::collect_replies(int64_t tick, ReplyStatus want, double time
       PlanAnnounce p;
       p.digest = digest_, p.agents = team_.agents(), p.params = team_.params;
       p.tick = options_.tick, p.loss = options_.loss, p.loss_seed = options_.loss_seed;
+      p.clock = options_.clock, p.rate = options_.clock == ClockMode::kWall ? options_.rate : 1.0;
       fleet_.publish(p);
       last_announce = Clock::now();
     }
@@ -277,10 +328,59 @@ void LockstepMaster::collect_replies(int64_t tick, ReplyStatus want, double time
 void LockstepMaster::start(ShutdownSignal* signal) {
   collect_replies(-1, ReplyStatus::kReady, options_.ready_timeout_s, signal);
   started_ = Clock::now();
+  if (options_.clock == ClockMode::kWall) {
+    start_us_ = realtime_us() + 200000;  // every agent hears the start before it comes
+    fleet_.publish(Tick{0, 0.0, 0, false, false, start_us_});
+    clock_said_ = Clock::now();
+  }
+}
+
+bool LockstepMaster::tick_wall(ShutdownSignal* signal) {
+  // Wait for the next step's wall time, taking messages meanwhile.
+  const double target = tick_ * options_.tick;
+  for (;;) {
+    const double t = static_cast<double>(realtime_us() - start_us_) * 1e-6 * options_.rate;
+    if (t >= target) break;
+    if (signalled(signal)) throw Error("lockstep", "stopped by a signal at t = " + std::to_string(t) + " s");
+    const auto w0 = Clock::now();
+    fleet_.handle(std::clamp(static_cast<int>((target - t) / options_.rate * 1000.0), 0, 20));
+    wait_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - w0).count();
+    absorb(fleet_, held_, link_);
+  }
+  if (seconds_since(clock_said_) > 1.0) {  // the start again, for an agent that missed it
+    fleet_.publish(Tick{tick_, now(), 0, false, false, start_us_});
+    clock_said_ = Clock::now();
+  }
+  fleet_.handle(0);
+  absorb(fleet_, held_, link_);
+  const double t = static_cast<double>(realtime_us() - start_us_) * 1e-6 * options_.rate;
+  wall_now_ = t;
+  const auto o0 = Clock::now();
+  Role& oc_role = *oc_.role;
+  oc_.motion->advance(t);
+  current_.swap(held_);
+  held_.clear();
+  gather_inbox(current_, oc_role.id(), oc_.motion->pose(), gate_, link_, inbox_);
+  outbox_.clear();
+  oc_role.step(t, inbox_.data(), inbox_.size(), outbox_);
+  for (std::size_t i = 0; i < outbox_.size(); ++i) {
+    outbox_[i].h.seq = seq_++;
+    outbox_[i].h.tick = -1;
+    fleet_.publish(outbox_[i]);
+  }
+  link_.sent += static_cast<int64_t>(outbox_.size());
+  messages_ += static_cast<int64_t>(outbox_.size());
+  oc_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - o0).count();
+  ++tick_;
+  // Done once every goal is resolved and two seconds of mission time more
+  // (for the last acks: there are no replies to say they landed).
+  if (oc().done() && done_at_ < 0) done_at_ = t;
+  return !(done_at_ >= 0 && t - done_at_ > 2.0) && t < limit_;
 }
 
 bool LockstepMaster::tick(ShutdownSignal* signal) {
   if (finished_) return false;
+  if (options_.clock == ClockMode::kWall) return tick_wall(signal);
   const int64_t k = tick_;
   const double t = k * options_.tick;
   if (options_.rate > 0.0) {
@@ -295,7 +395,7 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   bool report = false;
   for (int c = next_check_; c < team_.params.cycles && t >= (c + 1) * team_.period; ++c) report = true;
   const auto p0 = Clock::now();
-  fleet_.publish(Tick{k, t, sent_before_, report, false});
+  fleet_.publish(Tick{k, t, sent_before_, report, false, 0});
   publish_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - p0).count();
 
   // The OC's own role, as any agent: every message of the tick before first.
@@ -359,12 +459,12 @@ double LockstepMaster::agents_step_ms() const {
 RunOutcome LockstepMaster::finish() {
   RunOutcome out;
   if (!finished_) {
-    for (int i = 0; i < 3; ++i) fleet_.publish(Tick{tick_, tick_ * options_.tick, sent_before_, false, true});
+    for (int i = 0; i < 3; ++i) fleet_.publish(Tick{tick_, now(), sent_before_, false, true, start_us_});
     finished_ = true;
   }
   out.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - started_).count();
   out.ticks = tick_;
-  out.end_s = (tick_ - 1) * options_.tick;
+  out.end_s = now();
   out.completed = oc().done();
   for (const Reply& r : last_) {
     AgentSummary s;

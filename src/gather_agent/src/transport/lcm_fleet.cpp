@@ -196,6 +196,8 @@ bool LcmFleet::publish(const PlanAnnounce& p) {
   w.tick = p.tick;
   w.loss = p.loss;
   w.loss_seed = static_cast<int64_t>(p.loss_seed);
+  w.clock = static_cast<int8_t>(p.clock);
+  w.rate = p.rate;
   const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
   if (n < 0 || lcm_publish(lcm_, kPlanChannel, buffer_.data(), static_cast<unsigned>(n)) != 0) return ++publish_failures_, false;
   return true;
@@ -209,6 +211,7 @@ bool LcmFleet::publish(const Tick& t) {
   w.sent_before = t.sent_before;
   w.report = t.report;
   w.done = t.done;
+  w.start_us = t.start_us;
   const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
   if (n < 0 || lcm_publish(lcm_, kTickChannel, buffer_.data(), static_cast<unsigned>(n)) != 0) return ++publish_failures_, false;
   return true;
@@ -355,15 +358,17 @@ void LcmFleet::on_clock(const char* channel, const void* data, int size) {
   if (std::strcmp(channel, kTickChannel) == 0) {
     if (w.tick.decode(data, 0, size) != size) return void(++refused_.undecodable);
     if (w.tick.schema_version != gather_lcm::tick_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
-    if (w.tick.tick < 0 || !finite(w.tick.t) || w.tick.sent_before < 0) return void(++refused_.out_of_range);
-    ticks_.push_back(Tick{w.tick.tick, w.tick.t, w.tick.sent_before, w.tick.report != 0, w.tick.done != 0});
+    if (w.tick.tick < 0 || !finite(w.tick.t) || w.tick.sent_before < 0 || w.tick.start_us < 0)
+      return void(++refused_.out_of_range);
+    ticks_.push_back(Tick{w.tick.tick, w.tick.t, w.tick.sent_before, w.tick.report != 0, w.tick.done != 0, w.tick.start_us});
   } else if (std::strcmp(channel, kPlanChannel) == 0) {
     if (w.plan.decode(data, 0, size) != size) return void(++refused_.undecodable);
     const gather_lcm::plan_t& p = w.plan;
     if (p.schema_version != gather_lcm::plan_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
     if (p.agents < 1 || p.agents > kMaxTeam || p.cycles < 1 || p.cycles > kMaxRequests || p.goals_per_request < 0 ||
         p.data_capacity < 1 || p.notice_capacity < 1 || !(p.tick > 0 && p.tick <= 0.1) || !(p.loss >= 0 && p.loss < 1) ||
-        !(p.beacon_period > 0) || !(p.resend_after > 0) || !finite(p.beacon_period) || !finite(p.resend_after))
+        !(p.beacon_period > 0) || !(p.resend_after > 0) || !finite(p.beacon_period) || !finite(p.resend_after) ||
+        (p.clock != 0 && p.clock != 1) || !(p.rate > 0) || !finite(p.rate))
       return void(++refused_.out_of_range);
     PlanAnnounce a;
     a.digest = static_cast<uint64_t>(p.digest);
@@ -378,6 +383,8 @@ void LcmFleet::on_clock(const char* channel, const void* data, int size) {
     a.tick = p.tick;
     a.loss = p.loss;
     a.loss_seed = static_cast<uint64_t>(p.loss_seed);
+    a.clock = static_cast<ClockMode>(p.clock);
+    a.rate = p.rate;
     plans_.push_back(a);
   } else if (std::strcmp(channel, kReplyChannel) == 0) {
     if (w.reply.decode(data, 0, size) != size) return void(++refused_.undecodable);

@@ -15,6 +15,12 @@
 // The inbox of a tick is the same set in the same order whatever the
 // arrival order or the load, so a run is the in-process run (TeamRunner),
 // bit for bit.
+//
+// Wall-clock mode (for real robots; MasterOptions::clock): after the plan
+// the OC announces the wall time of the mission's start; every process then
+// steps its role every tick / rate seconds of wall time with whatever
+// arrived meanwhile, mission time = wall time since the start x rate. No
+// ticks, no replies, no per-agent counters at the OC, not reproducible.
 #include <chrono>
 #include <cstdint>
 #include <string>
@@ -52,6 +58,7 @@ class LockstepAgent {
  private:
   bool take_plan(std::string* why);
   void step(const Tick& tick);
+  void step_wall(double t);
   bool inbox_complete(const Tick& tick) const;
 
   LoadedPlan& plan_;
@@ -69,6 +76,11 @@ class LockstepAgent {
   int64_t late_ = 0;
   int64_t step_us_ = 0;
   double tick_s_ = 0.1;
+  ClockMode clock_ = ClockMode::kLockstep;
+  double rate_ = 1.0;
+  int64_t wall_start_us_ = 0;  // wall clock: the mission's start
+  double wall_next_ = 0.0;     // [s] mission time of the next wall-clock step
+  int wall_wait_ms_ = 20;
   std::vector<Message> held_;               // radio messages of ticks not yet processed
   std::vector<Message> current_;            // the messages of the tick being processed
   std::vector<const Message*> inbox_;
@@ -76,10 +88,11 @@ class LockstepAgent {
 };
 
 struct MasterOptions {
-  double tick = 0.1;             // [s] of mission time per tick
+  ClockMode clock = ClockMode::kLockstep;  // kWall: no ticks; mission time is wall time x rate
+  double tick = 0.1;             // [s] of mission time per tick (wall clock: per control step)
   double loss = 0.0;             // injected loss of the range gate
   uint64_t loss_seed = 1;
-  double rate = 0.0;             // times real time (0: as fast as the lockstep allows)
+  double rate = 0.0;             // times real time (0: as fast as the lockstep allows; the wall clock needs > 0)
   double ready_timeout_s = 60.0; // for every agent to say READY
   double reply_timeout_s = 10.0; // for every agent to reply to a tick
   double time_limit = 0.0;       // [s] of mission time; 0: time_limit(team)
@@ -102,7 +115,7 @@ class LockstepMaster {
   RunOutcome finish();
 
   int64_t ticks() const { return tick_; }
-  double now() const { return tick_ * options_.tick; }
+  double now() const { return options_.clock == ClockMode::kWall ? wall_now_ : tick_ * options_.tick; }
   OcRole& oc() { return static_cast<OcRole&>(*oc_.role); }
   // The last reply of each agent (pose, role, counters), by agent id.
   const std::vector<Reply>& agents() const { return last_; }
@@ -117,6 +130,7 @@ class LockstepMaster {
 
  private:
   void collect_replies(int64_t tick, ReplyStatus want, double timeout_s, ShutdownSignal* signal);
+  bool tick_wall(ShutdownSignal* signal);
 
   TeamSetup& team_;
   LcmFleet& fleet_;
@@ -140,6 +154,10 @@ class LockstepMaster {
   std::chrono::steady_clock::time_point started_;
   double wait_ms_ = 0.0, oc_ms_ = 0.0, publish_ms_ = 0.0, inbox_ms_ = 0.0;
   bool finished_ = false;
+  // Wall clock.
+  int64_t start_us_ = 0;
+  double wall_now_ = 0.0, done_at_ = -1.0;
+  std::chrono::steady_clock::time_point clock_said_;
 };
 
 }  // namespace agent

@@ -29,6 +29,8 @@ extern const char* const kPlanChannel;     // GATHER_PLAN
 extern const char* const kTickChannel;     // GATHER_TICK
 extern const char* const kReplyChannel;    // GATHER_REPLY
 
+enum class ClockMode : uint8_t { kLockstep = 0, kWall = 1 };
+
 // The OC's plan announcement: what every agent must run.
 struct PlanAnnounce {
   uint64_t digest = 0;
@@ -37,6 +39,8 @@ struct PlanAnnounce {
   double tick = 0.1;
   double loss = 0.0;
   uint64_t loss_seed = 1;
+  ClockMode clock = ClockMode::kLockstep;
+  double rate = 1.0;  // wall clock: mission seconds per wall second
 };
 
 struct Tick {
@@ -45,6 +49,7 @@ struct Tick {
   int32_t sent_before = 0;  // radio messages sent in tick - 1 by everyone
   bool report = false;      // replies carry custody keys
   bool done = false;        // the mission is over
+  int64_t start_us = 0;     // wall clock: wall time [us since the epoch] of mission time 0
 };
 
 enum class ReplyStatus : uint8_t { kReady = 1, kRefused = 2, kStepped = 3 };
