@@ -124,6 +124,16 @@ TEST(AgentProcess, BadInputGivesOneLineAndStatus2) {
   expect_bad_input({bin, "--id", "0", "--motion", "wheels", "--plan", plan}, "--motion must be sim or base");
 }
 
+TEST(AgentProcess, ExitsOneWhenTheOcStaysSilent) {
+  Child c = spawn({GATHER_AGENT_BIN, "--id", "2", "--lcm-url", "memq://", "--silence", "1", "--plan", plan_dir()});
+  const int status = wait_for(c.pid, std::chrono::milliseconds(15000));
+  const std::string err = read_all(c.err_fd);
+  ASSERT_NE(status, -1) << "hung";
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1) << err;
+  EXPECT_NE(err.find("nothing heard from the OC for 1 s"), std::string::npos) << err;
+}
+
 TEST(AgentProcess, APlanThatDoesNotMatchItsScenarioIsRefused) {
   namespace fs = std::filesystem;
   const std::string bad = ::testing::TempDir() + "/gather_agent_bad_plan_" + std::to_string(::getpid());

@@ -419,8 +419,12 @@ TEST(TeamRunner, DeterministicForASeedAndTheSeedMatters) {
 }
 
 TEST(TeamRunner, LossyRadioLosesNoDataAndResends) {
+  // With and without collectors (workers of the OC ask again for a request
+  // whose broadcast they lost; the OC answers their beacons too).
   Office& o = Office::get();
-  TeamSetup team(o.ctx, o.pap4, office_params(4, 2));
+  for (const mission::MissionPlan* plan : {&o.pap4, &o.bap0}) {
+  SCOPED_TRACE(plan->file.method);
+  TeamSetup team(o.ctx, *plan, office_params(4, 2));
   RunOptions opt;
   opt.loss = 0.3, opt.loss_seed = 5;
   const RunOutcome out = TeamRunner(team, opt).run();  // checks conservation at every cycle's end
@@ -435,6 +439,41 @@ TEST(TeamRunner, LossyRadioLosesNoDataAndResends) {
   EXPECT_EQ(measured, delivered);  // every measured goal reached the OC
   EXPECT_EQ(dropped, 0);
   EXPECT_GT(out.duplicate_items, 0);  // lost acks: resent, counted once
+  }
+}
+
+TEST(TeamRunner, HeavyLossStillResolvesEveryGoal) {
+  Office& o = Office::get();
+  for (const mission::MissionPlan* plan : {&o.pap4, &o.bap0}) {
+    TeamSetup team(o.ctx, *plan, office_params(3, 4));
+    RunOptions opt;
+    opt.loss = 0.6, opt.loss_seed = 9;
+    const RunOutcome out = TeamRunner(team, opt).run();
+    EXPECT_TRUE(out.completed) << plan->file.method << ": " << out.failure;
+  }
+}
+
+TEST(OcRole, AGoalInNoSegmentExpiresWhenTheNextRequestIsDue) {
+  CorridorTeam c(2, {{0, {5.05, 0.25}}, {0, {19.55, 0.25}}});
+  // The last half metre of the corridor in no worker's segment.
+  for (int r = 0; r < 5; ++r)
+    for (int q = 195; q < 200; ++q) c.plan.labels[static_cast<std::size_t>(r) * 200 + static_cast<std::size_t>(q)] = 0;
+  c.team = std::make_unique<TeamSetup>(c.world, c.plan, c.params);
+  const RunOutcome out = TeamRunner(*c.team, RunOptions{}).run();
+  ASSERT_TRUE(out.completed) << out.failure;
+  EXPECT_EQ(out.result.goals[1].worker, -1);
+  EXPECT_EQ(out.result.goals[1].state, mission::GoalState::kExpired);
+  EXPECT_DOUBLE_EQ(out.result.goals[1].expired_at, 100.0);
+}
+
+TEST(WorkerRole, IgnoresARequestLargerThanTheMissionsOwn) {
+  CorridorTeam c(3);  // goals_per_request 4
+  const OccupancyGrid& grid = c.scenario.grid;
+  Stepper w{make_agent(*c.team, 1)};
+  std::vector<Point2> five = {{3.05, 0.25}, {4.05, 0.25}, {5.05, 0.25}, {6.05, 0.25}, {7.05, 0.25}};
+  w.step(0.0, {request(0, 0, five, grid, kOc, kBroadcast)});
+  EXPECT_EQ(static_cast<WorkerRole&>(*w.unit.role).phase(), WorkerRole::Phase::kStart);
+  EXPECT_EQ(w.unit.role->newest_request(), -1);
 }
 
 TEST(TeamRunner, ABufferTooSmallDropsWithAReasonAndNeverSilently) {

@@ -99,5 +99,30 @@ TEST(Radio, CoverageEqualsLinkedOnEveryCell) {
   }
 }
 
+TEST(RadioModel, LinksAreSymmetricEvenThroughCellCorners) {
+  // A checkerboard of wall cells: rays through exact cell corners are where
+  // the two directions of a traversal could see different cells.
+  const int w = 40, h = 40;
+  std::vector<int8_t> v(static_cast<std::size_t>(w) * h, 0);
+  std::vector<uint8_t> f(v.size(), 1);
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c)
+      if ((r / 3 + c / 3) % 2 == 0 && r % 3 == 1 && c % 3 == 1) v[static_cast<std::size_t>(r) * w + c] = 100, f[static_cast<std::size_t>(r) * w + c] = 0;
+  const OccupancyGrid grid(w, h, 0.1, Point2{0, 0}, v, f);
+  RadioParams p;
+  p.sensitivity_dbm = -52.0;  // ~2.5 m in the open, one wall costs 5 dB
+  const RadioModel radio(grid, p);
+  int checked = 0;
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j) {
+      const Point2 a{0.1 * (i % 40) + 0.05, 0.1 * ((i * 7) % 40) + 0.05};  // cell centres: corner ties happen
+      const Point2 b{0.1 * j + 0.05, 0.1 * ((j * 13) % 40) + 0.05};
+      EXPECT_EQ(radio.linked(a, b), radio.linked(b, a)) << a.x << "," << a.y << " - " << b.x << "," << b.y;
+      EXPECT_EQ(radio.walls_between(a, b), radio.walls_between(b, a));
+      ++checked;
+    }
+  EXPECT_EQ(checked, 1600);
+}
+
 }  // namespace
 }  // namespace gather

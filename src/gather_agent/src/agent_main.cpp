@@ -29,7 +29,14 @@ int main(int argc, char** argv) {
                 plan.plan.file.method.c_str(), plan.plan.file.collectors);
     std::fflush(stdout);
     std::string why;
-    switch (agent.run(shutdown, opt.silence_s, &why)) {
+    gather::agent::LockstepAgent::End end;
+    try {
+      end = agent.run(shutdown, opt.silence_s, &why);
+    } catch (const std::exception& e) {  // while running: not bad input
+      std::fprintf(stderr, "gather_agent %d: %s\n", opt.id, e.what());
+      return 1;
+    }
+    switch (end) {
       case gather::agent::LockstepAgent::End::kDone:
       case gather::agent::LockstepAgent::End::kStopped:
         return 0;

@@ -43,39 +43,48 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
   AgentFleet processes({agent_bin, "--id", "{id}", "--plan", plan.dir, "--lcm-url", url, "--reply-url", reply_url},
                        team.agents());
   processes.start();
-  agent::MasterOptions mo;
-  mo.tick = opt.tick, mo.loss = opt.loss, mo.loss_seed = opt.loss_seed, mo.rate = rate;
-  if (wall) mo.clock = agent::ClockMode::kWall;
-  agent::LockstepMaster master(team, fleet, digest, mo);
-  const auto t0 = std::chrono::steady_clock::now();
-  master.start(nullptr);
-  const double ready_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  while (master.tick(nullptr)) {
-  }
-  agent::RunOutcome out = master.finish();
-  // Where the time goes (wall of the ticks, and the agents' own CPU).
-  const double wall_s = out.wall_ms / 1000.0, ticks = static_cast<double>(std::max<int64_t>(1, out.ticks));
-  if (wall) {
-    std::printf("over LCM on the wall clock at %g x: %lld control steps of the OC, %lld radio messages from the OC\n",
-                rate, static_cast<long long>(out.ticks), static_cast<long long>(out.messages));
-    processes.wait(5.0);
+  try {
+    agent::MasterOptions mo;
+    mo.tick = opt.tick, mo.loss = opt.loss, mo.loss_seed = opt.loss_seed, mo.rate = rate;
+    if (wall) mo.clock = agent::ClockMode::kWall;
+    agent::LockstepMaster master(team, fleet, digest, mo);
+    const auto t0 = std::chrono::steady_clock::now();
+    master.start(nullptr);
+    const double ready_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    while (master.tick(nullptr)) {
+    }
+    agent::RunOutcome out = master.finish();
+    // Where the time goes (wall of the ticks, and the agents' own CPU).
+    const double wall_s = out.wall_ms / 1000.0, ticks = static_cast<double>(std::max<int64_t>(1, out.ticks));
+    if (wall) {
+      std::printf("over LCM on the wall clock at %g x: %lld control steps of the OC, %lld radio messages from the OC\n",
+                  rate, static_cast<long long>(out.ticks), static_cast<long long>(out.messages));
+      processes.wait(5.0);
+      processes.stop(2.0);
+      return out;
+    }
+    std::printf("over LCM: %lld ticks, %lld radio messages = %.0f messages/s; agents ready after %.2f s; per tick %.3f ms "
+                "of wall: publishing the tick %.3f ms, the OC's inbox %.3f ms, its role %.3f ms, waiting for the agents' "
+                "replies %.3f ms (their control steps: %.3f ms of CPU summed over %d processes), the rest %.3f ms\n",
+                static_cast<long long>(out.ticks), static_cast<long long>(out.messages),
+                wall_s > 0 ? static_cast<double>(out.messages) / wall_s : 0.0, ready_s, out.wall_ms / ticks,
+                master.publish_ms() / ticks, master.inbox_ms() / ticks, master.oc_ms() / ticks, master.wait_ms() / ticks,
+                master.agents_step_ms() / ticks, team.agents(),
+                (out.wall_ms - master.publish_ms() - master.inbox_ms() - master.oc_ms() - master.wait_ms()) / ticks);
+    processes.wait(5.0);  // they end by themselves on the last tick
     processes.stop(2.0);
+    for (const AgentProcess& p : processes.agents())
+      if (p.exit_status != 0)
+        throw RuntimeError("agent " + std::to_string(p.id), "exited with status " + std::to_string(p.exit_status));
     return out;
+  } catch (const RuntimeError&) {
+    throw;
+  } catch (const Error& e) {
+    // An agent that refused the plan is bad input (its files differ);
+    // anything else here happened while running.
+    if (std::string(e.what()).find("refused the plan") != std::string::npos) throw;
+    throw RuntimeError("", e.what());
   }
-  std::printf("over LCM: %lld ticks, %lld radio messages = %.0f messages/s; agents ready after %.2f s; per tick %.3f ms "
-              "of wall: publishing the tick %.3f ms, the OC's inbox %.3f ms, its role %.3f ms, waiting for the agents' "
-              "replies %.3f ms (their control steps: %.3f ms of CPU summed over %d processes), the rest %.3f ms\n",
-              static_cast<long long>(out.ticks), static_cast<long long>(out.messages),
-              wall_s > 0 ? static_cast<double>(out.messages) / wall_s : 0.0, ready_s, out.wall_ms / ticks,
-              master.publish_ms() / ticks, master.inbox_ms() / ticks, master.oc_ms() / ticks, master.wait_ms() / ticks,
-              master.agents_step_ms() / ticks, team.agents(),
-              (out.wall_ms - master.publish_ms() - master.inbox_ms() - master.oc_ms() - master.wait_ms()) / ticks);
-  processes.wait(5.0);  // they end by themselves on the last tick
-  processes.stop(2.0);
-  for (const AgentProcess& p : processes.agents())
-    if (p.exit_status != 0)
-      throw Error("agent " + std::to_string(p.id), "exited with status " + std::to_string(p.exit_status));
-  return out;
 }
 
 }  // namespace
@@ -146,7 +155,7 @@ int run(int argc, char** argv) {
                                                         args.get("--reply-url", agent::LcmFleet::reply_url_for(lcm_url)),
                                                         agent_bin)
                                          : agent::TeamRunner(team, opt).run();
-    if (!r.completed) throw Error(args.positional()[0], r.failure);
+    if (!r.completed) throw RuntimeError(args.positional()[0], r.failure);
     files.add(pf, team.params, r);
     wall += r.wall_ms, mission_s += r.result.mission_s;
     refresh += r.result.refresh_mean_s, per_cycle += r.result.goals_per_cycle;

@@ -6,6 +6,7 @@
 
 #include "cli.hpp"
 #include "commands.hpp"
+#include "gather_core/error.hpp"
 
 namespace {
 
@@ -64,6 +65,9 @@ int main(int argc, char** argv) {
     } catch (const gather::cli::UsageError& e) {
       std::fprintf(stderr, "gather %s: %s (see gather --help)\n", s.name, e.what());
       return 2;
+    } catch (const gather::RuntimeError& e) {
+      std::fprintf(stderr, "gather %s: %s\n", s.name, e.what());
+      return 1;
     } catch (const std::exception& e) {
       std::fprintf(stderr, "gather %s: %s\n", s.name, e.what());
       return 2;

@@ -100,16 +100,28 @@ int main(int argc, char** argv) {
   if (cycles > 0) params.cycles = cycles;
   if (seed >= 0) params.seed = static_cast<unsigned>(seed);
 
+  // What can still be wrong with the plan or the settings is bad input (2);
+  // what goes wrong after this is a runtime failure (1).
+  std::unique_ptr<gather::mission::World> world_ptr;
+  std::unique_ptr<gather::agent::TeamSetup> team_ptr;
+  std::unique_ptr<gather::agent::LcmFleet> fleet_ptr;
+  try {
+    world_ptr = std::make_unique<gather::mission::World>(plan->scenario);
+    team_ptr = std::make_unique<gather::agent::TeamSetup>(*world_ptr, plan->plan, params);
+    const std::string replies = reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(lcm_url) : reply_url;
+    fleet_ptr = std::make_unique<gather::agent::LcmFleet>(lcm_url, replies, true, team_ptr->agents());
+  } catch (const std::exception& e) {
+    return fail(2, e.what());
+  }
+  gather::agent::TeamSetup& team = *team_ptr;
+  gather::agent::LcmFleet& fleet = *fleet_ptr;
+
   ros::Publisher map_pub = nh.advertise<nav_msgs::OccupancyGrid>("map", 1, /*latch=*/true);
   ros::Publisher marker_pub = nh.advertise<visualization_msgs::MarkerArray>("gather/markers", 1, /*latch=*/true);
   map_pub.publish(gather::to_map_msg(scenario.grid, "map", ros::Time::now()));
   nh.setParam("/gather/plan_dir", plan_dir);  // fleet_node starts the agents with it
 
   try {
-    const gather::mission::World world(plan->scenario);
-    gather::agent::TeamSetup team(world, plan->plan, params);
-    const std::string replies = reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(lcm_url) : reply_url;
-    gather::agent::LcmFleet fleet(lcm_url, replies, true, team.agents());
     gather::agent::MasterOptions mo;
     mo.tick = tick, mo.rate = rate, mo.loss = loss, mo.loss_seed = static_cast<uint64_t>(loss_seed);
     mo.ready_timeout_s = ready_timeout;

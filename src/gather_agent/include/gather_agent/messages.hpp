@@ -71,8 +71,8 @@ struct DataItem {
 // Keys of skip notices: one per (request, worker), all negative.
 constexpr int kMaxRequests = 100000;
 inline int32_t skipped_key(int request, int worker) { return -(1 + request * kMaxTeam + worker); }
-inline int skipped_request(int32_t key) { return (-key - 1) / kMaxTeam; }
-inline int skipped_worker(int32_t key) { return (-key - 1) % kMaxTeam; }
+inline int skipped_request(int32_t key) { return static_cast<int>((-static_cast<int64_t>(key) - 1) / kMaxTeam); }
+inline int skipped_worker(int32_t key) { return static_cast<int>((-static_cast<int64_t>(key) - 1) % kMaxTeam); }
 
 struct DataBatch {
   uint16_t count = 0;

@@ -118,6 +118,7 @@ void CollectorRole::step(double now, const Message* const* inbox, std::size_t n,
   }
   auto state = [&](int16_t dest) {
     if (Message* m = send(out, Kind::kState, dest, now)) {
+      m->state = StateReport{};
       m->state.role = RoleKind::kCollector;
       m->state.carried = static_cast<uint16_t>(std::min<std::size_t>(custody_.data(), 65535));
       m->state.notices = static_cast<uint16_t>(std::min<std::size_t>(custody_.notices(), 65535));

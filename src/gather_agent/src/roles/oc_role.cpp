@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "gather_core/error.hpp"
 #include "gather_core/mission/requests.hpp"
@@ -42,7 +43,10 @@ OcRole::OcRole(TeamSetup& team, MotionBackend& station) : Role(kOc, station), te
     cell_of_.push_back(static_cast<uint32_t>(grid.index(d.cell)));
   }
   resolved_.assign(goals_.size(), 0);
-  answered_at_.assign(static_cast<std::size_t>(team.agents()), -1.0);
+  issued_at_.assign(static_cast<std::size_t>(team.params.cycles), 0.0);
+  answered_at_.assign(static_cast<std::size_t>(team.agents()), -std::numeric_limits<double>::infinity());
+  for (const mission::GoalRecord& g : goals_)
+    if (g.worker < 0) unassigned_.push_back(g.id);
   delivered_by_.assign(static_cast<std::size_t>(team.agents()), 0);
   acks_.reserve(kMaxBatch);
 }
@@ -89,6 +93,7 @@ bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
     const int c = skipped_request(item.key);
     if (c < 0 || c >= issued_ || item.by < 0 || item.by >= team_.agents() || skipped_worker(item.key) != item.by)
       return false;
+    if (!(item.at >= issued_at_[static_cast<std::size_t>(c)] - 1e-6) || !(item.at <= now + 1e-6)) return false;
     for (std::size_t i = first_[static_cast<std::size_t>(c)]; i < first_[static_cast<std::size_t>(c) + 1]; ++i) {
       mission::GoalRecord& g = goals_[i];
       if (g.worker != item.by || resolved_[i]) continue;
@@ -100,6 +105,12 @@ bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
   if (item.key < 0 || static_cast<std::size_t>(item.key) >= requested()) return false;
   mission::GoalRecord& g = goals_[static_cast<std::size_t>(item.key)];
   if (g.worker != item.by) return false;
+  // Times a worker and a collector could have: after the request, not after now.
+  const double eps = 1e-6;
+  if (!(item.at >= g.requested_at - eps && item.at <= now + eps)) return false;
+  if (item.kind == ItemKind::kMeasured && item.picked_up_by >= 0 &&
+      !(item.picked_up_at >= item.at - 1e-3 && item.picked_up_at <= now + eps))
+    return false;
   if (resolved_[static_cast<std::size_t>(item.key)]) {
     ++duplicates_;
     return true;
@@ -132,14 +143,30 @@ void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox
   while (issued_ < team_.params.cycles && now >= issued_ * team_.period - 1e-9) {
     for (std::size_t i = first_[static_cast<std::size_t>(issued_)]; i < first_[static_cast<std::size_t>(issued_) + 1]; ++i)
       goals_[i].requested_at = now;
+    issued_at_[static_cast<std::size_t>(issued_)] = now;
     ++issued_;
     issue(issued_ - 1, kBroadcast, now, out);
+  }
+  // A goal in no worker's segment (a plan whose labels leave reachable cells
+  // out) expires when the next request is due, as in the simulator.
+  for (std::size_t k = 0; k < unassigned_.size();) {
+    mission::GoalRecord& g = goals_[static_cast<std::size_t>(unassigned_[k])];
+    const double due = (g.cycle + 1) * team_.period;
+    if (g.cycle < issued_ && now >= due - 1e-9) {
+      g.expired_at = due;
+      resolve(g, mission::GoalState::kExpired);
+      unassigned_[k] = unassigned_.back();
+      unassigned_.pop_back();
+    } else {
+      ++k;
+    }
   }
   for (std::size_t i = 0; i < n; ++i) {
     const Message& m = *inbox[i];
     const int16_t s = m.h.sender;
     if (s < 0 || s >= team_.agents()) continue;
-    if (m.h.dest == kOc && m.h.kind == Kind::kData) {
+    const bool addressed = m.h.dest == kOc;
+    if (addressed && m.h.kind == Kind::kData) {
       acks_.clear();
       const std::size_t count = std::min<std::size_t>(m.data.count, kMaxBatch);
       for (std::size_t k = 0; k < count; ++k) {
@@ -150,17 +177,18 @@ void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox
         a->ack.count = static_cast<uint16_t>(acks_.size());
         std::copy(acks_.begin(), acks_.end(), a->ack.keys);
       }
-    } else if (m.h.dest == kOc && m.h.kind == Kind::kState) {
+    } else if (addressed && m.h.kind == Kind::kState) {
       if (Message* a = send(out, Kind::kAck, s, now)) a->ack.count = 0;  // "heard you"
-    } else {
-      continue;
     }
     // Collectors and workers of the OC take requests from the OC: one that
-    // lacks the newest gets it (once a tick).
+    // lacks the newest gets it, at once when it asked (data, hello), else
+    // once a resend interval (its beacon: the broadcast may have been lost).
     const plan::AgentAssignment& a = team_.assignment(s);
     const bool from_oc = a.collector || a.delivers_to < 0;
-    if (from_oc && m.h.request < issued_ - 1 && answered_at_[static_cast<std::size_t>(s)] < now) {
-      answered_at_[static_cast<std::size_t>(s)] = now;
+    double& answered = answered_at_[static_cast<std::size_t>(s)];
+    if (from_oc && issued_ > 0 && m.h.request < issued_ - 1 &&
+        ((addressed && answered < now) || now - answered >= team_.params.resend_after)) {
+      answered = now;
       issue(issued_ - 1, s, now, out);
     }
   }

@@ -21,14 +21,14 @@ int trace_id() {
   if (id_ == trace_id()) std::fprintf(stderr, __VA_ARGS__)
 
 constexpr double kEps = 1e-9;  // [s] as the simulator's time tolerance
+constexpr double kAskAfter = 0.5;  // [s] after a request is due without it: ask the OC
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Room for this many goals of one request in a worker's segment before its
-// buffers grow: four times its share, at least 16, at most every goal.
+// buffers grow (and its control step allocates): every goal of a request,
+// up to 256 (the distance matrix is 8 B x goals x (goals + passes)).
 std::size_t initial_goals(const TeamSetup& team) {
-  const std::size_t g = static_cast<std::size_t>(team.params.goals_per_request);
-  const std::size_t share = 4 * g / static_cast<std::size_t>(std::max(1, team.plan.file.workers));
-  return std::min(g, std::max<std::size_t>(16, share));
+  return std::min<std::size_t>(static_cast<std::size_t>(team.params.goals_per_request), 256);
 }
 
 }  // namespace
@@ -81,7 +81,8 @@ void WorkerRole::on_request(const RequestPart& part, int16_t) {
   const OccupancyGrid& grid = team_.world.scenario.grid;
   if (part.request <= resolved_ || part.request < request_.id) return;  // old news
   if (part.request >= team_.params.cycles || part.parts == 0 || part.parts > kMaxRequestParts ||
-      part.part >= part.parts || part.count > kRequestPartGoals)
+      part.part >= part.parts || part.count > kRequestPartGoals || part.total > team_.params.goals_per_request ||
+      part.first_goal < 0 || part.first_goal > std::numeric_limits<int32_t>::max() - part.total)
     return;  // not a request of this mission
   TRACE("request %d part %d from %d\n", part.request, part.part, 0);
   if (part.request > request_.id) {
@@ -95,7 +96,9 @@ void WorkerRole::on_request(const RequestPart& part, int16_t) {
   for (uint16_t k = 0; k < part.count; ++k) {
     const uint32_t cell = part.cells[k];
     if (cell >= grid.size() || !policy_.in_segment(grid.cell(cell))) continue;
-    const int32_t goal = part.first_goal + static_cast<int32_t>(part.part) * kRequestPartGoals + k;
+    const int64_t index = static_cast<int64_t>(part.part) * kRequestPartGoals + k;
+    if (index >= part.total) break;
+    const int32_t goal = part.first_goal + static_cast<int32_t>(index);
     request_.mine.push_back(mission::KnownGoal{goal, grid.cell(cell), 0.0});
   }
 }
@@ -111,7 +114,9 @@ void WorkerRole::notice(ItemKind kind, int32_t key, double at) {
 
 void WorkerRole::measure(int local, double at) {
   const int32_t goal = policy_.goal(static_cast<std::size_t>(local)).id;
-  known_.erase(std::find(known_.begin(), known_.end(), local));
+  const auto it = std::find(known_.begin(), known_.end(), local);
+  if (it == known_.end()) return;  // expired meanwhile (within the deadline's tolerance): its notice is out
+  known_.erase(it);
   if (custody_.data_full()) {
     notice(ItemKind::kDropped, goal, at);  // the measurement has no room: reported, never silently lost
     return;
@@ -180,7 +185,8 @@ bool WorkerRole::settled(double now, bool in_contact) {
 void WorkerRole::decide(double now) {
   const OccupancyGrid& grid = team_.world.scenario.grid;
   const bool oc_worker = policy_.delivers_to_oc();
-  if (request_.complete() && request_.id > resolved_) {
+  const bool may_learn = !oc_worker || team_.world.covered(grid.world_to_cell(motion_.pose()));  // OC workers: in the coverage
+  if (may_learn && request_.complete() && request_.id > resolved_) {
     // Requests in between never reached this worker; what is left of the
     // older one is superseded by the newer.
     for (int c = resolved_ + 1; c < request_.id; ++c)
@@ -205,6 +211,7 @@ void WorkerRole::decide(double now) {
   n_legs_ = 0, legs_seen_ = 0;
   plan_is_work_ = false, ends_at_landing_ = false, ends_at_meeting_ = false, target_rv_ = -1;
   auto leg = [&](Point2 p, double arrive, int goal) {
+    if (n_legs_ >= legs_.size()) return;  // cannot happen: a request holds at most goals_per_request goals
     legs_[n_legs_] = Waypoint{p, arrive};
     leg_goal_[n_legs_++] = goal;
   };
@@ -311,6 +318,7 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
   // State: a hello when it needs to hear from upstream, and the beacon.
   auto state = [&](int16_t dest) {
     if (Message* m = send(out, Kind::kState, dest, now)) {
+      m->state = StateReport{};
       m->state.role = RoleKind::kWorker;
       m->state.carried = static_cast<uint16_t>(std::min<std::size_t>(custody_.data(), 65535));
       m->state.notices = static_cast<uint16_t>(std::min<std::size_t>(custody_.notices(), 65535));
@@ -319,7 +327,13 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
     }
   };
   const double resend = team_.params.resend_after;
-  if (oc_worker && phase_ == Phase::kSettling && !heard_oc_ && now - last_hello_ >= resend) {
+  // A worker of the OC asks until it has heard the OC and holds the request
+  // the OC says is newest; waiting for a request that is due (and whose
+  // broadcast it may have missed), it asks too.
+  const bool settling = phase_ == Phase::kSettling && !(heard_oc_ && oc_newest_ <= newest_request());
+  const bool overdue = (phase_ == Phase::kWaiting || phase_ == Phase::kStart) && now >= due_time() + kAskAfter &&
+                       !(request_.complete() && request_.id > resolved_);
+  if (oc_worker && (settling || overdue) && now - last_hello_ >= resend) {
     state(kOc);
     last_hello_ = now;
   } else if (!oc_worker && in_contact && now >= due_time() && (!contact_prev_ || now - last_hello_ >= resend)) {

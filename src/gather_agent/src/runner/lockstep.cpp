@@ -51,6 +51,11 @@ void take_tick(std::vector<Message>& held, std::vector<Message>& current, int64_
     else held[keep++] = held[i];
   }
   held.resize(keep);
+  // In (sender, seq) order, as the in-process runner has them: an inbox that
+  // overflows keeps the same messages whatever the arrival order.
+  std::sort(current.begin(), current.end(), [](const Message& a, const Message& b) {
+    return a.h.sender != b.h.sender ? a.h.sender < b.h.sender : a.h.seq < b.h.seq;
+  });
 }
 
 std::size_t count_tick(const std::vector<Message>& held, int64_t tick) {
@@ -115,9 +120,15 @@ bool LockstepAgent::take_plan(std::string* why) {
     *why = plan_.dir + ": the OC runs a team of " + std::to_string(p.agents) + " agents";
     return false;
   }
-  team_ = std::make_unique<TeamSetup>(*world_, plan_.plan, p.params);
-  gate_ = std::make_unique<RangeGate>(*team_, p.loss, p.loss_seed);
-  unit_ = make_agent(*team_, id_);
+  try {
+    team_ = std::make_unique<TeamSetup>(*world_, plan_.plan, p.params);
+    gate_ = std::make_unique<RangeGate>(*team_, p.loss, p.loss_seed);
+    unit_ = make_agent(*team_, id_);
+  } catch (const std::exception& e) {  // its plan cannot be run as the OC asks: refuse it
+    *why = e.what();
+    team_.reset();
+    return false;
+  }
   outbox_ = std::make_unique<Outbox>(kOutbox);
   tick_s_ = p.tick;
   clock_ = p.clock;
@@ -163,6 +174,7 @@ void LockstepAgent::step(const Tick& tick) {
   reply_.notices = c ? static_cast<int32_t>(c->notices()) : 0;
   reply_.link = link_;
   reply_.late = late_;
+  reply_.incomplete = incomplete_;
   reply_.keys.clear();
   if (tick.report && c)
     for (std::size_t i = 0; i < c->size(); ++i)
@@ -246,6 +258,7 @@ LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, 
     // A tick runs once every message of the one before is in; if some never
     // come (lost on the host), it runs without them after a while.
     while (have_tick && (inbox_complete(pending) || seconds_since(tick_since) > 5.0)) {
+      if (!inbox_complete(pending)) ++incomplete_;
       step(pending);
       next_tick_ = pending.tick + 1;
       have_tick = false;
@@ -403,7 +416,7 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   while (count_tick(held_, k) < static_cast<std::size_t>(sent_before_)) {
     if (seconds_since(w0) > options_.reply_timeout_s)
       throw Error("lockstep", "tick " + std::to_string(k) + ": " + std::to_string(count_tick(held_, k)) + " of the " +
-                                  std::to_string(sent_before_) + " messages of the tick before arrived");
+                                  std::to_string(sent_before_) + " messages of the tick before reached the OC");
     fleet_.handle(5);
     absorb(fleet_, held_, link_);
   }
@@ -428,7 +441,18 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   collect_replies(k, ReplyStatus::kStepped, options_.reply_timeout_s, signal);
   wait_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - r0).count();
   int64_t sent = static_cast<int64_t>(outbox_.size());
-  for (const Reply& r : last_) sent += r.sent;
+  for (const Reply& r : last_) {
+    sent += r.sent;
+    if (r.incomplete > 0 || r.late > 0)
+      throw Error("lockstep", "agent " + std::to_string(r.agent) + " stepped tick " + std::to_string(k) +
+                                  (r.incomplete > 0 ? " without every message of the tick before"
+                                                    : " after a message of an earlier tick came too late") +
+                                  " (lost or held up on this host): the run would differ from one in a single process");
+  }
+  if (late > 0)
+    throw Error("lockstep", "the OC's role stepped tick " + std::to_string(k) +
+                                " after a message of an earlier tick came too late: the run would differ from one in a "
+                                "single process");
   sent_before_ = static_cast<int32_t>(sent);
   messages_ += sent;
   // Conservation at every cycle's end, from the agents' own custody.
@@ -464,7 +488,7 @@ RunOutcome LockstepMaster::finish() {
   }
   out.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - started_).count();
   out.ticks = tick_;
-  out.end_s = now();
+  out.end_s = options_.clock == ClockMode::kWall ? now() : (tick_ - 1) * options_.tick;
   out.completed = oc().done();
   for (const Reply& r : last_) {
     AgentSummary s;

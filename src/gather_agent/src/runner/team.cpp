@@ -50,13 +50,13 @@ void check_conservation(const OcRole& oc, int64_t measured_total, std::vector<in
     dropped += g.state == mission::GoalState::kDropped;
   }
   if (measured_total != delivered + carried)
-    throw Error("conservation", "at t = " + std::to_string(now) + " s: " + std::to_string(measured_total) +
+    throw RuntimeError("conservation", "at t = " + std::to_string(now) + " s: " + std::to_string(measured_total) +
                                     " goals measured and stored, but " + std::to_string(delivered) + " delivered + " +
                                     std::to_string(carried) + " carried (data lost)");
   const int64_t requested = static_cast<int64_t>(oc.requested());
   const int64_t pending = requested - delivered - carried - expired - dropped;
   if (pending < 0)
-    throw Error("conservation", "at t = " + std::to_string(now) + " s: requested " + std::to_string(requested) +
+    throw RuntimeError("conservation", "at t = " + std::to_string(now) + " s: requested " + std::to_string(requested) +
                                     " < delivered " + std::to_string(delivered) + " + carried " + std::to_string(carried) +
                                     " + expired " + std::to_string(expired) + " + dropped " + std::to_string(dropped));
 }

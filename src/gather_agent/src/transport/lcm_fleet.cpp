@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 
 #include "gather_agent/lcm_open.hpp"
 #include "gather_core/error.hpp"
@@ -245,6 +246,7 @@ bool LcmFleet::publish(const Reply& r) {
   w.link_bad = r.link.bad;
   w.link_overflow = r.link.overflow;
   w.late = r.late;
+  w.incomplete = r.incomplete;
   w.step_us = r.step_us;
   const std::size_t keys = std::min<std::size_t>(r.keys.size(), gather_lcm::tick_reply_t::MAX_KEYS);
   w.n_keys = static_cast<int16_t>(keys);
@@ -286,7 +288,8 @@ void LcmFleet::on_radio(const char* channel, const void* data, int size) {
     const gather_lcm::request_t& r = w.request;
     h = &r.h;
     if (r.count < 0 || r.count > kRequestPartGoals || r.parts < 1 || r.parts > kMaxRequestParts || r.part < 0 ||
-        r.part >= r.parts || r.request < 0 || r.total < 0 || r.first_goal < 0 || !finite(r.issued_at))
+        r.part >= r.parts || r.request < 0 || r.total < 0 || r.total > kMaxRequestParts * kRequestPartGoals ||
+        r.first_goal < 0 || r.first_goal > std::numeric_limits<int32_t>::max() - r.total || !finite(r.issued_at))
       return void(++refused_.out_of_range);
     m.h.kind = Kind::kRequest;
     m.request.request = r.request;
@@ -410,6 +413,7 @@ void LcmFleet::on_clock(const char* channel, const void* data, int size) {
     o.link.sent = r.link_sent, o.link.received = r.link_received, o.link.gated = r.link_gated;
     o.link.lost = r.link_lost, o.link.bad = r.link_bad, o.link.overflow = r.link_overflow;
     o.late = r.late;
+    o.incomplete = r.incomplete;
     o.step_us = r.step_us;
     o.keys.assign(r.keys.begin(), r.keys.end());
     replies_.push_back(std::move(o));

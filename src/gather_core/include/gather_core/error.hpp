@@ -13,4 +13,12 @@ class Error : public std::runtime_error {
       : std::runtime_error(where.empty() ? what : where + ": " + what) {}
 };
 
+// A failure while running (not bad input): a process that stopped
+// answering, a mission that did not finish, a broken invariant. The CLI and
+// nodes exit 1 on it (2 is for bad input).
+class RuntimeError : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace gather

@@ -392,8 +392,8 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
     return d;
   }
 
-  if (kmax == 0 && !carrying && !more_requests) return d;  // kDone
   const OccupancyGrid& grid = world_.scenario.grid;
+  if (kmax == 0 && !carrying && !more_requests && (at.meeting || meeting_cell_.row < 0)) return d;  // kDone
   const std::size_t nr = rendezvous_.size();
   if (n_known == 0 && at.rendezvous >= 0) {
     std::copy(rendezvous_to_rendezvous_[static_cast<std::size_t>(at.rendezvous)].begin(),
@@ -410,10 +410,12 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
   if (kmax == 0 && !carrying) {
     // Nothing to do: wait for the next request at the meeting point, where
     // the collector hands it over (going there first: this is how workers
-    // reach their segments at the start).
+    // reach their segments at the start); with no request to come, end
+    // there too (the collector passes it every loop: whatever the worker
+    // still has to report reaches it).
     if (meeting_cell_.row >= 0) {
       if (at.meeting) {
-        d.action = Action::kWait;
+        d.action = more_requests ? Action::kWait : Action::kDone;
         return d;
       }
       double dist = kInf;
@@ -428,6 +430,7 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
       }
     }
     // No way to the meeting point: the nearest pass.
+    if (!more_requests) return d;  // kDone
     if (at.rendezvous < 0) {
       const std::size_t r = static_cast<std::size_t>(std::min_element(position_to_rv_.begin(), position_to_rv_.end()) -
                                                      position_to_rv_.begin());

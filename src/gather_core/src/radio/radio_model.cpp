@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace gather {
 
@@ -45,6 +46,11 @@ bool RadioModel::linked(Point2 a, Point2 b) const {
 }
 
 int RadioModel::count_walls(double ax, double ay, double bx, double by, int stop_at) const {
+  // One direction for both: a ray that passes exactly through a cell corner
+  // steps into one of the two cells beside it, and which one depends on the
+  // direction; walking a-b and b-a alike keeps the link symmetric (what the
+  // OC hears of an agent, the agent hears of the OC).
+  if (bx < ax || (bx == ax && by < ay)) std::swap(ax, bx), std::swap(ay, by);
   // Amanatides-Woo traversal of every cell the segment passes through, in
   // cell coordinates (x = col, y = row, cell (c, r) spans [c, c+1) x [r, r+1)).
   const int w = grid_.width(), h = grid_.height();

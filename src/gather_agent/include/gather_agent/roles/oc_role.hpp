@@ -48,6 +48,8 @@ class OcRole : public Role {
   std::vector<mission::GoalRecord> goals_;  // every cycle's, drawn up front; requested_at set at the issue
   std::vector<uint32_t> cell_of_;           // grid index of each goal's cell
   std::vector<uint8_t> resolved_;
+  std::vector<int32_t> unassigned_;         // goals in no worker's segment, not yet expired
+  std::vector<double> issued_at_;           // [s] by cycle
   std::size_t resolved_count_ = 0;
   int issued_ = 0;
   std::vector<double> answered_at_;         // [s] by agent: last time it was passed the newest request

@@ -74,6 +74,7 @@ class LockstepAgent {
   uint32_t seq_ = 0;
   int64_t next_tick_ = 0;
   int64_t late_ = 0;
+  int64_t incomplete_ = 0;
   int64_t step_us_ = 0;
   double tick_s_ = 0.1;
   ClockMode clock_ = ClockMode::kLockstep;

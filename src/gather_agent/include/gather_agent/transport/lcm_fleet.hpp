@@ -66,6 +66,7 @@ struct Reply {
   int32_t carried = 0, notices = 0;
   LinkCounters link;
   int64_t late = 0;
+  int64_t incomplete = 0;     // ticks stepped without every message of the tick before
   int64_t step_us = 0;        // [us] in its control steps so far
   std::vector<int32_t> keys;  // custody keys of measured items (report ticks)
 };
