@@ -62,7 +62,11 @@ def main():
                      a["dropped"], a["sent"], a["received"], a["gated"], a["lost"], e.get("exit_status", "?")))
     oc = m["oc"]
     print(fmt % ("OC", "oc", "", "", sum(a["delivered"] for a in m["agents"]), "", "", "", oc["sent"], oc["received"],
-                 oc["gated"], oc["lost"], ""))
+                 oc["gated"], oc["lost"], "-"))
+    print("         goals: measured, carried (held at the end), delivered (brought into the OC's coverage),\n"
+          "         expired (reported not measured in time), dropped (no room to store); skipped: requests that\n"
+          "         never reached the agent in time (their goals there expire); radio messages: sent, received,\n"
+          "         gated (out of range), lost (injected loss); exit: the agent process's exit status")
     print()
     bag = os.path.join(d, "mission.bag")
     ok = m["status"] == "ok" and fleet["status"] == "ok"

@@ -7,6 +7,7 @@
 
 #include <gather_lcm/data_t.hpp>
 #include <gather_lcm/request_t.hpp>
+#include <gather_lcm/tick_reply_t.hpp>
 
 #include <cmath>
 #include <random>
@@ -94,6 +95,7 @@ TEST(LcmFleet, ClockAndPlanSurviveTheRoundTrip) {
   Reply r;
   r.tick = 12, r.agent = 4, r.sent = 2, r.pose = {3.5, 4.5}, r.role = RoleKind::kCollector, r.keys = {1, 2, 3};
   r.report.measured = 9, r.link.gated = 77;
+  r.measured_goals = {41, 42}, r.path_revision = 3, r.path = {{1.0, 2.0}, {3.25, 4.5}, {6.0, 7.0}};
   f.publish(r);
   for (int i = 0; i < 50 && (f.plans().empty() || f.ticks().empty() || f.replies().empty()); ++i) f.handle(20);
   ASSERT_EQ(f.plans().size(), 1u);
@@ -107,6 +109,60 @@ TEST(LcmFleet, ClockAndPlanSurviveTheRoundTrip) {
   EXPECT_EQ(f.replies()[0].keys.size(), 3u);
   EXPECT_EQ(f.replies()[0].link.gated, 77);
   EXPECT_EQ(f.replies()[0].role, RoleKind::kCollector);
+  EXPECT_EQ(f.replies()[0].measured_goals, (std::vector<int32_t>{41, 42}));
+  EXPECT_EQ(f.replies()[0].path_revision, 3u);
+  ASSERT_EQ(f.replies()[0].path.size(), 3u);
+  EXPECT_DOUBLE_EQ(f.replies()[0].path[1].x, 3.25);
+  EXPECT_DOUBLE_EQ(f.replies()[0].path[1].y, 4.5);
+}
+
+TEST(LcmFleet, AReplyWithoutKeysCarriesNoneOfThePreviousReplysKeys) {
+  // The generated decoder reuses its arrays (and resizes them only for a
+  // non-zero count): a reply with no keys after one with keys once came out
+  // with the earlier keys, and the conservation check saw goals twice.
+  LcmFleet f("memq://", "memq://", true, 20);
+  Reply a;
+  a.tick = 1, a.agent = 1, a.keys = {7, 8, 9}, a.measured_goals = {7}, a.path_revision = 1, a.path = {{1, 1}, {2, 2}};
+  Reply b;
+  b.tick = 1, b.agent = 2, b.path_revision = 1;
+  f.publish(a);
+  f.publish(b);
+  for (int i = 0; i < 50 && f.replies().size() < 2; ++i) f.handle(20);
+  ASSERT_EQ(f.replies().size(), 2u);
+  EXPECT_EQ(f.replies()[0].keys.size(), 3u);
+  EXPECT_TRUE(f.replies()[1].keys.empty());
+  EXPECT_TRUE(f.replies()[1].measured_goals.empty());
+  EXPECT_TRUE(f.replies()[1].path.empty());
+}
+
+TEST(LcmFleet, RepliesWithTooManyPointsOrNonFinitePathsAreCountedAndDropped) {
+  LcmFleet f("memq://", "memq://", true, 20);
+  gather_lcm::tick_reply_t r{};
+  r.schema_version = gather_lcm::tick_reply_t::SCHEMA_VERSION;
+  r.agent = 2, r.status = 3;
+  auto send = [&](const gather_lcm::tick_reply_t& e) {
+    std::vector<uint8_t> b(static_cast<std::size_t>(e.getEncodedSize()));
+    e.encode(b.data(), 0, static_cast<int>(b.size()));
+    f.on_clock(kReplyChannel, b.data(), static_cast<int>(b.size()));
+  };
+  gather_lcm::tick_reply_t ok = r;
+  ok.n_path = 2, ok.path_x = {1.0f, 2.0f}, ok.path_y = {1.0f, 2.0f};
+  send(ok);
+  EXPECT_EQ(f.replies().size(), 1u);
+  gather_lcm::tick_reply_t many = r;
+  many.n_path = gather_lcm::tick_reply_t::MAX_PATH + 1;
+  many.path_x.assign(static_cast<std::size_t>(many.n_path), 0.0f);
+  many.path_y.assign(static_cast<std::size_t>(many.n_path), 0.0f);
+  send(many);
+  gather_lcm::tick_reply_t nan = ok;
+  nan.path_y[1] = std::nanf("");
+  send(nan);
+  gather_lcm::tick_reply_t measured = r;
+  measured.n_measured = gather_lcm::tick_reply_t::MAX_MEASURED + 1;
+  measured.measured_goals.assign(static_cast<std::size_t>(measured.n_measured), 1);
+  send(measured);
+  EXPECT_EQ(f.refused().out_of_range, 3);
+  EXPECT_EQ(f.replies().size(), 1u);
 }
 
 TEST(LcmFleet, GarbageTruncatedOversizedWrongVersionOutOfRangeAreCountedAndDropped) {
@@ -173,7 +229,9 @@ TEST(LcmFleet, MutatedMessagesNeverCrashAndAreEitherValidOrCounted) {
       EXPECT_GE(m.h.sender, kOc);
       EXPECT_LT(m.h.sender, 20);
       EXPECT_TRUE(std::isfinite(m.h.t));
-      if (m.h.kind == Kind::kRequest) EXPECT_LE(m.request.count, kRequestPartGoals);
+      if (m.h.kind == Kind::kRequest) {
+        EXPECT_LE(m.request.count, kRequestPartGoals);
+      }
     }
     f.radio().clear();
   }

@@ -158,6 +158,7 @@ TEST(Inbox, AddressedInRangeInSenderSeqOrderOwnSkippedOverflowCounted) {
 
 // A role alone, stepped by hand every 0.1 s.
 struct Stepper {
+  explicit Stepper(AgentUnit u) : unit(std::move(u)) {}
   AgentUnit unit;
   Outbox out{64};
   std::vector<Message> inbox_store;

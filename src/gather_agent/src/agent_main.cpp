@@ -17,6 +17,10 @@ int main(int argc, char** argv) {
   gather::AgentOptions opt;
   try {
     opt = gather::parse_agent_options(argc, argv);
+    if (opt.help) {
+      std::printf("%s\n", gather::agent_usage());
+      return 0;
+    }
     if (opt.motion == "base")
       throw gather::Error("--motion base", "not connected: this build has no driver for a real robot base (a real base "
                                            "implements agent::MotionBackend, see docs/runtime.md)");
@@ -48,7 +52,11 @@ int main(int argc, char** argv) {
         return 1;
     }
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "gather_agent%s: %s\n", opt.id >= 0 ? (" " + std::to_string(opt.id)).c_str() : "", e.what());
+    // Before --id is known the error is the command line's, already named "gather_agent".
+    if (opt.id >= 0)
+      std::fprintf(stderr, "gather_agent %d: %s\n", opt.id, e.what());
+    else
+      std::fprintf(stderr, "%s\n", e.what());
     return 2;
   }
   return 0;

@@ -36,7 +36,10 @@ AgentOptions parse_agent_options(int argc, char** argv) {
       if (i + 1 >= argc) throw Error(kWhere, flag + " needs a value");
       return argv[++i];
     };
-    if (a == "--id") {
+    if (a == "--help" || a == "-h") {
+      o.help = true;
+      return o;
+    } else if (a == "--id") {
       const double v = parse_number(a, value(a));
       if (v != std::floor(v) || v < 0 || v > 1e6) throw Error(kWhere, "--id expects an integer >= 0");
       o.id = static_cast<int>(v);

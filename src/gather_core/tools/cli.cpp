@@ -56,8 +56,9 @@ int Args::get_int(const std::string& flag, int fallback) const {
   char* end = nullptr;
   errno = 0;
   const long v = std::strtol(s.c_str(), &end, 10);
-  if (s.empty() || *end != '\0' || errno != 0 || v < -2147483647L || v > 2147483647L)
-    throw UsageError(flag + " expects an integer, got '" + s + "'");
+  if (s.empty() || *end != '\0') throw UsageError(flag + " expects an integer, got '" + s + "'");
+  if (errno != 0 || v < -2147483647L || v > 2147483647L)
+    throw UsageError(flag + " is out of range, got '" + s.substr(0, 40) + "'");
   return static_cast<int>(v);
 }
 

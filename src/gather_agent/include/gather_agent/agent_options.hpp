@@ -11,6 +11,7 @@ struct AgentOptions {
   std::string reply_url;       // --reply-url URL; empty = the LCM URL's port + 1 (lockstep replies)
   std::string motion = "sim";  // --motion sim|base
   double silence_s = 30.0;     // --silence S: stop when the OC is silent this long
+  bool help = false;           // --help: print the usage and exit 0
 };
 
 // Parses argv; throws gather::Error("gather_agent", ...) on a bad command line.

@@ -37,8 +37,20 @@ void SimulatedBase::follow(const mission::RouteTimetable&) {
 }
 
 void SimulatedBase::hold() {
+  if (n_ > 0) ++revision_;
   n_ = done_ = 0;
   points_.clear();
+}
+
+std::size_t SimulatedBase::path(Point2* out, std::size_t max) const {
+  const std::size_t n = n_ > 0 ? spans_[n_ - 1].second : 0;
+  if (n == 0 || max < 2) return 0;
+  if (n <= max) {
+    std::copy(points_.begin(), points_.begin() + static_cast<std::ptrdiff_t>(n), out);
+    return n;
+  }
+  for (std::size_t i = 0; i < max; ++i) out[i] = points_[i * (n - 1) / (max - 1)];
+  return max;
 }
 
 // The segment a-b stays in traversable cells: every cell it passes through
@@ -129,6 +141,7 @@ void SimulatedBase::go(const Waypoint* legs, std::size_t n, double depart) {
   if (n > max_legs_) throw Error("motion", "a plan of " + std::to_string(n) + " legs, at most " + std::to_string(max_legs_));
   std::copy(legs, legs + n, legs_.begin());
   n_ = n, done_ = 0, depart_ = depart;
+  ++revision_;
   points_.clear();
   Point2 from = pose_;
   auto length = [&](std::size_t i) {

@@ -46,6 +46,7 @@ WorkerRole::WorkerRole(TeamSetup& team, int agent, MotionBackend& motion)
   request_.mine.reserve(initial_goals(team));
   scratch_.reserve(initial_goals(team));
   known_.reserve(g);
+  measured_in_step_.reserve(g);
   legs_.resize(g + 2);
   leg_goal_.resize(g + 2);
   policy_.reserve_all();  // no allocation in the control step after this
@@ -103,6 +104,11 @@ void WorkerRole::on_request(const RequestPart& part, int16_t) {
   }
 }
 
+const char* WorkerRole::phase_name(int phase) {
+  static const char* const names[] = {"start", "ready", "moving", "at_pass", "settling", "waiting", "done"};
+  return phase >= 0 && phase < 7 ? names[phase] : "?";
+}
+
 void WorkerRole::notice(ItemKind kind, int32_t key, double at) {
   DataItem item;
   item.key = key, item.kind = kind, item.by = id_, item.at = at;
@@ -125,6 +131,7 @@ void WorkerRole::measure(int local, double at) {
   item.key = goal, item.kind = ItemKind::kMeasured, item.by = id_, item.at = at;
   custody_.put(item);
   ++counters_.measured;
+  measured_in_step_.push_back(goal);
 }
 
 // Collector workers: a request whose deadline has passed before it reached
@@ -262,6 +269,7 @@ void WorkerRole::decide(double now) {
 
 void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Outbox& out) {
   const bool oc_worker = policy_.delivers_to_oc();
+  measured_in_step_.clear();
   for (std::size_t i = 0; i < n; ++i) {
     const Message& m = *inbox[i];
     if (oc_worker && m.h.sender == kOc) heard_oc_ = true, oc_newest_ = std::max(oc_newest_, m.h.request);

@@ -19,6 +19,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr std::size_t kHeld = 8192;   // radio messages held for the ticks to come
 constexpr std::size_t kOutbox = 64;   // messages a role sends in one tick
+constexpr std::size_t kMaxViewPoints = 256;  // goals measured a tick, points of a path (tick_reply_t's bounds)
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -89,6 +90,12 @@ uint64_t plan_digest(const LoadedPlan& p) {
   return h;
 }
 
+static std::string seconds_text(double s) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", s);
+  return b;
+}
+
 // --- agent -----------------------------------------------------------------
 
 LockstepAgent::LockstepAgent(LoadedPlan& plan, int id, LcmFleet& fleet)
@@ -102,6 +109,8 @@ LockstepAgent::LockstepAgent(LoadedPlan& plan, int id, LcmFleet& fleet)
   current_.reserve(kHeld);
   inbox_.reserve(1024);
   reply_.keys.reserve(4096);
+  reply_.measured_goals.reserve(kMaxViewPoints);
+  reply_.path.reserve(kMaxViewPoints);
 }
 
 LockstepAgent::~LockstepAgent() = default;
@@ -179,6 +188,17 @@ void LockstepAgent::step(const Tick& tick) {
   if (tick.report && c)
     for (std::size_t i = 0; i < c->size(); ++i)
       if (c->item(i).kind == ItemKind::kMeasured) reply_.keys.push_back(c->item(i).key);
+  // For the OC's views: what it measured, and its path when that changed.
+  reply_.measured_goals.clear();
+  if (const std::vector<int32_t>* m = role.measured_in_step())
+    reply_.measured_goals.insert(reply_.measured_goals.end(), m->begin(),
+                                 m->begin() + static_cast<std::ptrdiff_t>(std::min(m->size(), kMaxViewPoints)));
+  reply_.path.clear();
+  if (unit_.motion->path_revision() != reply_.path_revision) {
+    reply_.path_revision = unit_.motion->path_revision();
+    reply_.path.resize(kMaxViewPoints);
+    reply_.path.resize(unit_.motion->path(reply_.path.data(), kMaxViewPoints));
+  }
   fleet_.publish(reply_);
 }
 
@@ -250,7 +270,7 @@ LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, 
       }
       wall_wait_ms_ = std::clamp(static_cast<int>((wall_next_ - t) / rate_ * 1000.0), 0, 20);
       if (seconds_since(heard) > silence_s) {
-        *why = "nothing heard from the OC for " + std::to_string(static_cast<int>(silence_s)) + " s";
+        *why = "nothing heard from the OC for " + seconds_text(silence_s) + " s";
         return End::kSilent;
       }
       continue;
@@ -264,7 +284,7 @@ LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, 
       have_tick = false;
     }
     if (seconds_since(heard) > silence_s) {
-      *why = "nothing heard from the OC for " + std::to_string(static_cast<int>(silence_s)) + " s";
+      *why = "nothing heard from the OC for " + seconds_text(silence_s) + " s";
       return End::kSilent;
     }
   }
@@ -289,7 +309,12 @@ LockstepMaster::LockstepMaster(TeamSetup& team, LcmFleet& fleet, uint64_t digest
     throw Error("--rate", "must be > 0 with the wall clock (mission seconds per wall second)");
   fleet_.set_team(team.agents());
   last_.assign(static_cast<std::size_t>(team.agents()), Reply{});
-  for (int a = 0; a < team.agents(); ++a) last_[static_cast<std::size_t>(a)].agent = static_cast<int16_t>(a);
+  for (int a = 0; a < team.agents(); ++a) {  // until the agent says otherwise: the plan's role, its start
+    Reply& r = last_[static_cast<std::size_t>(a)];
+    r.agent = static_cast<int16_t>(a);
+    r.role = r.report.role = team.assignment(a).collector ? RoleKind::kCollector : RoleKind::kWorker;
+    r.pose = team.start_pose(a);
+  }
   replied_.assign(static_cast<std::size_t>(team.agents()), 0);
   held_.reserve(kHeld);
   current_.reserve(kHeld);
@@ -322,6 +347,9 @@ void LockstepMaster::collect_replies(int64_t tick, ReplyStatus want, double time
         throw Error("agent " + std::to_string(r.agent), "refused the plan: its plan files differ from the OC's (see its log)");
       if (r.status != want || replied_[a]) continue;
       replied_[a] = 1, --missing;
+      if (r.path_revision == last_[a].path_revision && r.path.empty()) r.path.swap(last_[a].path);
+      if (options_.observe)
+        for (int32_t g : r.measured_goals) events_.measured.push_back(MeasuredEvent{g, r.agent, tick * options_.tick});
       last_[a] = std::move(r);
     }
     fleet_.replies().clear();
@@ -381,6 +409,7 @@ bool LockstepMaster::tick_wall(ShutdownSignal* signal) {
     outbox_[i].h.tick = -1;
     fleet_.publish(outbox_[i]);
   }
+  observe(t, true);
   link_.sent += static_cast<int64_t>(outbox_.size());
   messages_ += static_cast<int64_t>(outbox_.size());
   oc_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - o0).count();
@@ -434,6 +463,7 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
     outbox_[i].h.tick = k;
     fleet_.publish(outbox_[i]);
   }
+  if (options_.observe) observe(t, false);
   link_.sent += static_cast<int64_t>(outbox_.size());
   oc_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - o0).count();
 
@@ -472,6 +502,38 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   bool held = false;
   for (const Reply& r : last_) held = held || r.carried > 0 || r.notices > 0;
   return !(oc().done() && !held) && t < limit_;
+}
+
+// What the views need from the radio traffic the OC has just taken in (all of
+// it, as the bus carries it, not only what reached the OC): custody hand-overs
+// (an ack of at least one item: the acker took them from the acked), and with
+// the wall clock, where each agent was when it last sent something.
+void LockstepMaster::observe(double t, bool wall) {
+  auto handovers = [&](const Message& m) {
+    if (m.h.kind == Kind::kAck && m.ack.count > 0 && m.h.dest != kBroadcast)
+      events_.handovers.push_back(HandoverEvent{m.h.dest, m.h.sender, m.ack.count, t});
+  };
+  for (const Message& m : current_) {
+    if (options_.observe) handovers(m);
+    if (!wall || m.h.sender < 0 || m.h.sender >= team_.agents()) continue;
+    Reply& r = last_[static_cast<std::size_t>(m.h.sender)];
+    r.pose = m.h.pos;
+    r.report.requests = m.h.request;
+    if (m.h.kind == Kind::kState) {
+      r.role = m.state.role;
+      r.carried = m.state.carried, r.notices = m.state.notices;
+      r.report.pending = m.state.pending, r.report.measured = m.state.measured;
+    }
+  }
+  if (options_.observe)
+    for (std::size_t i = 0; i < outbox_.size(); ++i) handovers(outbox_[i]);
+}
+
+void LockstepMaster::take_events(ViewEvents& into) {
+  into.measured.swap(events_.measured);
+  into.handovers.swap(events_.handovers);
+  events_.measured.clear();
+  events_.handovers.clear();
 }
 
 double LockstepMaster::agents_step_ms() const {

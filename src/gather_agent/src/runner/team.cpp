@@ -52,7 +52,8 @@ void check_conservation(const OcRole& oc, int64_t measured_total, std::vector<in
   if (measured_total != delivered + carried)
     throw RuntimeError("conservation", "at t = " + std::to_string(now) + " s: " + std::to_string(measured_total) +
                                     " goals measured and stored, but " + std::to_string(delivered) + " delivered + " +
-                                    std::to_string(carried) + " carried (data lost)");
+                                    std::to_string(carried) + " carried (" +
+                                    (measured_total > delivered + carried ? "data lost" : "goals counted twice") + ")");
   const int64_t requested = static_cast<int64_t>(oc.requested());
   const int64_t pending = requested - delivered - carried - expired - dropped;
   if (pending < 0)

@@ -251,6 +251,18 @@ bool LcmFleet::publish(const Reply& r) {
   const std::size_t keys = std::min<std::size_t>(r.keys.size(), gather_lcm::tick_reply_t::MAX_KEYS);
   w.n_keys = static_cast<int16_t>(keys);
   w.keys.assign(r.keys.begin(), r.keys.begin() + static_cast<long>(keys));
+  const std::size_t measured = std::min<std::size_t>(r.measured_goals.size(), gather_lcm::tick_reply_t::MAX_MEASURED);
+  w.n_measured = static_cast<int16_t>(measured);
+  w.measured_goals.assign(r.measured_goals.begin(), r.measured_goals.begin() + static_cast<long>(measured));
+  w.path_revision = static_cast<int32_t>(r.path_revision);
+  const std::size_t points = std::min<std::size_t>(r.path.size(), gather_lcm::tick_reply_t::MAX_PATH);
+  w.n_path = static_cast<int16_t>(points);
+  w.path_x.resize(points);
+  w.path_y.resize(points);
+  for (std::size_t i = 0; i < points; ++i) {
+    w.path_x[i] = static_cast<float>(r.path[i].x);
+    w.path_y[i] = static_cast<float>(r.path[i].y);
+  }
   const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
   if (n < 0 || lcm_publish(reply_lcm_, kReplyChannel, buffer_.data(), static_cast<unsigned>(n)) != 0)
     return ++publish_failures_, false;
@@ -394,8 +406,13 @@ void LcmFleet::on_clock(const char* channel, const void* data, int size) {
     const gather_lcm::tick_reply_t& r = w.reply;
     if (r.schema_version != gather_lcm::tick_reply_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
     if (r.agent < 0 || r.agent >= team_ || r.status < 1 || r.status > 3 || r.sent < 0 || r.n_keys < 0 ||
-        r.n_keys > gather_lcm::tick_reply_t::MAX_KEYS || !finite(r.x) || !finite(r.y))
+        r.n_keys > gather_lcm::tick_reply_t::MAX_KEYS || !finite(r.x) || !finite(r.y) || r.n_measured < 0 ||
+        r.n_measured > gather_lcm::tick_reply_t::MAX_MEASURED || r.n_path < 0 ||
+        r.n_path > gather_lcm::tick_reply_t::MAX_PATH)
       return void(++refused_.out_of_range);
+    for (int i = 0; i < r.n_path; ++i)
+      if (!std::isfinite(r.path_x[static_cast<std::size_t>(i)]) || !std::isfinite(r.path_y[static_cast<std::size_t>(i)]))
+        return void(++refused_.out_of_range);
     Reply o;
     o.tick = r.tick;
     o.agent = r.agent;
@@ -415,7 +432,13 @@ void LcmFleet::on_clock(const char* channel, const void* data, int size) {
     o.late = r.late;
     o.incomplete = r.incomplete;
     o.step_us = r.step_us;
-    o.keys.assign(r.keys.begin(), r.keys.end());
+    // The decoder reuses its arrays and resizes them only for a non-zero
+    // count: take exactly the counted elements.
+    o.keys.assign(r.keys.begin(), r.keys.begin() + r.n_keys);
+    o.measured_goals.assign(r.measured_goals.begin(), r.measured_goals.begin() + r.n_measured);
+    o.path_revision = static_cast<uint32_t>(r.path_revision);
+    o.path.resize(static_cast<std::size_t>(r.n_path));
+    for (std::size_t i = 0; i < o.path.size(); ++i) o.path[i] = Point2{r.path_x[i], r.path_y[i]};
     replies_.push_back(std::move(o));
   }
 }

@@ -10,6 +10,7 @@
 //   --motion base says so and exits 2). docs/runtime.md describes the
 //   contract a real base implements.
 #include <cstddef>
+#include <cstdint>
 
 #include "gather_core/grid/occupancy_grid.hpp"
 
@@ -41,6 +42,16 @@ class MotionBackend {
   virtual std::size_t legs_done() const = 0;     // legs of the current plan completed
   virtual double arrived_at(std::size_t leg) const = 0;  // [s] when leg `leg` was completed
   virtual std::size_t max_legs() const = 0;
+
+  // For views (RViz): the polyline the base plans to drive, and a number
+  // that changes whenever that plan changes (go, hold). Writes at most `max`
+  // points to `out` (a longer path is thinned, its ends kept) and returns
+  // how many; 0: no path to show (a collector drives its plan's route).
+  virtual uint32_t path_revision() const { return 0; }
+  virtual std::size_t path(Point2* out, std::size_t max) const {
+    (void)out, (void)max;
+    return 0;
+  }
 };
 
 }  // namespace agent

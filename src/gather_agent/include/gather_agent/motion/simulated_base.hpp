@@ -40,6 +40,8 @@ class SimulatedBase : public MotionBackend {
   std::size_t legs_done() const override { return done_; }
   double arrived_at(std::size_t leg) const override { return legs_[leg].arrive; }
   std::size_t max_legs() const override { return max_legs_; }
+  uint32_t path_revision() const override { return revision_; }
+  std::size_t path(Point2* out, std::size_t max) const override;
 
   // The current plan's path from `leg`'s start to its end [m] (for views).
   std::size_t path_points(std::size_t leg) const { return spans_[leg].second - spans_[leg].first; }
@@ -62,6 +64,7 @@ class SimulatedBase : public MotionBackend {
   double now_ = 0.0;
   std::vector<Waypoint> legs_;
   std::size_t n_ = 0, done_ = 0;
+  uint32_t revision_ = 0;
   double depart_ = 0.0;
   std::vector<Point2> points_;                               // every leg's polyline, one after the other
   std::vector<std::pair<std::size_t, std::size_t>> spans_;  // [first, last) in points_ per leg

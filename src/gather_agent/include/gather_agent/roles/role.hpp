@@ -131,6 +131,10 @@ class Role {
   // Newest request this role knows (-1: none), carried in every header.
   virtual int32_t newest_request() const = 0;
 
+  // Goals this role measured (and stored) in its last step, for views: the
+  // OC's picture of which goals are being carried (nullptr: never any).
+  virtual const std::vector<int32_t>* measured_in_step() const { return nullptr; }
+
   int16_t id() const { return id_; }
   MotionBackend& motion() { return motion_; }
   const MotionBackend& motion() const { return motion_; }

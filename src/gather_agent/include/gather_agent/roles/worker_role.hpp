@@ -24,10 +24,13 @@ class WorkerRole : public Role {
   RoleKind kind() const override { return RoleKind::kWorker; }
   RoleReport report() const override;
   const Custody* custody() const override { return &custody_; }
+  const std::vector<int32_t>* measured_in_step() const override { return &measured_in_step_; }
   int32_t newest_request() const override { return std::max(resolved_, request_.complete() ? request_.id : -1); }
 
   enum class Phase { kStart, kReady, kMoving, kAtPass, kSettling, kWaiting, kDone };
   Phase phase() const { return phase_; }
+  // "start", "ready", "moving", "at_pass", "settling", "waiting", "done"; "?" out of range.
+  static const char* phase_name(int phase);
   const mission::WorkerPolicy& policy() const { return policy_; }
   bool delivers_to_oc() const { return policy_.delivers_to_oc(); }
   int16_t upstream() const { return upstream_; }  // its collector's agent id, or kOc
@@ -59,6 +62,7 @@ class WorkerRole : public Role {
   Phase phase_ = Phase::kStart;
   Incoming request_;         // newest request received (maybe not yet learned)
   int32_t resolved_ = -1;    // every request up to this one is learned or skipped
+  std::vector<int32_t> measured_in_step_;  // goal ids measured in the last step
   std::vector<int> known_;   // local indices of the learned request's unmeasured goals
   // The plan being executed.
   std::vector<Waypoint> legs_;

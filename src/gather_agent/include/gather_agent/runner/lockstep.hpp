@@ -97,6 +97,24 @@ struct MasterOptions {
   double ready_timeout_s = 60.0; // for every agent to say READY
   double reply_timeout_s = 10.0; // for every agent to reply to a tick
   double time_limit = 0.0;       // [s] of mission time; 0: time_limit(team)
+  bool observe = false;          // keep ViewEvents for take_events() (the OC's views)
+};
+
+// What views of the mission need beyond the agents' last replies (kept only
+// with MasterOptions::observe, until take_events()).
+struct MeasuredEvent {
+  int32_t goal = 0;
+  int16_t agent = 0;
+  double t = 0.0;  // [s] the tick it was reported in
+};
+struct HandoverEvent {
+  int16_t from = 0, to = 0;  // custody of `items` items passed from -> to (kOc: the OC)
+  uint16_t items = 0;
+  double t = 0.0;
+};
+struct ViewEvents {
+  std::vector<MeasuredEvent> measured;
+  std::vector<HandoverEvent> handovers;
 };
 
 // The OC's side: announces the plan, drives the clock, runs the OC role.
@@ -118,8 +136,13 @@ class LockstepMaster {
   int64_t ticks() const { return tick_; }
   double now() const { return options_.clock == ClockMode::kWall ? wall_now_ : tick_ * options_.tick; }
   OcRole& oc() { return static_cast<OcRole&>(*oc_.role); }
-  // The last reply of each agent (pose, role, counters), by agent id.
+  // The last reply of each agent (pose, role, counters, planned path), by
+  // agent id. With the wall clock there are no replies: the pose, role and
+  // counters of the last radio message heard from it.
   const std::vector<Reply>& agents() const { return last_; }
+  // Moves the events since the last call into `into` (MasterOptions::observe).
+  void take_events(ViewEvents& into);
+  const MasterOptions& options() const { return options_; }
   int64_t messages() const { return messages_; }
   // Wall time spent waiting for replies, running the OC role, pacing [ms].
   double wait_ms() const { return wait_ms_; }
@@ -132,6 +155,7 @@ class LockstepMaster {
  private:
   void collect_replies(int64_t tick, ReplyStatus want, double timeout_s, ShutdownSignal* signal);
   bool tick_wall(ShutdownSignal* signal);
+  void observe(double t, bool wall);
 
   TeamSetup& team_;
   LcmFleet& fleet_;
@@ -152,6 +176,7 @@ class LockstepMaster {
   std::vector<Message> held_, current_;
   std::vector<const Message*> inbox_;
   std::vector<int32_t> keys_;
+  ViewEvents events_;
   std::chrono::steady_clock::time_point started_;
   double wait_ms_ = 0.0, oc_ms_ = 0.0, publish_ms_ = 0.0, inbox_ms_ = 0.0;
   bool finished_ = false;

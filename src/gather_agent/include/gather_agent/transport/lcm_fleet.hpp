@@ -69,6 +69,11 @@ struct Reply {
   int64_t incomplete = 0;     // ticks stepped without every message of the tick before
   int64_t step_us = 0;        // [us] in its control steps so far
   std::vector<int32_t> keys;  // custody keys of measured items (report ticks)
+  // For views: goals measured in this tick, and the planned path (its points
+  // only in the reply whose revision is new; LockstepMaster keeps them).
+  std::vector<int32_t> measured_goals;
+  uint32_t path_revision = 0;
+  std::vector<Point2> path;
 };
 
 // Every counter of what the transport refused.
