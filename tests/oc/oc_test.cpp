@@ -2,6 +2,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <thread>
 
@@ -12,6 +13,13 @@
 #include "gather_agent/runner/agent_fleet.hpp"
 #include "gather_agent/runner/run_files.hpp"
 #include "gather_core/plan/plan_export.hpp"
+#include "gather_agent/motion/motion_backend.hpp"
+#include "gather_agent/roles/oc_role.hpp"
+#include "gather_agent/runner/team_runner.hpp"
+#include "gather_core/error.hpp"
+#include "gather_core/mission/simulator.hpp"
+#include "gather_oc/mission_view.hpp"
+#include "gather_oc/plan_markers.hpp"
 #include "gather_oc/ros_conversions.hpp"
 
 namespace gather {
@@ -46,26 +54,197 @@ TEST(RosConversions, MapMessageKeepsCellsAndGeometry) {
   EXPECT_EQ(m.data[oc.row * m.info.width + oc.col], 0);
 }
 
-TEST(RosConversions, MarkersShowTheOcAndEveryAgentByRole) {
-  std::vector<agent::Reply> agents(3);
-  for (int i = 0; i < 3; ++i) agents[static_cast<std::size_t>(i)].agent = static_cast<int16_t>(i);
-  agents[0].role = agent::RoleKind::kWorker, agents[0].pose = {1, 2};
-  agents[2].role = agent::RoleKind::kCollector, agents[2].pose = {3, 4};
-  const auto markers = team_markers({5, 6}, agents, "map", ros::Time(1.0), true);
-  int spheres = 0, labels = 0;
-  for (const auto& m : markers.markers) {
-    if (m.ns == "oc") EXPECT_DOUBLE_EQ(m.pose.position.x, 5.0);
-    if (m.ns == "agent_ids") ++labels;
-    if (m.ns != "agents") continue;
-    ++spheres;
-    if (m.id == 2) {
-      EXPECT_DOUBLE_EQ(m.pose.position.y, 4.0);
-      EXPECT_LT(m.color.r, 0.2f);  // collectors black
+TEST(RosConversions, AMapMessageBecomesAGridOrANamedError) {
+  const Scenario s = load_scenario(kScenario);
+  const OccupancyGrid back = from_map_msg(to_map_msg(s.grid, "map", ros::Time(1.0)), "/map");
+  EXPECT_EQ(back.width(), s.grid.width());
+  EXPECT_EQ(back.values(), s.grid.values());
+  EXPECT_EQ(back.free_mask(), s.grid.free_mask());
+  EXPECT_FLOAT_EQ(static_cast<float>(back.resolution()), 0.05f);
+  auto refused = [](nav_msgs::OccupancyGrid m) {
+    try {
+      from_map_msg(m, "/some_map");
+    } catch (const Error& e) {
+      return std::string(e.what()).rfind("/some_map: ", 0) == 0;
     }
-    if (m.id == 0) EXPECT_GT(m.color.b, 0.8f);  // workers blue
+    return false;
+  };
+  nav_msgs::OccupancyGrid m = to_map_msg(s.grid, "map", ros::Time(1.0));
+  nav_msgs::OccupancyGrid bad = m;
+  bad.data.pop_back();
+  EXPECT_TRUE(refused(bad));
+  bad = m, bad.info.resolution = 0.0f;
+  EXPECT_TRUE(refused(bad));
+  bad = m, bad.info.width = 0;
+  EXPECT_TRUE(refused(bad));
+  bad = m, bad.info.origin.orientation.z = 0.38, bad.info.origin.orientation.w = 0.92;
+  EXPECT_TRUE(refused(bad));
+  bad = m, bad.info.origin.position.x = std::nan("");
+  EXPECT_TRUE(refused(bad));
+}
+
+// maps/office planned with PAP and 4 collectors, with its world and team.
+struct Pap4 {
+  agent::LoadedPlan plan;
+  std::unique_ptr<mission::World> world;
+  std::unique_ptr<agent::TeamSetup> team;
+  explicit Pap4(int cycles) {
+    static const std::string dir = [] {
+      const std::string d = ::testing::TempDir() + "/gather_oc_test_pap4_" + std::to_string(::getpid());
+      const Scenario map = load_scenario(std::string(GATHER_REPO_DIR) + "/maps/office.scenario.yaml");
+      const Scenario sc = on_planning_grid(map, planning_factor(map));
+      const plan::PlanContext ctx(sc);
+      plan::write_plan_directory(d, ctx, plan::plan_configuration(ctx, partition::Method::kPap, 4), 1);
+      return d;
+    }();
+    plan = agent::load_plan(dir);
+    world = std::make_unique<mission::World>(plan.scenario);
+    agent::MissionParams params = agent::mission_params(plan.scenario);
+    params.cycles = cycles;
+    team = std::make_unique<agent::TeamSetup>(*world, plan.plan, params);
   }
-  EXPECT_EQ(spheres, 3);
-  EXPECT_EQ(labels, 3);
+};
+
+const visualization_msgs::Marker* find(const visualization_msgs::MarkerArray& a, const std::string& ns, int id) {
+  for (const auto& m : a.markers)
+    if (m.ns == ns && m.id == id) return &m;
+  return nullptr;
+}
+
+int count(const visualization_msgs::MarkerArray& a, const std::string& ns) {
+  int n = 0;
+  for (const auto& m : a.markers) n += m.ns == ns;
+  return n;
+}
+
+bool same_colour(const std_msgs::ColorRGBA& a, const std_msgs::ColorRGBA& b) {
+  return std::abs(a.r - b.r) < 1e-6 && std::abs(a.g - b.g) < 1e-6 && std::abs(a.b - b.b) < 1e-6;
+}
+
+TEST(PlanMarkers, SegmentsIdsOcCoverageRoutesAndMeetings) {
+  Pap4 p(1);
+  const view::Style style(p.plan.scenario.grid);
+  const auto a = view::plan_markers(*p.team, style, "map", ros::Time(1.0));
+  const int workers = p.plan.plan.file.workers;
+  ASSERT_EQ(count(a, "segments"), 1);
+  const auto* seg = find(a, "segments", 0);
+  EXPECT_EQ(seg->type, visualization_msgs::Marker::TRIANGLE_LIST);
+  EXPECT_EQ(seg->points.size() % 6, 0u);
+  EXPECT_EQ(seg->colors.size(), seg->points.size());
+  // The rectangles cover exactly the labelled cells.
+  double area = 0.0;
+  for (std::size_t i = 0; i < seg->points.size(); i += 6)
+    area += std::abs(seg->points[i + 1].x - seg->points[i].x) * std::abs(seg->points[i + 2].y - seg->points[i].y);
+  std::size_t labelled = 0;
+  for (int32_t l : p.plan.plan.labels) labelled += l > 0;
+  EXPECT_NEAR(area, labelled * p.plan.scenario.grid.cell_area(), 1e-6 * area);
+  EXPECT_EQ(count(a, "segment_ids"), workers);
+  ASSERT_NE(find(a, "oc", 0), nullptr);
+  EXPECT_NEAR(find(a, "oc", 0)->pose.position.x, p.plan.scenario.oc.x, 1e-9);
+  const auto* cov = find(a, "coverage", 0);
+  ASSERT_NE(cov, nullptr);
+  EXPECT_GT(cov->points.size(), 8u);
+  EXPECT_EQ(cov->points.size() % 2, 0u);
+  ASSERT_EQ(count(a, "routes"), 4);
+  for (int c = 0; c < 4; ++c)
+    for (int d = 0; d < c; ++d) EXPECT_FALSE(same_colour(find(a, "routes", c)->color, find(a, "routes", d)->color));
+  int meetings = 0;
+  for (const auto& r : p.plan.plan.file.routes) meetings += static_cast<int>(r.meetings.size());
+  EXPECT_GE(count(a, "meetings"), meetings);
+}
+
+TEST(MissionView, AgentsByRoleInTheirCollectorsColoursWithIdsLinksAndFrames) {
+  Pap4 p(1);
+  const view::Style style(p.plan.scenario.grid);
+  view::MissionView v(*p.team, style, "map");
+  std::vector<agent::Reply> agents(static_cast<std::size_t>(p.team->agents()));
+  for (int a = 0; a < p.team->agents(); ++a) {
+    agents[static_cast<std::size_t>(a)].agent = static_cast<int16_t>(a);
+    agents[static_cast<std::size_t>(a)].pose = p.team->start_pose(a);
+  }
+  const auto m = v.team_markers(agents, 0.0, true, ros::Time(1.0));
+  EXPECT_EQ(count(m, "agents"), p.team->agents());
+  EXPECT_EQ(count(m, "agent_ids"), p.team->agents());
+  int collectors = 0, oc_workers = 0;
+  for (int a = 0; a < p.team->agents(); ++a) {
+    const auto& as = p.team->assignment(a);
+    const auto* mk = find(m, "agents", a);
+    ASSERT_NE(mk, nullptr);
+    if (as.collector) {
+      ++collectors;
+      EXPECT_EQ(mk->type, visualization_msgs::Marker::CUBE);
+      EXPECT_TRUE(same_colour(mk->color, style.collector(as.delivers_to)));
+    } else {
+      EXPECT_EQ(mk->type, visualization_msgs::Marker::CYLINDER);
+      const std_msgs::ColorRGBA want = as.delivers_to < 0 ? style.oc_worker : style.collector(as.delivers_to);
+      oc_workers += as.delivers_to < 0;
+      EXPECT_TRUE(same_colour(mk->color, want)) << "agent " << a;
+    }
+  }
+  EXPECT_EQ(collectors, 4);
+  // All of them next to the OC: in radio contact.
+  const auto* links = find(m, "links", 0);
+  ASSERT_NE(links, nullptr);
+  EXPECT_GT(links->points.size(), 2u * static_cast<std::size_t>(p.team->agents()));
+  // A hand-over is drawn for a few seconds, then gone.
+  agent::ViewEvents ev;
+  ev.handovers.push_back(agent::HandoverEvent{5, 0, 3, 10.0});
+  v.take(ev);
+  EXPECT_EQ(find(v.team_markers(agents, 11.0, true, ros::Time(11.0)), "handovers", 0)->points.size(), 2u);
+  EXPECT_EQ(find(v.team_markers(agents, 20.0, true, ros::Time(20.0)), "handovers", 0)->action,
+            visualization_msgs::Marker::DELETE);
+  // TF: map -> agent_k/base_link, heading the way it moved.
+  auto tf = v.transforms(agents, ros::Time(1.0));
+  agents[7].pose.y += 1.0;
+  tf = v.transforms(agents, ros::Time(2.0));
+  ASSERT_EQ(tf.transforms.size(), agents.size());
+  EXPECT_EQ(tf.transforms[7].header.frame_id, "map");
+  EXPECT_EQ(tf.transforms[7].child_frame_id, "agent_7/base_link");
+  EXPECT_NEAR(tf.transforms[7].transform.rotation.z, std::sin(M_PI / 4), 1e-9);  // yaw 90 degrees
+  agent::Station station(p.plan.scenario.oc);
+  const agent::OcRole oc(*p.team, station);
+  const auto states = v.agent_states(agents, oc, ros::Time(2.0));
+  EXPECT_EQ(states.agents.size(), agents.size());
+  EXPECT_EQ(states.agents[0].role_name, p.team->assignment(0).collector ? "collector" : "worker");
+}
+
+TEST(MissionView, GoalsByStateAddUpAndEveryCycleIsReportedOnceResolved) {
+  Pap4 p(2);
+  const view::Style style(p.plan.scenario.grid);
+  view::MissionView v(*p.team, style, "map");
+  agent::TeamRunner runner(*p.team, agent::RunOptions{});
+  std::vector<gather_msgs::CycleStats> reported;
+  bool more = true;
+  int steps = 0;
+  while (more) {
+    more = runner.tick();
+    if (++steps % 200 != 0 && more) continue;
+    const agent::OcRole& oc = runner.oc();
+    const auto s = v.status(oc, "running", runner.now(), 0.0, ros::Time(1.0));
+    EXPECT_EQ(s.pending + s.carried + s.delivered + s.expired + s.dropped, s.requested);
+    for (const auto& c : v.resolved_cycles(oc, ros::Time(1.0))) reported.push_back(c);
+  }
+  const agent::OcRole& oc = runner.oc();
+  for (const auto& c : v.resolved_cycles(oc, ros::Time(1.0))) reported.push_back(c);
+  const auto s = v.status(oc, "done", runner.now(), 0.0, ros::Time(1.0));
+  EXPECT_EQ(s.requested, oc.requested());
+  EXPECT_EQ(s.pending + s.carried, 0u);
+  EXPECT_GT(s.delivered, 0u);
+  ASSERT_EQ(reported.size(), 2u);
+  const std::vector<mission::CycleStats> truth = mission::account(oc.goals(), 2, p.team->period);
+  for (std::size_t c = 0; c < 2; ++c) {
+    EXPECT_EQ(reported[c].cycle, c);
+    EXPECT_EQ(static_cast<int>(reported[c].delivered), truth[c].delivered);
+    EXPECT_EQ(static_cast<int>(reported[c].requested), truth[c].requested);
+    EXPECT_DOUBLE_EQ(reported[c].refresh_mean, truth[c].refresh_mean_s);
+  }
+  EXPECT_EQ(reported[1].total_requested, s.requested);
+  // The goal markers of the last two requests hold every goal, each once.
+  const auto g = v.goal_markers(oc, ros::Time(1.0));
+  std::size_t shown = 0;
+  for (const auto& m : g.markers) shown += m.points.size();
+  EXPECT_EQ(shown, oc.requested());
+  EXPECT_EQ(find(g, "goals_pending", 0)->action, visualization_msgs::Marker::DELETE);
 }
 
 TEST(AgentFleet, StartsAndStopsRealAgentsCleanly) {

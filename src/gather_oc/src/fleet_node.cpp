@@ -49,16 +49,25 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "fleet", ros::init_options::NoSigintHandler);
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
-  std::vector<std::string> args;
-  ros::removeROSArgs(argc, argv, args);
-  if (args.size() != 2) {
-    std::fprintf(stderr, "fleet: usage: fleet_node SCENARIO (settings as private parameters)\n");
+  std::vector<std::string> all, args;
+  ros::removeROSArgs(argc, argv, all);
+  bool map_from_topic = false;
+  for (std::size_t i = 1; i < all.size(); ++i) {
+    if (all[i].rfind("--map-topic=", 0) == 0)
+      map_from_topic = all[i].size() > 12;
+    else
+      args.push_back(all[i]);
+  }
+  if (args.size() != 1) {
+    std::fprintf(stderr, "fleet: usage: fleet_node SCENARIO [--map-topic=TOPIC] (settings as private parameters)\n");
     return 2;
   }
-  const std::string scenario_path = gather::resolve_launch_path(args[1]);
+  const std::string scenario_path = gather::resolve_launch_path(args[0]);
   int agents = 0;
   try {
-    agents = gather::load_scenario(scenario_path).team.agents;
+    // With the map from a topic the scenario may have none: the team is all it needs.
+    agents = (map_from_topic ? gather::load_scenario_settings(scenario_path, false) : gather::load_scenario(scenario_path))
+                 .team.agents;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fleet: %s\n", e.what());
     return 2;
@@ -125,6 +134,7 @@ int main(int argc, char** argv) {
     if (!a.exited_early && a.stop_latency_s > 1.0) ok = false, ++slow;
   }
   if (!results_dir.empty()) write_fleet_results(results_dir + "/fleet.yaml", fleet, ok);
+  nh.setParam("/gather/fleet_status", ok ? "ok" : "failed");  // the OC ends the launch once it is there
   std::printf("fleet: %d agents: %s%s\n", agents, ok ? "all exited 0" : "FAILURES (see fleet.yaml)",
               slow ? (", " + std::to_string(slow) + " took > 1 s to stop").c_str() : "");
   std::fflush(stdout);

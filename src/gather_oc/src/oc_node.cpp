@@ -1,9 +1,14 @@
 // oc_node: the Operation Center, a thin ROS wrapper around the OC role and
-// the lockstep clock of gather_agent. It plans the scenario (or takes
-// ~plan), tells the fleet where the plan is (/gather/plan_dir), announces
-// it over LCM, drives the mission tick by tick, publishes /map and RViz
-// markers, and at the end writes goals.csv, cycles.csv, summary.csv,
-// agents.csv and mission.yaml into ~results_dir and prints a summary line.
+// the lockstep clock of gather_agent. It takes the map (the scenario's, or
+// one from ~map_topic as map_server publishes it), plans the scenario (or
+// takes PLAN_DIR), tells the fleet where the plan is (/gather/plan_dir),
+// announces it over LCM, drives the mission tick by tick and publishes it
+// to ROS (MissionPublisher: /clock with use_sim_time, /map, markers, TF,
+// poses, mission topics). At the end it writes goals.csv, cycles.csv,
+// summary.csv, agents.csv and mission.yaml into ~results_dir, prints a
+// summary line and, with ~close_on_end, ends the roslaunch that started it
+// (quietly, as Ctrl-C does); otherwise it stays up (latched topics stay
+// available) until it is stopped.
 // Exit status: 0 mission complete, 1 a runtime failure (agents silent, the
 // mission unfinished at its time limit), 2 bad input.
 #include <ros/ros.h>
@@ -11,13 +16,17 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <thread>
 
 #include "gather_agent/runner/lockstep.hpp"
 #include "gather_agent/runner/run_files.hpp"
 #include "gather_core/error.hpp"
+#include "gather_core/grid/map_saver.hpp"
 #include "gather_core/plan/plan_export.hpp"
 #include "gather_core/scenario/scenario.hpp"
+#include "gather_oc/launch_end.hpp"
 #include "gather_oc/launch_paths.hpp"
+#include "gather_oc/mission_publisher.hpp"
 #include "gather_oc/ros_conversions.hpp"
 
 namespace {
@@ -35,58 +44,136 @@ std::unique_ptr<gather::agent::LoadedPlan> load_matching_plan(const std::string&
   return plan;
 }
 
+bool same_map(const gather::OccupancyGrid& a, const gather::OccupancyGrid& b) {
+  return a.width() == b.width() && a.height() == b.height() && std::abs(a.resolution() - b.resolution()) < 1e-6 &&
+         std::abs(a.origin().x - b.origin().x) < 1e-6 && std::abs(a.origin().y - b.origin().y) < 1e-6 &&
+         a.free_mask() == b.free_mask();
+}
+
+// Settings users change per run (private parameters; mission.launch's arguments).
+struct Settings {
+  std::string results_dir, lcm_url, reply_url, clock, frame;
+  int cycles = 0, seed = -1, loss_seed = 1;
+  double rate = 0.0, tick = 0.1, loss = 0.0, ready_timeout = 60.0, map_timeout = 30.0, view_period = 0.5;
+  bool close_on_end = false, sim_time = false;
+};
+
+// Reads and checks them; "" when they are fine, else what is wrong.
+std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s) {
+  pnh.param<std::string>("results_dir", s.results_dir, "results/mission");
+  pnh.param<std::string>("lcm_url", s.lcm_url, "");
+  pnh.param<std::string>("reply_url", s.reply_url, "");
+  pnh.param<std::string>("clock", s.clock, "lockstep");
+  pnh.param<std::string>("frame_id", s.frame, "map");
+  pnh.param("cycles", s.cycles, 0);
+  pnh.param("seed", s.seed, -1);
+  pnh.param("rate", s.rate, 0.0);
+  pnh.param("tick", s.tick, 0.1);
+  pnh.param("loss", s.loss, 0.0);
+  pnh.param("loss_seed", s.loss_seed, 1);
+  pnh.param("ready_timeout", s.ready_timeout, 60.0);
+  pnh.param("map_timeout", s.map_timeout, 30.0);
+  pnh.param("view_period", s.view_period, 0.5);
+  pnh.param("close_on_end", s.close_on_end, false);
+  nh.param("/use_sim_time", s.sim_time, false);
+  s.results_dir = gather::resolve_launch_path(s.results_dir);
+  if (s.cycles < 0 || s.cycles > 100000) return "~cycles must be in 0..100000 (0: the scenario's), got " + std::to_string(s.cycles);
+  if (s.clock != "lockstep" && s.clock != "wall") return "~clock must be lockstep or wall, got '" + s.clock.substr(0, 40) + "'";
+  if (!(s.rate >= 0.0)) return "~rate must be >= 0 (0: as fast as the lockstep allows)";
+  if (s.clock == "wall" && s.rate == 0.0) s.rate = 1.0;  // the wall clock runs at real time unless told otherwise
+  if (!(s.tick > 0.0 && s.tick <= 0.1)) return "~tick must be in (0, 0.1] s";
+  if (!(s.loss >= 0.0 && s.loss < 1.0)) return "~loss must be in [0, 1)";
+  if (!(s.ready_timeout > 0.0)) return "~ready_timeout must be > 0 s";
+  if (!(s.map_timeout > 0.0)) return "~map_timeout must be > 0 s";
+  if (!(s.view_period >= s.tick && s.view_period <= 3600.0)) return "~view_period must be in [~tick, 3600] s of mission time";
+  if (s.frame.empty()) return "~frame_id must not be empty";
+  return "";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "oc");
   // The scenario is the one positional argument and is loaded before the node
   // talks to the ROS master, so bad input fails fast with one line.
-  std::vector<std::string> args;
-  ros::removeROSArgs(argc, argv, args);
-  if (args.size() != 2 && args.size() != 3)
-    return fail(2, "usage: oc_node SCENARIO [PLAN_DIR] (no PLAN_DIR: plan the scenario; settings as private "
-                   "parameters ~results_dir, ~cycles, ~seed, ~rate, ~tick, ~lcm_url)");
-  const std::string scenario_path = gather::resolve_launch_path(args[1]);
+  std::vector<std::string> all, args;
+  ros::removeROSArgs(argc, argv, all);
+  std::string map_topic;
+  for (std::size_t i = 1; i < all.size(); ++i) {
+    if (all[i].rfind("--map-topic=", 0) == 0)
+      map_topic = all[i].substr(12);
+    else
+      args.push_back(all[i]);
+  }
+  if (args.size() != 1 && args.size() != 2)
+    return fail(2, "usage: oc_node SCENARIO [PLAN_DIR] [--map-topic=TOPIC] (no PLAN_DIR: plan the scenario; "
+                   "--map-topic: take the map from a map_server topic; settings as private parameters, see the README)");
+  std::string scenario_path = gather::resolve_launch_path(args[0]);
+  std::string plan_dir = args.size() == 2 ? gather::resolve_launch_path(args[1]) : "";
+  const bool map_from_topic = !map_topic.empty();
   gather::Scenario scenario;
   std::unique_ptr<gather::agent::LoadedPlan> plan;
-  std::string plan_dir = args.size() == 3 ? gather::resolve_launch_path(args[2]) : "";
   try {
-    scenario = gather::load_scenario(scenario_path);
-    if (!plan_dir.empty()) plan = load_matching_plan(plan_dir, scenario_path);
+    if (!map_from_topic) {
+      scenario = gather::load_scenario(scenario_path);
+      if (!plan_dir.empty()) plan = load_matching_plan(plan_dir, scenario_path);
+    } else {
+      scenario = gather::load_scenario_settings(scenario_path, false);  // the map comes later
+    }
   } catch (const std::exception& e) {
     return fail(2, e.what());
   }
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
+  Settings set;
+  if (const std::string bad = read_settings(pnh, nh, set); !bad.empty()) return fail(2, bad);
   nh.deleteParam("/gather/plan_dir");  // a previous run's, on a master that outlived it
-  std::string results_dir, lcm_url, reply_url, clock;
-  int cycles = 0, seed = -1, loss_seed = 1;
-  double rate = 0.0, tick = 0.1, loss = 0.0, marker_hz = 2.0, ready_timeout = 60.0;
-  pnh.param<std::string>("results_dir", results_dir, "results/mission");
-  pnh.param<std::string>("lcm_url", lcm_url, "");
-  pnh.param<std::string>("reply_url", reply_url, "");
-  pnh.param<std::string>("clock", clock, "lockstep");
-  pnh.param("cycles", cycles, 0);
-  pnh.param("seed", seed, -1);
-  pnh.param("rate", rate, 0.0);
-  pnh.param("tick", tick, 0.1);
-  pnh.param("loss", loss, 0.0);
-  pnh.param("loss_seed", loss_seed, 1);
-  pnh.param("marker_rate", marker_hz, 2.0);
-  pnh.param("ready_timeout", ready_timeout, 60.0);
-  results_dir = gather::resolve_launch_path(results_dir);
-  if (cycles < 0 || cycles > 100000) return fail(2, "~cycles must be in 0..100000 (0: the scenario's), got " + std::to_string(cycles));
-  if (clock != "lockstep" && clock != "wall") return fail(2, "~clock must be lockstep or wall, got '" + clock.substr(0, 40) + "'");
-  if (!(rate >= 0.0)) return fail(2, "~rate must be >= 0 (0: as fast as the lockstep allows)");
-  if (clock == "wall" && rate == 0.0) rate = 1.0;  // the wall clock runs at real time unless told otherwise
-  if (!(tick > 0.0 && tick <= 0.1)) return fail(2, "~tick must be in (0, 0.1] s");
-  if (!(loss >= 0.0 && loss < 1.0)) return fail(2, "~loss must be in [0, 1)");
-  if (!(marker_hz > 0.0)) return fail(2, "~marker_rate must be > 0 Hz");
-  if (!(ready_timeout > 0.0)) return fail(2, "~ready_timeout must be > 0 s");
+  nh.deleteParam("/gather/fleet_status");
+
+  // The map from a topic (map_server, or any OccupancyGrid publisher): saved
+  // as map_server files beside the results, with a copy of the scenario that
+  // names them, so the agents load the very same map.
+  if (map_from_topic) {
+    try {
+      ROS_INFO("oc: waiting for the map on %s", map_topic.c_str());
+      // (Wall time: with use_sim_time the clock is not running yet.)
+      nav_msgs::OccupancyGrid::ConstPtr msg;
+      ros::Subscriber sub = nh.subscribe<nav_msgs::OccupancyGrid>(
+          map_topic, 1, [&msg](const nav_msgs::OccupancyGrid::ConstPtr& m) { msg = m; });
+      const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(set.map_timeout);
+      while (!msg && ros::ok() && ros::WallTime::now() < until) {
+        ros::spinOnce();
+        ros::WallDuration(0.02).sleep();
+      }
+      sub.shutdown();
+      if (!msg) return fail(2, map_topic + ": no map received within " + std::to_string(static_cast<int>(set.map_timeout)) + " s (~map_timeout)");
+      gather::OccupancyGrid grid = gather::from_map_msg(*msg, map_topic);
+      const std::string map_yaml = gather::save_map(grid, set.results_dir + "/map/map");
+      const std::string derived = set.results_dir + "/map/scenario.yaml";
+      gather::write_scenario_with_map(scenario_path, std::filesystem::absolute(map_yaml).string(), derived);
+      ROS_INFO("oc: map %dx%d cells of %.3f m from %s -> %s", grid.width(), grid.height(), grid.resolution(),
+               map_topic.c_str(), map_yaml.c_str());
+      if (!plan_dir.empty()) {
+        // A given plan must have been made on this map.
+        plan = std::make_unique<gather::agent::LoadedPlan>(gather::agent::load_plan(plan_dir));
+        const gather::Scenario planned = gather::load_scenario(plan->plan.file.scenario);
+        const gather::Scenario received = gather::load_scenario(derived);
+        if (!same_map(planned.grid, received.grid))
+          throw gather::Error(plan_dir + "/plan.yaml", "was planned on the map of " + plan->plan.file.scenario +
+                                                           ", not on the map received on " + map_topic);
+        scenario_path = plan->plan.file.scenario;
+      } else {
+        scenario_path = derived;
+      }
+      scenario = gather::load_scenario(scenario_path);
+    } catch (const std::exception& e) {
+      return fail(2, e.what());
+    }
+  }
 
   // No plan given: the scenario's best configuration.
   if (!plan) {
-    plan_dir = results_dir + "/plan";
+    plan_dir = set.results_dir + "/plan";
     try {
       const std::string best = gather::plan::plan_scenario(scenario_path, plan_dir);
       ROS_INFO("oc: planned %s: %s -> %s", scenario_path.c_str(), best.c_str(), plan_dir.c_str());
@@ -97,73 +184,103 @@ int main(int argc, char** argv) {
   }
   plan_dir = std::filesystem::weakly_canonical(plan_dir).string();
   gather::agent::MissionParams params = gather::agent::mission_params(plan->scenario);
-  if (cycles > 0) params.cycles = cycles;
-  if (seed >= 0) params.seed = static_cast<unsigned>(seed);
+  if (set.cycles > 0) params.cycles = set.cycles;
+  if (set.seed >= 0) params.seed = static_cast<unsigned>(set.seed);
 
   // What can still be wrong with the plan or the settings is bad input (2);
   // what goes wrong after this is a runtime failure (1).
   std::unique_ptr<gather::mission::World> world_ptr;
   std::unique_ptr<gather::agent::TeamSetup> team_ptr;
   std::unique_ptr<gather::agent::LcmFleet> fleet_ptr;
+  std::unique_ptr<gather::agent::LockstepMaster> master_ptr;
+  gather::agent::MasterOptions mo;
   try {
     world_ptr = std::make_unique<gather::mission::World>(plan->scenario);
     team_ptr = std::make_unique<gather::agent::TeamSetup>(*world_ptr, plan->plan, params);
-    const std::string replies = reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(lcm_url) : reply_url;
-    fleet_ptr = std::make_unique<gather::agent::LcmFleet>(lcm_url, replies, true, team_ptr->agents());
+    const std::string replies = set.reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(set.lcm_url) : set.reply_url;
+    fleet_ptr = std::make_unique<gather::agent::LcmFleet>(set.lcm_url, replies, true, team_ptr->agents());
+    mo.tick = set.tick, mo.rate = set.rate, mo.loss = set.loss, mo.loss_seed = static_cast<uint64_t>(set.loss_seed);
+    mo.ready_timeout_s = set.ready_timeout;
+    mo.observe = true;
+    if (set.clock == "wall") mo.clock = gather::agent::ClockMode::kWall;
+    master_ptr = std::make_unique<gather::agent::LockstepMaster>(*team_ptr, *fleet_ptr, gather::agent::plan_digest(*plan), mo);
   } catch (const std::exception& e) {
     return fail(2, e.what());
   }
   gather::agent::TeamSetup& team = *team_ptr;
-  gather::agent::LcmFleet& fleet = *fleet_ptr;
+  gather::agent::LockstepMaster& master = *master_ptr;
 
-  ros::Publisher map_pub = nh.advertise<nav_msgs::OccupancyGrid>("map", 1, /*latch=*/true);
-  ros::Publisher marker_pub = nh.advertise<visualization_msgs::MarkerArray>("gather/markers", 1, /*latch=*/true);
-  map_pub.publish(gather::to_map_msg(scenario.grid, "map", ros::Time::now()));
+  gather::PublisherOptions po;
+  po.frame = set.frame;
+  po.publish_map = map_topic.empty();
+  po.sim_time = set.sim_time;
+  po.view_period = set.view_period;
+  gather::MissionPublisher pub(nh, team, scenario.grid, po);
   nh.setParam("/gather/plan_dir", plan_dir);  // fleet_node starts the agents with it
 
+  int status = 0;
+  const gather::plan::PlanFile& pf = plan->plan.file;
   try {
-    gather::agent::MasterOptions mo;
-    mo.tick = tick, mo.rate = rate, mo.loss = loss, mo.loss_seed = static_cast<uint64_t>(loss_seed);
-    mo.ready_timeout_s = ready_timeout;
-    if (clock == "wall") mo.clock = gather::agent::ClockMode::kWall;
-    gather::agent::LockstepMaster master(team, fleet, gather::agent::plan_digest(*plan), mo);
-    const gather::plan::PlanFile& pf = plan->plan.file;
     ROS_INFO("oc: %s with %d collectors, %d agents, %d cycles of %.1f s; waiting for the fleet", pf.method.c_str(),
              pf.collectors, team.agents(), params.cycles, team.period);
-    marker_pub.publish(gather::team_markers(scenario.oc, master.agents(), "map", ros::Time::now(), false));
+    pub.before_start(master);
     master.start(nullptr);
-    ROS_INFO("oc: all %d agents ready, mission starts (tick %.2f s, %s)", team.agents(), tick,
-             rate > 0 ? (std::to_string(rate) + "x real time").c_str() : "as fast as the lockstep allows");
-    using Clock = std::chrono::steady_clock;
-    auto next_marker = Clock::now();
-    const auto marker_period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / marker_hz));
+    ROS_INFO("oc: all %d agents ready, mission starts (tick %.2f s, %s)", team.agents(), set.tick,
+             set.rate > 0 ? (std::to_string(set.rate) + "x real time").c_str() : "as fast as the lockstep allows");
+    const auto t0 = std::chrono::steady_clock::now();
+    auto speed = [&] {
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      return wall > 0 ? master.now() / wall : 0.0;
+    };
+    auto next_spin = std::chrono::steady_clock::now();
     bool more = true;
     while (more && ros::ok()) {
       more = master.tick(nullptr);
-      if (Clock::now() >= next_marker) {
-        marker_pub.publish(gather::team_markers(scenario.oc, master.agents(), "map", ros::Time::now(), true));
-        next_marker = Clock::now() + marker_period;
+      pub.after_tick(master, speed());
+      if (std::chrono::steady_clock::now() >= next_spin) {
         ros::spinOnce();
+        next_spin = std::chrono::steady_clock::now() + std::chrono::milliseconds(50);
       }
     }
-    marker_pub.publish(gather::team_markers(scenario.oc, master.agents(), "map", ros::Time::now(), true));
     const gather::agent::RunOutcome out = master.finish();
-    gather::agent::RunSettings settings{clock == "wall" ? "lcm, wall clock" : "lcm", tick, rate, loss};
-    gather::agent::write_mission_yaml(results_dir + "/mission.yaml", *plan, params, settings, out);
-    if (!out.completed) return fail(1, out.failure + (ros::ok() ? "" : " (stopped)") + "; " + results_dir + "/mission.yaml");
+    pub.finish(master, out.completed ? "done" : "failed", speed());
+    gather::agent::RunSettings settings{set.clock == "wall" ? "lcm, wall clock" : "lcm", set.tick, set.rate, set.loss};
+    gather::agent::write_mission_yaml(set.results_dir + "/mission.yaml", *plan, params, settings, out);
+    if (!out.completed) {
+      nh.deleteParam("/gather/plan_dir");
+      return fail(1, out.failure + (ros::ok() ? "" : " (stopped)") + "; " + set.results_dir + "/mission.yaml");
+    }
     gather::agent::RunFiles files;
     files.add(pf, params, out);
-    files.write(results_dir);
+    files.write(set.results_dir);
     std::printf("oc: mission done: %s Nc=%d, %d cycles, %zu goals requested, refresh %.1f s (est. %.1f), %.2f goals "
                 "per cycle (est. %.2f); %lld ticks in %.1f s = %.0fx real time -> %s\n",
                 pf.method.c_str(), pf.collectors, params.cycles, out.result.goals.size(), out.result.refresh_mean_s,
                 pf.est_refresh_s, out.result.goals_per_cycle, pf.est_goals, static_cast<long long>(out.ticks),
-                out.wall_ms / 1000.0, out.wall_ms > 0 ? out.end_s * 1000.0 / out.wall_ms : 0.0, results_dir.c_str());
+                out.wall_ms / 1000.0, out.wall_ms > 0 ? out.end_s * 1000.0 / out.wall_ms : 0.0, set.results_dir.c_str());
     std::fflush(stdout);
   } catch (const std::exception& e) {
     nh.deleteParam("/gather/plan_dir");
+    pub.finish(master, "failed", 0.0);
     return fail(1, e.what());
   }
   nh.deleteParam("/gather/plan_dir");
-  return 0;
+
+  // The fleet's agents end by themselves; wait for fleet_node to say so
+  // before ending the launch (it writes fleet.yaml).
+  const auto wait_until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  std::string fleet;
+  while (ros::ok() && std::chrono::steady_clock::now() < wait_until && !nh.getParam("/gather/fleet_status", fleet))
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  if (set.close_on_end && gather::end_launch()) {
+    ROS_INFO("oc: mission over, ending the launch (close_on_end)");
+    // roslaunch stops every node now, this one included (SIGINT).
+    const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(15);
+    while (ros::ok() && std::chrono::steady_clock::now() < limit) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    return status;
+  }
+  if (set.close_on_end) return status;  // not started by roslaunch: just end
+  ROS_INFO("oc: mission over; its topics stay up until you stop the launch (Ctrl-C)");
+  ros::spin();
+  return status;
 }

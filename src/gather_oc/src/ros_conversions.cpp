@@ -1,16 +1,10 @@
 #include "gather_oc/ros_conversions.hpp"
 
+#include <cmath>
+
+#include "gather_core/error.hpp"
+
 namespace gather {
-namespace {
-
-std_msgs::ColorRGBA rgba(float r, float g, float b, float a = 1.0f) {
-  std_msgs::ColorRGBA c;
-  c.r = r, c.g = g, c.b = b, c.a = a;
-  return c;
-}
-
-
-}  // namespace
 
 nav_msgs::OccupancyGrid to_map_msg(const OccupancyGrid& grid, const std::string& frame, const ros::Time& stamp) {
   nav_msgs::OccupancyGrid m;
@@ -27,52 +21,25 @@ nav_msgs::OccupancyGrid to_map_msg(const OccupancyGrid& grid, const std::string&
   return m;
 }
 
-visualization_msgs::MarkerArray team_markers(Point2 oc, const std::vector<agent::Reply>& agents,
-                                             const std::string& frame, const ros::Time& stamp, bool started) {
-  visualization_msgs::MarkerArray out;
-  visualization_msgs::Marker base;
-  base.header.frame_id = frame;
-  base.header.stamp = stamp;
-  base.action = visualization_msgs::Marker::ADD;
-  base.pose.orientation.w = 1.0;
-
-  visualization_msgs::Marker m = base;
-  m.ns = "oc";
-  m.id = 0;
-  m.type = visualization_msgs::Marker::CUBE;
-  m.pose.position.x = oc.x;
-  m.pose.position.y = oc.y;
-  m.pose.position.z = 0.3;
-  m.scale.x = m.scale.y = m.scale.z = 0.6;
-  m.color = rgba(0.85f, 0.1f, 0.1f);
-  out.markers.push_back(m);
-
-  for (const agent::Reply& a : agents) {
-    visualization_msgs::Marker s = base;
-    s.ns = "agents";
-    s.id = a.agent;
-    s.type = visualization_msgs::Marker::SPHERE;
-    s.pose.position.x = a.pose.x;
-    s.pose.position.y = a.pose.y;
-    s.pose.position.z = 0.2;
-    s.scale.x = s.scale.y = s.scale.z = 0.4;
-    s.color = !started ? rgba(1.0f, 0.55f, 0.0f)
-                       : a.role == agent::RoleKind::kCollector ? rgba(0.1f, 0.1f, 0.1f) : rgba(0.15f, 0.35f, 0.9f);
-    out.markers.push_back(s);
-
-    visualization_msgs::Marker t = base;
-    t.ns = "agent_ids";
-    t.id = a.agent;
-    t.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
-    t.text = std::to_string(a.agent);
-    t.pose.position.x = a.pose.x;
-    t.pose.position.y = a.pose.y + 0.4;
-    t.pose.position.z = 0.5;
-    t.scale.z = 0.35;
-    t.color = rgba(0.1f, 0.1f, 0.1f);
-    out.markers.push_back(t);
-  }
-  return out;
+OccupancyGrid from_map_msg(const nav_msgs::OccupancyGrid& msg, const std::string& topic) {
+  const auto& i = msg.info;
+  if (i.width == 0 || i.height == 0 || i.width > 100000 || i.height > 100000)
+    throw Error(topic, "map of " + std::to_string(i.width) + " x " + std::to_string(i.height) + " cells");
+  if (msg.data.size() != static_cast<std::size_t>(i.width) * i.height)
+    throw Error(topic, "map data holds " + std::to_string(msg.data.size()) + " cells, not " + std::to_string(i.width) +
+                           " x " + std::to_string(i.height));
+  if (!(i.resolution > 0.0f) || !std::isfinite(i.resolution))
+    throw Error(topic, "map resolution must be > 0 m/cell, got " + std::to_string(i.resolution));
+  const auto& q = i.origin.orientation;
+  if (!std::isfinite(i.origin.position.x) || !std::isfinite(i.origin.position.y))
+    throw Error(topic, "map origin is not a finite position");
+  if (std::abs(q.x) > 1e-6 || std::abs(q.y) > 1e-6 || std::abs(q.z) > 1e-6)
+    throw Error(topic, "map origin is rotated; only maps whose origin has yaw 0 are supported");
+  std::vector<int8_t> values(msg.data.begin(), msg.data.end());
+  std::vector<uint8_t> free(values.size());
+  for (std::size_t k = 0; k < values.size(); ++k) free[k] = values[k] == 0;
+  return OccupancyGrid(static_cast<int>(i.width), static_cast<int>(i.height), i.resolution,
+                       Point2{i.origin.position.x, i.origin.position.y}, std::move(values), std::move(free));
 }
 
 }  // namespace gather

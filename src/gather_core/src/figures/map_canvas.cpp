@@ -1,5 +1,7 @@
 #include "map_canvas.hpp"
 
+#include "gather_core/figures/palette.hpp"
+
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -13,19 +15,20 @@ namespace gather {
 namespace figures {
 
 const std::vector<cv::Vec3b>& fill_palette() {
-  static const std::vector<cv::Vec3b> p = {
-      {216, 99, 67},   {75, 180, 60},  {25, 225, 255}, {49, 130, 245},  {180, 30, 145}, {244, 212, 66},
-      {230, 50, 240},  {69, 239, 191}, {212, 190, 250}, {144, 153, 70}, {255, 190, 220}, {36, 99, 154},
-      {195, 255, 170}, {0, 128, 128},  {177, 216, 255}, {200, 250, 255}};
+  static const std::vector<cv::Vec3b> p = [] {
+    std::vector<cv::Vec3b> out;
+    for (const Rgb& c : segment_palette()) out.emplace_back(c.b, c.g, c.r);
+    return out;
+  }();
   return p;
 }
 
 const std::vector<cv::Scalar>& line_palette() {
-  // No black or grey: groups are drawn as light tints of these, and grey
-  // stands for "delivers to the OC".
-  static const std::vector<cv::Scalar> p = {
-      {200, 100, 30}, {20, 130, 240}, {40, 150, 40},  {150, 50, 150}, {40, 80, 150},
-      {150, 150, 0},  {180, 40, 220}, {0, 140, 140},  {130, 40, 40},  {60, 60, 200}};
+  static const std::vector<cv::Scalar> p = [] {
+    std::vector<cv::Scalar> out;
+    for (const Rgb& c : collector_palette()) out.emplace_back(c.b, c.g, c.r);
+    return out;
+  }();
   return p;
 }
 

@@ -24,13 +24,13 @@ void require(bool ok, const std::string& file, const std::string& what) {
 
 }  // namespace
 
-Scenario load_scenario(const std::string& path) {
+Scenario load_scenario_settings(const std::string& path, bool map_required) {
   const YAML::Node root = yaml::load_file(path);
   yaml::Fields f(root, path, "");
   f.allow({"map", "oc", "team", "radio", "mission", "planner"});
   Scenario s;
   s.path = path;
-  s.map_path = yaml::resolve_path(path, f.required<std::string>("map"));
+  if (map_required || f.has("map")) s.map_path = yaml::resolve_path(path, f.required<std::string>("map"));
   const std::vector<double> oc = f.required<std::vector<double>>("oc");
   require(oc.size() == 2, path, "oc must be [x, y] in meters");
   s.oc = Point2{oc[0], oc[1]};
@@ -97,9 +97,19 @@ Scenario load_scenario(const std::string& path) {
   require(max_cells == 0 || max_cells >= 10000, path,
           "planner.max_cells must be 0 (plan on the map's own grid) or >= 10000, got " + std::to_string(max_cells));
   p.max_cells = static_cast<std::size_t>(max_cells);
+  return s;
+}
 
+Scenario load_scenario(const std::string& path) {
+  Scenario s = load_scenario_settings(path, true);
   s.map_meta = read_map_metadata(s.map_path);
-  s.grid = threshold_map_image(read_map_image(s.map_meta.image), s.map_meta);
+  attach_map(s, threshold_map_image(read_map_image(s.map_meta.image), s.map_meta));
+  return s;
+}
+
+void attach_map(Scenario& s, OccupancyGrid grid) {
+  const std::string& path = s.path;
+  s.grid = std::move(grid);
   const Cell oc_cell = s.grid.world_to_cell(s.oc);
   require(s.grid.contains(oc_cell), path,
           "oc [" + num(s.oc.x) + ", " + num(s.oc.y) + "] is outside the map (" + num(s.grid.origin().x) + ".." +
@@ -107,7 +117,6 @@ Scenario load_scenario(const std::string& path) {
               num(s.grid.origin().y + s.grid.height() * s.grid.resolution()) + " m)");
   require(s.grid.is_free(oc_cell), path,
           "oc [" + num(s.oc.x) + ", " + num(s.oc.y) + "] is on an obstacle or unknown cell, not free space");
-  return s;
 }
 
 int planning_factor(const Scenario& s) { return choose_planning_grid(s.grid, s.oc, s.planner.max_cells).factor; }

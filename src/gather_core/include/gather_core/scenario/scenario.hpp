@@ -63,6 +63,14 @@ struct Scenario {
 // free cell all throw gather::Error naming the file and the problem.
 Scenario load_scenario(const std::string& path);
 
+// The scenario's settings without its map (grid empty): `map:` may be absent
+// unless `map_required` (map_path is then empty). For a map that comes from
+// elsewhere (a ROS map topic): attach it with attach_map().
+Scenario load_scenario_settings(const std::string& path, bool map_required);
+// Sets the scenario's grid and checks the OC against it (inside the map, on
+// free space); throws gather::Error naming the scenario file.
+void attach_map(Scenario& s, OccupancyGrid grid);
+
 // The scenario on its planning grid: the map coarsened by `factor` (>= 1;
 // 1 = unchanged). planning_factor() chooses the factor from
 // planner.max_cells (grid/planning_grid.hpp).

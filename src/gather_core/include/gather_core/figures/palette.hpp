@@ -1,0 +1,24 @@
+#pragma once
+// The colours of gather's pictures, shared by the PNG figures and the RViz
+// markers of gather_oc, so a segment or a collector looks the same in both.
+// No OpenCV: plain RGB.
+#include <cstdint>
+#include <vector>
+
+namespace gather {
+namespace figures {
+
+struct Rgb {
+  uint8_t r = 0, g = 0, b = 0;
+};
+
+// Well-separated fill colours for segments, light enough for dark marks on
+// top; no red (the OC). colour_segments() picks among them so that
+// neighbours differ.
+const std::vector<Rgb>& segment_palette();
+// Strong colours for collectors (routes, their workers), distinct from each
+// other; no black or grey (grey stands for "delivers to the OC").
+const std::vector<Rgb>& collector_palette();
+
+}  // namespace figures
+}  // namespace gather

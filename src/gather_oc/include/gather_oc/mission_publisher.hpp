@@ -1,0 +1,54 @@
+#pragma once
+// The OC's ROS side of a mission: every topic a user sees (see
+// mission_view.hpp and plan_markers.hpp for what each shows), published as
+// the lockstep master advances. With use_sim_time it also publishes /clock
+// from the mission time, so RViz and rosbag follow the mission; the stamps
+// of everything it publishes are then mission time [s].
+#include <ros/ros.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gather_agent/runner/lockstep.hpp"
+#include "gather_oc/mission_view.hpp"
+
+namespace gather {
+
+struct PublisherOptions {
+  std::string frame = "map";
+  bool publish_map = true;     // /map from the scenario (false: a map_server publishes it)
+  bool sim_time = false;       // publish /clock; stamps are mission time
+  double view_period = 0.5;    // [s] of mission time between two views (markers, TF, poses)
+  double state_period = 1.0;   // [s] of mission time between two /gather/agents and /gather/status
+};
+
+class MissionPublisher {
+ public:
+  // `map` is the scenario's map at its own resolution (published on /map).
+  MissionPublisher(ros::NodeHandle& nh, const agent::TeamSetup& team, const OccupancyGrid& map,
+                   const PublisherOptions& options);
+
+  // Before the mission: the map, the plan's markers, the team at its start (waiting).
+  void before_start(agent::LockstepMaster& master);
+  // After a tick of `master` at mission time t: /clock every tick, views every view_period.
+  void after_tick(agent::LockstepMaster& master, double rate);
+  // The mission's last views and its status ("done" or "failed").
+  void finish(agent::LockstepMaster& master, const std::string& state, double rate);
+
+ private:
+  ros::Time stamp(double t) const;
+  void views(agent::LockstepMaster& master, double t, double rate, const std::string& state);
+
+  const agent::TeamSetup& team_;
+  const OccupancyGrid& map_;
+  PublisherOptions options_;
+  view::Style style_;
+  view::MissionView view_;
+  agent::ViewEvents events_;
+  ros::Publisher clock_, map_pub_, plan_, team_markers_, goals_, paths_, tf_, agents_, status_, cycles_;
+  std::vector<ros::Publisher> poses_;
+  double next_view_ = 0.0, next_state_ = 0.0, last_goals_ = -1e300, last_paths_ = -1e300;
+};
+
+}  // namespace gather

@@ -1,0 +1,80 @@
+#pragma once
+// What changes during a mission, as ROS messages, built from the OC's
+// ledger (agent::OcRole), the agents' last tick replies and the events the
+// lockstep master observed (goals measured, custody hand-overs):
+//   /gather/team_markers   agents by role (collector squares, worker discs in
+//                          their collector's colour, workers of the OC black;
+//                          orange before the mission starts) with their ids,
+//                          radio links between agents in range (thin grey)
+//                          and custody hand-overs of the last seconds (green);
+//                          a status line above the map (time, request, goals)
+//   /gather/goal_markers   goals of the newest two requests by state (pending
+//                          orange, carried blue, delivered green, expired red,
+//                          dropped purple), and every goal still carried
+//   /gather/path_markers   each worker's planned path
+//   /tf                    map -> agent_<k>/base_link (REP-105 names)
+//   /gather/agent_<k>/pose geometry_msgs/PoseStamped
+//   /gather/agents         gather_msgs/AgentStates
+//   /gather/status         gather_msgs/MissionStatus
+//   /gather/cycle          gather_msgs/CycleStats, once a cycle's goals are all resolved
+#include <gather_msgs/AgentStates.h>
+#include <gather_msgs/CycleStats.h>
+#include <gather_msgs/MissionStatus.h>
+#include <tf2_msgs/TFMessage.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <string>
+#include <vector>
+
+#include "gather_agent/roles/oc_role.hpp"
+#include "gather_agent/runner/lockstep.hpp"
+#include "gather_oc/view_style.hpp"
+
+namespace gather {
+namespace view {
+
+// The frame of agent `id`'s base (REP-105, one prefix per robot).
+std::string agent_frame(int id);
+
+class MissionView {
+ public:
+  MissionView(const agent::TeamSetup& team, const Style& style, std::string frame);
+
+  // Takes what the master observed since the last call.
+  void take(const agent::ViewEvents& events);
+
+  visualization_msgs::MarkerArray team_markers(const std::vector<agent::Reply>& agents, double t, bool started,
+                                               const ros::Time& stamp);
+  visualization_msgs::MarkerArray goal_markers(const agent::OcRole& oc, const ros::Time& stamp) const;
+  // True when some worker's planned path changed since the last path_markers().
+  bool paths_changed(const std::vector<agent::Reply>& agents) const;
+  visualization_msgs::MarkerArray path_markers(const std::vector<agent::Reply>& agents, const ros::Time& stamp);
+  tf2_msgs::TFMessage transforms(const std::vector<agent::Reply>& agents, const ros::Time& stamp);
+  gather_msgs::AgentStates agent_states(const std::vector<agent::Reply>& agents, const agent::OcRole& oc,
+                                        const ros::Time& stamp) const;
+  gather_msgs::MissionStatus status(const agent::OcRole& oc, const std::string& state, double t, double rate,
+                                    const ros::Time& stamp) const;
+  // One line above the map: mission time, the request, goals by state
+  // (namespace "status" of /gather/team_markers).
+  visualization_msgs::Marker status_text(const agent::OcRole& oc, const std::string& state, double t,
+                                         const ros::Time& stamp) const;
+  // Cycles whose goals have all been resolved since the last call, in order.
+  std::vector<gather_msgs::CycleStats> resolved_cycles(const agent::OcRole& oc, const ros::Time& stamp);
+
+  // The view's state of goal `id` (for tests): 0 pending, 1 carried, 2 delivered, 3 expired, 4 dropped.
+  int goal_state(const agent::OcRole& oc, int id) const;
+
+ private:
+  const agent::TeamSetup& team_;
+  Style style_;
+  std::string frame_;
+  std::vector<uint8_t> measured_;                // by goal id: reported measured by its worker
+  std::vector<agent::HandoverEvent> handovers_;  // recent ones
+  std::vector<uint32_t> shown_path_;             // path revision shown, by agent
+  std::vector<double> yaw_;                      // by agent, from its last motion
+  std::vector<Point2> last_pose_;
+  int next_cycle_ = 0;                           // next cycle to report as resolved
+};
+
+}  // namespace view
+}  // namespace gather

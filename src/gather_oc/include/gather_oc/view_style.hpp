@@ -1,0 +1,51 @@
+#pragma once
+// How the mission looks in RViz: colours (the PNG figures' palette, see
+// gather_core/figures/palette.hpp), marker sizes scaled to the map, heights
+// that keep overlapping layers in order in a top-down view.
+#include <std_msgs/ColorRGBA.h>
+#include <visualization_msgs/Marker.h>
+
+#include <string>
+#include <vector>
+
+#include "gather_core/figures/palette.hpp"
+#include "gather_core/grid/occupancy_grid.hpp"
+
+namespace gather {
+namespace view {
+
+std_msgs::ColorRGBA rgba(float r, float g, float b, float a = 1.0f);
+std_msgs::ColorRGBA rgba(figures::Rgb c, float a = 1.0f);
+
+// Layer heights [m] (z), bottom to top.
+constexpr double kZSegments = 0.01, kZCoverage = 0.02, kZRoutes = 0.04, kZMeetings = 0.05, kZPaths = 0.06,
+                 kZGoals = 0.08, kZLinks = 0.10, kZAgents = 0.15, kZLabels = 0.5;
+
+struct Style {
+  // Builds the style of a map: `unit` [m] is the size of an agent's marker,
+  // about 1/90 of the map's larger side (a 60 m office: 0.67 m).
+  explicit Style(const OccupancyGrid& map);
+  double unit = 0.5;
+
+  std_msgs::ColorRGBA oc = rgba(0.85f, 0.08f, 0.08f);
+  std_msgs::ColorRGBA oc_worker = rgba(0.08f, 0.08f, 0.08f);  // workers that deliver to the OC themselves
+  std_msgs::ColorRGBA waiting = rgba(1.0f, 0.55f, 0.0f);      // before the mission starts
+  std_msgs::ColorRGBA label = rgba(0.05f, 0.05f, 0.05f);
+  std_msgs::ColorRGBA goal_pending = rgba(1.0f, 0.6f, 0.0f);
+  std_msgs::ColorRGBA goal_carried = rgba(0.2f, 0.45f, 1.0f);
+  std_msgs::ColorRGBA goal_delivered = rgba(0.1f, 0.7f, 0.2f);
+  std_msgs::ColorRGBA goal_expired = rgba(0.85f, 0.1f, 0.1f);
+  std_msgs::ColorRGBA goal_dropped = rgba(0.6f, 0.0f, 0.6f);
+  std_msgs::ColorRGBA link = rgba(0.45f, 0.45f, 0.5f, 0.6f);
+  std_msgs::ColorRGBA handover = rgba(0.0f, 0.85f, 0.3f);
+
+  // A collector's colour (by collector index), its workers' too.
+  std_msgs::ColorRGBA collector(int index, float a = 1.0f) const;
+};
+
+// A marker with the frame, stamp, namespace, id and type set, identity pose.
+visualization_msgs::Marker marker(const std::string& frame, const ros::Time& stamp, const std::string& ns, int id,
+                                  int type);
+
+}  // namespace view
+}  // namespace gather

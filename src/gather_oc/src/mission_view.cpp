@@ -1,0 +1,314 @@
+#include "gather_oc/mission_view.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "gather_agent/roles/worker_role.hpp"
+#include "gather_core/mission/simulator.hpp"
+
+namespace gather {
+namespace view {
+namespace {
+
+using visualization_msgs::Marker;
+
+constexpr double kHandoverShown = 3.0;  // [s] of mission time a hand-over stays on screen
+
+geometry_msgs::Point pt(Point2 p, double z = 0.0) {
+  geometry_msgs::Point q;
+  q.x = p.x, q.y = p.y, q.z = z;
+  return q;
+}
+
+enum GoalView { kPending = 0, kCarried, kDelivered, kExpired, kDropped, kGoalViews };
+
+}  // namespace
+
+std::string agent_frame(int id) { return "agent_" + std::to_string(id) + "/base_link"; }
+
+MissionView::MissionView(const agent::TeamSetup& team, const Style& style, std::string frame)
+    : team_(team),
+      style_(style),
+      frame_(std::move(frame)),
+      shown_path_(static_cast<std::size_t>(team.agents()), 0),
+      yaw_(static_cast<std::size_t>(team.agents()), 0.0),
+      last_pose_(static_cast<std::size_t>(team.agents())) {
+  for (int a = 0; a < team.agents(); ++a) last_pose_[static_cast<std::size_t>(a)] = team.start_pose(a);
+}
+
+void MissionView::take(const agent::ViewEvents& events) {
+  for (const agent::MeasuredEvent& m : events.measured) {
+    if (m.goal < 0) continue;
+    if (static_cast<std::size_t>(m.goal) >= measured_.size()) measured_.resize(static_cast<std::size_t>(m.goal) + 1, 0);
+    measured_[static_cast<std::size_t>(m.goal)] = 1;
+  }
+  handovers_.insert(handovers_.end(), events.handovers.begin(), events.handovers.end());
+}
+
+int MissionView::goal_state(const agent::OcRole& oc, int id) const {
+  const mission::GoalRecord& g = oc.goals()[static_cast<std::size_t>(id)];
+  if (g.delivered_at >= 0) return kDelivered;
+  if (g.dropped_at >= 0) return kDropped;
+  if (g.expired_at >= 0) return kExpired;
+  if (oc.resolved(id)) {
+    switch (g.state) {
+      case mission::GoalState::kDelivered: return kDelivered;
+      case mission::GoalState::kDropped: return kDropped;
+      default: return kExpired;
+    }
+  }
+  if (g.measured_at >= 0 || (static_cast<std::size_t>(id) < measured_.size() && measured_[static_cast<std::size_t>(id)]))
+    return kCarried;
+  return kPending;
+}
+
+visualization_msgs::MarkerArray MissionView::team_markers(const std::vector<agent::Reply>& agents, double t,
+                                                          bool started, const ros::Time& stamp) {
+  visualization_msgs::MarkerArray out;
+  const double u = style_.unit;
+  // Links: every pair in radio range, the OC included.
+  Marker links = marker(frame_, stamp, "links", 0, Marker::LINE_LIST);
+  links.scale.x = u * 0.08;
+  links.color = style_.link;
+  links.pose.position.z = kZLinks;
+  const Point2 oc = team_.world.scenario.oc;
+  for (std::size_t a = 0; a < agents.size(); ++a) {
+    if (team_.linked(agents[a].pose, oc)) links.points.push_back(pt(agents[a].pose)), links.points.push_back(pt(oc));
+    for (std::size_t b = a + 1; b < agents.size(); ++b)
+      if (team_.linked(agents[a].pose, agents[b].pose))
+        links.points.push_back(pt(agents[a].pose)), links.points.push_back(pt(agents[b].pose));
+  }
+  if (links.points.empty()) links.action = Marker::DELETE;
+  out.markers.push_back(links);
+
+  // Hand-overs of the last seconds, between where the two are now.
+  handovers_.erase(std::remove_if(handovers_.begin(), handovers_.end(),
+                                  [&](const agent::HandoverEvent& h) { return h.t < t - kHandoverShown || h.t > t; }),
+                   handovers_.end());
+  Marker hand = marker(frame_, stamp, "handovers", 0, Marker::LINE_LIST);
+  hand.scale.x = u * 0.3;
+  hand.color = style_.handover;
+  hand.pose.position.z = kZLinks + 0.01;
+  auto where = [&](int16_t id) {
+    return id == agent::kOc || id < 0 || static_cast<std::size_t>(id) >= agents.size() ? oc
+                                                                                         : agents[static_cast<std::size_t>(id)].pose;
+  };
+  for (const agent::HandoverEvent& h : handovers_) hand.points.push_back(pt(where(h.from))), hand.points.push_back(pt(where(h.to)));
+  if (hand.points.empty()) hand.action = Marker::DELETE;
+  out.markers.push_back(hand);
+
+  for (const agent::Reply& r : agents) {
+    const plan::AgentAssignment& as = team_.assignment(r.agent);
+    const bool collector = as.collector;
+    Marker m = marker(frame_, stamp, "agents", r.agent, collector ? Marker::CUBE : Marker::CYLINDER);
+    m.pose.position = pt(r.pose, kZAgents);
+    m.scale.x = m.scale.y = u * (collector ? 1.1 : 1.0);
+    m.scale.z = u * 0.3;
+    m.color = !started ? style_.waiting : as.delivers_to >= 0 ? style_.collector(as.delivers_to) : style_.oc_worker;
+    out.markers.push_back(m);
+    Marker id = marker(frame_, stamp, "agent_ids", r.agent, Marker::TEXT_VIEW_FACING);
+    id.pose.position = pt(Point2{r.pose.x + u * 0.9, r.pose.y + u * 0.9}, kZLabels);
+    id.scale.z = u * 1.1;
+    id.color = style_.label;
+    id.text = (collector ? "C" + std::to_string(as.delivers_to) + ":" : "") + std::to_string(r.agent);
+    out.markers.push_back(id);
+  }
+  return out;
+}
+
+visualization_msgs::MarkerArray MissionView::goal_markers(const agent::OcRole& oc, const ros::Time& stamp) const {
+  static const char* const names[kGoalViews] = {"goals_pending", "goals_carried", "goals_delivered", "goals_expired",
+                                                "goals_dropped"};
+  const std_msgs::ColorRGBA colours[kGoalViews] = {style_.goal_pending, style_.goal_carried, style_.goal_delivered,
+                                                   style_.goal_expired, style_.goal_dropped};
+  visualization_msgs::MarkerArray out;
+  std::vector<Marker> lists;
+  for (int k = 0; k < kGoalViews; ++k) {
+    Marker m = marker(frame_, stamp, names[k], 0, Marker::CUBE_LIST);
+    m.scale.x = m.scale.y = style_.unit * (k == kPending ? 0.55 : 0.5);
+    m.scale.z = 0.05;
+    m.color = colours[k];
+    m.pose.position.z = kZGoals + 0.002 * k;
+    lists.push_back(m);
+  }
+  const int newest = oc.issued() - 1;
+  const std::size_t n = oc.requested();
+  for (std::size_t i = 0; i < n; ++i) {
+    const mission::GoalRecord& g = oc.goals()[i];
+    const int s = goal_state(oc, static_cast<int>(i));
+    if (g.cycle < newest - 1 && s != kCarried) continue;
+    lists[static_cast<std::size_t>(s)].points.push_back(pt(g.point));
+  }
+  for (Marker& m : lists) {
+    if (m.points.empty()) m.action = Marker::DELETE;
+    out.markers.push_back(m);
+  }
+  return out;
+}
+
+bool MissionView::paths_changed(const std::vector<agent::Reply>& agents) const {
+  for (const agent::Reply& r : agents)
+    if (r.path_revision != shown_path_[static_cast<std::size_t>(r.agent)]) return true;
+  return false;
+}
+
+visualization_msgs::MarkerArray MissionView::path_markers(const std::vector<agent::Reply>& agents,
+                                                          const ros::Time& stamp) {
+  visualization_msgs::MarkerArray out;
+  for (const agent::Reply& r : agents) {
+    shown_path_[static_cast<std::size_t>(r.agent)] = r.path_revision;
+    const plan::AgentAssignment& as = team_.assignment(r.agent);
+    if (as.collector) continue;  // its route is on /gather/plan_markers
+    Marker m = marker(frame_, stamp, "paths", r.agent, Marker::LINE_STRIP);
+    m.scale.x = style_.unit * 0.12;
+    m.color = as.delivers_to >= 0 ? style_.collector(as.delivers_to, 0.75f) : rgba(0.1f, 0.1f, 0.1f, 0.6f);
+    m.pose.position.z = kZPaths;
+    for (const Point2& p : r.path) m.points.push_back(pt(p));
+    if (m.points.size() < 2) m.action = Marker::DELETE, m.points.clear();
+    out.markers.push_back(m);
+  }
+  return out;
+}
+
+tf2_msgs::TFMessage MissionView::transforms(const std::vector<agent::Reply>& agents, const ros::Time& stamp) {
+  tf2_msgs::TFMessage out;
+  for (const agent::Reply& r : agents) {
+    const std::size_t a = static_cast<std::size_t>(r.agent);
+    const double dx = r.pose.x - last_pose_[a].x, dy = r.pose.y - last_pose_[a].y;
+    if (dx * dx + dy * dy > 1e-6) yaw_[a] = std::atan2(dy, dx);  // heading: the way it moved
+    last_pose_[a] = r.pose;
+    geometry_msgs::TransformStamped tf;
+    tf.header.frame_id = frame_;
+    tf.header.stamp = stamp;
+    tf.child_frame_id = agent_frame(r.agent);
+    tf.transform.translation.x = r.pose.x;
+    tf.transform.translation.y = r.pose.y;
+    tf.transform.rotation.z = std::sin(yaw_[a] / 2);
+    tf.transform.rotation.w = std::cos(yaw_[a] / 2);
+    out.transforms.push_back(tf);
+  }
+  return out;
+}
+
+gather_msgs::AgentStates MissionView::agent_states(const std::vector<agent::Reply>& agents, const agent::OcRole& oc,
+                                                   const ros::Time& stamp) const {
+  gather_msgs::AgentStates out;
+  out.header.frame_id = frame_;
+  out.header.stamp = stamp;
+  for (const agent::Reply& r : agents) {
+    const plan::AgentAssignment& as = team_.assignment(r.agent);
+    gather_msgs::AgentState s;
+    s.id = r.agent;
+    s.role = as.collector ? gather_msgs::AgentState::COLLECTOR : gather_msgs::AgentState::WORKER;
+    s.role_name = as.collector ? "collector" : "worker";
+    s.collector = static_cast<int16_t>(!as.collector && as.delivers_to >= 0 ? team_.collector_agent(as.delivers_to) : -1);
+    s.phase = as.collector ? "route" : agent::WorkerRole::phase_name(r.phase);
+    s.x = r.pose.x, s.y = r.pose.y;
+    s.measured = static_cast<int32_t>(r.report.measured);
+    s.carried = r.carried;
+    s.pending = static_cast<int32_t>(r.report.pending);
+    s.delivered = static_cast<int32_t>(oc.delivered_by(r.agent));
+    s.expired = static_cast<int32_t>(r.report.expired);
+    s.dropped = static_cast<int32_t>(r.report.dropped);
+    s.sent = r.link.sent, s.received = r.link.received, s.gated = r.link.gated, s.lost = r.link.lost;
+    out.agents.push_back(s);
+  }
+  return out;
+}
+
+gather_msgs::MissionStatus MissionView::status(const agent::OcRole& oc, const std::string& state, double t,
+                                               double rate, const ros::Time& stamp) const {
+  gather_msgs::MissionStatus s;
+  s.header.frame_id = frame_;
+  s.header.stamp = stamp;
+  s.state = state;
+  s.scenario = team_.world.scenario.path;
+  s.plan = team_.plan.source;
+  s.method = team_.plan.file.method;
+  s.collectors = static_cast<uint16_t>(team_.plan.file.collectors);
+  s.agents = static_cast<uint16_t>(team_.agents());
+  s.time = t;
+  s.period = team_.period;
+  s.cycle = static_cast<uint32_t>(std::max(0, oc.issued() - 1));
+  s.cycles = static_cast<uint32_t>(team_.params.cycles);
+  s.requested = static_cast<uint32_t>(oc.requested());
+  double sum = 0.0;
+  for (std::size_t i = 0; i < oc.requested(); ++i) {
+    switch (goal_state(oc, static_cast<int>(i))) {
+      case kPending: ++s.pending; break;
+      case kCarried: ++s.carried; break;
+      case kDelivered: {
+        const mission::GoalRecord& g = oc.goals()[i];
+        ++s.delivered;
+        sum += g.delivered_at - g.requested_at;
+        s.refresh_max = std::max(s.refresh_max, g.delivered_at - g.requested_at);
+        break;
+      }
+      case kExpired: ++s.expired; break;
+      default: ++s.dropped; break;
+    }
+  }
+  s.refresh_mean = s.delivered > 0 ? sum / s.delivered : 0.0;
+  s.rate = rate;
+  return s;
+}
+
+visualization_msgs::Marker MissionView::status_text(const agent::OcRole& oc, const std::string& state, double t,
+                                                    const ros::Time& stamp) const {
+  const gather_msgs::MissionStatus s = status(oc, state, t, 0.0, stamp);
+  const OccupancyGrid& g = team_.world.scenario.grid;
+  Marker m = marker(frame_, stamp, "status", 0, Marker::TEXT_VIEW_FACING);
+  m.pose.position.x = g.origin().x + g.width() * g.resolution() / 2;
+  m.pose.position.y = g.origin().y + g.height() * g.resolution() + style_.unit * 1.6;
+  m.pose.position.z = kZLabels;
+  m.scale.z = style_.unit * 1.6;
+  m.color = rgba(0.95f, 0.95f, 0.95f);
+  char text[256];
+  std::snprintf(text, sizeof text, "t %.0f s | %s | request %u of %u | goals: %u pending, %u carried, %u delivered, %u expired",
+                t, state.c_str(), oc.issued() > 0 ? s.cycle + 1 : 0, s.cycles, s.pending, s.carried, s.delivered,
+                s.expired + s.dropped);
+  m.text = text;
+  return m;
+}
+
+std::vector<gather_msgs::CycleStats> MissionView::resolved_cycles(const agent::OcRole& oc, const ros::Time& stamp) {
+  std::vector<gather_msgs::CycleStats> out;
+  const std::vector<mission::GoalRecord>& goals = oc.goals();
+  for (;;) {
+    if (next_cycle_ >= oc.issued()) break;
+    std::size_t end = 0;  // goals of cycles 0..next_cycle_
+    bool resolved = true;
+    for (std::size_t i = 0; i < oc.requested() && goals[i].cycle <= next_cycle_; ++i, ++end)
+      if (goals[i].cycle == next_cycle_ && !oc.resolved(static_cast<int32_t>(i))) resolved = false;
+    if (!resolved) break;
+    const std::vector<mission::GoalRecord> prefix(goals.begin(), goals.begin() + static_cast<std::ptrdiff_t>(end));
+    const std::vector<mission::CycleStats> rows = mission::account(prefix, next_cycle_ + 1, team_.period);
+    const mission::CycleStats& c = rows.back();
+    gather_msgs::CycleStats m;
+    m.header.stamp = stamp;
+    m.cycle = static_cast<uint32_t>(c.cycle);
+    m.requested_at = c.requested_at;
+    m.requested = static_cast<uint32_t>(c.requested);
+    m.delivered = static_cast<uint32_t>(c.delivered);
+    m.expired = static_cast<uint32_t>(c.expired);
+    m.dropped = static_cast<uint32_t>(c.dropped);
+    m.refresh_mean = c.refresh_mean_s;
+    m.refresh_max = c.refresh_max_s;
+    double sum = 0.0;
+    for (const mission::CycleStats& r : rows) {
+      m.total_requested += static_cast<uint32_t>(r.requested);
+      m.total_delivered += static_cast<uint32_t>(r.delivered);
+      sum += r.refresh_mean_s * r.delivered;
+    }
+    m.total_refresh_mean = m.total_delivered > 0 ? sum / m.total_delivered : 0.0;
+    m.est_refresh = team_.plan.file.est_refresh_s;
+    m.est_goals = team_.plan.file.est_goals;
+    out.push_back(m);
+    ++next_cycle_;
+  }
+  return out;
+}
+
+}  // namespace view
+}  // namespace gather

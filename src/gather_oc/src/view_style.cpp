@@ -1,0 +1,42 @@
+#include "gather_oc/view_style.hpp"
+
+#include <algorithm>
+
+namespace gather {
+namespace view {
+
+std_msgs::ColorRGBA rgba(float r, float g, float b, float a) {
+  std_msgs::ColorRGBA c;
+  c.r = r, c.g = g, c.b = b, c.a = a;
+  return c;
+}
+
+std_msgs::ColorRGBA rgba(figures::Rgb c, float a) { return rgba(c.r / 255.0f, c.g / 255.0f, c.b / 255.0f, a); }
+
+Style::Style(const OccupancyGrid& map) {
+  const double side = std::max(map.width(), map.height()) * map.resolution();
+  unit = std::clamp(side / 90.0, 0.15, 5.0);
+}
+
+std_msgs::ColorRGBA Style::collector(int index, float a) const {
+  const auto& p = figures::collector_palette();
+  return rgba(p[static_cast<std::size_t>(std::max(index, 0)) % p.size()], a);
+}
+
+visualization_msgs::Marker marker(const std::string& frame, const ros::Time& stamp, const std::string& ns, int id,
+                                  int type) {
+  visualization_msgs::Marker m;
+  m.header.frame_id = frame;
+  m.header.stamp = stamp;
+  m.ns = ns;
+  m.id = id;
+  m.type = type;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = m.scale.y = m.scale.z = 1.0;
+  m.color = rgba(1.0f, 1.0f, 1.0f);
+  return m;
+}
+
+}  // namespace view
+}  // namespace gather
