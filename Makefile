@@ -70,10 +70,11 @@ test-cli: build
 	tests/cli/bad_plan.sh $(G) "$(WS)/devel/lib/gather_oc/oc_node $(abspath maps/office.scenario.yaml)"
 
 # The agent runtime over LCM against one process (gather run --lcm), and
-# roslaunch gather_oc mission.launch end to end, in a private network namespace.
+# roslaunch gather_oc mission.launch / review.launch end to end with RViz on a
+# virtual display (screenshots in results/e2e/), in a private network namespace.
 test-e2e: build
 	tools/netns-run $(PYTHON) tests/e2e/runtime_e2e.py
-	tools/netns-run bash -c '$(SETUP) && $(PYTHON) tests/e2e/mission_e2e.py'
+	tools/netns-run xvfb-run -a -s "-screen 0 1400x900x24" bash -c '$(SETUP) && $(PYTHON) tests/e2e/mission_e2e.py'
 
 # FMM against scikit-fmm on the shared benchmark grids, one table (docs/fmm.md);
 # plus the Google Benchmark micro-benchmarks of the solver.

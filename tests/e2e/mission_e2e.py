@@ -1,48 +1,155 @@
 #!/usr/bin/env python3
-"""End-to-end test of `roslaunch gather_oc mission.launch`.
+"""End-to-end test of the mission in ROS (`roslaunch gather_oc mission.launch`
+and `review.launch`), with RViz on a virtual display.
 
-Runs a real mission (the OC node plans the scenario and drives the lockstep
-clock, the fleet of gather_agent processes executes it over LCM, rosbag
-records) for a few cycles, and checks the results (mission.yaml, the CSVs:
-every goal resolved, nothing lost), the fleet report (every agent ended by
-itself with status 0), that the mission's goals.csv is byte for byte the one
-of `gather run` in one process on the same plan and seed, the recorded /map
-against the map file, and the markers of all N agents. A bad scenario or plan
-must make the OC exit with status 2 and one line naming the file.
+1. maps/office with a collector plan (gather plan --config pap:4), RViz and
+   rosbag: a quiet end (exit 0, no "REQUIRED process has died"), the results
+   (every goal resolved, the fleet exited 0 by itself), goals.csv byte for
+   byte the one of `gather run` in one process, the bag (its topics, /clock,
+   TF map -> agent_k/base_link for every agent, agents moving away from the
+   OC, the recorded /map against the map file, every agent's marker), and two
+   screenshots of RViz (the routes' colours and goals on screen, the picture
+   changing far from the OC as the team moves out).
+2. ../shared/maps/ipa/office_a with its own pap:4 plan: RViz's view fits this
+   map too (a screenshot with its routes), then the launch is stopped with
+   Ctrl-C (SIGINT) as a user would.
+3. review.launch on the bag of 1: RViz shows the replay (a screenshot), and
+   stays open after the bag ends.
+4. map_topic:=/map with a node that publishes the map as map_server does and
+   a scenario without `map:`: the mission runs on the received map (saved
+   for the agents), with the same goals as `gather run` on the file's map.
+5. The tools a ROS user reaches for: rostopic echo -p on the mission topics
+   (from the bag), rosbag info, rosrun.
+6. Bad input through roslaunch: the OC exits 2 with one line naming the file.
 
-Must run inside a private network namespace with the workspace sourced:
-  tools/netns-run bash -c 'source catkin_ws/devel/setup.bash && python3 tests/e2e/mission_e2e.py'
+The screenshots stay in results/e2e/ for a person to open. Must run inside a
+private network namespace, on an X display, with the workspace sourced:
+  tools/netns-run xvfb-run -a -s "-screen 0 1400x900x24" bash -c \\
+    'source catkin_ws/devel/setup.bash && python3 tests/e2e/mission_e2e.py'
 """
 import argparse
 import os
 import re
+import shutil
+import signal
 import subprocess
 import sys
 import tempfile
+import time
 
 import numpy as np
 import yaml
 from PIL import Image
 
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+GATHER = os.path.join(REPO, "catkin_ws", "devel", "lib", "gather_core", "gather")
+SHOTS = os.path.join(REPO, "results", "e2e")
+# The collectors' colours (gather_core/src/figures/palette.cpp) and the goals' (gather_oc/view_style.hpp).
+COLLECTOR_RGB = [(30, 100, 200), (240, 130, 20), (40, 150, 40), (150, 50, 150)]
+GOAL_RGB = {"pending": (255, 153, 0), "carried": (51, 115, 255), "delivered": (26, 179, 51), "expired": (217, 26, 26)}
 results = []
 
 
 def check(name, ok, detail=""):
-    results.append(ok)
-    print("%s %s%s" % ("ok  " if ok else "FAIL", name, "" if ok else ": " + detail), flush=True)
+    results.append(bool(ok))
+    print("%s %s%s" % ("ok  " if ok else "FAIL", name, "" if ok else ": " + str(detail)), flush=True)
     return ok
 
 
-def roslaunch(args, timeout):
-    p = subprocess.run(["roslaunch", "gather_oc", "mission.launch"] + args, stdout=subprocess.PIPE,
+def roslaunch(args, timeout, launch="mission.launch"):
+    p = subprocess.run(["roslaunch", "gather_oc", launch] + args, stdout=subprocess.PIPE,
                        stderr=subprocess.STDOUT, timeout=timeout, text=True)
     return p.returncode, p.stdout
 
 
+class Launch:
+    """roslaunch in the background, its output in a file, screenshots on cue."""
+
+    def __init__(self, args, log, launch="mission.launch"):
+        self.log = log
+        self.f = open(log, "w")
+        self.p = subprocess.Popen(["roslaunch"] + (["gather_oc", launch] if not launch.startswith("/") else [launch]) +
+                                  args, stdout=self.f, stderr=subprocess.STDOUT)
+
+    def output(self):
+        self.f.flush()
+        return open(self.log).read()
+
+    def wait_for(self, pattern, timeout):
+        t0 = time.time()
+        while time.time() - t0 < timeout:
+            if re.search(pattern, self.output()):
+                return True
+            if self.p.poll() is not None:
+                return bool(re.search(pattern, self.output()))
+            time.sleep(0.2)
+        return False
+
+    def wait(self, timeout):
+        try:
+            return self.p.wait(timeout)
+        except subprocess.TimeoutExpired:
+            return None
+
+    def interrupt(self, timeout=30):
+        if self.p.poll() is None:
+            self.p.send_signal(signal.SIGINT)
+        return self.wait(timeout)
+
+    def close(self):
+        if self.p.poll() is None:
+            self.p.kill()
+            self.p.wait()
+        self.f.close()
+
+
+def screenshot(path):
+    subprocess.run(["import", "-window", "root", path], check=True, timeout=30)
+    return np.asarray(Image.open(path).convert("RGB")).astype(int)
+
+
+def wait_visible(path, label, timeout=90):
+    """Screenshots until RViz has drawn something (its first start compiles shaders)."""
+    t0 = time.time()
+    while time.time() - t0 < timeout:
+        img = screenshot(path)
+        if int(near(img, (48, 48, 56), 4).sum()) > 20000:  # the 3D view's background, not the splash screen
+            print("     %s: RViz on screen after %.1f s" % (label, time.time() - t0), flush=True)
+            return True
+        time.sleep(0.5)
+    return False
+
+
+def near(img, rgb, tol=28):
+    return (np.abs(img - np.array(rgb)).max(axis=2) <= tol)
+
+
+def check_screen(label, img, collectors):
+    for c in range(collectors):
+        n = int(near(img, COLLECTOR_RGB[c]).sum())
+        check("%s: collector C%d's colour on screen (route, its workers)" % (label, c), n >= 150, "%d pixels" % n)
+    goals = {k: int(near(img, v, 22).sum()) for k, v in GOAL_RGB.items()}
+    check("%s: goal markers on screen" % label, sum(1 for v in goals.values() if v >= 20) >= 2, str(goals))
+
+
+def oc_pixel(img):
+    """Centre of the OC's red cube: the largest dense block of its red."""
+    m = near(img, (217, 20, 20), 30)
+    ys, xs = np.nonzero(m)
+    if xs.size == 0:
+        return None
+    # The cube is a filled square; the coverage outline a thin line: take the
+    # red pixel with the most red around it.
+    best, at = -1, None
+    for y, x in zip(ys[::7], xs[::7]):
+        s = int(m[max(0, y - 6):y + 7, max(0, x - 6):x + 7].sum())
+        if s > best:
+            best, at = s, (x, y)
+    return at
+
+
 def expected_map(scenario_path):
-    """The map as map_server publishes it (trinary/scale of a gray image):
-    nav_msgs values with row 0 at the bottom."""
+    """The map as map_server publishes it (trinary of a gray image), row 0 at the bottom."""
     sc = yaml.safe_load(open(scenario_path))
     map_yaml = os.path.join(os.path.dirname(scenario_path), sc["map"])
     meta = yaml.safe_load(open(map_yaml))
@@ -56,113 +163,263 @@ def expected_map(scenario_path):
     return sc, meta, np.flipud(vals)
 
 
-def check_bag(bag_path, scenario_path, n):
+def check_bag(bag_path, scenario_path, n, collectors):
     import rosbag
     sc, meta, want = expected_map(scenario_path)
-    maps, last_markers = [], None
     with rosbag.Bag(bag_path) as bag:
-        for topic, msg, _ in bag.read_messages(topics=["/map", "/gather/markers"]):
+        topics = bag.get_type_and_topic_info().topics
+        for t in ["/map", "/clock", "/tf", "/gather/plan_markers", "/gather/team_markers", "/gather/goal_markers",
+                  "/gather/path_markers", "/gather/agents", "/gather/status", "/gather/cycle", "/gather/agent_0/pose"]:
+            check("bag has %s" % t, t in topics, sorted(topics))
+        maps, last_team, frames, clocks, plan = [], None, {}, [], None
+        for topic, msg, _ in bag.read_messages(topics=["/map", "/gather/team_markers", "/tf", "/clock",
+                                                       "/gather/plan_markers"]):
             if topic == "/map":
                 maps.append(msg)
+            elif topic == "/gather/team_markers":
+                last_team = msg
+            elif topic == "/gather/plan_markers":
+                plan = msg
+            elif topic == "/clock":
+                clocks.append(msg.clock.to_sec())
             else:
-                last_markers = msg
-    if not check("bag has exactly one /map message (latched)", len(maps) == 1, "got %d" % len(maps)):
-        return
-    m = maps[0]
-    h, w = want.shape
-    check("/map size matches the image", (m.info.width, m.info.height) == (w, h),
-          "%dx%d vs %dx%d" % (m.info.width, m.info.height, w, h))
-    check("/map resolution and origin match the map YAML",
-          abs(m.info.resolution - meta["resolution"]) < 1e-6 and
-          abs(m.info.origin.position.x - meta["origin"][0]) < 1e-9 and
-          abs(m.info.origin.position.y - meta["origin"][1]) < 1e-9 and m.header.frame_id == "map")
-    got = np.frombuffer(bytes(bytearray((v & 0xff for v in m.data))), dtype=np.int8).reshape(h, w) \
-        if not isinstance(m.data, (bytes, bytearray)) else np.frombuffer(m.data, dtype=np.int8).reshape(h, w)
-    diff = int((got != want).sum())
-    check("/map cells equal map_server's thresholding of the image", diff == 0, "%d cells differ" % diff)
+                for tf in msg.transforms:
+                    frames.setdefault(tf.child_frame_id, []).append((tf.header.frame_id, tf.transform.translation.x,
+                                                                     tf.transform.translation.y))
+    check("/clock runs forward through the mission", len(clocks) > 100 and all(b >= a for a, b in zip(clocks, clocks[1:]))
+          and clocks[-1] > 150, "%d stamps, last %s" % (len(clocks), clocks[-1:] or None))
+    want_frames = {"agent_%d/base_link" % k for k in range(n)}
+    check("TF: map -> agent_k/base_link for all %d agents" % n, want_frames <= set(frames) and
+          all(p == "map" for k in want_frames for p, _, _ in frames.get(k, [("map", 0, 0)])),
+          sorted(set(frames))[:5])
     ox, oy = sc["oc"]
-    col, row = int((ox - meta["origin"][0]) / meta["resolution"]), int((oy - meta["origin"][1]) / meta["resolution"])
-    check("/map is free at the OC", got[row, col] == 0)
-    ids = set()
-    if last_markers is not None:
-        ids = {mk.id for mk in last_markers.markers if mk.ns == "agents"}
-    check("markers show all %d agents" % n, ids == set(range(n)), "missing %s" % sorted(set(range(n)) - ids))
+    far = sorted(max(((x - ox) ** 2 + (y - oy) ** 2) ** 0.5 for _, x, y in v) for k, v in frames.items())
+    check("TF: the team moves away from the OC (half the agents > 10 m from it)",
+          len(far) == n and far[n // 2] > 10.0, far)
+    if check("bag has exactly one /map message (latched)", len(maps) == 1, "got %d" % len(maps)):
+        m = maps[0]
+        h, w = want.shape
+        check("/map size matches the image", (m.info.width, m.info.height) == (w, h))
+        check("/map resolution and origin match the map YAML",
+              abs(m.info.resolution - meta["resolution"]) < 1e-6 and
+              abs(m.info.origin.position.x - meta["origin"][0]) < 1e-9 and
+              abs(m.info.origin.position.y - meta["origin"][1]) < 1e-9 and m.header.frame_id == "map")
+        got = np.array(m.data, dtype=np.int8).reshape(h, w)
+        diff = int((got != want).sum())
+        check("/map cells equal map_server's thresholding of the image", diff == 0, "%d cells differ" % diff)
+    ids = {mk.id for mk in last_team.markers if mk.ns == "agents"} if last_team else set()
+    check("team markers show all %d agents" % n, ids == set(range(n)), sorted(set(range(n)) - ids))
+    ns = {mk.ns for mk in plan.markers} if plan else set()
+    check("plan markers: segments, ids, OC, coverage, routes, meetings",
+          {"segments", "segment_ids", "oc", "coverage", "routes", "meetings"} <= ns, sorted(ns))
+    routes = [mk for mk in plan.markers if mk.ns == "routes"] if plan else []
+    check("plan markers: one route per collector", len(routes) == collectors, len(routes))
+
+
+def check_results(out_dir, scenario, cycles, n):
+    r = yaml.safe_load(open(os.path.join(out_dir, "mission.yaml")))
+    check("results: status ok", r["status"] == "ok", r.get("failure"))
+    g = r["goals"]
+    per_request = yaml.safe_load(open(scenario)).get("mission", {}).get("goals_per_request", 40)
+    check("results: every goal requested resolved", g["requested"] == cycles * per_request and
+          g["delivered"] + g["expired"] + g["dropped"] == g["requested"], g)
+    check("results: some goals delivered, none dropped", g["delivered"] > 0 and g["dropped"] == 0, g)
+    check("results: %d agents, nothing carried at the end, no bad message" % n,
+          len(r["agents"]) == n and all(x["carried"] == 0 and x["bad"] == 0 for x in r["agents"]))
+    f = yaml.safe_load(open(os.path.join(out_dir, "fleet.yaml")))
+    check("fleet: every agent ended by itself with status 0", f["status"] == "ok" and len(f["agents"]) == n and
+          all(x["exit_status"] == 0 and x["ended"] == "by_itself" for x in f["agents"]), f["status"])
+    return r
+
+
+def same_as_in_process(out_dir, plan_dir, cycles, label):
+    same_dir = out_dir + "_in_process"
+    p = subprocess.run([GATHER, "run", plan_dir, "--cycles", str(cycles), "--out", same_dir],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=300)
+    if check("%s: gather run in one process on the same plan" % label, p.returncode == 0, p.stdout[-800:]):
+        for name in ("goals.csv", "cycles.csv"):
+            same = open(os.path.join(out_dir, name), "rb").read() == open(os.path.join(same_dir, name), "rb").read()
+            check("%s: %s == gather run in one process (byte for byte)" % (label, name), same)
+
+
+def quiet(out, label):
+    check("%s: a quiet end (no 'REQUIRED process ... has died')" % label, "REQUIRED process" not in out, out[-1500:])
 
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--scenario", default=os.path.join(REPO, "maps", "office.scenario.yaml"))
     ap.add_argument("--cycles", type=int, default=2)
     a = ap.parse_args()
     if os.environ.get("GATHER_NETNS") != "1":
         print("mission_e2e: run me inside tools/netns-run (LCM multicast must stay in a private namespace)",
               file=sys.stderr)
         return 2
-    scenario = os.path.abspath(a.scenario)
-    n = yaml.safe_load(open(scenario))["team"]["agents"]
+    if not os.environ.get("DISPLAY"):
+        print("mission_e2e: needs an X display (xvfb-run) for RViz", file=sys.stderr)
+        return 2
+    os.makedirs(SHOTS, exist_ok=True)
     tmp = tempfile.mkdtemp(prefix="gather_e2e_")
+    office = os.path.join(REPO, "maps", "office.scenario.yaml")
+    office_a = os.path.abspath(os.path.join(REPO, "..", "shared", "maps", "ipa", "office_a.scenario.yaml"))
+    n = yaml.safe_load(open(office))["team"]["agents"]
 
-    out_dir = os.path.join(tmp, "ok")
-    rc, out = roslaunch(["scenario:=" + scenario, "cycles:=%d" % a.cycles, "results_dir:=" + out_dir,
-                         "record:=true"], timeout=300)
-    check("roslaunch exits 0", rc == 0, "status %d" % rc)
-    check("OC prints its summary line", re.search(r"oc: mission done: \w+ Nc=\d+, %d cycles" % a.cycles, out)
-          is not None, out[-2000:])
-    mission_file = os.path.join(out_dir, "mission.yaml")
-    plan_dir = os.path.join(out_dir, "plan")
-    if check("results file written", os.path.exists(mission_file)):
-        r = yaml.safe_load(open(mission_file))
-        check("results: status ok", r["status"] == "ok", str(r.get("failure")))
-        g = r["goals"]
-        per_request = yaml.safe_load(open(scenario)).get("mission", {}).get("goals_per_request", 40)
-        check("results: every goal requested resolved", g["requested"] == a.cycles * per_request and
-              g["delivered"] + g["expired"] + g["dropped"] == g["requested"], str(g))
-        check("results: some goals delivered, none dropped", g["delivered"] > 0 and g["dropped"] == 0, str(g))
-        check("results: %d agents, each with its counters" % n, len(r["agents"]) == n and
-              all(x["sent"] > 0 for x in r["agents"]), str(r["agents"][:2]))
-        check("results: nothing still carried at the end", all(x["carried"] == 0 for x in r["agents"]))
-        measured = sum(x["measured"] for x in r["agents"])
-        check("results: every measured goal delivered", measured == g["delivered"],
-              "%d measured, %d delivered" % (measured, g["delivered"]))
-        check("results: no bad message", r["oc"]["bad"] == 0 and all(x["bad"] == 0 for x in r["agents"]))
-        check("results: the plan it ran", r["plan"] == os.path.realpath(plan_dir), r["plan"])
-    fleet_file = os.path.join(out_dir, "fleet.yaml")
-    if check("fleet file written", os.path.exists(fleet_file)):
-        f = yaml.safe_load(open(fleet_file))
-        check("fleet: status ok", f["status"] == "ok", f["status"])
-        bad = [x for x in f["agents"] if x["exit_status"] != 0]
-        check("fleet: %d agents exited 0" % n, len(f["agents"]) == n and not bad, str(bad))
-    for name in ("goals.csv", "cycles.csv", "summary.csv", "agents.csv"):
-        check("%s written" % name, os.path.exists(os.path.join(out_dir, name)))
-    # The same plan and seed in one process: the same goals, byte for byte.
-    same_dir = os.path.join(tmp, "in_process")
-    gather = os.path.join(REPO, "catkin_ws", "devel", "lib", "gather_core", "gather")
-    p = subprocess.run([gather, "run", plan_dir, "--cycles", str(a.cycles), "--out", same_dir],
-                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120)
-    if check("gather run in one process on the mission's plan", p.returncode == 0, p.stdout[-1000:]):
-        for name in ("goals.csv", "cycles.csv"):
-            same = open(os.path.join(out_dir, name), "rb").read() == open(os.path.join(same_dir, name), "rb").read()
-            check("%s of the mission == gather run in one process (byte for byte)" % name, same)
-    bag = os.path.join(out_dir, "mission.bag")
-    if check("bag recorded", os.path.exists(bag)):
-        check_bag(bag, scenario, n)
+    # 1. office, pap:4, RViz + rosbag, two screenshots.
+    plan = os.path.join(tmp, "office_pap4")
+    subprocess.run([GATHER, "plan", office, "--config", "pap:4", "--out", plan], check=True,
+                   stdout=subprocess.DEVNULL, timeout=300)
+    out1 = os.path.join(tmp, "office")
+    run = Launch(["scenario:=" + office, "plan:=" + plan, "cycles:=%d" % a.cycles, "rate:=12", "results_dir:=" + out1,
+                  "rviz:=true", "record:=true", "close_on_end:=true"], os.path.join(tmp, "office.log"))
+    try:
+        started = run.wait_for(r"mission starts", 120)
+        check("office: the mission starts", started, run.output()[-1500:])
+        check("office: RViz shows up", wait_visible(os.path.join(tmp, "probe_office.png"), "office"))
+        shot1 = screenshot(os.path.join(SHOTS, "office_pap4_early.png"))
+        time.sleep(6.0)
+        shot2 = screenshot(os.path.join(SHOTS, "office_pap4_later.png"))
+        rc = run.wait(300)
+        out = run.output()
+    finally:
+        run.close()
+    check("office: roslaunch exits 0 by itself", rc == 0, "status %s" % rc)
+    quiet(out, "office")
+    check("office: the OC prints its summary line", re.search(r"oc: mission done: pap Nc=4, %d cycles" % a.cycles, out),
+          out[-1500:])
+    check("office: the fleet reports every agent", "fleet: %d agents: all exited 0" % n in out, out[-1500:])
+    check("office: RViz's view was fitted to the map", "rviz_view: view of the map on /map" in out, out[-1500:])
+    check_results(out1, office, a.cycles, n)
+    same_as_in_process(out1, plan, a.cycles, "office")
+    if check("office: bag recorded", os.path.exists(os.path.join(out1, "mission.bag"))):
+        check_bag(os.path.join(out1, "mission.bag"), office, n, 4)
+    check_screen("office, early", shot1, 4)
+    check_screen("office, later", shot2, 4)
+    oc = oc_pixel(shot1)
+    if check("office: the OC is on screen", oc is not None):
+        changed = np.abs(shot2 - shot1).sum(axis=2) > 60
+        changed[:120, :] = False  # the status line and the tool bar
+        ys, xs = np.nonzero(changed)
+        dist = np.hypot(xs - oc[0], ys - oc[1])
+        check("office: the picture changes far from the OC as the team moves (> 2000 px beyond 300 px of it)",
+              int((dist > 300).sum()) > 2000, int((dist > 300).sum()))
 
-    # Bad input through roslaunch: the OC exits 2 with one line; roslaunch still returns 0.
+    # 2. office_a, its own pap:4 plan: RViz fits this map too; Ctrl-C ends it.
+    plan_a = os.path.join(tmp, "office_a_pap4")
+    subprocess.run([GATHER, "plan", office_a, "--config", "pap:4", "--out", plan_a], check=True,
+                   stdout=subprocess.DEVNULL, timeout=300)
+    out2 = os.path.join(tmp, "office_a")
+    run = Launch(["scenario:=" + office_a, "plan:=" + plan_a, "cycles:=1", "rate:=25", "results_dir:=" + out2,
+                  "rviz:=true"], os.path.join(tmp, "office_a.log"))
+    try:
+        check("office_a: the mission starts", run.wait_for(r"mission starts", 120), run.output()[-1500:])
+        check("office_a: RViz shows up", wait_visible(os.path.join(tmp, "probe.png"), "office_a"))
+        time.sleep(3.0)
+        shot = screenshot(os.path.join(SHOTS, "office_a_pap4.png"))
+        done = run.wait_for(r"mission done", 120)
+        check("office_a: the mission ends and the launch stays up with RViz", done and run.p.poll() is None,
+              run.output()[-1500:])
+        rc = run.interrupt(30)
+        out = run.output()
+    finally:
+        run.close()
+    check("office_a: Ctrl-C ends the launch", rc == 0, "status %s" % rc)
+    quiet(out, "office_a")
+    check_screen("office_a", shot, 4)
+
+    # 3. review.launch on the office bag.
+    bag = os.path.join(out1, "mission.bag")
+    if os.path.exists(bag):
+        run = Launch(["bag:=" + bag, "rate:=40", "start:=60"], os.path.join(tmp, "review.log"), "review.launch")
+        try:
+            check("review: the bag plays", run.wait_for(r"review_player: .*playing at 40x from 60 s", 60),
+                  run.output()[-1500:])
+            check("review: RViz's view was fitted to the map", run.wait_for(r"rviz_view: view of the map", 60),
+                  run.output()[-1500:])
+            check("review: RViz shows up", wait_visible(os.path.join(tmp, "probe.png"), "review"))
+            time.sleep(1.0)
+            shot = screenshot(os.path.join(SHOTS, "office_pap4_review.png"))
+            ended = run.wait_for(r"the bag has ended", 120)
+            time.sleep(2.0)
+            check("review: RViz stays open after the bag ends", ended and run.p.poll() is None, run.output()[-1500:])
+            rc = run.interrupt(30)
+            out = run.output()
+        finally:
+            run.close()
+        check("review: Ctrl-C ends it", rc == 0, "status %s" % rc)
+        quiet(out, "review")
+        check_screen("review", shot, 4)
+
+    # 4. The map from a map topic, published as map_server does.
+    nomap = os.path.join(tmp, "nomap.scenario.yaml")
+    with open(office) as f, open(nomap, "w") as g:
+        g.write("".join(line for line in f if not line.startswith("map:")))
+    out4 = os.path.join(tmp, "map_topic")
+    launch = os.path.join(tmp, "map_topic.launch")
+    with open(launch, "w") as f:
+        f.write("""<launch>
+  <node pkg="gather_oc" type="map_publisher" name="map_server" args="%s"/>
+  <include file="$(find gather_oc)/launch/mission.launch">
+    <arg name="scenario" value="%s"/>
+    <arg name="map_topic" value="/map"/>
+    <arg name="cycles" value="1"/>
+    <arg name="results_dir" value="%s"/>
+  </include>
+</launch>
+""" % (os.path.join(REPO, "maps", "office.yaml"), nomap, out4))
+    run = Launch([], os.path.join(tmp, "map_topic.log"), launch)
+    try:
+        rc = run.wait(300)
+        out = run.output()
+    finally:
+        run.close()
+    check("map topic: roslaunch exits 0", rc == 0, out[-1500:])
+    quiet(out, "map topic")
+    check("map topic: the OC took the map from /map", "oc: map 1200x700 cells of 0.050 m from /map" in out, out[-1500:])
+    check("map topic: saved as map_server files for the agents",
+          all(os.path.exists(os.path.join(out4, "map", x)) for x in ("map.yaml", "map.pgm", "scenario.yaml")))
+    if os.path.exists(os.path.join(out4, "mission.yaml")):
+        check_results(out4, office, 1, n)
+        best = os.path.join(tmp, "office_best")
+        subprocess.run([GATHER, "plan", office, "--out", best], check=True, stdout=subprocess.DEVNULL, timeout=300)
+        same_as_in_process(out4, best, 1, "map topic (vs the scenario's own map)")
+
+    # 5. The usual tools.
+    if os.path.exists(bag):
+        for topic in ("/gather/cycle", "/gather/status", "/gather/agents"):
+            p = subprocess.run(["rostopic", "echo", "-p", "-b", bag, topic], stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, text=True, timeout=120)
+            lines = p.stdout.strip().splitlines()
+            check("rostopic echo -p %s (from the bag)" % topic, p.returncode == 0 and len(lines) >= 2 and
+                  lines[0].startswith("%time"), p.stdout[-600:])
+        p = subprocess.run(["rostopic", "echo", "-p", "-b", bag, "/gather/cycle"], stdout=subprocess.PIPE, text=True)
+        header = p.stdout.splitlines()[0].split(",") if p.stdout else []
+        check("rostopic echo -p /gather/cycle: numeric columns a plot can read",
+              {"field.delivered", "field.refresh_mean", "field.refresh_max", "field.expired"} <= set(header), header)
+        p = subprocess.run(["rosbag", "info", bag], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        check("rosbag info", p.returncode == 0 and "/gather/team_markers" in p.stdout, p.stdout[-600:])
+    p = subprocess.run(["rosrun", "gather_core", "gather", "--help"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                       text=True)
+    check("rosrun gather_core gather --help", p.returncode == 0 and "usage" in p.stdout.lower(), p.stdout[-600:])
+
+    # 6. Bad input through roslaunch: the OC exits 2 with one line.
     bad_dir = os.path.join(tmp, "bad")
     missing = os.path.join(tmp, "no_such.scenario.yaml")
     rc, out = roslaunch(["scenario:=" + missing, "results_dir:=" + bad_dir], timeout=60)
     check("bad scenario: OC reports the file on one line", ("oc_node: %s: cannot open file" % missing) in out,
           out[-1500:])
-    check("bad scenario: OC exits with status 2", re.search(r"process has died \[pid \d+, exit code 2, cmd \S*oc_node", out)
-          is not None, out[-1500:])
+    check("bad scenario: OC exits with status 2", re.search(r"process has died \[pid \d+, exit code 2, cmd \S*oc_node",
+                                                            out) is not None, out[-1500:])
     check("bad scenario: no results file", not os.path.exists(os.path.join(bad_dir, "mission.yaml")))
-    rc, out = roslaunch(["scenario:=" + scenario, "plan:=" + os.path.join(tmp, "no_plan"), "results_dir:=" + bad_dir],
+    rc, out = roslaunch(["scenario:=" + office, "plan:=" + os.path.join(tmp, "no_plan"), "results_dir:=" + bad_dir],
                         timeout=60)
-    check("bad plan: OC names the directory and exits 2", ("oc_node: %s: no such plan directory" % os.path.join(tmp, "no_plan")) in out
-          and re.search(r"exit code 2, cmd \S*oc_node", out) is not None, out[-1500:])
+    check("bad plan: OC names the directory and exits 2",
+          ("oc_node: %s: no such plan directory" % os.path.join(tmp, "no_plan")) in out and
+          re.search(r"exit code 2, cmd \S*oc_node", out) is not None, out[-1500:])
 
+    print("screenshots: %s" % ", ".join(sorted(os.path.join(SHOTS, f) for f in os.listdir(SHOTS))))
     failed = results.count(False)
     print("%d passed, %d failed" % (len(results) - failed, failed))
+    if not failed:
+        shutil.rmtree(tmp, ignore_errors=True)
     return 1 if failed else 0
 
 

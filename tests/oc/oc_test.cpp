@@ -60,7 +60,7 @@ TEST(RosConversions, AMapMessageBecomesAGridOrANamedError) {
   EXPECT_EQ(back.width(), s.grid.width());
   EXPECT_EQ(back.values(), s.grid.values());
   EXPECT_EQ(back.free_mask(), s.grid.free_mask());
-  EXPECT_FLOAT_EQ(static_cast<float>(back.resolution()), 0.05f);
+  EXPECT_EQ(back.resolution(), 0.05);  // the YAML's value, not float32's 0.0500000007
   auto refused = [](nav_msgs::OccupancyGrid m) {
     try {
       from_map_msg(m, "/some_map");

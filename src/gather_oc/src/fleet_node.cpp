@@ -46,6 +46,7 @@ void write_fleet_results(const std::string& path, const gather::AgentFleet& flee
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // a line at a time, also into a log file or a pipe
   ros::init(argc, argv, "fleet", ros::init_options::NoSigintHandler);
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);

@@ -111,7 +111,7 @@ visualization_msgs::MarkerArray MissionView::team_markers(const std::vector<agen
     id.pose.position = pt(Point2{r.pose.x + u * 0.9, r.pose.y + u * 0.9}, kZLabels);
     id.scale.z = u * 1.1;
     id.color = style_.label;
-    id.text = (collector ? "C" + std::to_string(as.delivers_to) + ":" : "") + std::to_string(r.agent);
+    id.text = collector ? "C" + std::to_string(as.delivers_to) + " (" + std::to_string(r.agent) + ")" : std::to_string(r.agent);
     out.markers.push_back(id);
   }
   return out;
@@ -126,7 +126,7 @@ visualization_msgs::MarkerArray MissionView::goal_markers(const agent::OcRole& o
   std::vector<Marker> lists;
   for (int k = 0; k < kGoalViews; ++k) {
     Marker m = marker(frame_, stamp, names[k], 0, Marker::CUBE_LIST);
-    m.scale.x = m.scale.y = style_.unit * (k == kPending ? 0.55 : 0.5);
+    m.scale.x = m.scale.y = style_.unit * (k == kPending ? 0.7 : 0.6);
     m.scale.z = 0.05;
     m.color = colours[k];
     m.pose.position.z = kZGoals + 0.002 * k;

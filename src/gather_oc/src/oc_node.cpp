@@ -93,6 +93,7 @@ std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // a line at a time, also into a log file or a pipe
   ros::init(argc, argv, "oc");
   // The scenario is the one positional argument and is loaded before the node
   // talks to the ROS master, so bad input fails fast with one line.

@@ -1,5 +1,6 @@
 #include "gather_oc/ros_conversions.hpp"
 
+#include <charconv>
 #include <cmath>
 
 #include "gather_core/error.hpp"
@@ -38,7 +39,14 @@ OccupancyGrid from_map_msg(const nav_msgs::OccupancyGrid& msg, const std::string
   std::vector<int8_t> values(msg.data.begin(), msg.data.end());
   std::vector<uint8_t> free(values.size());
   for (std::size_t k = 0; k < values.size(); ++k) free[k] = values[k] == 0;
-  return OccupancyGrid(static_cast<int>(i.width), static_cast<int>(i.height), i.resolution,
+  // nav_msgs keeps the resolution as float32: take the shortest decimal that
+  // rounds to it (0.05f -> 0.05, as the map's YAML said), not its binary
+  // value (0.0500000007...), so a map from a topic is the map of its file.
+  char text[32];
+  const auto r = std::to_chars(text, text + sizeof text, i.resolution);
+  double resolution = i.resolution;
+  if (r.ec == std::errc()) std::from_chars(text, r.ptr, resolution);
+  return OccupancyGrid(static_cast<int>(i.width), static_cast<int>(i.height), resolution,
                        Point2{i.origin.position.x, i.origin.position.y}, std::move(values), std::move(free));
 }
 
