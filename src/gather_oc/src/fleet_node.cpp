@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
   bool map_from_topic = false;
   for (std::size_t i = 1; i < all.size(); ++i) {
     if (all[i].rfind("--map-topic=", 0) == 0)
-      map_from_topic = all[i].size() > 12;
+      map_from_topic = all[i].size() > 12 && all[i].substr(12) != "none";
     else
       args.push_back(all[i]);
   }
@@ -82,6 +82,8 @@ int main(int argc, char** argv) {
   pnh.param<std::string>("agent_bin", agent_bin, "");
   pnh.param<std::string>("results_dir", results_dir, "");
   pnh.param("plan_timeout", plan_timeout, 300.0);
+  if (lcm_url == "default") lcm_url.clear();    // mission.launch's "not given"
+  if (agent_bin == "auto") agent_bin.clear();
   results_dir = gather::resolve_launch_path(results_dir);
   const std::string bin = gather::find_agent_binary(agent_bin);
   if (bin.empty()) {

@@ -62,6 +62,7 @@ struct Settings {
 std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s) {
   pnh.param<std::string>("results_dir", s.results_dir, "results/mission");
   pnh.param<std::string>("lcm_url", s.lcm_url, "");
+  if (s.lcm_url == "default") s.lcm_url.clear();  // mission.launch's "not given"
   pnh.param<std::string>("reply_url", s.reply_url, "");
   pnh.param<std::string>("clock", s.clock, "lockstep");
   pnh.param<std::string>("frame_id", s.frame, "map");
@@ -99,16 +100,24 @@ int main(int argc, char** argv) {
   // talks to the ROS master, so bad input fails fast with one line.
   std::vector<std::string> all, args;
   ros::removeROSArgs(argc, argv, all);
-  std::string map_topic;
+  // mission.launch passes --plan=auto and --map-topic=none for "not given"
+  // (roslaunch --ros-args lists an argument with an empty default as required).
+  std::string map_topic, plan_flag;
   for (std::size_t i = 1; i < all.size(); ++i) {
     if (all[i].rfind("--map-topic=", 0) == 0)
       map_topic = all[i].substr(12);
+    else if (all[i].rfind("--plan=", 0) == 0)
+      plan_flag = all[i].substr(7);
     else
       args.push_back(all[i]);
   }
+  if (map_topic == "none") map_topic.clear();
+  if (plan_flag == "auto") plan_flag.clear();
+  if (!plan_flag.empty()) args.push_back(plan_flag);
   if (args.size() != 1 && args.size() != 2)
-    return fail(2, "usage: oc_node SCENARIO [PLAN_DIR] [--map-topic=TOPIC] (no PLAN_DIR: plan the scenario; "
-                   "--map-topic: take the map from a map_server topic; settings as private parameters, see the README)");
+    return fail(2, "usage: oc_node SCENARIO [PLAN_DIR | --plan=PLAN_DIR|auto] [--map-topic=TOPIC|none] (no plan: plan "
+                   "the scenario; --map-topic: take the map from a map_server topic; settings as private parameters, "
+                   "see the README)");
   std::string scenario_path = gather::resolve_launch_path(args[0]);
   std::string plan_dir = args.size() == 2 ? gather::resolve_launch_path(args[1]) : "";
   const bool map_from_topic = !map_topic.empty();
