@@ -65,11 +65,14 @@ def roslaunch(args, timeout, launch="mission.launch"):
 class Launch:
     """roslaunch in the background, its output in a file, screenshots on cue."""
 
-    def __init__(self, args, log, launch="mission.launch"):
+    def __init__(self, args, log, launch="mission.launch", cwd=None):
         self.log = log
         self.f = open(log, "w")
+        env = dict(os.environ)
+        if cwd:
+            env["PWD"] = cwd  # as a shell that cd'ed there would have it
         self.p = subprocess.Popen(["roslaunch"] + (["gather_oc", launch] if not launch.startswith("/") else [launch]) +
-                                  args, stdout=self.f, stderr=subprocess.STDOUT)
+                                  args, stdout=self.f, stderr=subprocess.STDOUT, cwd=cwd, env=env)
 
     def output(self):
         self.f.flush()
@@ -348,6 +351,40 @@ def main():
         quiet(out, "review")
         check_screen("review", shot, 4)
 
+    # 3b. Paths relative to where the user is: the bag by its name in its directory.
+    if os.path.exists(bag):
+        run = Launch(["bag:=mission.bag", "rate:=100", "rviz:=false"], os.path.join(tmp, "review_rel.log"),
+                     "review.launch", cwd=out1)
+        try:
+            ended = run.wait_for(r"the bag has ended", 120)
+            rc = run.interrupt(30)
+            out = run.output()
+        finally:
+            run.close()
+        check("review: a bag path relative to where roslaunch runs", ended and rc == 0, out[-1500:])
+
+    # 3c. Ctrl-C in the middle of a mission, results_dir relative to where roslaunch runs.
+    run = Launch(["plan:=" + plan, "cycles:=2", "rate:=5", "results_dir:=stopped", "record:=true"],
+                 os.path.join(tmp, "stopped.log"), cwd=tmp)
+    try:
+        check("stop: the mission starts", run.wait_for(r"mission starts", 120), run.output()[-1500:])
+        time.sleep(3.0)
+        t0 = time.time()
+        rc = run.interrupt(30)
+        took = time.time() - t0
+        out = run.output()
+    finally:
+        run.close()
+    stopped = os.path.join(tmp, "stopped")
+    check("stop: Ctrl-C ends the launch within 5 s, quietly", rc == 0 and took < 5.0 and "REQUIRED process" not in out,
+          "status %s after %.1f s: %s" % (rc, took, out[-800:]))
+    check("stop: the OC says why in one line and writes mission.yaml (incomplete)",
+          "before the stop; %s/mission.yaml" % stopped in out and
+          yaml.safe_load(open(os.path.join(stopped, "mission.yaml")))["status"] == "incomplete", out[-800:])
+    check("stop: the bag is where the results are (results_dir:=stopped, relative)",
+          os.path.exists(os.path.join(stopped, "mission.bag")), sorted(os.listdir(stopped)) if os.path.isdir(stopped)
+          else "no %s" % stopped)
+
     # 4. The map from a map topic, published as map_server does.
     nomap = os.path.join(tmp, "nomap.scenario.yaml")
     with open(office) as f, open(nomap, "w") as g:
@@ -381,6 +418,27 @@ def main():
         best = os.path.join(tmp, "office_best")
         subprocess.run([GATHER, "plan", office, "--out", best], check=True, stdout=subprocess.DEVNULL, timeout=300)
         same_as_in_process(out4, best, 1, "map topic (vs the scenario's own map)")
+
+    # 4b. A map topic with a plan made for other settings: refused, exit 2.
+    other = os.path.join(tmp, "other_seed.scenario.yaml")
+    with open(nomap) as f, open(other, "w") as g:
+        g.write(f.read().replace("  seed: 1", "  seed: 7"))
+    launch = os.path.join(tmp, "map_topic_bad.launch")
+    with open(launch, "w") as f:
+        f.write("""<launch>
+  <node pkg="gather_oc" type="map_publisher" name="map_server" args="%s"/>
+  <include file="$(find gather_oc)/launch/mission.launch">
+    <arg name="scenario" value="%s"/>
+    <arg name="plan" value="%s"/>
+    <arg name="map_topic" value="/map"/>
+    <arg name="results_dir" value="%s"/>
+  </include>
+</launch>
+""" % (os.path.join(REPO, "maps", "office.yaml"), other, plan, os.path.join(tmp, "map_topic_bad")))
+    out = subprocess.run(["roslaunch", launch], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                         timeout=120).stdout
+    check("map topic with a plan for other settings: the OC names the plan and exits 2",
+          "whose OC, team, radio or mission differ" in out and re.search(r"exit code 2, cmd \S*oc_node", out), out[-1500:])
 
     # 5. The usual tools.
     if os.path.exists(bag):

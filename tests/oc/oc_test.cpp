@@ -151,6 +151,7 @@ TEST(PlanMarkers, SegmentsIdsOcCoverageRoutesAndMeetings) {
   int meetings = 0;
   for (const auto& r : p.plan.plan.file.routes) meetings += static_cast<int>(r.meetings.size());
   EXPECT_GE(count(a, "meetings"), meetings);
+  EXPECT_GE(count(a, "legend"), 20);  // ten items, a symbol and a text each
 }
 
 TEST(MissionView, AgentsByRoleInTheirCollectorsColoursWithIdsLinksAndFrames) {
@@ -186,10 +187,15 @@ TEST(MissionView, AgentsByRoleInTheirCollectorsColoursWithIdsLinksAndFrames) {
   const auto* links = find(m, "links", 0);
   ASSERT_NE(links, nullptr);
   EXPECT_GT(links->points.size(), 2u * static_cast<std::size_t>(p.team->agents()));
-  // A hand-over is drawn for a few seconds, then gone.
+  // A hand-over is drawn for a few seconds, then gone; a goal id outside the
+  // ledger (a bad reply) is ignored, not allocated for.
+  agent::Station station(p.plan.scenario.oc);
+  const agent::OcRole oc(*p.team, station);
   agent::ViewEvents ev;
   ev.handovers.push_back(agent::HandoverEvent{5, 0, 3, 10.0});
-  v.take(ev);
+  ev.measured.push_back(agent::MeasuredEvent{2000000000, 3, 10.0});
+  v.take(ev, oc);
+  EXPECT_EQ(v.goal_state(oc, 0), 0);
   EXPECT_EQ(find(v.team_markers(agents, 11.0, true, ros::Time(11.0)), "handovers", 0)->points.size(), 2u);
   EXPECT_EQ(find(v.team_markers(agents, 20.0, true, ros::Time(20.0)), "handovers", 0)->action,
             visualization_msgs::Marker::DELETE);
@@ -201,8 +207,6 @@ TEST(MissionView, AgentsByRoleInTheirCollectorsColoursWithIdsLinksAndFrames) {
   EXPECT_EQ(tf.transforms[7].header.frame_id, "map");
   EXPECT_EQ(tf.transforms[7].child_frame_id, "agent_7/base_link");
   EXPECT_NEAR(tf.transforms[7].transform.rotation.z, std::sin(M_PI / 4), 1e-9);  // yaw 90 degrees
-  agent::Station station(p.plan.scenario.oc);
-  const agent::OcRole oc(*p.team, station);
   const auto states = v.agent_states(agents, oc, ros::Time(2.0));
   EXPECT_EQ(states.agents.size(), agents.size());
   EXPECT_EQ(states.agents[0].role_name, p.team->assignment(0).collector ? "collector" : "worker");
@@ -236,8 +240,12 @@ TEST(MissionView, GoalsByStateAddUpAndEveryCycleIsReportedOnceResolved) {
     EXPECT_EQ(reported[c].cycle, c);
     EXPECT_EQ(static_cast<int>(reported[c].delivered), truth[c].delivered);
     EXPECT_EQ(static_cast<int>(reported[c].requested), truth[c].requested);
-    EXPECT_DOUBLE_EQ(reported[c].refresh_mean, truth[c].refresh_mean_s);
+    EXPECT_EQ(static_cast<int>(reported[c].expired), truth[c].expired);
+    EXPECT_EQ(static_cast<int>(reported[c].dropped), truth[c].dropped);
+    EXPECT_NEAR(reported[c].refresh_mean, truth[c].refresh_mean_s, 1e-9);
+    EXPECT_DOUBLE_EQ(reported[c].refresh_max, truth[c].refresh_max_s);
   }
+  EXPECT_EQ(s.delivered, static_cast<uint32_t>(truth[0].delivered + truth[1].delivered));
   EXPECT_EQ(reported[1].total_requested, s.requested);
   // The goal markers of the last two requests hold every goal, each once.
   const auto g = v.goal_markers(oc, ros::Time(1.0));

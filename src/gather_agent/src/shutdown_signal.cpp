@@ -1,8 +1,10 @@
 #include "gather_agent/shutdown_signal.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <ctime>
+#include <thread>
 
 namespace gather {
 namespace {
@@ -20,7 +22,17 @@ ShutdownSignal::ShutdownSignal() {
   pthread_sigmask(SIG_BLOCK, &set, nullptr);
 }
 
+ShutdownSignal::ShutdownSignal(std::function<bool()> requested) : requested_(std::move(requested)) {}
+
 bool ShutdownSignal::wait_until(std::chrono::steady_clock::time_point deadline) {
+  if (requested_) {
+    for (;;) {
+      if (requested_()) return last_signal_ = SIGINT, true;
+      const auto now = std::chrono::steady_clock::now();
+      if (now >= deadline) return false;
+      std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(deadline - now, std::chrono::milliseconds(20)));
+    }
+  }
   const sigset_t set = shutdown_set();
   for (;;) {
     const auto left = deadline - std::chrono::steady_clock::now();

@@ -1,6 +1,6 @@
-// fleet_node: starts one gather_agent process per agent of the scenario (N
-// comes from the scenario, not from a hand-written node list) once the OC
-// has published where the plan is (/gather/plan_dir), reports agents that
+// fleet_node: starts one gather_agent process per agent of the plan (N comes
+// from the plan, not from a hand-written node list) once the OC has
+// published where the plan is (/gather/plan_dir), reports agents that
 // fail, and on shutdown stops those still running and writes
 // `~results_dir/fleet.yaml`. Agents end by themselves (exit 0) when the OC
 // ends the mission. Exit status: 0 every agent exited 0 within 1 s of its
@@ -15,6 +15,7 @@
 
 #include "gather_agent/runner/agent_fleet.hpp"
 #include "gather_agent/transport/lcm_fleet.hpp"
+#include "gather_core/plan/plan_file.hpp"
 #include "gather_core/scenario/scenario.hpp"
 #include "gather_oc/launch_paths.hpp"
 
@@ -105,6 +106,13 @@ int main(int argc, char** argv) {
   }
   if (g_stop || !ros::ok()) return 0;
 
+  // The team is the plan's (the OC checked it against the scenario).
+  try {
+    agents = static_cast<int>(gather::plan::read_plan_file(plan_dir + "/plan.yaml").agents.size());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fleet: %s\n", e.what());
+    return 1;
+  }
   std::vector<std::string> command{bin, "--id", "{id}", "--plan", plan_dir};
   if (!lcm_url.empty()) command.insert(command.end(), {"--lcm-url", lcm_url});
   command.insert(command.end(), {"--reply-url", reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(lcm_url) : reply_url});

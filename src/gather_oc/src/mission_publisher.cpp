@@ -41,52 +41,63 @@ void MissionPublisher::before_start(agent::LockstepMaster& master) {
     clock_.publish(c);
   }
   if (options_.publish_map) map_pub_.publish(to_map_msg(map_, options_.frame, now));
+  // No DELETEALL first: with one in these arrays RViz 1.14 (llvmpipe)
+  // crashed in 2 of 6 test sessions, in none of 12 without. A new run's
+  // markers replace an earlier run's by id.
   plan_.publish(view::plan_markers(team_, style_, options_.frame, now));
+  const gather_msgs::MissionStatus status = view_.status(master.oc(), "waiting", 0.0, 0.0, now);
   visualization_msgs::MarkerArray team = view_.team_markers(agents, 0.0, false, now);
-  team.markers.push_back(view_.status_text(master.oc(), "waiting for the fleet", 0.0, now));
+  team.markers.push_back(view_.status_text(status));
   team_markers_.publish(team);
   tf_.publish(view_.transforms(agents, now));
-  status_.publish(view_.status(master.oc(), "waiting", 0.0, 0.0, now));
+  status_.publish(status);
 }
 
 void MissionPublisher::views(agent::LockstepMaster& master, double t, double rate, const std::string& state) {
   const ros::Time now = stamp(t);
   const std::vector<agent::Reply>& agents = master.agents();
-  master.take_events(events_);
-  view_.take(events_);
   const agent::OcRole& oc = master.oc();
+  master.take_events(events_);
+  view_.take(events_, oc);
+  const gather_msgs::MissionStatus status = view_.status(oc, state, t, rate, now);
   visualization_msgs::MarkerArray team = view_.team_markers(agents, t, true, now);
-  team.markers.push_back(view_.status_text(oc, state, t, now));
+  team.markers.push_back(view_.status_text(status));
   team_markers_.publish(team);
-  const bool goals_moved = !events_.measured.empty() || t - last_goals_ >= 1.0 || state != "running";
-  if (goals_moved || t - last_goals_ >= kRefreshEvery) {
+  // Goals: when one was measured or resolved, and every few seconds for
+  // late subscribers and replays that start in the middle.
+  if (!events_.measured.empty() || oc.resolved_count() != resolved_shown_ || state != "running" ||
+      t - last_goals_ >= kRefreshEvery) {
     goals_.publish(view_.goal_markers(oc, now));
+    resolved_shown_ = oc.resolved_count();
     last_goals_ = t;
   }
   if (view_.paths_changed(agents) || t - last_paths_ >= kRefreshEvery) {
     paths_.publish(view_.path_markers(agents, now));
     last_paths_ = t;
   }
-  const tf2_msgs::TFMessage tf = view_.transforms(agents, now);
-  tf_.publish(tf);
-  for (std::size_t a = 0; a < tf.transforms.size() && a < poses_.size(); ++a) {
-    geometry_msgs::PoseStamped p;
-    p.header = tf.transforms[a].header;
-    p.pose.position.x = tf.transforms[a].transform.translation.x;
-    p.pose.position.y = tf.transforms[a].transform.translation.y;
-    p.pose.orientation = tf.transforms[a].transform.rotation;
-    poses_[a].publish(p);
+  if (now != last_tf_) {  // the same stamp twice makes TF listeners complain
+    const tf2_msgs::TFMessage tf = view_.transforms(agents, now);
+    tf_.publish(tf);
+    for (std::size_t a = 0; a < tf.transforms.size() && a < poses_.size(); ++a) {
+      geometry_msgs::PoseStamped p;
+      p.header = tf.transforms[a].header;
+      p.pose.position.x = tf.transforms[a].transform.translation.x;
+      p.pose.position.y = tf.transforms[a].transform.translation.y;
+      p.pose.orientation = tf.transforms[a].transform.rotation;
+      poses_[a].publish(p);
+    }
+    last_tf_ = now;
   }
   if (t >= next_state_ || state != "running") {
     agents_.publish(view_.agent_states(agents, oc, now));
-    status_.publish(view_.status(oc, state, t, rate, now));
+    status_.publish(status);
     next_state_ = t + options_.state_period;
   }
   for (const gather_msgs::CycleStats& c : view_.resolved_cycles(oc, now)) cycles_.publish(c);
 }
 
 void MissionPublisher::after_tick(agent::LockstepMaster& master, double rate) {
-  const double t = master.now();
+  const double t = master.last_tick_time();
   if (options_.sim_time) {
     rosgraph_msgs::Clock c;
     c.clock = stamp(t);
@@ -98,7 +109,7 @@ void MissionPublisher::after_tick(agent::LockstepMaster& master, double rate) {
 }
 
 void MissionPublisher::finish(agent::LockstepMaster& master, const std::string& state, double rate) {
-  views(master, master.now(), rate, state);
+  views(master, master.last_tick_time(), rate, state);
 }
 
 }  // namespace gather

@@ -15,12 +15,6 @@ using visualization_msgs::Marker;
 
 constexpr double kHandoverShown = 3.0;  // [s] of mission time a hand-over stays on screen
 
-geometry_msgs::Point pt(Point2 p, double z = 0.0) {
-  geometry_msgs::Point q;
-  q.x = p.x, q.y = p.y, q.z = z;
-  return q;
-}
-
 enum GoalView { kPending = 0, kCarried, kDelivered, kExpired, kDropped, kGoalViews };
 
 }  // namespace
@@ -33,16 +27,15 @@ MissionView::MissionView(const agent::TeamSetup& team, const Style& style, std::
       frame_(std::move(frame)),
       shown_path_(static_cast<std::size_t>(team.agents()), 0),
       yaw_(static_cast<std::size_t>(team.agents()), 0.0),
-      last_pose_(static_cast<std::size_t>(team.agents())) {
+      last_pose_(static_cast<std::size_t>(team.agents())),
+      box_(reachable_box(team.world.scenario.grid, team.world.reachable)) {
   for (int a = 0; a < team.agents(); ++a) last_pose_[static_cast<std::size_t>(a)] = team.start_pose(a);
 }
 
-void MissionView::take(const agent::ViewEvents& events) {
-  for (const agent::MeasuredEvent& m : events.measured) {
-    if (m.goal < 0) continue;
-    if (static_cast<std::size_t>(m.goal) >= measured_.size()) measured_.resize(static_cast<std::size_t>(m.goal) + 1, 0);
-    measured_[static_cast<std::size_t>(m.goal)] = 1;
-  }
+void MissionView::take(const agent::ViewEvents& events, const agent::OcRole& oc) {
+  measured_.resize(oc.goals().size(), 0);
+  for (const agent::MeasuredEvent& m : events.measured)
+    if (m.goal >= 0 && static_cast<std::size_t>(m.goal) < measured_.size()) measured_[static_cast<std::size_t>(m.goal)] = 1;
   handovers_.insert(handovers_.end(), events.handovers.begin(), events.handovers.end());
 }
 
@@ -134,7 +127,11 @@ visualization_msgs::MarkerArray MissionView::goal_markers(const agent::OcRole& o
   }
   const int newest = oc.issued() - 1;
   const std::size_t n = oc.requested();
-  for (std::size_t i = 0; i < n; ++i) {
+  // Goals before the cursor are resolved; of those only the newest two
+  // requests' are shown.
+  std::size_t first = std::min(settled_, n);
+  while (first > 0 && oc.goals()[first - 1].cycle >= newest - 1) --first;
+  for (std::size_t i = first; i < n; ++i) {
     const mission::GoalRecord& g = oc.goals()[i];
     const int s = goal_state(oc, static_cast<int>(i));
     if (g.cycle < newest - 1 && s != kCarried) continue;
@@ -217,8 +214,62 @@ gather_msgs::AgentStates MissionView::agent_states(const std::vector<agent::Repl
   return out;
 }
 
+void MissionView::add(Totals& t, const agent::OcRole& oc, std::size_t goal) const {
+  ++t.requested;
+  switch (goal_state(oc, static_cast<int>(goal))) {
+    case kDelivered: {
+      const mission::GoalRecord& g = oc.goals()[goal];
+      ++t.delivered;
+      t.refresh_sum += g.delivered_at - g.requested_at;
+      t.refresh_max = std::max(t.refresh_max, g.delivered_at - g.requested_at);
+      break;
+    }
+    case kExpired: ++t.expired; break;
+    case kDropped: ++t.dropped; break;
+    default: break;
+  }
+}
+
+void MissionView::settle(const agent::OcRole& oc) {
+  const std::vector<mission::GoalRecord>& goals = oc.goals();
+  auto flush = [&] {
+    if (row_cycle_ < 0) return;
+    gather_msgs::CycleStats m;
+    m.cycle = static_cast<uint32_t>(row_cycle_);
+    m.requested_at = row_requested_at_;
+    m.requested = row_.requested;
+    m.delivered = row_.delivered;
+    m.expired = row_.expired;
+    m.dropped = row_.dropped;
+    m.refresh_mean = row_.delivered > 0 ? row_.refresh_sum / row_.delivered : 0.0;
+    m.refresh_max = row_.refresh_max;
+    m.total_requested = settled_totals_.requested;
+    m.total_delivered = settled_totals_.delivered;
+    m.total_refresh_mean = settled_totals_.delivered > 0 ? settled_totals_.refresh_sum / settled_totals_.delivered : 0.0;
+    m.est_refresh = team_.plan.file.est_refresh_s;
+    m.est_goals = team_.plan.file.est_goals;
+    ready_.push_back(m);
+    row_cycle_ = -1;
+    row_ = Totals{};
+  };
+  const std::size_t n = oc.requested();
+  while (settled_ < n && oc.resolved(static_cast<int32_t>(settled_))) {
+    const mission::GoalRecord& g = goals[settled_];
+    if (g.cycle != row_cycle_) {
+      flush();  // the goals of a request are consecutive: the one before is complete
+      row_cycle_ = g.cycle;
+      row_requested_at_ = g.requested_at;
+    }
+    add(row_, oc, settled_);
+    add(settled_totals_, oc, settled_);
+    ++settled_;
+  }
+  if (settled_ == n && row_cycle_ >= 0 && row_cycle_ < oc.issued()) flush();  // every goal issued so far resolved
+}
+
 gather_msgs::MissionStatus MissionView::status(const agent::OcRole& oc, const std::string& state, double t,
-                                               double rate, const ros::Time& stamp) const {
+                                               double rate, const ros::Time& stamp) {
+  settle(oc);
   gather_msgs::MissionStatus s;
   s.header.frame_id = frame_;
   s.header.stamp = stamp;
@@ -233,80 +284,43 @@ gather_msgs::MissionStatus MissionView::status(const agent::OcRole& oc, const st
   s.cycle = static_cast<uint32_t>(std::max(0, oc.issued() - 1));
   s.cycles = static_cast<uint32_t>(team_.params.cycles);
   s.requested = static_cast<uint32_t>(oc.requested());
-  double sum = 0.0;
-  for (std::size_t i = 0; i < oc.requested(); ++i) {
-    switch (goal_state(oc, static_cast<int>(i))) {
-      case kPending: ++s.pending; break;
-      case kCarried: ++s.carried; break;
-      case kDelivered: {
-        const mission::GoalRecord& g = oc.goals()[i];
-        ++s.delivered;
-        sum += g.delivered_at - g.requested_at;
-        s.refresh_max = std::max(s.refresh_max, g.delivered_at - g.requested_at);
-        break;
-      }
-      case kExpired: ++s.expired; break;
-      default: ++s.dropped; break;
-    }
+  Totals open;  // the goals past the cursor
+  for (std::size_t i = settled_; i < oc.requested(); ++i) {
+    const int st = goal_state(oc, static_cast<int>(i));
+    if (st == kPending) ++s.pending;
+    if (st == kCarried) ++s.carried;
+    add(open, oc, i);
   }
-  s.refresh_mean = s.delivered > 0 ? sum / s.delivered : 0.0;
+  s.delivered = settled_totals_.delivered + open.delivered;
+  s.expired = settled_totals_.expired + open.expired;
+  s.dropped = settled_totals_.dropped + open.dropped;
+  s.refresh_mean = s.delivered > 0 ? (settled_totals_.refresh_sum + open.refresh_sum) / s.delivered : 0.0;
+  s.refresh_max = std::max(settled_totals_.refresh_max, open.refresh_max);
   s.rate = rate;
   return s;
 }
 
-visualization_msgs::Marker MissionView::status_text(const agent::OcRole& oc, const std::string& state, double t,
-                                                    const ros::Time& stamp) const {
-  const gather_msgs::MissionStatus s = status(oc, state, t, 0.0, stamp);
-  const OccupancyGrid& g = team_.world.scenario.grid;
-  Marker m = marker(frame_, stamp, "status", 0, Marker::TEXT_VIEW_FACING);
-  m.pose.position.x = g.origin().x + g.width() * g.resolution() / 2;
-  m.pose.position.y = g.origin().y + g.height() * g.resolution() + style_.unit * 1.6;
+visualization_msgs::Marker MissionView::status_text(const gather_msgs::MissionStatus& s) const {
+  Marker m = marker(frame_, s.header.stamp, "status", 0, Marker::TEXT_VIEW_FACING);
+  m.pose.position.x = (box_.x0 + box_.x1) / 2;
+  m.pose.position.y = box_.y1 + style_.unit * 1.6;
   m.pose.position.z = kZLabels;
   m.scale.z = style_.unit * 1.6;
   m.color = rgba(0.95f, 0.95f, 0.95f);
   char text[256];
   std::snprintf(text, sizeof text, "t %.0f s | %s | request %u of %u | goals: %u pending, %u carried, %u delivered, %u expired",
-                t, state.c_str(), oc.issued() > 0 ? s.cycle + 1 : 0, s.cycles, s.pending, s.carried, s.delivered,
-                s.expired + s.dropped);
+                s.time, s.state.c_str(), s.requested > 0 ? s.cycle + 1 : 0, s.cycles, s.pending, s.carried, s.delivered,
+                s.expired);
   m.text = text;
+  if (s.dropped > 0) m.text += ", " + std::to_string(s.dropped) + " dropped";
   return m;
 }
 
 std::vector<gather_msgs::CycleStats> MissionView::resolved_cycles(const agent::OcRole& oc, const ros::Time& stamp) {
+  settle(oc);
   std::vector<gather_msgs::CycleStats> out;
-  const std::vector<mission::GoalRecord>& goals = oc.goals();
-  for (;;) {
-    if (next_cycle_ >= oc.issued()) break;
-    std::size_t end = 0;  // goals of cycles 0..next_cycle_
-    bool resolved = true;
-    for (std::size_t i = 0; i < oc.requested() && goals[i].cycle <= next_cycle_; ++i, ++end)
-      if (goals[i].cycle == next_cycle_ && !oc.resolved(static_cast<int32_t>(i))) resolved = false;
-    if (!resolved) break;
-    const std::vector<mission::GoalRecord> prefix(goals.begin(), goals.begin() + static_cast<std::ptrdiff_t>(end));
-    const std::vector<mission::CycleStats> rows = mission::account(prefix, next_cycle_ + 1, team_.period);
-    const mission::CycleStats& c = rows.back();
-    gather_msgs::CycleStats m;
-    m.header.stamp = stamp;
-    m.cycle = static_cast<uint32_t>(c.cycle);
-    m.requested_at = c.requested_at;
-    m.requested = static_cast<uint32_t>(c.requested);
-    m.delivered = static_cast<uint32_t>(c.delivered);
-    m.expired = static_cast<uint32_t>(c.expired);
-    m.dropped = static_cast<uint32_t>(c.dropped);
-    m.refresh_mean = c.refresh_mean_s;
-    m.refresh_max = c.refresh_max_s;
-    double sum = 0.0;
-    for (const mission::CycleStats& r : rows) {
-      m.total_requested += static_cast<uint32_t>(r.requested);
-      m.total_delivered += static_cast<uint32_t>(r.delivered);
-      sum += r.refresh_mean_s * r.delivered;
-    }
-    m.total_refresh_mean = m.total_delivered > 0 ? sum / m.total_delivered : 0.0;
-    m.est_refresh = team_.plan.file.est_refresh_s;
-    m.est_goals = team_.plan.file.est_goals;
-    out.push_back(m);
-    ++next_cycle_;
-  }
+  out.swap(ready_);
+  for (gather_msgs::CycleStats& c : out) c.header.stamp = stamp;
   return out;
 }
 

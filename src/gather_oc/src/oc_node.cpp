@@ -16,10 +16,12 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
 #include <thread>
 
 #include "gather_agent/runner/lockstep.hpp"
 #include "gather_agent/runner/run_files.hpp"
+#include "gather_agent/shutdown_signal.hpp"
 #include "gather_core/error.hpp"
 #include "gather_core/grid/map_saver.hpp"
 #include "gather_core/plan/plan_export.hpp"
@@ -27,6 +29,7 @@
 #include "gather_oc/launch_end.hpp"
 #include "gather_oc/launch_paths.hpp"
 #include "gather_oc/mission_publisher.hpp"
+#include "gather_oc/params.hpp"
 #include "gather_oc/ros_conversions.hpp"
 
 namespace {
@@ -42,6 +45,17 @@ std::unique_ptr<gather::agent::LoadedPlan> load_matching_plan(const std::string&
   if (std::filesystem::weakly_canonical(plan->plan.file.scenario) != std::filesystem::weakly_canonical(scenario))
     throw gather::Error(dir + "/plan.yaml", "was planned for scenario " + plan->plan.file.scenario + ", not " + scenario);
   return plan;
+}
+
+// What executing a plan depends on besides the map.
+bool same_settings(const gather::Scenario& a, const gather::Scenario& b) {
+  const auto& ra = a.radio;
+  const auto& rb = b.radio;
+  return a.oc.x == b.oc.x && a.oc.y == b.oc.y && a.team.agents == b.team.agents && a.team.speed == b.team.speed &&
+         a.team.radius == b.team.radius && ra.tx_power_dbm == rb.tx_power_dbm && ra.ref_loss_db == rb.ref_loss_db &&
+         ra.exponent == rb.exponent && ra.wall_loss_db == rb.wall_loss_db && ra.max_walls == rb.max_walls &&
+         ra.sensitivity_dbm == rb.sensitivity_dbm && a.mission.goals_per_request == b.mission.goals_per_request &&
+         a.mission.cycles == b.mission.cycles && a.mission.seed == b.mission.seed && a.mission.period == b.mission.period;
 }
 
 bool same_map(const gather::OccupancyGrid& a, const gather::OccupancyGrid& b) {
@@ -60,22 +74,28 @@ struct Settings {
 
 // Reads and checks them; "" when they are fine, else what is wrong.
 std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s) {
-  pnh.param<std::string>("results_dir", s.results_dir, "results/mission");
-  pnh.param<std::string>("lcm_url", s.lcm_url, "");
+  using gather::typed_param;
+  std::string bad;
+  auto read = [&](const std::string& e) {
+    if (bad.empty()) bad = e;
+  };
+  read(typed_param<std::string>(pnh, "results_dir", s.results_dir, "results/mission"));
+  read(typed_param<std::string>(pnh, "lcm_url", s.lcm_url, ""));
   if (s.lcm_url == "default") s.lcm_url.clear();  // mission.launch's "not given"
-  pnh.param<std::string>("reply_url", s.reply_url, "");
-  pnh.param<std::string>("clock", s.clock, "lockstep");
-  pnh.param<std::string>("frame_id", s.frame, "map");
-  pnh.param("cycles", s.cycles, 0);
-  pnh.param("seed", s.seed, -1);
-  pnh.param("rate", s.rate, 0.0);
-  pnh.param("tick", s.tick, 0.1);
-  pnh.param("loss", s.loss, 0.0);
-  pnh.param("loss_seed", s.loss_seed, 1);
-  pnh.param("ready_timeout", s.ready_timeout, 60.0);
-  pnh.param("map_timeout", s.map_timeout, 30.0);
-  pnh.param("view_period", s.view_period, 0.5);
-  pnh.param("close_on_end", s.close_on_end, false);
+  read(typed_param<std::string>(pnh, "reply_url", s.reply_url, ""));
+  read(typed_param<std::string>(pnh, "clock", s.clock, "lockstep"));
+  read(typed_param<std::string>(pnh, "frame_id", s.frame, "map"));
+  read(typed_param(pnh, "cycles", s.cycles, 0));
+  read(typed_param(pnh, "seed", s.seed, -1));
+  read(typed_param(pnh, "rate", s.rate, 0.0));
+  read(typed_param(pnh, "tick", s.tick, 0.1));
+  read(typed_param(pnh, "loss", s.loss, 0.0));
+  read(typed_param(pnh, "loss_seed", s.loss_seed, 1));
+  read(typed_param(pnh, "ready_timeout", s.ready_timeout, 60.0));
+  read(typed_param(pnh, "map_timeout", s.map_timeout, 30.0));
+  read(typed_param(pnh, "view_period", s.view_period, 0.5));
+  read(typed_param(pnh, "close_on_end", s.close_on_end, false));
+  if (!bad.empty()) return bad;
   nh.param("/use_sim_time", s.sim_time, false);
   s.results_dir = gather::resolve_launch_path(s.results_dir);
   if (s.cycles < 0 || s.cycles > 100000) return "~cycles must be in 0..100000 (0: the scenario's), got " + std::to_string(s.cycles);
@@ -156,8 +176,18 @@ int main(int argc, char** argv) {
         ros::WallDuration(0.02).sleep();
       }
       sub.shutdown();
-      if (!msg) return fail(2, map_topic + ": no map received within " + std::to_string(static_cast<int>(set.map_timeout)) + " s (~map_timeout)");
+      if (!msg) {
+        char why[160];
+        std::snprintf(why, sizeof why, ": no map received within %g s (~map_timeout)", set.map_timeout);
+        return fail(2, map_topic + why);
+      }
       gather::OccupancyGrid grid = gather::from_map_msg(*msg, map_topic);
+      try {  // the OC on this map: errors name the user's scenario, and the topic
+        gather::Scenario check = scenario;
+        gather::attach_map(check, grid);
+      } catch (const std::exception& e) {
+        throw std::runtime_error(std::string(e.what()) + " (on the map received on " + map_topic + ")");
+      }
       const std::string map_yaml = gather::save_map(grid, set.results_dir + "/map/map");
       const std::string derived = set.results_dir + "/map/scenario.yaml";
       gather::write_scenario_with_map(scenario_path, std::filesystem::absolute(map_yaml).string(), derived);
@@ -171,6 +201,10 @@ int main(int argc, char** argv) {
         if (!same_map(planned.grid, received.grid))
           throw gather::Error(plan_dir + "/plan.yaml", "was planned on the map of " + plan->plan.file.scenario +
                                                            ", not on the map received on " + map_topic);
+        if (!same_settings(planned, received))
+          throw gather::Error(plan_dir + "/plan.yaml", "was planned for scenario " + plan->plan.file.scenario +
+                                                           ", whose OC, team, radio or mission differ from " +
+                                                           scenario_path + "'s");
         scenario_path = plan->plan.file.scenario;
       } else {
         scenario_path = derived;
@@ -229,23 +263,26 @@ int main(int argc, char** argv) {
   nh.setParam("/gather/plan_dir", plan_dir);  // fleet_node starts the agents with it
 
   int status = 0;
+  std::string failure;
   const gather::plan::PlanFile& pf = plan->plan.file;
+  // Ctrl-C (roslaunch's SIGINT) interrupts the waits for the fleet and its replies.
+  gather::ShutdownSignal stop([] { return !ros::ok(); });
   try {
     ROS_INFO("oc: %s with %d collectors, %d agents, %d cycles of %.1f s; waiting for the fleet", pf.method.c_str(),
              pf.collectors, team.agents(), params.cycles, team.period);
     pub.before_start(master);
-    master.start(nullptr);
+    master.start(&stop);
     ROS_INFO("oc: all %d agents ready, mission starts (tick %.2f s, %s)", team.agents(), set.tick,
              set.rate > 0 ? (std::to_string(set.rate) + "x real time").c_str() : "as fast as the lockstep allows");
     const auto t0 = std::chrono::steady_clock::now();
     auto speed = [&] {
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      return wall > 0 ? master.now() / wall : 0.0;
+      return wall > 0 ? master.last_tick_time() / wall : 0.0;
     };
     auto next_spin = std::chrono::steady_clock::now();
     bool more = true;
     while (more && ros::ok()) {
-      more = master.tick(nullptr);
+      more = master.tick(&stop);
       pub.after_tick(master, speed());
       if (std::chrono::steady_clock::now() >= next_spin) {
         ros::spinOnce();
@@ -256,25 +293,43 @@ int main(int argc, char** argv) {
     pub.finish(master, out.completed ? "done" : "failed", speed());
     gather::agent::RunSettings settings{set.clock == "wall" ? "lcm, wall clock" : "lcm", set.tick, set.rate, set.loss};
     gather::agent::write_mission_yaml(set.results_dir + "/mission.yaml", *plan, params, settings, out);
-    if (!out.completed) {
-      nh.deleteParam("/gather/plan_dir");
-      return fail(1, out.failure + (ros::ok() ? "" : " (stopped)") + "; " + set.results_dir + "/mission.yaml");
+    if (out.completed) {
+      gather::agent::RunFiles files;
+      files.add(pf, params, out);
+      files.write(set.results_dir);
+      std::printf("oc: mission done: %s Nc=%d, %d cycles, %zu goals requested, refresh %.1f s (est. %.1f), %.2f "
+                  "goals per cycle (est. %.2f); %lld ticks in %.1f s = %.0fx real time -> %s\n",
+                  pf.method.c_str(), pf.collectors, params.cycles, out.result.goals.size(), out.result.refresh_mean_s,
+                  pf.est_refresh_s, out.result.goals_per_cycle, pf.est_goals, static_cast<long long>(out.ticks),
+                  out.wall_ms / 1000.0, out.wall_ms > 0 ? out.end_s * 1000.0 / out.wall_ms : 0.0,
+                  set.results_dir.c_str());
+    } else {
+      failure = out.failure + (ros::ok() ? "" : " (stopped)") + "; " + set.results_dir + "/mission.yaml";
     }
-    gather::agent::RunFiles files;
-    files.add(pf, params, out);
-    files.write(set.results_dir);
-    std::printf("oc: mission done: %s Nc=%d, %d cycles, %zu goals requested, refresh %.1f s (est. %.1f), %.2f goals "
-                "per cycle (est. %.2f); %lld ticks in %.1f s = %.0fx real time -> %s\n",
-                pf.method.c_str(), pf.collectors, params.cycles, out.result.goals.size(), out.result.refresh_mean_s,
-                pf.est_refresh_s, out.result.goals_per_cycle, pf.est_goals, static_cast<long long>(out.ticks),
-                out.wall_ms / 1000.0, out.wall_ms > 0 ? out.end_s * 1000.0 / out.wall_ms : 0.0, set.results_dir.c_str());
-    std::fflush(stdout);
   } catch (const std::exception& e) {
-    nh.deleteParam("/gather/plan_dir");
-    pub.finish(master, "failed", 0.0);
-    return fail(1, e.what());
+    failure = e.what();
+    try {  // the agents stop, mission.yaml and the views say so (none of it may make things worse)
+      gather::agent::RunOutcome out = master.finish();
+      out.completed = false;
+      out.failure = failure;
+      gather::agent::RunSettings settings{set.clock == "wall" ? "lcm, wall clock" : "lcm", set.tick, set.rate, set.loss};
+      gather::agent::write_mission_yaml(set.results_dir + "/mission.yaml", *plan, params, settings, out);
+      failure += "; " + set.results_dir + "/mission.yaml";
+      pub.finish(master, "failed", 0.0);
+    } catch (const std::exception&) {
+    }
   }
   nh.deleteParam("/gather/plan_dir");
+  if (!failure.empty()) {
+    status = fail(1, failure);
+    // Stopped by the user, or nobody to look at the wreck: end now (roslaunch
+    // stops the launch: the OC is required). With RViz open, stay up so the
+    // last picture can be looked at, until Ctrl-C.
+    if (set.close_on_end || !ros::ok()) return status;
+    ROS_ERROR("oc: the mission failed; its topics stay up until you stop the launch (Ctrl-C)");
+    ros::spin();
+    return status;
+  }
 
   // The fleet's agents end by themselves; wait for fleet_node to say so
   // before ending the launch (it writes fleet.yaml).

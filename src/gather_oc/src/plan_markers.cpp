@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
 
 #include "gather_core/figures/partition_figure.hpp"
@@ -11,12 +12,6 @@ namespace view {
 namespace {
 
 using visualization_msgs::Marker;
-
-geometry_msgs::Point pt(double x, double y, double z = 0.0) {
-  geometry_msgs::Point p;
-  p.x = x, p.y = y, p.z = z;
-  return p;
-}
 
 // Label runs merged into rectangles: rows of equal runs (same columns and
 // label) one above the other become one rectangle.
@@ -191,7 +186,49 @@ visualization_msgs::MarkerArray plan_markers(const agent::TeamSetup& team, const
       if (!passes.points.empty()) out.markers.push_back(passes);
     }
   }
+  legend(out, style, reachable_box(grid, team.world.reachable), frame, stamp);
   return out;
+}
+
+void legend(visualization_msgs::MarkerArray& out, const Style& style, const Box& below, const std::string& frame,
+            const ros::Time& stamp) {
+  struct Item {
+    const char* text;
+    int type;
+    std_msgs::ColorRGBA colour;
+  };
+  const Item items[] = {
+      {"goal pending", Marker::CUBE, style.goal_pending},     {"carried", Marker::CUBE, style.goal_carried},
+      {"delivered", Marker::CUBE, style.goal_delivered},       {"expired", Marker::CUBE, style.goal_expired},
+      {"collector", Marker::CUBE, style.collector(0)},         {"its worker", Marker::CYLINDER, style.collector(0)},
+      {"OC worker", Marker::CYLINDER, style.oc_worker},        {"radio link", Marker::LINE_LIST, style.link},
+      {"hand-over", Marker::LINE_LIST, style.handover},        {"coverage", Marker::LINE_LIST, style.oc},
+  };
+  const double u = style.unit, h = u * 1.1;  // text height
+  double x = below.x0;
+  const double y = below.y0 - u * 1.8;
+  int id = 0;
+  for (const Item& it : items) {
+    Marker sym = marker(frame, stamp, "legend", id++, it.type);
+    sym.color = it.colour;
+    sym.scale.x = sym.scale.y = u * 0.9, sym.scale.z = 0.05;
+    sym.pose.position = pt(x + u * 0.5, y, kZLabels);
+    if (it.type == Marker::LINE_LIST) {
+      sym.pose.position = pt(0, 0, kZLabels);
+      sym.scale.x = it.colour.a < 0.9f ? u * 0.12 : u * 0.3;
+      sym.points = {pt(x, y), pt(x + u * 1.2, y)};
+      sym.color.a = 1.0f;
+    }
+    out.markers.push_back(sym);
+    Marker t = marker(frame, stamp, "legend", id++, Marker::TEXT_VIEW_FACING);
+    const double w = 0.62 * h * static_cast<double>(std::strlen(it.text));  // about the text's width
+    t.pose.position = pt(x + u * 1.6 + w / 2, y, kZLabels);
+    t.scale.z = h;
+    t.color = rgba(0.92f, 0.92f, 0.92f);
+    t.text = it.text;
+    out.markers.push_back(t);
+    x += u * 1.6 + w + u * 1.4;
+  }
 }
 
 }  // namespace view

@@ -49,7 +49,9 @@ std::size_t SimulatedBase::path(Point2* out, std::size_t max) const {
     std::copy(points_.begin(), points_.begin() + static_cast<std::ptrdiff_t>(n), out);
     return n;
   }
-  for (std::size_t i = 0; i < max; ++i) out[i] = points_[i * (n - 1) / (max - 1)];
+  // Too long to show whole: the part ahead (thinning it would cut corners
+  // through walls).
+  std::copy(points_.begin(), points_.begin() + static_cast<std::ptrdiff_t>(max), out);
   return max;
 }
 

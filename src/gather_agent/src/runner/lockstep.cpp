@@ -19,7 +19,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr std::size_t kHeld = 8192;   // radio messages held for the ticks to come
 constexpr std::size_t kOutbox = 64;   // messages a role sends in one tick
-constexpr std::size_t kMaxViewPoints = 256;  // goals measured a tick, points of a path (tick_reply_t's bounds)
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -109,8 +108,8 @@ LockstepAgent::LockstepAgent(LoadedPlan& plan, int id, LcmFleet& fleet)
   current_.reserve(kHeld);
   inbox_.reserve(1024);
   reply_.keys.reserve(4096);
-  reply_.measured_goals.reserve(kMaxViewPoints);
-  reply_.path.reserve(kMaxViewPoints);
+  reply_.measured_goals.reserve(kReplyMaxPoints);
+  reply_.path.reserve(kReplyMaxPoints);
 }
 
 LockstepAgent::~LockstepAgent() = default;
@@ -192,12 +191,12 @@ void LockstepAgent::step(const Tick& tick) {
   reply_.measured_goals.clear();
   if (const std::vector<int32_t>* m = role.measured_in_step())
     reply_.measured_goals.insert(reply_.measured_goals.end(), m->begin(),
-                                 m->begin() + static_cast<std::ptrdiff_t>(std::min(m->size(), kMaxViewPoints)));
+                                 m->begin() + static_cast<std::ptrdiff_t>(std::min(m->size(), kReplyMaxPoints)));
   reply_.path.clear();
   if (unit_.motion->path_revision() != reply_.path_revision) {
     reply_.path_revision = unit_.motion->path_revision();
-    reply_.path.resize(kMaxViewPoints);
-    reply_.path.resize(unit_.motion->path(reply_.path.data(), kMaxViewPoints));
+    reply_.path.resize(kReplyMaxPoints);
+    reply_.path.resize(unit_.motion->path(reply_.path.data(), kReplyMaxPoints));
   }
   fleet_.publish(reply_);
 }
@@ -505,9 +504,10 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
 }
 
 // What the views need from the radio traffic the OC has just taken in (all of
-// it, as the bus carries it, not only what reached the OC): custody hand-overs
-// (an ack of at least one item: the acker took them from the acked), and with
-// the wall clock, where each agent was when it last sent something.
+// it, as the bus carries it, the OC's own messages included, not only what
+// reached the OC): custody hand-overs (an ack of at least one item: the acker
+// took them from the acked), and with the wall clock, where each agent was
+// when it last sent something.
 void LockstepMaster::observe(double t, bool wall) {
   auto handovers = [&](const Message& m) {
     if (m.h.kind == Kind::kAck && m.ack.count > 0 && m.h.dest != kBroadcast)
@@ -525,8 +525,6 @@ void LockstepMaster::observe(double t, bool wall) {
       r.report.pending = m.state.pending, r.report.measured = m.state.measured;
     }
   }
-  if (options_.observe)
-    for (std::size_t i = 0; i < outbox_.size(); ++i) handovers(outbox_[i]);
 }
 
 void LockstepMaster::take_events(ViewEvents& into) {

@@ -43,6 +43,10 @@ static_assert(gather_lcm::ack_t::MAX_KEYS == kMaxBatch, "ack batch size differs 
 
 bool finite(double x) { return std::isfinite(x); }
 
+static_assert(kReplyMaxPoints == static_cast<std::size_t>(gather_lcm::tick_reply_t::MAX_MEASURED) &&
+                  kReplyMaxPoints == static_cast<std::size_t>(gather_lcm::tick_reply_t::MAX_PATH),
+              "Reply's bounds are tick_reply_t's");
+
 // The wire objects decoded into (kept, so decoding allocates nothing).
 struct Wire {
   gather_lcm::request_t request;
@@ -410,6 +414,8 @@ void LcmFleet::on_clock(const char* channel, const void* data, int size) {
         r.n_measured > gather_lcm::tick_reply_t::MAX_MEASURED || r.n_path < 0 ||
         r.n_path > gather_lcm::tick_reply_t::MAX_PATH)
       return void(++refused_.out_of_range);
+    for (int i = 0; i < r.n_measured; ++i)
+      if (r.measured_goals[static_cast<std::size_t>(i)] < 0) return void(++refused_.out_of_range);
     for (int i = 0; i < r.n_path; ++i)
       if (!std::isfinite(r.path_x[static_cast<std::size_t>(i)]) || !std::isfinite(r.path_y[static_cast<std::size_t>(i)]))
         return void(++refused_.out_of_range);

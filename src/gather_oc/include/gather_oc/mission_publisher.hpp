@@ -49,6 +49,8 @@ class MissionPublisher {
   ros::Publisher clock_, map_pub_, plan_, team_markers_, goals_, paths_, tf_, agents_, status_, cycles_;
   std::vector<ros::Publisher> poses_;
   double next_view_ = 0.0, next_state_ = 0.0, last_goals_ = -1e300, last_paths_ = -1e300;
+  std::size_t resolved_shown_ = 0;
+  ros::Time last_tf_;
 };
 
 }  // namespace gather

@@ -17,6 +17,8 @@
 //   /gather/agents         gather_msgs/AgentStates
 //   /gather/status         gather_msgs/MissionStatus
 //   /gather/cycle          gather_msgs/CycleStats, once a cycle's goals are all resolved
+// With the wall clock there are no tick replies: agents are where the OC's
+// process last heard them, no goal shows as carried, no path is drawn.
 #include <gather_msgs/AgentStates.h>
 #include <gather_msgs/CycleStats.h>
 #include <gather_msgs/MissionStatus.h>
@@ -40,8 +42,9 @@ class MissionView {
  public:
   MissionView(const agent::TeamSetup& team, const Style& style, std::string frame);
 
-  // Takes what the master observed since the last call.
-  void take(const agent::ViewEvents& events);
+  // Takes what the master observed since the last call (goal ids outside
+  // the OC's ledger are ignored).
+  void take(const agent::ViewEvents& events, const agent::OcRole& oc);
 
   visualization_msgs::MarkerArray team_markers(const std::vector<agent::Reply>& agents, double t, bool started,
                                                const ros::Time& stamp);
@@ -53,11 +56,10 @@ class MissionView {
   gather_msgs::AgentStates agent_states(const std::vector<agent::Reply>& agents, const agent::OcRole& oc,
                                         const ros::Time& stamp) const;
   gather_msgs::MissionStatus status(const agent::OcRole& oc, const std::string& state, double t, double rate,
-                                    const ros::Time& stamp) const;
+                                    const ros::Time& stamp);
   // One line above the map: mission time, the request, goals by state
   // (namespace "status" of /gather/team_markers).
-  visualization_msgs::Marker status_text(const agent::OcRole& oc, const std::string& state, double t,
-                                         const ros::Time& stamp) const;
+  visualization_msgs::Marker status_text(const gather_msgs::MissionStatus& status) const;
   // Cycles whose goals have all been resolved since the last call, in order.
   std::vector<gather_msgs::CycleStats> resolved_cycles(const agent::OcRole& oc, const ros::Time& stamp);
 
@@ -65,6 +67,18 @@ class MissionView {
   int goal_state(const agent::OcRole& oc, int id) const;
 
  private:
+  // Moves the cursor past the goals resolved since (goals resolve in no
+  // particular order; the cursor stops at the first unresolved one), adding
+  // them to the totals and to their cycle's row; a cycle whose goals are all
+  // past the cursor is ready to report. Work per view: the goals not yet
+  // resolved, the newest requests'.
+  void settle(const agent::OcRole& oc);
+  struct Totals {
+    uint32_t requested = 0, delivered = 0, expired = 0, dropped = 0;
+    double refresh_sum = 0.0, refresh_max = 0.0;
+  };
+  void add(Totals& t, const agent::OcRole& oc, std::size_t goal) const;
+
   const agent::TeamSetup& team_;
   Style style_;
   std::string frame_;
@@ -73,7 +87,13 @@ class MissionView {
   std::vector<uint32_t> shown_path_;             // path revision shown, by agent
   std::vector<double> yaw_;                      // by agent, from its last motion
   std::vector<Point2> last_pose_;
-  int next_cycle_ = 0;                           // next cycle to report as resolved
+  Box box_;                                      // where the team can be
+  std::size_t settled_ = 0;                      // goals [0, settled_) are all resolved
+  Totals settled_totals_;                        // of those
+  int row_cycle_ = -1;                           // the cycle being added up
+  Totals row_;                                   // its goals so far
+  double row_requested_at_ = 0.0;
+  std::vector<gather_msgs::CycleStats> ready_;   // rows of cycles resolved, not yet taken
 };
 
 }  // namespace view

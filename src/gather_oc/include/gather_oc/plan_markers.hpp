@@ -11,6 +11,7 @@
 //   meetings      where each worker meets its collector (discs in the
 //                 collector's colour), and the route stretches passing its
 //                 segment (small discs)
+//   legend        below the map: what the colours and shapes mean
 #include <visualization_msgs/MarkerArray.h>
 
 #include <string>
@@ -23,6 +24,11 @@ namespace view {
 
 visualization_msgs::MarkerArray plan_markers(const agent::TeamSetup& team, const Style& style,
                                              const std::string& frame, const ros::Time& stamp);
+
+// A legend below the box `below` (namespace "legend"): the goals' states,
+// the agents' shapes and the lines, in their colours.
+void legend(visualization_msgs::MarkerArray& out, const Style& style, const Box& below, const std::string& frame,
+            const ros::Time& stamp);
 
 // The point at arc length `s` [m] along a polyline (clamped to its ends).
 Point2 point_at(const std::vector<Point2>& line, double s);

@@ -4,6 +4,7 @@
 // that keep overlapping layers in order in a top-down view.
 #include <std_msgs/ColorRGBA.h>
 #include <visualization_msgs/Marker.h>
+#include <visualization_msgs/MarkerArray.h>
 
 #include <string>
 #include <vector>
@@ -42,6 +43,18 @@ struct Style {
   // A collector's colour (by collector index), its workers' too.
   std_msgs::ColorRGBA collector(int index, float a = 1.0f) const;
 };
+
+// Where the team can be: the bounding box [m] of the cells reachable from
+// the OC (the status line goes above it, the legend below; rviz_view fits
+// the view to the free cells with room for both).
+struct Box {
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+Box reachable_box(const OccupancyGrid& grid, const std::vector<uint8_t>& reachable);
+
+// A point [m] at height z.
+geometry_msgs::Point pt(Point2 p, double z = 0.0);
+geometry_msgs::Point pt(double x, double y, double z = 0.0);
 
 // A marker with the frame, stamp, namespace, id and type set, identity pose.
 visualization_msgs::Marker marker(const std::string& frame, const ros::Time& stamp, const std::string& ns, int id,

@@ -45,8 +45,8 @@ class MotionBackend {
 
   // For views (RViz): the polyline the base plans to drive, and a number
   // that changes whenever that plan changes (go, hold). Writes at most `max`
-  // points to `out` (a longer path is thinned, its ends kept) and returns
-  // how many; 0: no path to show (a collector drives its plan's route).
+  // points to `out` (of a longer path, its first `max`) and returns how
+  // many; 0: no path to show (a collector drives its plan's route).
   virtual uint32_t path_revision() const { return 0; }
   virtual std::size_t path(Point2* out, std::size_t max) const {
     (void)out, (void)max;

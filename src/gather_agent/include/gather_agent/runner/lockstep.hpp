@@ -135,6 +135,11 @@ class LockstepMaster {
 
   int64_t ticks() const { return tick_; }
   double now() const { return options_.clock == ClockMode::kWall ? wall_now_ : tick_ * options_.tick; }
+  // Mission time [s] of the last tick run (what agents() and the OC's ledger
+  // describe); 0 before the first.
+  double last_tick_time() const {
+    return options_.clock == ClockMode::kWall ? wall_now_ : tick_ > 0 ? (tick_ - 1) * options_.tick : 0.0;
+  }
   OcRole& oc() { return static_cast<OcRole&>(*oc_.role); }
   // The last reply of each agent (pose, role, counters, planned path), by
   // agent id. With the wall clock there are no replies: the pose, role and

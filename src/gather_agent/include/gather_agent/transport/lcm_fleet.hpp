@@ -54,6 +54,10 @@ struct Tick {
 
 enum class ReplyStatus : uint8_t { kReady = 1, kRefused = 2, kStepped = 3 };
 
+// Goals measured in a tick, and points of a planned path, a reply carries at
+// most (tick_reply_t's MAX_MEASURED and MAX_PATH).
+constexpr std::size_t kReplyMaxPoints = 256;
+
 struct Reply {
   int64_t tick = -1;
   int16_t agent = 0;
