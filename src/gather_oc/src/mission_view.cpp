@@ -303,7 +303,7 @@ gather_msgs::MissionStatus MissionView::status(const agent::OcRole& oc, const st
 visualization_msgs::Marker MissionView::status_text(const gather_msgs::MissionStatus& s) const {
   Marker m = marker(frame_, s.header.stamp, "status", 0, Marker::TEXT_VIEW_FACING);
   m.pose.position.x = (box_.x0 + box_.x1) / 2;
-  m.pose.position.y = box_.y1 + style_.unit * 1.6;
+  m.pose.position.y = box_.y1 + style_.unit * 2.0;
   m.pose.position.z = kZLabels;
   m.scale.z = style_.unit * 1.6;
   m.color = rgba(0.95f, 0.95f, 0.95f);
