@@ -219,6 +219,38 @@ def check_bag(bag_path, scenario_path, n, collectors):
     check("plan markers: one route per collector", len(routes) == collectors, len(routes))
 
 
+def rviz_crashed(out):
+    """RViz (a third-party process, on llvmpipe) killed by a signal."""
+    return re.search(r"\[rviz-\d+\] process has died \[pid \d+, exit code -\d+", out) is not None
+
+
+def with_rviz(label, run):
+    """Runs `run` (True: done; False: RViz crashed) and once more if RViz
+    crashed, discarding the first attempt's checks. RViz 1.14 under llvmpipe
+    segfaulted in about 1 of 10 sessions on this machine, never twice in a
+    row; gather's own processes are checked either way."""
+    kept = len(results)
+    if run():
+        return
+    del results[kept:]
+    print("WARN %s: RViz crashed (SIGSEGV, its own process); running it once more" % label, flush=True)
+    check("%s: RViz did not crash twice in a row" % label, run())
+
+
+def map_topic_launch(path, args):
+    """A launch file: map_publisher with maps/office.yaml on /map, and mission.launch with map_topic:=/map."""
+    lines = ["<launch>",
+             '  <node pkg="gather_oc" type="map_publisher" name="map_server" args="%s"/>' %
+             os.path.join(REPO, "maps", "office.yaml"),
+             '  <include file="$(find gather_oc)/launch/mission.launch">',
+             '    <arg name="map_topic" value="/map"/>']
+    lines += ['    <arg name="%s" value="%s"/>' % kv for kv in sorted(args.items())]
+    lines += ["  </include>", "</launch>", ""]
+    with open(path, "w") as f:
+        f.write("\n".join(lines))
+    return path
+
+
 def check_results(out_dir, scenario, cycles, n):
     r = yaml.safe_load(open(os.path.join(out_dir, "mission.yaml")))
     check("results: status ok", r["status"] == "ok", r.get("failure"))
@@ -266,90 +298,110 @@ def main():
     office_a = os.path.abspath(os.path.join(REPO, "..", "shared", "maps", "ipa", "office_a.scenario.yaml"))
     n = yaml.safe_load(open(office))["team"]["agents"]
 
-    # 1. office, pap:4, RViz + rosbag, two screenshots.
     plan = os.path.join(tmp, "office_pap4")
     subprocess.run([GATHER, "plan", office, "--config", "pap:4", "--out", plan], check=True,
                    stdout=subprocess.DEVNULL, timeout=300)
-    out1 = os.path.join(tmp, "office")
-    run = Launch(["scenario:=" + office, "plan:=" + plan, "cycles:=%d" % a.cycles, "rate:=12", "results_dir:=" + out1,
-                  "rviz:=true", "record:=true", "close_on_end:=true"], os.path.join(tmp, "office.log"))
-    try:
-        started = run.wait_for(r"mission starts", 120)
-        check("office: the mission starts", started, run.output()[-1500:])
-        check("office: RViz shows up", wait_visible(os.path.join(tmp, "probe_office.png"), "office"))
-        shot1 = screenshot(os.path.join(SHOTS, "office_pap4_early.png"))
-        time.sleep(6.0)
-        shot2 = screenshot(os.path.join(SHOTS, "office_pap4_later.png"))
-        rc = run.wait(300)
-        out = run.output()
-    finally:
-        run.close()
-    check("office: roslaunch exits 0 by itself", rc == 0, "status %s" % rc)
-    quiet(out, "office")
-    check("office: the OC prints its summary line", re.search(r"oc: mission done: pap Nc=4, %d cycles" % a.cycles, out),
-          out[-1500:])
-    check("office: the fleet reports every agent", "fleet: %d agents: all exited 0" % n in out, out[-1500:])
-    check("office: RViz's view was fitted to the map", "rviz_view: view of the map on /map" in out, out[-1500:])
-    check_results(out1, office, a.cycles, n)
-    same_as_in_process(out1, plan, a.cycles, "office")
-    if check("office: bag recorded", os.path.exists(os.path.join(out1, "mission.bag"))):
-        check_bag(os.path.join(out1, "mission.bag"), office, n, 4)
-    check_screen("office, early", shot1, 4)
-    check_screen("office, later", shot2, 4)
-    oc = oc_pixel(shot1)
-    if check("office: the OC is on screen", oc is not None):
-        changed = np.abs(shot2 - shot1).sum(axis=2) > 60
-        changed[:120, :] = False  # the status line and the tool bar
-        ys, xs = np.nonzero(changed)
-        dist = np.hypot(xs - oc[0], ys - oc[1])
-        check("office: the picture changes far from the OC as the team moves (> 2000 px beyond 300 px of it)",
-              int((dist > 300).sum()) > 2000, int((dist > 300).sum()))
-
-    # 2. office_a, its own pap:4 plan: RViz fits this map too; Ctrl-C ends it.
     plan_a = os.path.join(tmp, "office_a_pap4")
     subprocess.run([GATHER, "plan", office_a, "--config", "pap:4", "--out", plan_a], check=True,
                    stdout=subprocess.DEVNULL, timeout=300)
-    out2 = os.path.join(tmp, "office_a")
-    run = Launch(["scenario:=" + office_a, "plan:=" + plan_a, "cycles:=1", "rate:=25", "results_dir:=" + out2,
-                  "rviz:=true"], os.path.join(tmp, "office_a.log"))
-    try:
-        check("office_a: the mission starts", run.wait_for(r"mission starts", 120), run.output()[-1500:])
-        check("office_a: RViz shows up", wait_visible(os.path.join(tmp, "probe.png"), "office_a"))
-        time.sleep(3.0)
-        shot = screenshot(os.path.join(SHOTS, "office_a_pap4.png"))
-        done = run.wait_for(r"mission done", 120)
-        check("office_a: the mission ends and the launch stays up with RViz", done and run.p.poll() is None,
-              run.output()[-1500:])
-        rc = run.interrupt(30)
-        out = run.output()
-    finally:
-        run.close()
-    check("office_a: Ctrl-C ends the launch", rc == 0, "status %s" % rc)
-    quiet(out, "office_a")
-    check_screen("office_a", shot, 4)
-
-    # 3. review.launch on the office bag.
+    out1 = os.path.join(tmp, "office")
     bag = os.path.join(out1, "mission.bag")
-    if os.path.exists(bag):
-        run = Launch(["bag:=" + bag, "rate:=40", "start:=60"], os.path.join(tmp, "review.log"), "review.launch")
+
+    def office_run():
+        # 1. office, pap:4, RViz + rosbag, two screenshots.
+        run = Launch(["scenario:=" + office, "plan:=" + plan, "cycles:=%d" % a.cycles, "rate:=12", "results_dir:=" + out1,
+                      "rviz:=true", "record:=true", "close_on_end:=true"], os.path.join(tmp, "office.log"))
         try:
-            check("review: the bag plays", run.wait_for(r"review_player: .*playing at 40x from 60 s", 60),
+            started = run.wait_for(r"mission starts", 120)
+            check("office: the mission starts", started, run.output()[-1500:])
+            check("office: RViz shows up", wait_visible(os.path.join(tmp, "probe_office.png"), "office"))
+            shot1 = screenshot(os.path.join(SHOTS, "office_pap4_early.png"))
+            time.sleep(6.0)
+            shot2 = screenshot(os.path.join(SHOTS, "office_pap4_later.png"))
+            rc = run.wait(300)
+            out = run.output()
+        finally:
+            run.close()
+        if rviz_crashed(out):
+            return False
+        check("office: roslaunch exits 0 by itself", rc == 0, "status %s" % rc)
+        quiet(out, "office")
+        check("office: the OC prints its summary line", re.search(r"oc: mission done: pap Nc=4, %d cycles" % a.cycles, out),
+              out[-1500:])
+        check("office: the fleet reports every agent", "fleet: %d agents: all exited 0" % n in out, out[-1500:])
+        check("office: RViz's view was fitted to the map", "rviz_view: view of the map on /map" in out, out[-1500:])
+        check_results(out1, office, a.cycles, n)
+        same_as_in_process(out1, plan, a.cycles, "office")
+        if check("office: bag recorded", os.path.exists(os.path.join(out1, "mission.bag"))):
+            check_bag(os.path.join(out1, "mission.bag"), office, n, 4)
+        check_screen("office, early", shot1, 4)
+        check_screen("office, later", shot2, 4)
+        oc = oc_pixel(shot1)
+        if check("office: the OC is on screen", oc is not None):
+            changed = np.abs(shot2 - shot1).sum(axis=2) > 60
+            changed[:120, :] = False  # the status line and the tool bar
+            ys, xs = np.nonzero(changed)
+            dist = np.hypot(xs - oc[0], ys - oc[1])
+            check("office: the picture changes far from the OC as the team moves (> 2000 px beyond 300 px of it)",
+                  int((dist > 300).sum()) > 2000, int((dist > 300).sum()))
+
+        return True
+
+    def office_a_run():
+        # 2. office_a, its own pap:4 plan: RViz fits this map too; Ctrl-C ends it.
+        out2 = os.path.join(tmp, "office_a")
+        run = Launch(["scenario:=" + office_a, "plan:=" + plan_a, "cycles:=1", "rate:=25", "results_dir:=" + out2,
+                      "rviz:=true"], os.path.join(tmp, "office_a.log"))
+        try:
+            check("office_a: the mission starts", run.wait_for(r"mission starts", 120), run.output()[-1500:])
+            check("office_a: RViz shows up", wait_visible(os.path.join(tmp, "probe.png"), "office_a"))
+            time.sleep(3.0)
+            shot = screenshot(os.path.join(SHOTS, "office_a_pap4.png"))
+            done = run.wait_for(r"mission done", 120)
+            check("office_a: the mission ends and the launch stays up with RViz", done and run.p.poll() is None,
                   run.output()[-1500:])
-            check("review: RViz's view was fitted to the map", run.wait_for(r"rviz_view: view of the map", 60),
-                  run.output()[-1500:])
-            check("review: RViz shows up", wait_visible(os.path.join(tmp, "probe.png"), "review"))
-            time.sleep(1.0)
-            shot = screenshot(os.path.join(SHOTS, "office_pap4_review.png"))
-            ended = run.wait_for(r"the bag has ended", 120)
-            time.sleep(2.0)
-            check("review: RViz stays open after the bag ends", ended and run.p.poll() is None, run.output()[-1500:])
             rc = run.interrupt(30)
             out = run.output()
         finally:
             run.close()
-        check("review: Ctrl-C ends it", rc == 0, "status %s" % rc)
-        quiet(out, "review")
-        check_screen("review", shot, 4)
+        if rviz_crashed(out):
+            return False
+        check("office_a: Ctrl-C ends the launch", rc == 0, "status %s" % rc)
+        quiet(out, "office_a")
+        check_screen("office_a", shot, 4)
+
+        return True
+
+    def review_run():
+        # 3. review.launch on the office bag.
+        if os.path.exists(bag):
+            run = Launch(["bag:=" + bag, "rate:=40", "start:=60"], os.path.join(tmp, "review.log"), "review.launch")
+            try:
+                check("review: the bag plays", run.wait_for(r"review_player: .*playing at 40x from 60 s", 60),
+                      run.output()[-1500:])
+                check("review: RViz's view was fitted to the map", run.wait_for(r"rviz_view: view of the map", 60),
+                      run.output()[-1500:])
+                check("review: RViz shows up", wait_visible(os.path.join(tmp, "probe.png"), "review"))
+                time.sleep(1.0)
+                shot = screenshot(os.path.join(SHOTS, "office_pap4_review.png"))
+                ended = run.wait_for(r"the bag has ended", 120)
+                time.sleep(2.0)
+                check("review: RViz stays open after the bag ends", ended and run.p.poll() is None, run.output()[-1500:])
+                rc = run.interrupt(30)
+                out = run.output()
+            finally:
+                run.close()
+            if rviz_crashed(out):
+                return False
+            check("review: Ctrl-C ends it", rc == 0, "status %s" % rc)
+            quiet(out, "review")
+            check_screen("review", shot, 4)
+
+        return True
+
+    with_rviz("office", office_run)
+    with_rviz("office_a", office_a_run)
+    with_rviz("review", review_run)
 
     # 3b. Paths relative to where the user is: the bag by its name in its directory.
     if os.path.exists(bag):
@@ -390,18 +442,8 @@ def main():
     with open(office) as f, open(nomap, "w") as g:
         g.write("".join(line for line in f if not line.startswith("map:")))
     out4 = os.path.join(tmp, "map_topic")
-    launch = os.path.join(tmp, "map_topic.launch")
-    with open(launch, "w") as f:
-        f.write("""<launch>
-  <node pkg="gather_oc" type="map_publisher" name="map_server" args="%s"/>
-  <include file="$(find gather_oc)/launch/mission.launch">
-    <arg name="scenario" value="%s"/>
-    <arg name="map_topic" value="/map"/>
-    <arg name="cycles" value="1"/>
-    <arg name="results_dir" value="%s"/>
-  </include>
-</launch>
-""" % (os.path.join(REPO, "maps", "office.yaml"), nomap, out4))
+    launch = map_topic_launch(os.path.join(tmp, "map_topic.launch"), {"scenario": nomap, "cycles": "1",
+                                                                      "results_dir": out4})
     run = Launch([], os.path.join(tmp, "map_topic.log"), launch)
     try:
         rc = run.wait(300)
@@ -423,18 +465,8 @@ def main():
     other = os.path.join(tmp, "other_seed.scenario.yaml")
     with open(nomap) as f, open(other, "w") as g:
         g.write(f.read().replace("  seed: 1", "  seed: 7"))
-    launch = os.path.join(tmp, "map_topic_bad.launch")
-    with open(launch, "w") as f:
-        f.write("""<launch>
-  <node pkg="gather_oc" type="map_publisher" name="map_server" args="%s"/>
-  <include file="$(find gather_oc)/launch/mission.launch">
-    <arg name="scenario" value="%s"/>
-    <arg name="plan" value="%s"/>
-    <arg name="map_topic" value="/map"/>
-    <arg name="results_dir" value="%s"/>
-  </include>
-</launch>
-""" % (os.path.join(REPO, "maps", "office.yaml"), other, plan, os.path.join(tmp, "map_topic_bad")))
+    launch = map_topic_launch(os.path.join(tmp, "map_topic_bad.launch"),
+                              {"scenario": other, "plan": plan, "results_dir": os.path.join(tmp, "map_topic_bad")})
     out = subprocess.run(["roslaunch", launch], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                          timeout=120).stdout
     check("map topic with a plan for other settings: the OC names the plan and exits 2",
