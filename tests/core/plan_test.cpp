@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -58,6 +59,66 @@ TEST_F(PlanTest, EveryWorkerIsAssociatedExactlyOnce) {
     EXPECT_GT(cfg.estimates.goals, 0.0);
     EXPECT_LE(cfg.estimates.goals, scenario_->mission.goals_per_request + 1e-9);
   }
+}
+
+TEST_F(PlanTest, NoRouteIsLongerThanTheRequestPeriodAndTheDecisionNeverLowersTheScore) {
+  plan::PlannerOptions grown;
+  grown.associate = false;
+  int longer_before = 0;
+  for (partition::Method m : partition::all_methods())
+    for (int nc = 1; nc <= 3; ++nc) {
+      const auto before = plan::plan_configuration(*ctx_, m, nc, grown);
+      const auto after = plan::plan_configuration(*ctx_, m, nc);
+      for (const auto& r : before.routes) longer_before += r.period > ctx_->cycle_period;
+      for (const auto& r : after.routes)
+        EXPECT_LE(r.period, ctx_->cycle_period * (1 + 1e-9)) << partition::method_name(m) << " " << nc;
+      if (std::none_of(before.routes.begin(), before.routes.end(),
+                       [&](const plan::CollectorRoute& r) { return r.period > ctx_->cycle_period; })) {
+        EXPECT_GE(plan::association_score(*ctx_, after.estimates),
+                  plan::association_score(*ctx_, before.estimates) - 1e-12)
+            << partition::method_name(m) << " " << nc;
+      }
+      // The estimate of the final state is the estimate of its routes.
+      std::multiset<int> served;
+      for (const auto& r : after.routes)
+        for (const auto& meeting : r.meetings) served.insert(meeting.segment);
+      for (int k = 1; k <= after.workers; ++k)
+        EXPECT_EQ(served.count(k), after.collector_of_segment[static_cast<std::size_t>(k - 1)] >= 0 ? 1u : 0u);
+    }
+  EXPECT_GT(longer_before, 0) << "the grown groups never make a route longer than the period: nothing was tested";
+}
+
+// A 60 m corridor with the OC at its west end and a request every 200 s: the
+// east half is a far segment, and a collector driving 58 m to bring it the
+// request and take its data back delivers later than its worker walking
+// back itself; the decision gives it to the OC (and the collector idles).
+TEST(PlanAssociationTest, AFarSegmentCheaperFromTheOcGoesToTheOc) {
+  const int w = 600, h = 10;
+  Scenario s;
+  s.path = "corridor60";
+  s.grid = OccupancyGrid(w, h, 0.1, Point2{0, 0}, std::vector<int8_t>(w * h, 0), std::vector<uint8_t>(w * h, 1));
+  s.oc = Point2{0.55, 0.5};
+  s.team.agents = 3;
+  s.team.speed = 1.0;
+  s.team.radius = 0.1;
+  s.radio.sensitivity_dbm = -49.5;  // ~2 m of coverage
+  s.mission.period = 200.0;
+  s.mission.goals_per_request = 10;
+  s.planner.collectors_min = 0, s.planner.collectors_max = 1;
+  const plan::PlanContext ctx(s);
+  plan::PlannerOptions grown;
+  grown.associate = false;
+  const auto before = plan::plan_configuration(ctx, partition::Method::kBap, 1, grown);
+  int far = 0;
+  for (int k = 1; k <= before.workers; ++k)
+    if (before.collector_of_segment[static_cast<std::size_t>(k - 1)] == 0) far = k;
+  ASSERT_GT(far, 0) << "the grown groups give the collector no segment";
+  ASSERT_LE(before.routes[0].period, ctx.cycle_period);
+  const auto after = plan::plan_configuration(ctx, partition::Method::kBap, 1);
+  EXPECT_EQ(after.collector_of_segment[static_cast<std::size_t>(far - 1)], -1);
+  EXPECT_TRUE(after.routes[0].segments.empty());
+  EXPECT_GT(plan::association_score(ctx, after.estimates), plan::association_score(ctx, before.estimates));
+  EXPECT_LT(after.estimates.refresh_s, before.estimates.refresh_s);
 }
 
 TEST_F(PlanTest, NoCollectorsSendsEveryWorkerToTheOc) {

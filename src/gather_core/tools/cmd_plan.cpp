@@ -82,10 +82,11 @@ int plan(int argc, char** argv) {
   for (const auto& c : sweep.configs) {
     sum.partition_ms += c.times.partition_ms, sum.graph_ms += c.times.graph_ms, sum.groups_ms += c.times.groups_ms;
     sum.routes_ms += c.times.routes_ms, sum.estimate_ms += c.times.estimate_ms;
+    sum.associate_ms += c.times.associate_ms;
   }
   std::printf("stages [ms, summed over configurations]: context %.0f, partition %.0f, graph %.0f, groups %.0f, "
-              "routes %.0f, estimates %.0f; sweep wall %.0f ms on %d threads; total %.0f ms\n",
-              ctx_ms, sum.partition_ms, sum.graph_ms, sum.groups_ms, sum.routes_ms, sum.estimate_ms, sweep.wall_ms,
+              "routes %.0f, estimates %.0f, association %.0f; sweep wall %.0f ms on %d threads; total %.0f ms\n",
+              ctx_ms, sum.partition_ms, sum.graph_ms, sum.groups_ms, sum.routes_ms, sum.estimate_ms, sum.associate_ms, sweep.wall_ms,
               opt.threads, std::chrono::duration<double, std::milli>(Clock::now() - t_start).count());
   std::printf("best: %s with %d collectors and %d workers (U = %.3f, est. refresh %.1f s, %.2f goals per cycle of "
               "%.1f s) -> %s/plan.yaml\n",

@@ -38,14 +38,15 @@ PlanFile make_plan_file(const PlanContext& ctx, const ConfigurationPlan& cfg, co
 
 void write_sweep_report(const std::string& path, const SweepResult& sweep) {
   std::ofstream out(path);
-  out << "method,collectors,workers,est_refresh_s,est_goals,utility,plan_ms,partition_ms,graph_ms,groups_ms,routes_ms,"
-         "estimate_ms\n";
+  out << "method,collectors,workers,oc_workers,est_refresh_s,est_goals,utility,plan_ms,partition_ms,graph_ms,groups_ms,"
+         "routes_ms,estimate_ms,associate_ms\n";
   char line[512];
   for (const auto& c : sweep.configs) {
-    std::snprintf(line, sizeof line, "%s,%d,%d,%.3f,%.3f,%.4f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f\n",
-                  partition::method_name(c.method), c.collectors, c.workers, c.estimates.refresh_s, c.estimates.goals,
-                  c.utility, c.times.total(), c.times.partition_ms, c.times.graph_ms, c.times.groups_ms,
-                  c.times.routes_ms, c.times.estimate_ms);
+    const int oc_workers = static_cast<int>(std::count(c.collector_of_segment.begin(), c.collector_of_segment.end(), -1));
+    std::snprintf(line, sizeof line, "%s,%d,%d,%d,%.3f,%.3f,%.4f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f\n",
+                  partition::method_name(c.method), c.collectors, c.workers, oc_workers, c.estimates.refresh_s,
+                  c.estimates.goals, c.utility, c.times.total(), c.times.partition_ms, c.times.graph_ms,
+                  c.times.groups_ms, c.times.routes_ms, c.times.estimate_ms, c.times.associate_ms);
     out << line;
   }
   if (!out) throw Error(path, "cannot write report");

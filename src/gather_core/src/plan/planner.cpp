@@ -466,42 +466,180 @@ WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, co
   return run;
 }
 
-Estimates estimate(const PlanContext& ctx, const ConfigurationPlan& cfg, const PlannerOptions& opt) {
+// One worker's estimate in configuration cfg (its segment's association
+// and, for a worker of a collector, that collector's route).
+WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& cfg, const WorkerSegment& seg,
+                               const RadioModel& radio, const PlannerOptions& opt) {
   const Scenario& s = ctx.scenario;
   const double v = s.team.speed, T = ctx.cycle_period, c = opt.tsp_constant;
   const double G = s.mission.goals_per_request;
   const int cycles = std::max(1, s.mission.cycles);
-  const RadioModel radio(s.grid, s.radio);
-  Estimates e;
-  double weighted = 0.0;
-  for (const WorkerSegment& seg : cfg.graph.segments) {
-    WorkerEstimate w;
-    w.segment = seg.id;
-    w.collector = cfg.collector_of_segment[static_cast<std::size_t>(seg.id - 1)];
-    w.expected_goals = G * seg.area / ctx.reachable_area;
-    const std::vector<double> pmf = goal_count_pmf(static_cast<int>(G), seg.area / ctx.reachable_area);
-    WorkerRun run;
-    if (w.collector < 0) {
-      const TourModel model = tour_model(seg, true, c);
-      w.tour_s = model.length(w.expected_goals) / v;
-      run = run_oc_worker(model, pmf, v, T, cycles);
-    } else {
-      const CollectorRoute& r = cfg.routes[static_cast<std::size_t>(w.collector)];
-      const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
-                                  [&](const MeetingArea& a) { return a.segment == seg.id; });
-      const TourModel model = tour_model(seg, false, c);
-      w.tour_s = model.length(w.expected_goals) / v;
-      if (m != r.meetings.end())
-        run = run_collector_worker(r, *m, contact_stretches(r, *m, seg.centroid_m, radio), model, pmf, v, T, cycles);
-    }
-    w.delivered_goals = run.delivered / cycles;
-    w.refresh_s = run.delivered > 0 ? run.refresh_sum / run.delivered : 0.0;
-    e.goals += w.delivered_goals;
-    weighted += w.delivered_goals * w.refresh_s;
-    e.workers.push_back(w);
+  WorkerEstimate w;
+  w.segment = seg.id;
+  w.collector = cfg.collector_of_segment[static_cast<std::size_t>(seg.id - 1)];
+  w.expected_goals = G * seg.area / ctx.reachable_area;
+  const std::vector<double> pmf = goal_count_pmf(static_cast<int>(G), seg.area / ctx.reachable_area);
+  WorkerRun run;
+  if (w.collector < 0) {
+    const TourModel model = tour_model(seg, true, c);
+    w.tour_s = model.length(w.expected_goals) / v;
+    run = run_oc_worker(model, pmf, v, T, cycles);
+  } else {
+    const CollectorRoute& r = cfg.routes[static_cast<std::size_t>(w.collector)];
+    const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
+                                [&](const MeetingArea& a) { return a.segment == seg.id; });
+    const TourModel model = tour_model(seg, false, c);
+    w.tour_s = model.length(w.expected_goals) / v;
+    if (m != r.meetings.end())
+      run = run_collector_worker(r, *m, contact_stretches(r, *m, seg.centroid_m, radio), model, pmf, v, T, cycles);
   }
+  w.delivered_goals = run.delivered / cycles;
+  w.refresh_s = run.delivered > 0 ? run.refresh_sum / run.delivered : 0.0;
+  return w;
+}
+
+// The configuration's figures from its workers' estimates.
+void combine(Estimates& e) {
+  e.goals = 0.0;
+  double weighted = 0.0;
+  for (const WorkerEstimate& w : e.workers) e.goals += w.delivered_goals, weighted += w.delivered_goals * w.refresh_s;
   e.refresh_s = e.goals > 0 ? weighted / e.goals : 0.0;
+}
+
+Estimates estimate(const PlanContext& ctx, const ConfigurationPlan& cfg, const PlannerOptions& opt) {
+  const RadioModel radio(ctx.scenario.grid, ctx.scenario.radio);
+  Estimates e;
+  for (const WorkerSegment& seg : cfg.graph.segments) e.workers.push_back(estimate_worker(ctx, cfg, seg, radio, opt));
+  combine(e);
   return e;
+}
+
+// How well a configuration serves the OC, for decisions inside one
+// configuration (the utility U compares configurations by min-max
+// normalisation over the sweep, which a single configuration does not
+// have): J = (beta N / G - alpha T_refresh / T) / (alpha + beta), goals
+// per cycle on the scale of a request's goals G, the refresh time on the
+// scale of the request period T. Larger is better.
+double score(const Estimates& e, const PlanContext& ctx) {
+  const PlannerParams& pp = ctx.scenario.planner;
+  const double G = std::max(1, ctx.scenario.mission.goals_per_request), T = ctx.cycle_period;
+  // No goal delivered: as bad as a refresh of all the mission's cycles.
+  const double refresh = e.goals > 0 ? e.refresh_s : T * std::max(1, ctx.scenario.mission.cycles);
+  return (pp.beta * e.goals / G - pp.alpha * refresh / T) / (pp.alpha + pp.beta);
+}
+
+// The segments collector c serves, ascending.
+std::vector<int> segments_of(const ConfigurationPlan& cfg, int c) {
+  std::vector<int> segs;
+  for (const WorkerSegment& seg : cfg.graph.segments)
+    if (cfg.collector_of_segment[static_cast<std::size_t>(seg.id - 1)] == c) segs.push_back(seg.id);
+  return segs;
+}
+
+// Association as a decision (seed sec. 3.1: the planner decides "with whom
+// the workers must communicate, a collector or the OC", balancing "the time
+// of the collectors and of the workers' estimated trajectories").
+// The groups grown by group_segments are the starting point; then
+//  1. balance: while a collector's route is longer than the request period
+//     (its loop would carry out only the newest of the requests issued
+//     meanwhile, and skip the others), one of its segments goes to the OC:
+//     the one whose move leaves the best score J. A route that cannot be
+//     trimmed under T leaves the collector idle.
+//  2. decide: a worker of a collector moves to the OC when that raises J
+//     (the move also shortens its collector's route, which the re-estimate
+//     sees); the most promising moves by the worker's own estimate are tried
+//     first, the best of them is kept, until none raises J.
+// Each trial rebuilds one route and re-runs the estimate (a few ms).
+void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan& cfg, const PlannerOptions& opt) {
+  const Scenario& s = ctx.scenario;
+  const double T = ctx.cycle_period, v = s.team.speed;
+  const double G = std::max(1, s.mission.goals_per_request);
+  const int cycles = std::max(1, s.mission.cycles);
+  const RadioModel radio(s.grid, s.radio);
+  // Moves segment k to the OC, rebuilds its collector's route, re-estimates
+  // the workers that changes (that collector's and k's), returns J;
+  // undo() restores the state before the move.
+  CollectorRoute saved_route;
+  Estimates saved_estimates;
+  int saved_k = 0, saved_c = -1;
+  auto try_move = [&](int k) {
+    saved_k = k;
+    saved_c = cfg.collector_of_segment[static_cast<std::size_t>(k - 1)];
+    saved_route = cfg.routes[static_cast<std::size_t>(saved_c)];
+    saved_estimates = cfg.estimates;
+    cfg.collector_of_segment[static_cast<std::size_t>(k - 1)] = -1;
+    cfg.routes[static_cast<std::size_t>(saved_c)] =
+        build_route(ctx, fm, cfg.graph, cfg.partition.labels, segments_of(cfg, saved_c), saved_c, opt);
+    for (WorkerEstimate& w : cfg.estimates.workers)
+      if (w.segment == k || w.collector == saved_c)
+        w = estimate_worker(ctx, cfg, cfg.graph.segment(w.segment), radio, opt);
+    combine(cfg.estimates);
+    return score(cfg.estimates, ctx);
+  };
+  auto undo = [&]() {
+    cfg.collector_of_segment[static_cast<std::size_t>(saved_k - 1)] = saved_c;
+    cfg.routes[static_cast<std::size_t>(saved_c)] = saved_route;
+    cfg.estimates = saved_estimates;
+  };
+  // The most promising moves first: by how much a worker's own share of J
+  // would grow if it delivered to the OC (cheap: an OC worker's estimate
+  // does not depend on any route). Only workers of collector `only` (-1:
+  // of any collector).
+  auto ranked = [&](int only) {
+    const double goals = std::max(1e-9, cfg.estimates.goals);
+    auto share = [&](double delivered, double refresh) {
+      return s.planner.beta * delivered / G - s.planner.alpha * delivered * refresh / (T * goals);
+    };
+    std::vector<std::pair<double, int>> gain;
+    for (const WorkerEstimate& w : cfg.estimates.workers) {
+      if (w.collector < 0 || (only >= 0 && w.collector != only)) continue;
+      const WorkerSegment& seg = cfg.graph.segment(w.segment);
+      const std::vector<double> pmf = goal_count_pmf(s.mission.goals_per_request, seg.area / ctx.reachable_area);
+      const WorkerRun oc = run_oc_worker(tour_model(seg, true, opt.tsp_constant), pmf, v, T, cycles);
+      const double d = oc.delivered / cycles, r = oc.delivered > 0 ? oc.refresh_sum / oc.delivered : 0.0;
+      gain.emplace_back(share(d, r) - share(w.delivered_goals, w.refresh_s), w.segment);
+    }
+    std::sort(gain.begin(), gain.end(), std::greater<>());
+    return gain;
+  };
+  constexpr std::size_t kTrials = 4;  // moves fully re-estimated per step
+  // 1. Balance: the best of the promising moves and of the one farthest
+  // from the coverage (it usually shortens the route most).
+  for (int c = 0; c < cfg.collectors; ++c) {
+    while (cfg.routes[static_cast<std::size_t>(c)].period > T * (1.0 + 1e-9)) {
+      const std::vector<std::pair<double, int>> gain = ranked(c);
+      if (gain.empty()) break;
+      std::vector<int> trials;
+      for (std::size_t i = 0; i < gain.size() && i < kTrials; ++i) trials.push_back(gain[i].second);
+      int farthest = gain.front().second;
+      for (const auto& [g, k] : gain)
+        if (cfg.graph.segment(k).coverage_distance > cfg.graph.segment(farthest).coverage_distance) farthest = k;
+      if (std::find(trials.begin(), trials.end(), farthest) == trials.end()) trials.push_back(farthest);
+      int best_k = trials.front();
+      double best = -kInf;
+      for (int k : trials) {
+        const double j = try_move(k);
+        undo();
+        if (j > best) best = j, best_k = k;
+      }
+      try_move(best_k);
+      ++cfg.moved_to_oc;
+    }
+  }
+  // 2. Decide, worker by worker, while a move raises J.
+  for (double current = score(cfg.estimates, ctx);;) {
+    const std::vector<std::pair<double, int>> gain = ranked(-1);
+    int best_k = -1;
+    double best = current;
+    for (std::size_t i = 0; i < gain.size() && i < kTrials; ++i) {
+      const double j = try_move(gain[i].second);
+      undo();
+      if (j > best + 1e-12) best = j, best_k = gain[i].second;
+    }
+    if (best_k < 0) break;
+    current = try_move(best_k);
+    ++cfg.moved_to_oc;
+  }
 }
 
 }  // namespace
@@ -580,8 +718,16 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
   t0 = Clock::now();
   cfg.estimates = estimate(ctx, cfg, opt);
   cfg.times.estimate_ms = ms_since(t0);
+
+  if (collectors > 0 && opt.associate) {
+    t0 = Clock::now();
+    associate(ctx, fm, cfg, opt);
+    cfg.times.associate_ms = ms_since(t0);
+  }
   return cfg;
 }
+
+double association_score(const PlanContext& ctx, const Estimates& estimates) { return score(estimates, ctx); }
 
 void compute_utilities(std::vector<ConfigurationPlan>& configs, double alpha, double beta) {
   if (configs.empty()) return;

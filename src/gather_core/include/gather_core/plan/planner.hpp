@@ -27,6 +27,7 @@ struct PlannerOptions {
   int threads = 2;              // configurations planned in parallel
   double tsp_constant = 0.7124; // Beardwood-Halton-Hammersley constant of random tours in the plane
   int smoothing_passes = 3;     // OMPL B-spline passes on collector routes
+  bool associate = true;        // decide per worker: collector or OC, and trim routes to the request period
 };
 
 // Everything that does not depend on the configuration, computed once: the
@@ -55,8 +56,8 @@ struct Estimates {
 };
 
 struct StageTimes {
-  double partition_ms = 0, graph_ms = 0, groups_ms = 0, routes_ms = 0, estimate_ms = 0;
-  double total() const { return partition_ms + graph_ms + groups_ms + routes_ms + estimate_ms; }
+  double partition_ms = 0, graph_ms = 0, groups_ms = 0, routes_ms = 0, estimate_ms = 0, associate_ms = 0;
+  double total() const { return partition_ms + graph_ms + groups_ms + routes_ms + estimate_ms + associate_ms; }
 };
 
 struct ConfigurationPlan {
@@ -66,6 +67,7 @@ struct ConfigurationPlan {
   partition::PartitionResult partition;
   WorkerGraph graph;
   std::vector<int> collector_of_segment;  // index k-1: collector of segment k, -1 = the OC
+  int moved_to_oc = 0;                     // segments the association step gave back to the OC
   std::vector<CollectorRoute> routes;
   Estimates estimates;
   double utility = 0.0;
@@ -86,6 +88,11 @@ struct SweepResult {
 // Plans every (method, N_c) of the scenario's planner section, on
 // options.threads threads, and sets each configuration's utility.
 SweepResult sweep(const PlanContext& ctx, const PlannerOptions& options = {});
+
+// How well one configuration's estimates serve the OC, on scales of its own
+// (what the association step maximises; docs/planner.md):
+// J = (beta N / G - alpha T_refresh / T) / (alpha + beta).
+double association_score(const PlanContext& ctx, const Estimates& estimates);
 
 // U = alpha (1 - T_norm) + beta N_norm with T and N min-max normalised over
 // `configs` (a quantity equal in all of them normalises to 0). In [0, 1] when
