@@ -131,6 +131,30 @@ TEST(MissionTest, CorridorDeliveryTimesAreExact) {
   EXPECT_NEAR(r.cycles[0].refresh_max_s, 55.95, 1e-3);
   EXPECT_NEAR(r.cycles[1].refresh_mean_s, 55.95, 1e-3);
   EXPECT_EQ(r.cycles[0].total_carried, 0);
+  // Both metrics by hand. Latency: the mean of delivered_at - requested_at
+  // over the goals, (26.95 + 55.95 + 55.95) / 3. Interval: the one area's
+  // data reached the OC at 26.95, 55.95 and 155.95 s: gaps 29 and 100 s.
+  EXPECT_NEAR(r.refresh_mean_s, (26.95 + 55.95 + 55.95) / 3, 1e-3);
+  EXPECT_NEAR(r.interval_mean_s, (29.0 + 100.0) / 2, 1e-3);
+  EXPECT_NEAR(r.interval_max_s, (29.0 + 100.0) / 2, 1e-3);
+}
+
+TEST(MissionMetricsTest, IntervalPerAreaByHand) {
+  auto goal = [](int segment, double delivered_at) {
+    GoalRecord g;
+    g.segment = segment, g.delivered_at = delivered_at;
+    return g;
+  };
+  // Area 1: deliveries at 10, 10.0004 (the same delivery), 40 and 100 s:
+  // gaps 30 and 60, mean 45. Area 2: one delivery: the whole mission (3 x
+  // 50 s). Area 3: deliveries at 20 and 30 s: 10. A goal of no segment and
+  // an undelivered goal of area 3 do not count.
+  const std::vector<GoalRecord> goals{goal(1, 10.0), goal(1, 10.0004), goal(1, 40.0), goal(1, 100.0), goal(2, 70.0),
+                                      goal(3, 20.0), goal(3, 30.0), goal(3, -1.0), goal(0, 5.0)};
+  const auto [mean, max] = mission::interval_stats(goals, 3, 50.0);
+  EXPECT_NEAR(mean, (45.0 + 150.0 + 10.0) / 3, 1e-9);
+  EXPECT_NEAR(max, 150.0, 1e-9);
+  EXPECT_EQ(mission::interval_stats({}, 3, 50.0), std::make_pair(0.0, 0.0));
 }
 
 TEST(MissionTest, WorkerThatMissesItsCollectorDeliversOnTheNextPass) {

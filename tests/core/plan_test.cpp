@@ -89,10 +89,11 @@ TEST_F(PlanTest, NoRouteIsLongerThanTheRequestPeriodAndTheDecisionNeverLowersThe
 }
 
 // A 60 m corridor with the OC at its west end and a request every 200 s: the
-// east half is a far segment, and a collector driving 58 m to bring it the
-// request and take its data back delivers later than its worker walking
-// back itself; the decision gives it to the OC (and the collector idles).
-TEST(PlanAssociationTest, AFarSegmentCheaperFromTheOcGoesToTheOc) {
+// east half is a far segment. By latency, a collector driving 58 m to bring
+// it the request and take its data back delivers later than its worker
+// walking back itself: the decision gives it to the OC (and the collector
+// idles).
+Scenario corridor60(RefreshMetric metric) {
   const int w = 600, h = 10;
   Scenario s;
   s.path = "corridor60";
@@ -105,6 +106,12 @@ TEST(PlanAssociationTest, AFarSegmentCheaperFromTheOcGoesToTheOc) {
   s.mission.period = 200.0;
   s.mission.goals_per_request = 10;
   s.planner.collectors_min = 0, s.planner.collectors_max = 1;
+  s.planner.refresh = metric;
+  return s;
+}
+
+TEST(PlanAssociationTest, AFarSegmentCheaperFromTheOcGoesToTheOc) {
+  const Scenario s = corridor60(RefreshMetric::kLatency);
   const plan::PlanContext ctx(s);
   plan::PlannerOptions grown;
   grown.associate = false;

@@ -2,6 +2,7 @@
 // the deployment planner. Sweeps (method, N_c) over the scenario's planner
 // section (or plans one configuration), writes plan.yaml for the best,
 // report.csv with one row per configuration, labels.png and the figures.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -59,7 +60,7 @@ int plan(int argc, char** argv) {
     if (*end != '\0' || colon + 1 == spec.size()) throw cli::UsageError("--config: N_c must be an integer, got '" + spec + "'");
     const auto t0 = Clock::now();
     sweep.configs.push_back(plan::plan_configuration(ctx, method, static_cast<int>(nc), opt));
-    plan::compute_utilities(sweep.configs, s.planner.alpha, s.planner.beta);
+    plan::compute_utilities(sweep.configs, s.planner.alpha, s.planner.beta, s.planner.refresh);
     sweep.best = 0;
     sweep.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   } else {
@@ -71,11 +72,13 @@ int plan(int argc, char** argv) {
   plan::write_sweep_report(out + "/report.csv", sweep);
   if (sweep.configs.size() > 1) figures::write_estimates_figure(out + "/fig3_estimated.png", sweep, s.planner.methods);
 
-  std::printf("%-6s %3s %3s %12s %10s %8s %9s\n", "method", "Nc", "Nw", "refresh [s]", "goals", "U", "plan [ms]");
+  std::printf("%-6s %3s %3s %3s %12s %13s %8s %8s %9s\n", "method", "Nc", "Nw", "OCw", "latency [s]", "interval [s]",
+              "goals", "U", "plan [ms]");
   for (std::size_t i = 0; i < sweep.configs.size(); ++i) {
     const auto& c = sweep.configs[i];
-    std::printf("%-6s %3d %3d %12.1f %10.2f %8.3f %9.0f%s\n", partition::method_name(c.method), c.collectors,
-                c.workers, c.estimates.refresh_s, c.estimates.goals, c.utility, c.times.total(),
+    std::printf("%-6s %3d %3d %3d %12.1f %13.1f %8.2f %8.3f %9.0f%s\n", partition::method_name(c.method), c.collectors,
+                c.workers, static_cast<int>(std::count(c.collector_of_segment.begin(), c.collector_of_segment.end(), -1)),
+                c.estimates.refresh_s, c.estimates.interval_s, c.estimates.goals, c.utility, c.times.total(),
                 static_cast<int>(i) == sweep.best ? "  <- best" : "");
   }
   plan::StageTimes sum;
@@ -88,10 +91,11 @@ int plan(int argc, char** argv) {
               "routes %.0f, estimates %.0f, association %.0f; sweep wall %.0f ms on %d threads; total %.0f ms\n",
               ctx_ms, sum.partition_ms, sum.graph_ms, sum.groups_ms, sum.routes_ms, sum.estimate_ms, sum.associate_ms, sweep.wall_ms,
               opt.threads, std::chrono::duration<double, std::milli>(Clock::now() - t_start).count());
-  std::printf("best: %s with %d collectors and %d workers (U = %.3f, est. refresh %.1f s, %.2f goals per cycle of "
-              "%.1f s) -> %s/plan.yaml\n",
-              partition::method_name(best.method), best.collectors, best.workers, best.utility,
-              best.estimates.refresh_s, best.estimates.goals, ctx.cycle_period, out.c_str());
+  std::printf("best by U on the %s refresh: %s with %d collectors and %d workers (U = %.3f, est. latency %.1f s, "
+              "interval %.1f s, %.2f goals per cycle of %.1f s) -> %s/plan.yaml\n",
+              refresh_metric_name(s.planner.refresh), partition::method_name(best.method), best.collectors,
+              best.workers, best.utility, best.estimates.refresh_s, best.estimates.interval_s, best.estimates.goals,
+              ctx.cycle_period, out.c_str());
   return 0;
 }
 

@@ -47,7 +47,7 @@ struct ConfigOutput {
 ConfigOutput simulate(mission::MissionSimulator& sim, int cycles, int seed0, int seeds) {
   const plan::PlanFile& pf = sim.plan().file;
   ConfigOutput out;
-  mission::RunLabel label{pf.method, pf.collectors, pf.workers, 0, cycles, pf.est_refresh_s, pf.est_goals};
+  mission::RunLabel label{pf.method, pf.collectors, pf.workers, 0, cycles, pf.est_refresh_s, pf.est_goals, pf.est_interval_s};
   for (int k = 0; k < seeds; ++k) {
     mission::MissionOptions opt;
     opt.cycles = cycles;
@@ -58,13 +58,14 @@ ConfigOutput simulate(mission::MissionSimulator& sim, int cycles, int seed0, int
     mission::append_cycle_rows(out.cycles, label, r.cycles);
     mission::append_summary_row(out.summary, label, r);
     out.runs.refresh_s.push_back(r.refresh_mean_s);
+    out.runs.interval_s.push_back(r.interval_mean_s);
     out.runs.goals.push_back(r.goals_per_cycle);
     out.wall_ms += r.wall_ms, out.mission_s += r.mission_s;
     out.min_speedup = std::min(out.min_speedup, r.speedup());
   }
   out.runs.method = partition::parse_method(pf.method);
   out.runs.collectors = pf.collectors;
-  out.runs.est_refresh_s = pf.est_refresh_s, out.runs.est_goals = pf.est_goals, out.runs.est_utility = pf.utility;
+  out.runs.est_refresh_s = pf.est_refresh_s, out.runs.est_interval_s = pf.est_interval_s, out.runs.est_goals = pf.est_goals, out.runs.est_utility = pf.utility;
   return out;
 }
 
@@ -160,7 +161,7 @@ int sim(int argc, char** argv) {
     runs.push_back(o.runs);
   }
   if (!goals || !cyc || !summary) throw Error(out, "cannot write the CSV files");
-  if (args.on("--all-configs")) figures::write_fig3(out, runs, s.planner.methods, s.planner.alpha, s.planner.beta);
+  if (args.on("--all-configs")) figures::write_fig3(out, runs, s.planner.methods, s.planner.alpha, s.planner.beta, s.planner.refresh);
   write_fig4(out, ctx, own, cycles, seed0, args.get("--video", ""));
 
   const double total_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_start).count();

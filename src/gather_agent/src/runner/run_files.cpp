@@ -123,7 +123,7 @@ void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const M
 
 void RunFiles::add(const plan::PlanFile& plan, const MissionParams& params, const RunOutcome& run) {
   const mission::RunLabel label{plan.method, plan.collectors, plan.workers, params.seed, params.cycles,
-                                plan.est_refresh_s, plan.est_goals};
+                                plan.est_refresh_s, plan.est_goals, plan.est_interval_s};
   mission::append_goal_rows(goals_, label, run.result.goals);
   mission::append_cycle_rows(cycles_, label, run.result.cycles);
   mission::append_summary_row(summary_, label, run.result);

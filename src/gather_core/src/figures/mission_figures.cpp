@@ -71,7 +71,8 @@ void paint_segments(MapCanvas& canvas, const plan::PlanContext& ctx, const missi
 
 }  // namespace
 
-std::vector<std::vector<double>> simulated_utilities(const std::vector<ConfigRuns>& runs, double alpha, double beta) {
+std::vector<std::vector<double>> simulated_utilities(const std::vector<ConfigRuns>& runs, double alpha, double beta,
+                                                     RefreshMetric m) {
   std::vector<std::vector<double>> u(runs.size());
   if (runs.empty()) return u;
   const double ab = alpha + beta > 0 ? alpha + beta : 1.0;
@@ -80,12 +81,13 @@ std::vector<std::vector<double>> simulated_utilities(const std::vector<ConfigRun
   for (auto& x : u) x.assign(seeds, 0.0);
   for (std::size_t s = 0; s < seeds; ++s) {
     double tlo = 1e300, thi = -1e300, nlo = 1e300, nhi = -1e300;
+    auto refresh = [&](const ConfigRuns& r) { return m == RefreshMetric::kInterval ? r.interval_s[s] : r.refresh_s[s]; };
     for (const auto& r : runs) {
-      tlo = std::min(tlo, r.refresh_s[s]), thi = std::max(thi, r.refresh_s[s]);
+      tlo = std::min(tlo, refresh(r)), thi = std::max(thi, refresh(r));
       nlo = std::min(nlo, r.goals[s]), nhi = std::max(nhi, r.goals[s]);
     }
     for (std::size_t i = 0; i < runs.size(); ++i) {
-      const double tn = thi > tlo ? (runs[i].refresh_s[s] - tlo) / (thi - tlo) : 0.0;
+      const double tn = thi > tlo ? (refresh(runs[i]) - tlo) / (thi - tlo) : 0.0;
       const double nn = nhi > nlo ? (runs[i].goals[s] - nlo) / (nhi - nlo) : 0.0;
       u[i][s] = (alpha * (thi > tlo ? 1.0 - tn : 0.0) + beta * nn) / ab;
     }
@@ -94,13 +96,15 @@ std::vector<std::vector<double>> simulated_utilities(const std::vector<ConfigRun
 }
 
 void write_fig3(const std::string& dir, const std::vector<ConfigRuns>& runs, const std::vector<std::string>& methods,
-                double alpha, double beta) {
-  const auto util = simulated_utilities(runs, alpha, beta);
-  enum { kRefresh, kGoals, kUtility };
-  const char* files[] = {"fig3_refresh.png", "fig3_goals.png", "fig3_utility.png"};
-  const char* titles[] = {"(a) Refreshing time: estimated E, real R (min-max over seeds)",
-                          "(b) Delivered goals per cycle: E and R", "(c) Utility U: E and R"};
-  const char* ylabels[] = {"T_refresh [s]", "N_goals", "U"};
+                double alpha, double beta, RefreshMetric metric) {
+  const auto util = simulated_utilities(runs, alpha, beta, metric);
+  enum { kRefresh, kInterval, kGoals, kUtility };
+  const char* files[] = {"fig3_refresh.png", "fig3_interval.png", "fig3_goals.png", "fig3_utility.png"};
+  const std::string utility_title = std::string("(c) Utility U on the ") + refresh_metric_name(metric) + " refresh: E and R";
+  const char* titles[] = {"(a) Refreshing time, latency: estimated E, real R (min-max over seeds)",
+                          "(a') Refreshing time, interval between an area's deliveries: E and R",
+                          "(b) Delivered goals per cycle: E and R", utility_title.c_str()};
+  const char* ylabels[] = {"latency [s]", "interval [s]", "N_goals", "U"};
   for (int q = kRefresh; q <= kUtility; ++q) {
     std::vector<Series> series;
     for (std::size_t mi = 0; mi < methods.size(); ++mi) {
@@ -115,10 +119,10 @@ void write_fig3(const std::string& dir, const std::vector<ConfigRuns>& runs, con
       for (std::size_t i = 0; i < runs.size(); ++i) {
         const ConfigRuns& c = runs[i];
         if (c.method != m) continue;
-        const std::vector<double>& v = q == kRefresh ? c.refresh_s : q == kGoals ? c.goals : util[i];
+        const std::vector<double>& v = q == kRefresh ? c.refresh_s : q == kInterval ? c.interval_s : q == kGoals ? c.goals : util[i];
         if (v.empty()) continue;
         e.x.push_back(c.collectors), r.x.push_back(c.collectors);
-        e.y.push_back(q == kRefresh ? c.est_refresh_s : q == kGoals ? c.est_goals : c.est_utility);
+        e.y.push_back(q == kRefresh ? c.est_refresh_s : q == kInterval ? c.est_interval_s : q == kGoals ? c.est_goals : c.est_utility);
         r.y.push_back(mean(v));
         r.band_lo.push_back(*std::min_element(v.begin(), v.end()));
         r.band_hi.push_back(*std::max_element(v.begin(), v.end()));

@@ -143,28 +143,30 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
 
 void write_estimates_figure(const std::string& path, const plan::SweepResult& sweep, const std::vector<std::string>& methods) {
   const cv::Scalar colours[] = {cv::Scalar(180, 90, 20), cv::Scalar(40, 150, 40), cv::Scalar(20, 110, 230)};
-  std::vector<Series> refresh, goals, utility;
+  std::vector<Series> refresh, interval, goals, utility;
   for (std::size_t mi = 0; mi < methods.size(); ++mi) {
     const partition::Method m = partition::parse_method(methods[mi]);
     Series base;
     base.name = "E-" + std::string(1, static_cast<char>(std::toupper(methods[mi][0]))) + " (" + method_upper(m) + ")";
     base.colour = colours[static_cast<std::size_t>(m) % 3];
     base.marker = static_cast<int>(mi % 3);
-    Series r = base, n = base, u = base;
+    Series r = base, iv = base, n = base, u = base;
     for (const auto& c : sweep.configs) {
       if (c.method != m) continue;
       r.x.push_back(c.collectors), r.y.push_back(c.estimates.refresh_s);
+      iv.x.push_back(c.collectors), iv.y.push_back(c.estimates.interval_s);
       n.x.push_back(c.collectors), n.y.push_back(c.estimates.goals);
       u.x.push_back(c.collectors), u.y.push_back(c.utility);
     }
-    refresh.push_back(r), goals.push_back(n), utility.push_back(u);
+    refresh.push_back(r), interval.push_back(iv), goals.push_back(n), utility.push_back(u);
   }
   const cv::Size size(460, 380);
-  cv::Mat a = line_chart("(a) Refreshing time (estimated)", "collectors N_c", "T_refresh [s]", refresh, size);
+  cv::Mat a = line_chart("(a) Refresh: latency (estimated)", "collectors N_c", "latency [s]", refresh, size);
+  cv::Mat a2 = line_chart("(a') Refresh: interval (estimated)", "collectors N_c", "interval [s]", interval, size);
   cv::Mat b = line_chart("(b) Delivered goals per cycle (estimated)", "collectors N_c", "N_goals", goals, size);
   cv::Mat c = line_chart("(c) Utility U (estimated)", "collectors N_c", "U", utility, size);
   cv::Mat out;
-  cv::hconcat(std::vector<cv::Mat>{a, b, c}, out);
+  cv::hconcat(std::vector<cv::Mat>{a, a2, b, c}, out);
   write_png(path, out);
 }
 

@@ -1,6 +1,7 @@
 // Per-goal accounting of a mission: replays the goals' timestamps in time
 // order and checks conservation at the end of every cycle.
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <string>
 
@@ -141,6 +142,26 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
   for (CycleStats& s : out)
     if (s.delivered > 0) s.refresh_mean_s /= s.delivered;
   return out;
+}
+
+std::pair<double, double> interval_stats(const std::vector<GoalRecord>& goals, int cycles, double period) {
+  const double horizon = std::max(1, cycles) * period;
+  std::map<int, std::vector<double>> deliveries;  // area -> delivery times
+  for (const GoalRecord& g : goals) {
+    if (g.segment <= 0) continue;
+    std::vector<double>& d = deliveries[g.segment];
+    if (g.delivered_at >= 0) d.push_back(g.delivered_at);
+  }
+  if (deliveries.empty()) return {0.0, 0.0};
+  double sum = 0.0, max = 0.0;
+  for (auto& [area, d] : deliveries) {
+    std::sort(d.begin(), d.end());
+    int n = 0;  // distinct deliveries
+    for (std::size_t i = 0; i < d.size(); ++i) n += i == 0 || d[i] - d[i - 1] > 1e-3;
+    const double interval = n >= 2 ? (d.back() - d.front()) / (n - 1) : horizon;
+    sum += interval, max = std::max(max, interval);
+  }
+  return {sum / static_cast<double>(deliveries.size()), max};
 }
 
 }  // namespace mission

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
+#include <tuple>
 
 namespace gather {
 namespace mission {
@@ -14,7 +16,7 @@ const char* const kCyclesCsvHeader =
     "total_requested,total_delivered,total_carried,total_pending,total_expired,dropped,total_dropped\n";
 const char* const kSummaryCsvHeader =
     "method,collectors,workers,seed,cycles,period_s,mission_s,wall_ms,speedup,refresh_mean_s,refresh_max_s,"
-    "goals_per_cycle,est_refresh_s,est_goals\n";
+    "goals_per_cycle,est_refresh_s,est_goals,interval_mean_s,interval_max_s,est_interval_s\n";
 
 void append_goal_rows(std::string& out, const RunLabel& run, const std::vector<GoalRecord>& goals) {
   char line[640];
@@ -40,9 +42,10 @@ void append_cycle_rows(std::string& out, const RunLabel& run, const std::vector<
 
 void append_summary_row(std::string& out, const RunLabel& run, const MissionResult& r) {
   char line[640];
-  std::snprintf(line, sizeof line, "%s,%d,%d,%u,%d,%.3f,%.3f,%.2f,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f\n", run.method.c_str(),
-                run.collectors, run.workers, run.seed, run.cycles, r.period_s, r.mission_s, r.wall_ms, r.speedup(),
-                r.refresh_mean_s, r.refresh_max_s, r.goals_per_cycle, run.est_refresh_s, run.est_goals);
+  std::snprintf(line, sizeof line, "%s,%d,%d,%u,%d,%.3f,%.3f,%.2f,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f\n",
+                run.method.c_str(), run.collectors, run.workers, run.seed, run.cycles, r.period_s, r.mission_s, r.wall_ms,
+                r.speedup(), r.refresh_mean_s, r.refresh_max_s, r.goals_per_cycle, run.est_refresh_s, run.est_goals,
+                r.interval_mean_s, r.interval_max_s, run.est_interval_s);
   out += line;
 }
 
@@ -61,6 +64,7 @@ MissionResult mission_result(std::vector<GoalRecord> goals, int cycles, double p
   }
   res.refresh_mean_s = delivered > 0 ? sum / delivered : 0.0;
   res.goals_per_cycle = static_cast<double>(delivered) / cycles;
+  std::tie(res.interval_mean_s, res.interval_max_s) = interval_stats(goals, cycles, period);
   res.goals = std::move(goals);
   res.wall_ms = wall_ms;
   return res;

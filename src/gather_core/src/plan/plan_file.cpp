@@ -45,7 +45,7 @@ void write_plan_file(const std::string& path, const PlanFile& p) {
   y << YAML::Key << "grid_factor" << YAML::Value << p.grid_factor;
   y << YAML::Key << "cycle_period_s" << YAML::Value << p.cycle_period_s;
   y << YAML::Key << "estimates" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "refresh_s"
-    << YAML::Value << p.est_refresh_s << YAML::Key << "goals" << YAML::Value << p.est_goals << YAML::Key << "utility"
+    << YAML::Value << p.est_refresh_s << YAML::Key << "interval_s" << YAML::Value << p.est_interval_s << YAML::Key << "goals" << YAML::Value << p.est_goals << YAML::Key << "utility"
     << YAML::Value << p.utility << YAML::EndMap;
   y << YAML::Key << "agents" << YAML::Value << YAML::BeginSeq;
   for (const AgentAssignment& a : p.agents) {
@@ -114,8 +114,9 @@ PlanFile read_plan_file(const std::string& path) {
   if (p.grid_factor < 1) throw Error(path, "grid_factor must be >= 1");
   p.cycle_period_s = f.required<double>("cycle_period_s");
   const yaml::Fields est = f.section("estimates");
-  est.allow({"refresh_s", "goals", "utility"});
+  est.allow({"refresh_s", "interval_s", "goals", "utility"});
   p.est_refresh_s = est.required<double>("refresh_s");
+  p.est_interval_s = est.required<double>("interval_s");
   p.est_goals = est.required<double>("goals");
   p.utility = est.required<double>("utility");
   for (const yaml::Fields& a : items(root, path, "agents")) {

@@ -372,7 +372,20 @@ Stretches contact_stretches(const CollectorRoute& r, const MeetingArea& m, Point
 struct WorkerRun {
   double delivered = 0.0;  // goals over all cycles
   double refresh_sum = 0.0;  // sum of delivered_at - requested_at over them [s]
+  // Deliveries of the segment's data to the OC (distinct times), expected
+  // over the goal count, and the first and last of them [s].
+  double deliveries = 0.0, first = kInf, last = -kInf;
   void add(double goals, double refresh) { delivered += goals, refresh_sum += goals * refresh; }
+  void delivery(double t, double expected) {
+    if (expected <= 1e-9) return;
+    deliveries += expected, first = std::min(first, t), last = std::max(last, t);
+  }
+  // The mean time between consecutive deliveries, as mission::interval_stats
+  // measures it: (last - first) / (deliveries - 1), the whole mission when
+  // fewer than two.
+  double interval(double horizon) const {
+    return deliveries >= 2.0 - 1e-9 && last > first ? (last - first) / (deliveries - 1.0) : horizon;
+  }
 };
 
 // P(n goals of G in a segment holding share p of the space), n = 0..; the
@@ -401,7 +414,12 @@ std::vector<double> goal_count_pmf(int G, double p) {
 // learns the newest request (waiting for the next one if it has served them
 // all), goes into its segment, measures all the request's goals, comes back
 // and delivers. Requests issued meanwhile, but the newest, expire.
-WorkerRun run_oc_worker(const TourModel& tour, const std::vector<double>& pmf, double v, double T, int cycles) {
+// Deliveries: the goals outside the coverage are delivered together on the
+// return (one delivery when the request has at least one there), those
+// inside it one by one as they are measured (half-way through the loop on
+// average).
+WorkerRun run_oc_worker(const TourModel& tour, const std::vector<double>& pmf, double v, double T, int cycles,
+                        double p_outside = 0.0, double inside_goals = 0.0) {
   WorkerRun run;
   double loop = 0.0, goals = 0.0, weighted = 0.0;  // expected loop [s]; goals; goal-weighted loop
   for (std::size_t n = 1; n < pmf.size(); ++n) {
@@ -416,6 +434,9 @@ WorkerRun run_oc_worker(const TourModel& tour, const std::vector<double>& pmf, d
     next = req + 1;
     if (goals <= 0.0) continue;
     run.add(goals, t - req * T + weighted / goals);
+    run.delivery(t + loop, p_outside);
+    for (int i = 1; i <= static_cast<int>(std::ceil(inside_goals)); ++i)
+      run.delivery(t + loop * i / (std::ceil(inside_goals) + 1.0), std::min(1.0, inside_goals - (i - 1)));
     t += loop;
   }
   return run;
@@ -461,6 +482,23 @@ WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, co
         sum += best - req * T;
       }
       run.add(pmf[k] * n, sum / kSamples);
+      // Distinct deliveries: the uploads that carry some of the n goals
+      // (spread evenly along the tour), weighted by P(k goals).
+      const int goals_n = static_cast<int>(std::min(16.0, std::ceil(n)));
+      std::vector<double> at;
+      for (int i = 1; i <= goals_n; ++i) {
+        const double ready = learn + tour * i / goals_n;
+        double best = kInf;
+        for (const auto& [a, b] : contact) {
+          const double loop_start = sched.next_at(b / v, ready) - b / v;
+          const double handover = std::max(ready, loop_start + a / v);
+          best = std::min(best, handover + upload_after(r, (handover - loop_start) * v) / v);
+        }
+        if (std::isfinite(best)) at.push_back(best);
+      }
+      std::sort(at.begin(), at.end());
+      for (std::size_t i = 0; i < at.size(); ++i)
+        if (i == 0 || at[i] - at[i - 1] > 1e-3) run.delivery(at[i], pmf[k]);
     }
   }
   return run;
@@ -483,7 +521,9 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
   if (w.collector < 0) {
     const TourModel model = tour_model(seg, true, c);
     w.tour_s = model.length(w.expected_goals) / v;
-    run = run_oc_worker(model, pmf, v, T, cycles);
+    const double A = ctx.reachable_area;
+    const double p_out = 1.0 - std::pow(std::max(0.0, 1.0 - (seg.area - seg.covered_area) / A), G);
+    run = run_oc_worker(model, pmf, v, T, cycles, p_out, G * seg.covered_area / A);
   } else {
     const CollectorRoute& r = cfg.routes[static_cast<std::size_t>(w.collector)];
     const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
@@ -495,6 +535,7 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
   }
   w.delivered_goals = run.delivered / cycles;
   w.refresh_s = run.delivered > 0 ? run.refresh_sum / run.delivered : 0.0;
+  w.interval_s = run.interval(cycles * T);
   return w;
 }
 
@@ -504,6 +545,9 @@ void combine(Estimates& e) {
   double weighted = 0.0;
   for (const WorkerEstimate& w : e.workers) e.goals += w.delivered_goals, weighted += w.delivered_goals * w.refresh_s;
   e.refresh_s = e.goals > 0 ? weighted / e.goals : 0.0;
+  e.interval_s = 0.0;
+  for (const WorkerEstimate& w : e.workers) e.interval_s += w.interval_s;
+  if (!e.workers.empty()) e.interval_s /= static_cast<double>(e.workers.size());
 }
 
 Estimates estimate(const PlanContext& ctx, const ConfigurationPlan& cfg, const PlannerOptions& opt) {
@@ -524,7 +568,7 @@ double score(const Estimates& e, const PlanContext& ctx) {
   const PlannerParams& pp = ctx.scenario.planner;
   const double G = std::max(1, ctx.scenario.mission.goals_per_request), T = ctx.cycle_period;
   // No goal delivered: as bad as a refresh of all the mission's cycles.
-  const double refresh = e.goals > 0 ? e.refresh_s : T * std::max(1, ctx.scenario.mission.cycles);
+  const double refresh = e.goals > 0 ? e.refresh(pp.refresh) : T * std::max(1, ctx.scenario.mission.cycles);
   return (pp.beta * e.goals / G - pp.alpha * refresh / T) / (pp.alpha + pp.beta);
 }
 
@@ -587,17 +631,22 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
   // of any collector).
   auto ranked = [&](int only) {
     const double goals = std::max(1e-9, cfg.estimates.goals);
-    auto share = [&](double delivered, double refresh) {
-      return s.planner.beta * delivered / G - s.planner.alpha * delivered * refresh / (T * goals);
+    // Latency: the worker's goal-weighted part of the mean; interval: its
+    // part of the mean over segments.
+    const double n_workers = static_cast<double>(cfg.estimates.workers.size());
+    auto share = [&](double delivered, double latency, double interval) {
+      const double t = s.planner.refresh == RefreshMetric::kInterval ? interval / n_workers : delivered * latency / goals;
+      return s.planner.beta * delivered / G - s.planner.alpha * t / T;
     };
     std::vector<std::pair<double, int>> gain;
     for (const WorkerEstimate& w : cfg.estimates.workers) {
       if (w.collector < 0 || (only >= 0 && w.collector != only)) continue;
       const WorkerSegment& seg = cfg.graph.segment(w.segment);
       const std::vector<double> pmf = goal_count_pmf(s.mission.goals_per_request, seg.area / ctx.reachable_area);
-      const WorkerRun oc = run_oc_worker(tour_model(seg, true, opt.tsp_constant), pmf, v, T, cycles);
+      const WorkerRun oc = run_oc_worker(tour_model(seg, true, opt.tsp_constant), pmf, v, T, cycles, 1.0 - pmf[0], 0.0);
       const double d = oc.delivered / cycles, r = oc.delivered > 0 ? oc.refresh_sum / oc.delivered : 0.0;
-      gain.emplace_back(share(d, r) - share(w.delivered_goals, w.refresh_s), w.segment);
+      gain.emplace_back(share(d, r, oc.interval(cycles * T)) - share(w.delivered_goals, w.refresh_s, w.interval_s),
+                        w.segment);
     }
     std::sort(gain.begin(), gain.end(), std::greater<>());
     return gain;
@@ -729,11 +778,11 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
 
 double association_score(const PlanContext& ctx, const Estimates& estimates) { return score(estimates, ctx); }
 
-void compute_utilities(std::vector<ConfigurationPlan>& configs, double alpha, double beta) {
+void compute_utilities(std::vector<ConfigurationPlan>& configs, double alpha, double beta, RefreshMetric m) {
   if (configs.empty()) return;
   double tmin = kInf, tmax = -kInf, nmin = kInf, nmax = -kInf;
   for (const auto& c : configs) {
-    tmin = std::min(tmin, c.estimates.refresh_s), tmax = std::max(tmax, c.estimates.refresh_s);
+    tmin = std::min(tmin, c.estimates.refresh(m)), tmax = std::max(tmax, c.estimates.refresh(m));
     nmin = std::min(nmin, c.estimates.goals), nmax = std::max(nmax, c.estimates.goals);
   }
   const double sum = alpha + beta;
@@ -741,7 +790,7 @@ void compute_utilities(std::vector<ConfigurationPlan>& configs, double alpha, do
   const bool t_varies = tmax - tmin > 1e-6 * std::max(1.0, std::abs(tmax));
   const bool n_varies = nmax - nmin > 1e-6 * std::max(1.0, std::abs(nmax));
   for (auto& c : configs) {
-    const double tn = t_varies ? (c.estimates.refresh_s - tmin) / (tmax - tmin) : 0.0;
+    const double tn = t_varies ? (c.estimates.refresh(m) - tmin) / (tmax - tmin) : 0.0;
     const double nn = n_varies ? (c.estimates.goals - nmin) / (nmax - nmin) : 0.0;
     c.utility = (alpha * (1.0 - tn) + beta * nn) / (sum > 0 ? sum : 1.0);
   }
@@ -777,7 +826,7 @@ SweepResult sweep(const PlanContext& ctx, const PlannerOptions& opt) {
   for (auto& t : pool) t.join();
   for (const std::string& e : errors)
     if (!e.empty()) throw Error("", e);
-  compute_utilities(result.configs, pp.alpha, pp.beta);
+  compute_utilities(result.configs, pp.alpha, pp.beta, pp.refresh);
   for (std::size_t i = 0; i < result.configs.size(); ++i)
     if (result.best < 0 || result.configs[i].utility > result.configs[static_cast<std::size_t>(result.best)].utility)
       result.best = static_cast<int>(i);

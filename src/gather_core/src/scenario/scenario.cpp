@@ -69,7 +69,7 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
           "mission.period must be >= 0 s (0 = automatic), got " + num(s.mission.period));
 
   const yaml::Fields planner = f.section("planner");
-  planner.allow({"methods", "collectors", "alpha", "beta", "max_cells"});
+  planner.allow({"methods", "collectors", "alpha", "beta", "refresh", "max_cells"});
   PlannerParams& p = s.planner;
   p.methods = planner.optional<std::vector<std::string>>("methods", p.methods);
   require(!p.methods.empty(), path, "planner.methods must not be empty");
@@ -93,6 +93,10 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   p.alpha = planner.optional<double>("alpha", p.alpha);
   p.beta = planner.optional<double>("beta", p.beta);
   require(p.alpha >= 0 && p.beta >= 0 && p.alpha + p.beta > 0, path, "planner.alpha and beta must be >= 0, not both 0");
+  const std::string refresh = planner.optional<std::string>("refresh", refresh_metric_name(p.refresh));
+  require(refresh == "latency" || refresh == "interval", path,
+          "planner.refresh must be latency or interval, got '" + refresh.substr(0, 40) + "'");
+  p.refresh = refresh == "latency" ? RefreshMetric::kLatency : RefreshMetric::kInterval;
   const long long max_cells = planner.optional<long long>("max_cells", static_cast<long long>(p.max_cells));
   require(max_cells == 0 || max_cells >= 10000, path,
           "planner.max_cells must be 0 (plan on the map's own grid) or >= 10000, got " + std::to_string(max_cells));
@@ -130,5 +134,7 @@ Scenario on_planning_grid(const Scenario& s, int factor) {
     throw Error(s.path, "the OC is not on free space of the planning grid (factor " + std::to_string(factor) + ")");
   return out;
 }
+
+const char* refresh_metric_name(RefreshMetric m) { return m == RefreshMetric::kLatency ? "latency" : "interval"; }
 
 }  // namespace gather

@@ -17,21 +17,25 @@ namespace figures {
 struct ConfigRuns {
   partition::Method method = partition::Method::kBap;
   int collectors = 0;
-  double est_refresh_s = 0.0, est_goals = 0.0, est_utility = 0.0;
-  std::vector<double> refresh_s, goals;  // per seed: mean refresh [s], goals delivered per cycle
+  double est_refresh_s = 0.0, est_interval_s = 0.0, est_goals = 0.0, est_utility = 0.0;
+  // per seed: mean latency [s], mean interval [s], goals delivered per cycle
+  std::vector<double> refresh_s, interval_s, goals;
 };
 
 // Utility of each seed's simulated values, min-max normalised over the
 // configurations for that seed (as the planner does for the estimates):
 // result[config][seed].
-std::vector<std::vector<double>> simulated_utilities(const std::vector<ConfigRuns>& runs, double alpha, double beta);
+// `m` picks the refresh metric (the scenario's planner.refresh).
+std::vector<std::vector<double>> simulated_utilities(const std::vector<ConfigRuns>& runs, double alpha, double beta,
+                                                     RefreshMetric m);
 
-// DIR/fig3_refresh.png, DIR/fig3_goals.png, DIR/fig3_utility.png: per method
+// DIR/fig3_refresh.png (latency), DIR/fig3_interval.png, DIR/fig3_goals.png,
+// DIR/fig3_utility.png (U on the refresh metric m): per method
 // the estimated curve (E, dashed) and the simulated min-max band over seeds
 // with its mean (R) against N_c. Throws gather::Error naming a file that
 // cannot be written.
 void write_fig3(const std::string& dir, const std::vector<ConfigRuns>& runs, const std::vector<std::string>& methods,
-                double alpha, double beta);
+                double alpha, double beta, RefreshMetric m);
 
 // Fig. 4a: the trajectory of worker `agent` and of its collector during
 // [t0, t1] [s] on the map (worker blue, collector red; meetings marked).

@@ -18,7 +18,7 @@ struct RunLabel {
   int workers = 0;
   unsigned seed = 1;
   int cycles = 0;
-  double est_refresh_s = 0.0, est_goals = 0.0;
+  double est_refresh_s = 0.0, est_goals = 0.0, est_interval_s = 0.0;
 };
 
 extern const char* const kGoalsCsvHeader;

@@ -14,6 +14,7 @@
 // a few FMM marches per decision instead of one update per agent per tick.
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "gather_core/fmm/fast_marching.hpp"
@@ -88,8 +89,13 @@ struct MissionResult {
   double period_s = 0.0;            // request period
   double mission_s = 0.0;           // cycles * period [s]
   double end_s = 0.0;               // last event (data still carried at the last request is delivered)
-  double refresh_mean_s = 0.0;      // over all delivered goals
+  double refresh_mean_s = 0.0;      // latency: delivered_at - requested_at, mean over all delivered goals
   double refresh_max_s = 0.0;
+  // interval: per area (a worker's segment) the time between consecutive
+  // deliveries of its data to the OC (interval_stats); the mean over areas
+  // of each area's mean, and the largest area mean.
+  double interval_mean_s = 0.0;
+  double interval_max_s = 0.0;
   double goals_per_cycle = 0.0;     // delivered / cycles
   double wall_ms = 0.0;
   double speedup() const { return wall_ms > 0 ? mission_s * 1000.0 / wall_ms : 0.0; }
@@ -123,6 +129,14 @@ class MissionSimulator {
   std::unique_ptr<SharedDistances> shared_;
   std::vector<WorkerPolicy> workers_;  // the decisions of each worker, shared with the agents' worker role
 };
+
+// The refresh interval of a run (docs/simulator.md, "Metrics"): an area is a
+// worker's segment that holds at least one requested goal of the run; its
+// deliveries are the distinct times at which goals of it reached the OC
+// (times closer than 1 ms are one delivery); its interval is the mean gap
+// between consecutive deliveries, or the whole mission (cycles x period)
+// when it had fewer than two. Returns {mean over areas, max over areas}.
+std::pair<double, double> interval_stats(const std::vector<GoalRecord>& goals, int cycles, double period);
 
 // Replays the goals' timestamps in time order, checks that every transition
 // is legal (pending -> carried -> delivered, pending -> expired, carried ->

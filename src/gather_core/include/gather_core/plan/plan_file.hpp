@@ -30,6 +30,7 @@ struct PlanFile {
   double cycle_period_s = 0.0;
   double est_refresh_s = 0.0;
   double est_goals = 0.0;
+  double est_interval_s = 0.0;
   double utility = 0.0;
   std::vector<AgentAssignment> agents;
   std::vector<CollectorRoute> routes;

@@ -38,7 +38,8 @@ struct WorkerEstimate {
   double expected_goals = 0.0;    // goals of one request falling in its segment
   double delivered_goals = 0.0;   // of those, measured within the cycle
   double tour_s = 0.0;            // [s] time to measure all its goals (tour + approach)
-  double refresh_s = 0.0;         // [s] mean request-to-delivery time of its goals
+  double refresh_s = 0.0;         // [s] mean request-to-delivery time of its goals (latency)
+  double interval_s = 0.0;        // [s] mean time between consecutive deliveries of its segment's data (interval)
 };
 
 }  // namespace plan

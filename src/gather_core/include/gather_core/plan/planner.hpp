@@ -50,8 +50,11 @@ struct PlanContext : mission::World {
 };
 
 struct Estimates {
-  double refresh_s = 0.0;         // mean over delivered goals [s]
+  double refresh_s = 0.0;         // latency: mean over delivered goals [s]
+  double interval_s = 0.0;        // interval: mean over segments of the time between their deliveries [s]
   double goals = 0.0;             // delivered per cycle
+  // The refresh metric the utility uses (the scenario's planner.refresh).
+  double refresh(RefreshMetric m) const { return m == RefreshMetric::kInterval ? interval_s : refresh_s; }
   std::vector<WorkerEstimate> workers;
 };
 
@@ -91,13 +94,15 @@ SweepResult sweep(const PlanContext& ctx, const PlannerOptions& options = {});
 
 // How well one configuration's estimates serve the OC, on scales of its own
 // (what the association step maximises; docs/planner.md):
-// J = (beta N / G - alpha T_refresh / T) / (alpha + beta).
+// J = (beta N / G - alpha T_refresh / T) / (alpha + beta), T_refresh the
+// scenario's planner.refresh metric.
 double association_score(const PlanContext& ctx, const Estimates& estimates);
 
-// U = alpha (1 - T_norm) + beta N_norm with T and N min-max normalised over
-// `configs` (a quantity equal in all of them normalises to 0). In [0, 1] when
-// alpha + beta = 1.
-void compute_utilities(std::vector<ConfigurationPlan>& configs, double alpha, double beta);
+// U = alpha (1 - T_norm) + beta N_norm with T (the refresh metric m) and N
+// min-max normalised over `configs` (a quantity equal in all of them
+// normalises to 0). In [0, 1] when alpha + beta = 1.
+void compute_utilities(std::vector<ConfigurationPlan>& configs, double alpha, double beta,
+                       RefreshMetric m = RefreshMetric::kInterval);
 
 }  // namespace plan
 }  // namespace gather

@@ -34,12 +34,19 @@ struct MissionParams {
   double period = 0.0;
 };
 
+// Which refresh time the utility weighs (docs/planner.md, "Two refresh
+// metrics"): latency = delivered_at - requested_at per goal; interval = per
+// area, the time between consecutive deliveries of its data to the OC.
+enum class RefreshMetric { kLatency, kInterval };
+const char* refresh_metric_name(RefreshMetric m);
+
 struct PlannerParams {
   std::vector<std::string> methods{"bap", "pap", "rap"};
   int collectors_min = 0;  // inclusive range of N_c to sweep
   int collectors_max = 8;  // default: min(8, N - 1)
   double alpha = 0.5;
   double beta = 0.5;
+  RefreshMetric refresh = RefreshMetric::kInterval;
   // Plan and simulate on a coarser grid when the map has more cells than
   // this (0 = always the map's grid); extension of DESIGN's format, see
   // grid/planning_grid.hpp and docs/planner.md.
