@@ -13,7 +13,7 @@ CYCLES ?= 0
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build run test test-ros test-plain test-cli test-e2e bench-fmm bench-runtime partition-report scenario-report runtime-report clean help
+.PHONY: all deps build run test test-ros test-plain test-cli test-e2e bench-fmm bench-runtime partition-report scenario-report regime-report runtime-report clean help
 
 all: build
 
@@ -104,6 +104,13 @@ partition-report: build
 scenario-report: build
 	$(PYTHON) tools/scenario_report.py
 	$(PYTHON) tools/scenario_report.py --out docs/variants.md maps/variants/*.scenario.yaml
+
+# Where collectors pay off: on office, campus and office_a, every
+# (coverage, goals per request, request period) of a 3x3x3 grid planned and
+# simulated (27 configurations, 2 seeds x 4 cycles each) -> docs/regimes.md
+# and one figure per map in results/regimes/ (long: see docs/regimes.md).
+regime-report: build
+	$(PYTHON) tools/regime_report.py
 
 clean:
 	rm -rf $(WS)/build $(WS)/devel $(WS)/install build results src/CMakeLists.txt

@@ -63,26 +63,36 @@ def utilities(rows, refresh_key, goals_key, alpha, beta):
 
 
 def conclusions(configs, ukey):
-    """(collectors beat none, best N_c in 1-4, BAP/PAP >= RAP) on utility `ukey`."""
+    """(collectors beat none, best N_c in 1-4, BAP/PAP >= RAP) on utility `ukey`.
+    A configuration uses collectors when some worker delivers to one: one
+    whose collectors all stay at the OC (the association gave every segment
+    to the OC) is a team without collectors, and fewer workers."""
     best = max(configs, key=lambda c: c[ukey])
-    u0 = max((c[ukey] for c in configs if c["nc"] == 0), default=None)
-    u1 = max((c[ukey] for c in configs if c["nc"] >= 1), default=None)
+    uses = lambda c: c["active"] > 0
+    u0 = max((c[ukey] for c in configs if not uses(c)), default=None)
+    u1 = max((c[ukey] for c in configs if uses(c)), default=None)
     per = {}
     for c in configs:
         per[c["method"]] = max(per.get(c["method"], -1.0), c[ukey])
     bp = max(per.get("bap", -1.0), per.get("pap", -1.0))
-    return (u0 is not None and u1 is not None and u1 > u0, 1 <= best["nc"] <= 4,
+    return (u0 is not None and u1 is not None and u1 > u0, uses(best) and 1 <= best["active"] <= 4,
             "rap" not in per or bp >= per["rap"]), best
 
 
-def report_scenario(a, sc):
-    name = os.path.basename(sc).replace(".scenario.yaml", "")
+METRICS = (("latency", "est_refresh_s", "refresh_mean_s"), ("interval", "est_interval_s", "interval_mean_s"))
+
+
+def report_scenario(a, sc, name=None, out=None):
+    """Plans and simulates scenario `sc` into `out` (a.results/NAME); returns
+    its configurations with E and R of both refresh metrics and of goals, the
+    utilities on each metric, and the seed's conclusions per metric."""
+    name = name or os.path.basename(sc).replace(".scenario.yaml", "")
     with open(sc) as f:
         spec = yaml.safe_load(f) or {}
     planner = spec.get("planner") or {}
     alpha = 0.5 if planner.get("alpha") is None else float(planner["alpha"])  # gather's defaults
     beta = 0.5 if planner.get("beta") is None else float(planner["beta"])
-    out = os.path.join(a.results, name)
+    out = out or os.path.join(a.results, name)
     plan_dir, sim_dir = os.path.join(out, "plan"), os.path.join(out, "sim")
     plans = []
     for _ in range(a.repeat):
@@ -107,36 +117,57 @@ def report_scenario(a, sc):
     if not est or not rows:
         die("%s: empty report.csv or summary.csv in %s" % (name, out))
     for r in rows:
-        for k in ("refresh_mean_s", "goals_per_cycle", "est_refresh_s", "est_goals", "speedup"):
+        for k in ("refresh_mean_s", "interval_mean_s", "goals_per_cycle", "speedup"):
+            r[k] = float(r[k])
+    est_rows = list(est.values())
+    for r in est_rows:
+        for k in ("est_refresh_s", "est_interval_s", "est_goals", "oc_workers"):
             r[k] = float(r[k])
     speedup = statistics.median(r["speedup"] for r in rows)
     by_seed = {}
     for r in rows:
         by_seed.setdefault(r["seed"], []).append(r)
-    for seed_rows in by_seed.values():
-        for r, u in zip(seed_rows, utilities(seed_rows, "refresh_mean_s", "goals_per_cycle", alpha, beta)):
-            r["u"] = u
+    for metric, ekey, rkey in METRICS:
+        for r, u in zip(est_rows, utilities(est_rows, ekey, "est_goals", alpha, beta)):
+            r["u_" + metric] = u
+        for seed_rows in by_seed.values():
+            for r, u in zip(seed_rows, utilities(seed_rows, rkey, "goals_per_cycle", alpha, beta)):
+                r["u_" + metric] = u
     configs = []
     for key, e in est.items():
         mine = [r for r in rows if (r["method"], int(r["collectors"])) == key]
         if not mine:
             die("%s: no simulation of %s N_c=%d" % (name, key[0], key[1]))
-        rt = [r["refresh_mean_s"] for r in mine]
+        c = dict(method=key[0], nc=key[1], oc_workers=int(e["oc_workers"]), active=int(e["active_collectors"]),
+                 e_n=e["est_goals"])
         rg = [r["goals_per_cycle"] for r in mine]
-        ru = [r["u"] for r in mine]
-        configs.append(dict(method=key[0], nc=key[1], e_t=float(e["est_refresh_s"]), e_n=float(e["est_goals"]),
-                            e_u=float(e["utility"]), r_t=statistics.mean(rt), r_t_lo=min(rt), r_t_hi=max(rt),
-                            r_n=statistics.mean(rg), r_n_lo=min(rg), r_n_hi=max(rg), r_u=statistics.mean(ru)))
+        c.update(r_n=statistics.mean(rg), r_n_lo=min(rg), r_n_hi=max(rg))
+        for metric, ekey, rkey in METRICS:
+            rt = [r[rkey] for r in mine]
+            c["e_" + metric] = e[ekey]
+            c.update({"r_" + metric: statistics.mean(rt), "r_%s_lo" % metric: min(rt), "r_%s_hi" % metric: max(rt)})
+            c["e_u_" + metric] = e["u_" + metric]
+            c["r_u_" + metric] = statistics.mean(r["u_" + metric] for r in mine)
+        configs.append(c)
     order = {"bap": 0, "pap": 1, "rap": 2}
     configs.sort(key=lambda c: (order.get(c["method"], 9), c["nc"]))
+    err = lambda e, r: abs(e - r) / r if r > 0 else float("nan")
     for c in configs:
-        c["err_t"] = abs(c["e_t"] - c["r_t"]) / c["r_t"] if c["r_t"] > 0 else float("nan")
-        c["err_n"] = abs(c["e_n"] - c["r_n"]) / c["r_n"] if c["r_n"] > 0 else float("nan")
-    e_concl, e_best = conclusions(configs, "e_u")
-    r_concl, r_best = conclusions(configs, "r_u")
-    return dict(name=name, grid=grid, sweep_ms=sweep_ms, stages=stages, plan_wall=plan_wall, sim_wall=sim_wall,
-                slowest=int(slowest.group(1)) if slowest else None, speedup=speedup, configs=configs, e_concl=e_concl, e_best=e_best,
-                r_concl=r_concl, r_best=r_best)
+        for metric, _, _ in METRICS:
+            c["err_" + metric] = err(c["e_" + metric], c["r_" + metric])
+        c["err_n"] = err(c["e_n"], c["r_n"])
+    rep = dict(name=name, grid=grid, sweep_ms=sweep_ms, stages=stages, plan_wall=plan_wall, sim_wall=sim_wall,
+               slowest=int(slowest.group(1)) if slowest else None, speedup=speedup, configs=configs)
+    for metric, _, _ in METRICS:
+        for side in ("e", "r"):
+            rep["%s_concl_%s" % (side, metric)], rep["%s_best_%s" % (side, metric)] = conclusions(
+                configs, "%s_u_%s" % (side, metric))
+    return rep
+
+
+def mean_err(r, what):
+    """Mean |E - R| / R over a scenario's configurations of 'latency', 'interval' or 'n' (goals)."""
+    return statistics.mean(c["err_" + what] for c in r["configs"])
 
 
 def fmt_best(c, u):
@@ -164,10 +195,12 @@ def main():
     for sc in scenarios:
         r = report_scenario(a, sc)
         reports.append(r)
-        print("%-16s sweep %.2f s  E best %-16s R best %-16s  mean |E-R|/R refresh %.0f%% goals %.0f%%  sim %.0f s" % (
-            r["name"], r["sweep_ms"] / 1000.0, fmt_best(r["e_best"], "e_u"), fmt_best(r["r_best"], "r_u"),
-            100 * statistics.mean(c["err_t"] for c in r["configs"]), 100 * statistics.mean(c["err_n"] for c in r["configs"]),
-            r["sim_wall"]), flush=True)
+        print("%-16s sweep %.2f s  best E/R latency %s / %s, interval %s / %s  mean |E-R|/R latency %.0f%% "
+              "interval %.0f%% goals %.0f%%  sim %.0f s" % (
+                  r["name"], r["sweep_ms"] / 1000.0, fmt_best(r["e_best_latency"], "e_u_latency"),
+                  fmt_best(r["r_best_latency"], "r_u_latency"), fmt_best(r["e_best_interval"], "e_u_interval"),
+                  fmt_best(r["r_best_interval"], "r_u_interval"), 100 * mean_err(r, "latency"),
+                  100 * mean_err(r, "interval"), 100 * mean_err(r, "n"), r["sim_wall"]), flush=True)
 
     yn = lambda b: "yes" if b else "**no**"
     L = []
@@ -177,23 +210,36 @@ def main():
              "BAP/PAP/RAP x N_c = 0..8, 20 agents, 2 threads; the median sweep wall time is shown), then "
              "`gather sim PLAN --all-configs --seeds %d` (every configuration, %d seeds, the scenario's cycles). "
              "E = the planner's estimate (docs/planner.md), R = the simulator's mean over the seeds "
-             "(docs/simulator.md), [lo–hi] its range. Real utilities are normalised per seed over the "
-             "configurations and averaged. Nothing was tuned to make the seed's conclusions hold.\n"
+             "(docs/simulator.md), [lo–hi] its range. Two refresh metrics (docs/planner.md, \"Two refresh "
+             "metrics\"): latency (request to delivery, per goal) and interval (per area, the time between "
+             "consecutive deliveries of its data). The utility U is computed on each, in E over the 27 "
+             "configurations and in R per seed over them (then averaged). OCw = the workers the association "
+             "step sends to the OC, active = the collectors left with workers; a configuration counts as using "
+             "collectors when some are active (the best N_c of the seed's conclusion is the active count). Nothing was tuned to make the seed's conclusions hold.\n"
              % (load, a.repeat, a.seeds, a.seeds))
-    L.append("| scenario | planning grid | sweep [s] | best by E | best by R | mean \\|E−R\\|/R refresh | "
-             "mean \\|E−R\\|/R goals | collectors beat none E / R | best N_c in 1-4 E / R | BAP/PAP ≥ RAP E / R | "
-             "sim --all-configs [s] |")
-    L.append("|---|---|---|---|---|---|---|---|---|---|---|")
+    L.append("| scenario | planning grid | sweep [s] | best by E / R, latency | best by E / R, interval | "
+             "mean \\|E−R\\|/R latency / interval / goals | collectors beat none, latency E / R, interval E / R | "
+             "best N_c in 1-4, latency E / R, interval E / R | BAP/PAP ≥ RAP, latency E / R, interval E / R |")
+    L.append("|---|---|---|---|---|---|---|---|---|")
     for r in reports:
-        e, q = r["e_concl"], r["r_concl"]
-        L.append("| %s | %s | %.2f | %s | %s | %.0f%% | %.0f%% | %s / %s | %s / %s | %s / %s | %.0f |" % (
-            r["name"], r["grid"], r["sweep_ms"] / 1000.0, fmt_best(r["e_best"], "e_u"), fmt_best(r["r_best"], "r_u"),
-            100 * statistics.mean(c["err_t"] for c in r["configs"]), 100 * statistics.mean(c["err_n"] for c in r["configs"]),
-            yn(e[0]), yn(q[0]), yn(e[1]), yn(q[1]), yn(e[2]), yn(q[2]), r["sim_wall"]))
+        cells = []
+        for i in range(3):
+            cells.append(" / ".join(yn(r["%s_concl_%s" % (side, m)][i]) for m in ("latency", "interval") for side in ("e", "r")))
+        L.append("| %s | %s | %.2f | %s / %s | %s / %s | %.0f%% / %.0f%% / %.0f%% | %s | %s | %s |" % (
+            r["name"], r["grid"], r["sweep_ms"] / 1000.0, fmt_best(r["e_best_latency"], "e_u_latency"),
+            fmt_best(r["r_best_latency"], "r_u_latency"), fmt_best(r["e_best_interval"], "e_u_interval"),
+            fmt_best(r["r_best_interval"], "r_u_interval"), 100 * mean_err(r, "latency"), 100 * mean_err(r, "interval"),
+            100 * mean_err(r, "n"), cells[0], cells[1], cells[2]))
     n = len(reports)
+    L.append("")
     for i, what in enumerate(("collectors beat no collectors", "the best N_c lies in 1-4", "BAP or PAP at least as good as RAP")):
-        L.append(("\n" if i == 0 else "") + "- %s: E %d of %d scenarios, R %d of %d." % (
-            what, sum(r["e_concl"][i] for r in reports), n, sum(r["r_concl"][i] for r in reports), n))
+        L.append("- %s: latency E %d, R %d; interval E %d, R %d (of %d scenarios)." % (
+            what, sum(r["e_concl_latency"][i] for r in reports), sum(r["r_concl_latency"][i] for r in reports),
+            sum(r["e_concl_interval"][i] for r in reports), sum(r["r_concl_interval"][i] for r in reports), n))
+    within = [r["name"] for r in reports if max(mean_err(r, "latency"), mean_err(r, "interval"), mean_err(r, "n")) <= 0.10]
+    L.append("- mean |E−R|/R within 10%% for latency, interval and goals: %d of %d scenarios%s." % (
+        len(within), n, (" (" + ", ".join(sorted(set(r["name"] for r in reports) - set(within))) + " outside)")
+        if len(within) < n else ""))
     L.append("")
     for r in reports:
         L.append("\n## %s\n" % r["name"])
@@ -204,14 +250,20 @@ def main():
                  "R bands, Fig. 4).\n" % (r["grid"], r["sweep_ms"] / 1000.0, r["stages"], r["plan_wall"], r["sim_wall"],
                                           r["speedup"], r["slowest"], len(r["configs"]) * a.seeds, r["name"],
                                           r["name"]))
-        L.append("| method | N_c | E refresh [s] | R refresh [s] [lo–hi] | err | E goals | R goals [lo–hi] | err | E U | R U |")
-        L.append("|---|---|---|---|---|---|---|---|---|---|")
+        L.append("| method | N_c | active | OCw | E latency [s] | R latency [s] [lo–hi] | err | E interval [s] | R interval [s] [lo–hi] "
+                 "| err | E goals | R goals [lo–hi] | err | U latency E / R | U interval E / R |")
+        L.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
         for c in r["configs"]:
-            mark_e = " **E**" if c is r["e_best"] else ""
-            mark_r = " **R**" if c is r["r_best"] else ""
-            L.append("| %s | %d | %.1f | %.1f [%.1f–%.1f] | %.0f%% | %.2f | %.2f [%.2f–%.2f] | %.0f%% | %.3f%s | %.3f%s |" % (
-                c["method"].upper(), c["nc"], c["e_t"], c["r_t"], c["r_t_lo"], c["r_t_hi"], 100 * c["err_t"], c["e_n"],
-                c["r_n"], c["r_n_lo"], c["r_n_hi"], 100 * c["err_n"], c["e_u"], mark_e, c["r_u"], mark_r))
+            def u(m):
+                me = " **E**" if c is r["e_best_" + m] else ""
+                mr = " **R**" if c is r["r_best_" + m] else ""
+                return "%.3f%s / %.3f%s" % (c["e_u_" + m], me, c["r_u_" + m], mr)
+            L.append("| %s | %d | %d | %d | %.1f | %.1f [%.1f–%.1f] | %.0f%% | %.1f | %.1f [%.1f–%.1f] | %.0f%% | %.2f | "
+                     "%.2f [%.2f–%.2f] | %.0f%% | %s | %s |" % (
+                         c["method"].upper(), c["nc"], c["active"], c["oc_workers"], c["e_latency"], c["r_latency"],
+                         c["r_latency_lo"], c["r_latency_hi"], 100 * c["err_latency"], c["e_interval"], c["r_interval"],
+                         c["r_interval_lo"], c["r_interval_hi"], 100 * c["err_interval"], c["e_n"], c["r_n"],
+                         c["r_n_lo"], c["r_n_hi"], 100 * c["err_n"], u("latency"), u("interval")))
     with open(a.out, "w") as f:
         f.write("\n".join(L) + "\n")
     print("wrote %s" % a.out)

@@ -38,6 +38,7 @@ inline mission::MissionPlan corridor_plan(const Scenario& s) {
   plan::PlanFile& p = m.file;
   p.method = "hand";
   p.collectors = 1, p.workers = 1, p.cycle_period_s = 100.0;
+  p.area_tile_m = 20.0;  // the whole corridor is one area of the refresh interval
   p.agents = {plan::AgentAssignment{0, true, 0, 0}, plan::AgentAssignment{1, false, 1, 0}};
   plan::CollectorRoute r;
   r.collector = 0;

@@ -132,29 +132,40 @@ TEST(MissionTest, CorridorDeliveryTimesAreExact) {
   EXPECT_NEAR(r.cycles[1].refresh_mean_s, 55.95, 1e-3);
   EXPECT_EQ(r.cycles[0].total_carried, 0);
   // Both metrics by hand. Latency: the mean of delivered_at - requested_at
-  // over the goals, (26.95 + 55.95 + 55.95) / 3. Interval: the one area's
-  // data reached the OC at 26.95, 55.95 and 155.95 s: gaps 29 and 100 s.
+  // over the goals, (26.95 + 55.95 + 55.95) / 3. Interval: the corridor is
+  // one area (a 20 m tile); its data reached the OC at 26.95, 55.95 and
+  // 155.95 s: gaps 29 and 100 s.
   EXPECT_NEAR(r.refresh_mean_s, (26.95 + 55.95 + 55.95) / 3, 1e-3);
   EXPECT_NEAR(r.interval_mean_s, (29.0 + 100.0) / 2, 1e-3);
   EXPECT_NEAR(r.interval_max_s, (29.0 + 100.0) / 2, 1e-3);
 }
 
 TEST(MissionMetricsTest, IntervalPerAreaByHand) {
-  auto goal = [](int segment, double delivered_at) {
+  // Areas are 10 m tiles: tile 0 (x in [0, 10)) holds 100 m^2 of reachable
+  // space, tiles 1 and 2 50 m^2 each, tile 3 20 m^2. Tile 0: deliveries at
+  // 10, 10.0004 (the same delivery), 40 and 100 s: gaps 30 and 60, mean 45.
+  // Tile 1: one delivery: the whole mission (3 x 50 s). Tile 2: deliveries
+  // at 20 and 30 s: 10. Tile 3: none: the whole mission. An undelivered goal
+  // does not count, nor a goal outside the areas; two segments in one tile
+  // are one area.
+  auto goal = [](int segment, double x, double delivered_at) {
     GoalRecord g;
-    g.segment = segment, g.delivered_at = delivered_at;
+    g.segment = segment, g.point = Point2{x, 1.0}, g.delivered_at = delivered_at;
     return g;
   };
-  // Area 1: deliveries at 10, 10.0004 (the same delivery), 40 and 100 s:
-  // gaps 30 and 60, mean 45. Area 2: one delivery: the whole mission (3 x
-  // 50 s). Area 3: deliveries at 20 and 30 s: 10. A goal of no segment and
-  // an undelivered goal of area 3 do not count.
-  const std::vector<GoalRecord> goals{goal(1, 10.0), goal(1, 10.0004), goal(1, 40.0), goal(1, 100.0), goal(2, 70.0),
-                                      goal(3, 20.0), goal(3, 30.0), goal(3, -1.0), goal(0, 5.0)};
-  const auto [mean, max] = mission::interval_stats(goals, 3, 50.0);
-  EXPECT_NEAR(mean, (45.0 + 150.0 + 10.0) / 3, 1e-9);
+  mission::AreaWeights areas;
+  areas.tile = 10.0;
+  for (const auto& [x, m2] : {std::pair{5.0, 100.0}, {15.0, 50.0}, {25.0, 50.0}, {35.0, 20.0}})
+    areas.area[mission::area_of(Point2{x, 1.0}, 10.0)] = m2;
+  const std::vector<GoalRecord> goals{goal(1, 1.0, 10.0), goal(1, 2.0, 10.0004), goal(2, 9.0, 40.0),
+                                      goal(1, 5.0, 100.0), goal(3, 15.0, 70.0),   goal(4, 25.0, 20.0),
+                                      goal(4, 26.0, 30.0), goal(4, 27.0, -1.0),   goal(0, 45.0, 5.0)};
+  const auto [mean, max] = mission::interval_stats(goals, 3, 50.0, areas);
+  EXPECT_NEAR(mean, (100 * 45.0 + 50 * 150.0 + 50 * 10.0 + 20 * 150.0) / 220, 1e-9);
   EXPECT_NEAR(max, 150.0, 1e-9);
-  EXPECT_EQ(mission::interval_stats({}, 3, 50.0), std::make_pair(0.0, 0.0));
+  EXPECT_EQ(mission::interval_stats({}, 3, 50.0, mission::AreaWeights{}), std::make_pair(0.0, 0.0));
+  EXPECT_EQ(mission::area_of(Point2{-0.5, 3.0}, 10.0), mission::area_of(Point2{-9.5, 9.9}, 10.0));
+  EXPECT_NE(mission::area_of(Point2{-0.5, 3.0}, 10.0), mission::area_of(Point2{0.5, 3.0}, 10.0));
 }
 
 TEST(MissionTest, WorkerThatMissesItsCollectorDeliversOnTheNextPass) {

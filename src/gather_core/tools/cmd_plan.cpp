@@ -48,6 +48,10 @@ int plan(int argc, char** argv) {
   const auto t_ctx = Clock::now();
   const plan::PlanContext ctx(s);
   const double ctx_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_ctx).count();
+  const std::size_t covered = static_cast<std::size_t>(std::count(ctx.coverage.begin(), ctx.coverage.end(), 1));
+  std::printf("coverage: %.1f%% of the reachable space; farthest reachable cell %.1f m from it; request period %.1f s%s\n",
+              ctx.reachable_cells > 0 ? 100.0 * static_cast<double>(covered) / static_cast<double>(ctx.reachable_cells) : 0.0,
+              ctx.farthest, ctx.cycle_period, s.mission.period > 0 ? " (mission.period)" : " (farthest / speed)");
 
   plan::SweepResult sweep;
   if (args.has("--config")) {

@@ -38,7 +38,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 struct ConfigOutput {
-  std::string goals, cycles, summary;  // CSV rows
+  std::string goals, cycles, summary, roles;  // CSV rows
   figures::ConfigRuns runs;
   double wall_ms = 0.0, mission_s = 0.0, min_speedup = 1e300;
 };
@@ -57,6 +57,12 @@ ConfigOutput simulate(mission::MissionSimulator& sim, int cycles, int seed0, int
     mission::append_goal_rows(out.goals, label, r.goals);
     mission::append_cycle_rows(out.cycles, label, r.cycles);
     mission::append_summary_row(out.summary, label, r);
+    for (const mission::TimeBudget& b : sim.time_budgets(r)) {
+      char line[256];
+      std::snprintf(line, sizeof line, "%s,%d,%u,%d,%s,%.3f,%.3f,%.3f\n", pf.method.c_str(), pf.collectors, opt.seed,
+                    b.agent, b.role, b.measuring_s, b.commuting_s, b.waiting_s);
+      out.roles += line;
+    }
     out.runs.refresh_s.push_back(r.refresh_mean_s);
     out.runs.interval_s.push_back(r.interval_mean_s);
     out.runs.goals.push_back(r.goals_per_cycle);
@@ -149,18 +155,20 @@ int sim(int argc, char** argv) {
     outputs.push_back(simulate(own, cycles, seed0, seeds));
   }
 
-  std::ofstream goals(out + "/goals.csv"), cyc(out + "/cycles.csv"), summary(out + "/summary.csv");
+  std::ofstream goals(out + "/goals.csv"), cyc(out + "/cycles.csv"), summary(out + "/summary.csv"),
+      roles(out + "/roles.csv");
+  roles << "method,collectors,seed,agent,role,measuring_s,commuting_s,waiting_s\n";
   goals << mission::kGoalsCsvHeader;
   cyc << mission::kCyclesCsvHeader;
   summary << mission::kSummaryCsvHeader;
   double wall = 0.0, mission_s = 0.0, min_speedup = 1e300;
   std::vector<figures::ConfigRuns> runs;
   for (const ConfigOutput& o : outputs) {
-    goals << o.goals, cyc << o.cycles, summary << o.summary;
+    goals << o.goals, cyc << o.cycles, summary << o.summary, roles << o.roles;
     wall += o.wall_ms, mission_s += o.mission_s, min_speedup = std::min(min_speedup, o.min_speedup);
     runs.push_back(o.runs);
   }
-  if (!goals || !cyc || !summary) throw Error(out, "cannot write the CSV files");
+  if (!goals || !cyc || !summary || !roles) throw Error(out, "cannot write the CSV files");
   if (args.on("--all-configs")) figures::write_fig3(out, runs, s.planner.methods, s.planner.alpha, s.planner.beta, s.planner.refresh);
   write_fig4(out, ctx, own, cycles, seed0, args.get("--video", ""));
 

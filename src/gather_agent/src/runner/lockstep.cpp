@@ -567,7 +567,8 @@ RunOutcome LockstepMaster::finish() {
                   std::to_string(oc().requested()) + " goals unresolved";
     return out;
   }
-  out.result = mission::mission_result(oc().goals(), team_.params.cycles, team_.period, out.wall_ms);
+  out.result = mission::mission_result(oc().goals(), team_.params.cycles, team_.period, out.wall_ms,
+                                        mission::area_weights(team_.world, team_.plan.file.area_tile_m));
   return out;
 }
 

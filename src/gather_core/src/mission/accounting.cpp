@@ -144,24 +144,43 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
   return out;
 }
 
-std::pair<double, double> interval_stats(const std::vector<GoalRecord>& goals, int cycles, double period) {
+int64_t area_of(Point2 p, double tile) {
+  if (!(tile > 0)) return -1;
+  const int64_t col = static_cast<int64_t>(std::floor(p.x / tile)), row = static_cast<int64_t>(std::floor(p.y / tile));
+  return row * (int64_t{1} << 31) + col;
+}
+
+AreaWeights area_weights(const World& world, double tile) {
+  AreaWeights w;
+  w.tile = tile;
+  if (!(tile > 0)) return w;
+  const OccupancyGrid& grid = world.scenario.grid;
+  for (std::size_t i = 0; i < world.reachable.size(); ++i)
+    if (world.reachable[i]) w.area[area_of(grid.cell_center(grid.cell(i)), tile)] += grid.cell_area();
+  return w;
+}
+
+std::pair<double, double> interval_stats(const std::vector<GoalRecord>& goals, int cycles, double period,
+                                         const AreaWeights& areas) {
   const double horizon = std::max(1, cycles) * period;
-  std::map<int, std::vector<double>> deliveries;  // area -> delivery times
+  std::map<int64_t, std::vector<double>> deliveries;  // area -> delivery times
+  for (const auto& [area, m2] : areas.area) deliveries[area];
   for (const GoalRecord& g : goals) {
-    if (g.segment <= 0) continue;
-    std::vector<double>& d = deliveries[g.segment];
-    if (g.delivered_at >= 0) d.push_back(g.delivered_at);
+    if (g.delivered_at < 0) continue;
+    const auto it = deliveries.find(area_of(g.point, areas.tile));
+    if (it != deliveries.end()) it->second.push_back(g.delivered_at);
   }
   if (deliveries.empty()) return {0.0, 0.0};
-  double sum = 0.0, max = 0.0;
+  double sum = 0.0, weights = 0.0, max = 0.0;
   for (auto& [area, d] : deliveries) {
+    const double weight = areas.area.at(area);
     std::sort(d.begin(), d.end());
     int n = 0;  // distinct deliveries
     for (std::size_t i = 0; i < d.size(); ++i) n += i == 0 || d[i] - d[i - 1] > 1e-3;
     const double interval = n >= 2 ? (d.back() - d.front()) / (n - 1) : horizon;
-    sum += interval, max = std::max(max, interval);
+    sum += weight * interval, weights += weight, max = std::max(max, interval);
   }
-  return {sum / static_cast<double>(deliveries.size()), max};
+  return {sum / weights, max};
 }
 
 }  // namespace mission

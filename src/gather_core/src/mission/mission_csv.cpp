@@ -49,7 +49,8 @@ void append_summary_row(std::string& out, const RunLabel& run, const MissionResu
   out += line;
 }
 
-MissionResult mission_result(std::vector<GoalRecord> goals, int cycles, double period, double wall_ms) {
+MissionResult mission_result(std::vector<GoalRecord> goals, int cycles, double period, double wall_ms,
+                             const AreaWeights& areas) {
   MissionResult res;
   res.cycles = account(goals, cycles, period);
   res.period_s = period;
@@ -64,7 +65,7 @@ MissionResult mission_result(std::vector<GoalRecord> goals, int cycles, double p
   }
   res.refresh_mean_s = delivered > 0 ? sum / delivered : 0.0;
   res.goals_per_cycle = static_cast<double>(delivered) / cycles;
-  std::tie(res.interval_mean_s, res.interval_max_s) = interval_stats(goals, cycles, period);
+  std::tie(res.interval_mean_s, res.interval_max_s) = interval_stats(goals, cycles, period, areas);
   res.goals = std::move(goals);
   res.wall_ms = wall_ms;
   return res;

@@ -73,6 +73,7 @@ MissionSimulator::MissionSimulator(const World& ctx, MissionPlan plan)
   speed_ = s.team.speed;
   period_ = pf.cycle_period_s;
   if (!(period_ > 0)) throw Error(where, "cycle_period_s must be > 0");
+  areas_ = area_weights(ctx, pf.area_tile_m);
   if (static_cast<int>(pf.routes.size()) != pf.collectors) throw Error(where, "one route per collector expected");
   for (const plan::CollectorRoute& r : pf.routes) {
     try {
@@ -143,7 +144,7 @@ MissionResult MissionSimulator::run(const MissionOptions& opt) {
   }
 
   std::vector<Leg> legs = std::move(run.legs);
-  MissionResult res = mission_result(std::move(run.goals), opt.cycles, period_, 0.0);
+  MissionResult res = mission_result(std::move(run.goals), opt.cycles, period_, 0.0, areas_);
   res.legs = std::move(legs);
   res.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
   return res;
@@ -245,7 +246,7 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
       GoalRecord& g = run.goals[static_cast<std::size_t>(w.goal(static_cast<std::size_t>(o)).id)];
       if (g.measured_at >= 0) bug("goal " + std::to_string(g.id) + " measured twice");
       g.measured_at = dec.at[i], g.measured_by = w.agent();
-      run.legs.push_back(Leg{w.agent(), clock, dec.at[i], here, g.point});
+      run.legs.push_back(Leg{w.agent(), clock, dec.at[i], here, g.point, true});
       pick_up_on_the_way(here, g.point, clock, dec.at[i]);
       here = g.point, clock = dec.at[i];
       carried.push_back(g.id);
@@ -329,7 +330,7 @@ void MissionSimulator::simulate_oc_worker(std::size_t wi, Run& run) {
       GoalRecord& g = run.goals[static_cast<std::size_t>(w.goal(static_cast<std::size_t>(o)).id)];
       if (g.measured_at >= 0) bug("goal " + std::to_string(g.id) + " measured twice");
       g.measured_at = dec.at[i], g.measured_by = w.agent();
-      run.legs.push_back(Leg{w.agent(), t, dec.at[i], here, g.point});
+      run.legs.push_back(Leg{w.agent(), t, dec.at[i], here, g.point, true});
       here = g.point, t = dec.at[i], pos = w.goal(static_cast<std::size_t>(o)).cell, at_landing = false;
       carried.push_back(g.id);
       known.erase(std::find(known.begin(), known.end(), o));
@@ -337,6 +338,33 @@ void MissionSimulator::simulate_oc_worker(std::size_t wi, Run& run) {
     }
     if (!ctx_.covered(pos)) back_to_coverage();
   }
+}
+
+std::vector<TimeBudget> MissionSimulator::time_budgets(const MissionResult& result) const {
+  const double horizon = result.mission_s;
+  std::vector<TimeBudget> out;
+  for (const auto& a : plan_.file.agents) {
+    TimeBudget b;
+    b.agent = a.id;
+    if (a.collector) {
+      b.role = "collector";
+      // Driving: the loops of the timetable that fall in [0, horizon].
+      const plan::LoopSchedule& s = routes_[static_cast<std::size_t>(a.id)].schedule();
+      if (!s.idle())
+        for (double t = s.next_departure(0.0); t < horizon; t = s.next_departure(t + 1e-9))
+          b.commuting_s += std::min(s.travel(), horizon - t);
+    } else {
+      b.role = a.delivers_to >= 0 ? "collector_worker" : "oc_worker";
+      for (const Leg& l : result.legs) {
+        if (l.agent != a.id || l.t0 >= horizon) continue;
+        const double d = std::min(l.t1, horizon) - l.t0;
+        (l.to_goal ? b.measuring_s : b.commuting_s) += std::max(0.0, d);
+      }
+    }
+    b.waiting_s = std::max(0.0, horizon - b.measuring_s - b.commuting_s);
+    out.push_back(b);
+  }
+  return out;
 }
 
 }  // namespace mission

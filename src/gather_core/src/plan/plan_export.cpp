@@ -25,6 +25,7 @@ PlanFile make_plan_file(const PlanContext& ctx, const ConfigurationPlan& cfg, co
   const double map_res = ctx.scenario.map_meta.resolution;  // 0 for scenarios built in code
   p.grid_factor = map_res > 0 ? std::max(1, static_cast<int>(std::lround(ctx.scenario.grid.resolution() / map_res))) : 1;
   p.cycle_period_s = ctx.cycle_period;
+  p.area_tile_m = ctx.area_tile;
   p.est_refresh_s = cfg.estimates.refresh_s;
   p.est_goals = cfg.estimates.goals;
   p.est_interval_s = cfg.estimates.interval_s;
@@ -39,13 +40,15 @@ PlanFile make_plan_file(const PlanContext& ctx, const ConfigurationPlan& cfg, co
 
 void write_sweep_report(const std::string& path, const SweepResult& sweep) {
   std::ofstream out(path);
-  out << "method,collectors,workers,oc_workers,est_refresh_s,est_interval_s,est_goals,utility,plan_ms,partition_ms,graph_ms,groups_ms,"
+  out << "method,collectors,active_collectors,workers,oc_workers,est_refresh_s,est_interval_s,est_goals,utility,plan_ms,partition_ms,graph_ms,groups_ms,"
          "routes_ms,estimate_ms,associate_ms\n";
   char line[512];
   for (const auto& c : sweep.configs) {
     const int oc_workers = static_cast<int>(std::count(c.collector_of_segment.begin(), c.collector_of_segment.end(), -1));
-    std::snprintf(line, sizeof line, "%s,%d,%d,%d,%.3f,%.3f,%.3f,%.4f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f\n",
-                  partition::method_name(c.method), c.collectors, c.workers, oc_workers, c.estimates.refresh_s,
+    const int active = static_cast<int>(std::count_if(c.routes.begin(), c.routes.end(),
+                                                      [](const CollectorRoute& r) { return !r.segments.empty(); }));
+    std::snprintf(line, sizeof line, "%s,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.4f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f\n",
+                  partition::method_name(c.method), c.collectors, active, c.workers, oc_workers, c.estimates.refresh_s,
                   c.estimates.interval_s, c.estimates.goals, c.utility, c.times.total(), c.times.partition_ms, c.times.graph_ms,
                   c.times.groups_ms, c.times.routes_ms, c.times.estimate_ms, c.times.associate_ms);
     out << line;

@@ -44,6 +44,7 @@ void write_plan_file(const std::string& path, const PlanFile& p) {
   y << YAML::Key << "labels" << YAML::Value << p.labels_png;
   y << YAML::Key << "grid_factor" << YAML::Value << p.grid_factor;
   y << YAML::Key << "cycle_period_s" << YAML::Value << p.cycle_period_s;
+  y << YAML::Key << "area_tile_m" << YAML::Value << p.area_tile_m;
   y << YAML::Key << "estimates" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "refresh_s"
     << YAML::Value << p.est_refresh_s << YAML::Key << "interval_s" << YAML::Value << p.est_interval_s << YAML::Key << "goals" << YAML::Value << p.est_goals << YAML::Key << "utility"
     << YAML::Value << p.utility << YAML::EndMap;
@@ -96,7 +97,7 @@ void write_plan_file(const std::string& path, const PlanFile& p) {
 PlanFile read_plan_file(const std::string& path) {
   const YAML::Node root = yaml::load_file(path);
   yaml::Fields f(root, path, "");
-  f.allow({"format", "scenario", "method", "collectors", "workers", "seed", "labels", "grid_factor", "cycle_period_s", "estimates",
+  f.allow({"format", "scenario", "method", "collectors", "workers", "seed", "labels", "grid_factor", "cycle_period_s", "area_tile_m", "estimates",
            "agents", "routes", "worker_estimates"});
   PlanFile p;
   const std::string format = f.required<std::string>("format");
@@ -113,6 +114,8 @@ PlanFile read_plan_file(const std::string& path) {
   p.grid_factor = f.optional<int>("grid_factor", 1);
   if (p.grid_factor < 1) throw Error(path, "grid_factor must be >= 1");
   p.cycle_period_s = f.required<double>("cycle_period_s");
+  p.area_tile_m = f.required<double>("area_tile_m");
+  if (!(p.area_tile_m > 0)) throw Error(path, "area_tile_m must be > 0");
   const yaml::Fields est = f.section("estimates");
   est.allow({"refresh_s", "interval_s", "goals", "utility"});
   p.est_refresh_s = est.required<double>("refresh_s");

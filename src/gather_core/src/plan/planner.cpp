@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <queue>
 #include <thread>
@@ -13,6 +14,7 @@
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/fmm/path.hpp"
 #include "gather_core/grid/reachability.hpp"
+#include "gather_core/mission/simulator.hpp"
 #include "gather_core/path/path_polisher.hpp"
 #include "gather_core/plan/collector_groups.hpp"
 #include "gather_core/plan/loop_schedule.hpp"
@@ -372,21 +374,25 @@ Stretches contact_stretches(const CollectorRoute& r, const MeetingArea& m, Point
 struct WorkerRun {
   double delivered = 0.0;  // goals over all cycles
   double refresh_sum = 0.0;  // sum of delivered_at - requested_at over them [s]
-  // Deliveries of the segment's data to the OC (distinct times), expected
-  // over the goal count, and the first and last of them [s].
-  double deliveries = 0.0, first = kInf, last = -kInf;
+  // The deliveries of each area (tile) of the segment to the OC.
+  std::vector<AreaDeliveries> areas;
   void add(double goals, double refresh) { delivered += goals, refresh_sum += goals * refresh; }
-  void delivery(double t, double expected) {
-    if (expected <= 1e-9) return;
-    deliveries += expected, first = std::min(first, t), last = std::max(last, t);
-  }
-  // The mean time between consecutive deliveries, as mission::interval_stats
-  // measures it: (last - first) / (deliveries - 1), the whole mission when
-  // fewer than two.
-  double interval(double horizon) const {
-    return deliveries >= 2.0 - 1e-9 && last > first ? (last - first) / (deliveries - 1.0) : horizon;
-  }
 };
+
+// The mean time between an area's consecutive deliveries, as
+// mission::interval_stats measures it: (last - first) / (deliveries - 1),
+// the whole mission (`horizon`) when fewer than two.
+double area_interval(double deliveries, double first, double last, double horizon) {
+  return deliveries >= 2.0 - 1e-9 && last > first ? (last - first) / (deliveries - 1.0) : horizon;
+}
+
+// The mean over a worker's areas of their intervals.
+double mean_interval(const std::vector<AreaDeliveries>& areas, double horizon) {
+  if (areas.empty()) return horizon;
+  double sum = 0.0;
+  for (const AreaDeliveries& a : areas) sum += area_interval(a.deliveries, a.first, a.last, horizon);
+  return sum / static_cast<double>(areas.size());
+}
 
 // P(n goals of G in a segment holding share p of the space), n = 0..; the
 // tail beyond a 1e-9 remainder is dropped.
@@ -414,13 +420,15 @@ std::vector<double> goal_count_pmf(int G, double p) {
 // learns the newest request (waiting for the next one if it has served them
 // all), goes into its segment, measures all the request's goals, comes back
 // and delivers. Requests issued meanwhile, but the newest, expire.
-// Deliveries: the goals outside the coverage are delivered together on the
-// return (one delivery when the request has at least one there), those
-// inside it one by one as they are measured (half-way through the loop on
-// average).
+// Deliveries of an area (`areas`: the tiles of the segment; G goals a
+// request over the reachable area A): its goals outside the coverage are
+// delivered together on the return (one delivery when the request has at
+// least one there), those inside it one by one as they are measured
+// (spread over the loop).
 WorkerRun run_oc_worker(const TourModel& tour, const std::vector<double>& pmf, double v, double T, int cycles,
-                        double p_outside = 0.0, double inside_goals = 0.0) {
+                        const std::vector<AreaDeliveries>& areas, double G, double A) {
   WorkerRun run;
+  run.areas = areas;
   double loop = 0.0, goals = 0.0, weighted = 0.0;  // expected loop [s]; goals; goal-weighted loop
   for (std::size_t n = 1; n < pmf.size(); ++n) {
     loop += pmf[n] * tour.length(static_cast<double>(n)) / v;
@@ -434,9 +442,12 @@ WorkerRun run_oc_worker(const TourModel& tour, const std::vector<double>& pmf, d
     next = req + 1;
     if (goals <= 0.0) continue;
     run.add(goals, t - req * T + weighted / goals);
-    run.delivery(t + loop, p_outside);
-    for (int i = 1; i <= static_cast<int>(std::ceil(inside_goals)); ++i)
-      run.delivery(t + loop * i / (std::ceil(inside_goals) + 1.0), std::min(1.0, inside_goals - (i - 1)));
+    for (AreaDeliveries& a : run.areas) {
+      a.delivery(t + loop, 1.0 - std::pow(std::max(0.0, 1.0 - (a.area_m2 - a.covered_m2) / A), G));
+      const double inside = G * a.covered_m2 / A;
+      for (int i = 1; i <= static_cast<int>(std::ceil(inside)); ++i)
+        a.delivery(t + loop * i / (std::ceil(inside) + 1.0), std::min(1.0, inside - (i - 1)));
+    }
     t += loop;
   }
   return run;
@@ -449,8 +460,10 @@ WorkerRun run_oc_worker(const TourModel& tour, const std::vector<double>& pmf, d
 // first pass next to its segment after measuring it; the collector uploads
 // where its route next enters the coverage.
 WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, const Stretches& contact,
-                               const TourModel& model, const std::vector<double>& pmf, double v, double T, int cycles) {
+                               const TourModel& model, const std::vector<double>& pmf, double v, double T, int cycles,
+                               const std::vector<AreaDeliveries>& areas) {
   WorkerRun run;
+  run.areas = areas;
   const LoopSchedule sched(r.period, T);
   // The collector picks the request up at its first departure at or after
   // the issue, or where its route re-enters the coverage midway if that
@@ -482,8 +495,11 @@ WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, co
         sum += best - req * T;
       }
       run.add(pmf[k] * n, sum / kSamples);
-      // Distinct deliveries: the uploads that carry some of the n goals
-      // (spread evenly along the tour), weighted by P(k goals).
+      // Deliveries: the uploads that carry some of the n goals (spread
+      // evenly along the tour; each of goals_n samples stands for n /
+      // goals_n goals); an upload carrying m goals of the segment carries
+      // one of an area holding share f of it with probability 1 - (1 - f)^m;
+      // weighted by P(k goals).
       const int goals_n = static_cast<int>(std::min(16.0, std::ceil(n)));
       std::vector<double> at;
       for (int i = 1; i <= goals_n; ++i) {
@@ -497,8 +513,15 @@ WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, co
         if (std::isfinite(best)) at.push_back(best);
       }
       std::sort(at.begin(), at.end());
-      for (std::size_t i = 0; i < at.size(); ++i)
-        if (i == 0 || at[i] - at[i - 1] > 1e-3) run.delivery(at[i], pmf[k]);
+      const double per_sample = n / std::max(1, goals_n);
+      for (std::size_t i = 0; i < at.size();) {
+        std::size_t j = i;
+        while (j < at.size() && at[j] - at[i] <= 1e-3) ++j;
+        const double goals_in = per_sample * static_cast<double>(j - i);
+        for (AreaDeliveries& a : run.areas)
+          a.delivery(at[i], pmf[k] * (1.0 - std::pow(std::max(0.0, 1.0 - a.area_m2 / model.area), goals_in)));
+        i = j;
+      }
     }
   }
   return run;
@@ -521,9 +544,8 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
   if (w.collector < 0) {
     const TourModel model = tour_model(seg, true, c);
     w.tour_s = model.length(w.expected_goals) / v;
-    const double A = ctx.reachable_area;
-    const double p_out = 1.0 - std::pow(std::max(0.0, 1.0 - (seg.area - seg.covered_area) / A), G);
-    run = run_oc_worker(model, pmf, v, T, cycles, p_out, G * seg.covered_area / A);
+    run = run_oc_worker(model, pmf, v, T, cycles, cfg.area_parts[static_cast<std::size_t>(seg.id - 1)], G,
+                        ctx.reachable_area);
   } else {
     const CollectorRoute& r = cfg.routes[static_cast<std::size_t>(w.collector)];
     const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
@@ -531,30 +553,47 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
     const TourModel model = tour_model(seg, false, c);
     w.tour_s = model.length(w.expected_goals) / v;
     if (m != r.meetings.end())
-      run = run_collector_worker(r, *m, contact_stretches(r, *m, seg.centroid_m, radio), model, pmf, v, T, cycles);
+      run = run_collector_worker(r, *m, contact_stretches(r, *m, seg.centroid_m, radio), model, pmf, v, T, cycles,
+                                 cfg.area_parts[static_cast<std::size_t>(seg.id - 1)]);
   }
   w.delivered_goals = run.delivered / cycles;
   w.refresh_s = run.delivered > 0 ? run.refresh_sum / run.delivered : 0.0;
-  w.interval_s = run.interval(cycles * T);
+  w.interval_s = mean_interval(run.areas, cycles * T);
+  w.areas = std::move(run.areas);
   return w;
 }
 
-// The configuration's figures from its workers' estimates.
-void combine(Estimates& e) {
+// The configuration's figures from its workers' estimates. The interval is
+// the mean over areas (tiles; a tile split between segments gets the
+// deliveries of each) weighted by their reachable area, as the simulator
+// weighs them by the goals requested in them.
+void combine(Estimates& e, const PlanContext& ctx) {
   e.goals = 0.0;
   double weighted = 0.0;
   for (const WorkerEstimate& w : e.workers) e.goals += w.delivered_goals, weighted += w.delivered_goals * w.refresh_s;
   e.refresh_s = e.goals > 0 ? weighted / e.goals : 0.0;
-  e.interval_s = 0.0;
-  for (const WorkerEstimate& w : e.workers) e.interval_s += w.interval_s;
-  if (!e.workers.empty()) e.interval_s /= static_cast<double>(e.workers.size());
+  struct Tile {
+    double area = 0.0, deliveries = 0.0, first = kInf, last = -kInf;
+  };
+  std::map<int64_t, Tile> tiles;
+  for (const WorkerEstimate& w : e.workers)
+    for (const AreaDeliveries& a : w.areas) {
+      Tile& t = tiles[a.area];
+      t.area += a.area_m2, t.deliveries += a.deliveries;
+      t.first = std::min(t.first, a.first), t.last = std::max(t.last, a.last);
+    }
+  const int cycles = std::max(1, ctx.scenario.mission.cycles);
+  const double horizon = cycles * ctx.cycle_period;
+  double sum = 0.0, weights = 0.0;
+  for (const auto& [id, t] : tiles) sum += t.area * area_interval(t.deliveries, t.first, t.last, horizon), weights += t.area;
+  e.interval_s = weights > 0 ? sum / weights : horizon;
 }
 
 Estimates estimate(const PlanContext& ctx, const ConfigurationPlan& cfg, const PlannerOptions& opt) {
   const RadioModel radio(ctx.scenario.grid, ctx.scenario.radio);
   Estimates e;
   for (const WorkerSegment& seg : cfg.graph.segments) e.workers.push_back(estimate_worker(ctx, cfg, seg, radio, opt));
-  combine(e);
+  combine(e, ctx);
   return e;
 }
 
@@ -617,7 +656,7 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
     for (WorkerEstimate& w : cfg.estimates.workers)
       if (w.segment == k || w.collector == saved_c)
         w = estimate_worker(ctx, cfg, cfg.graph.segment(w.segment), radio, opt);
-    combine(cfg.estimates);
+    combine(cfg.estimates, ctx);
     return score(cfg.estimates, ctx);
   };
   auto undo = [&]() {
@@ -643,9 +682,11 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
       if (w.collector < 0 || (only >= 0 && w.collector != only)) continue;
       const WorkerSegment& seg = cfg.graph.segment(w.segment);
       const std::vector<double> pmf = goal_count_pmf(s.mission.goals_per_request, seg.area / ctx.reachable_area);
-      const WorkerRun oc = run_oc_worker(tour_model(seg, true, opt.tsp_constant), pmf, v, T, cycles, 1.0 - pmf[0], 0.0);
+      const WorkerRun oc = run_oc_worker(tour_model(seg, true, opt.tsp_constant), pmf, v, T, cycles,
+                                         cfg.area_parts[static_cast<std::size_t>(seg.id - 1)], G, ctx.reachable_area);
       const double d = oc.delivered / cycles, r = oc.delivered > 0 ? oc.refresh_sum / oc.delivered : 0.0;
-      gain.emplace_back(share(d, r, oc.interval(cycles * T)) - share(w.delivered_goals, w.refresh_s, w.interval_s),
+      gain.emplace_back(share(d, r, mean_interval(oc.areas, cycles * T)) -
+                            share(w.delivered_goals, w.refresh_s, w.interval_s),
                         w.segment);
     }
     std::sort(gain.begin(), gain.end(), std::greater<>());
@@ -722,6 +763,7 @@ PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_fi
   oc_field.solve({fmm::Source::at_point(s.oc)}, from_oc);
   cycle_period = s.mission.period > 0 ? s.mission.period : farthest / s.team.speed;
   if (cycle_period <= 0) cycle_period = 1.0;  // the whole space is covered: any period works
+  area_tile = std::sqrt(std::max(reachable_area, grid.cell_area()) / std::max(1, s.team.agents));
 }
 
 ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method method, int collectors,
@@ -744,6 +786,26 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
   t0 = Clock::now();
   cfg.graph = build_worker_graph(s.grid, cfg.partition.labels, cfg.workers, ctx.coverage, ctx.coverage_distance, &ctx.roomy);
   cfg.times.graph_ms = ms_since(t0);
+  // The tiles of each segment (the areas of the refresh interval).
+  {
+    cfg.area_parts.assign(static_cast<std::size_t>(cfg.workers), {});
+    std::vector<std::map<int64_t, std::size_t>> index(static_cast<std::size_t>(cfg.workers));
+    const double cell = s.grid.cell_area();
+    for (std::size_t i = 0; i < cfg.partition.labels.size(); ++i) {
+      const int k = cfg.partition.labels[i];
+      if (k <= 0 || k > cfg.workers) continue;
+      const int64_t a = mission::area_of(s.grid.cell_center(s.grid.cell(i)), ctx.area_tile);
+      auto& idx = index[static_cast<std::size_t>(k - 1)];
+      auto& parts = cfg.area_parts[static_cast<std::size_t>(k - 1)];
+      auto it = idx.find(a);
+      if (it == idx.end()) {
+        it = idx.emplace(a, parts.size()).first;
+        parts.push_back(AreaDeliveries{a});
+      }
+      parts[it->second].area_m2 += cell;
+      if (ctx.coverage[i]) parts[it->second].covered_m2 += cell;
+    }
+  }
 
   t0 = Clock::now();
   std::vector<double> work;

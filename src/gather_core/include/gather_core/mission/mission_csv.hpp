@@ -31,8 +31,10 @@ void append_summary_row(std::string& out, const RunLabel& run, const MissionResu
 
 // The result of a run from its goals: the accounting (mission::account,
 // which throws on a broken history) and the metrics. `wall_ms` [ms] is what
-// the run took.
-MissionResult mission_result(std::vector<GoalRecord> goals, int cycles, double period, double wall_ms);
+// the run took; `areas` those of the refresh interval (area_weights of the
+// world with plan.yaml's area_tile_m).
+MissionResult mission_result(std::vector<GoalRecord> goals, int cycles, double period, double wall_ms,
+                             const AreaWeights& areas);
 
 }  // namespace mission
 }  // namespace gather

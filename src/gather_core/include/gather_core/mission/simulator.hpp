@@ -13,6 +13,7 @@
 // accounting and its conservation check. No time-step error, and the cost is
 // a few FMM marches per decision instead of one update per agent per tick.
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -72,6 +73,17 @@ struct Leg {
   int agent = 0;
   double t0 = 0.0, t1 = 0.0;  // [s]
   Point2 from, to;            // [m]
+  bool to_goal = false;       // it ends where the agent measures a goal (else: commuting)
+};
+
+// Where an agent's time went over [0, horizon] (the requests' span,
+// cycles x period): workers measure (walking to their goals, from wherever
+// they are), commute (to a pass, a meeting point, the coverage) or wait;
+// collectors drive their route (commuting) or wait at the OC.
+struct TimeBudget {
+  int agent = 0;
+  const char* role = "";  // "collector", "collector_worker" or "oc_worker"
+  double measuring_s = 0.0, commuting_s = 0.0, waiting_s = 0.0;
 };
 
 struct MissionOptions {
@@ -91,15 +103,29 @@ struct MissionResult {
   double end_s = 0.0;               // last event (data still carried at the last request is delivered)
   double refresh_mean_s = 0.0;      // latency: delivered_at - requested_at, mean over all delivered goals
   double refresh_max_s = 0.0;
-  // interval: per area (a worker's segment) the time between consecutive
-  // deliveries of its data to the OC (interval_stats); the mean over areas
-  // of each area's mean, and the largest area mean.
+  // interval: per area (a square tile of the map) the time between
+  // consecutive deliveries of its data to the OC (interval_stats); the mean
+  // over areas of each area's mean, and the largest area mean.
   double interval_mean_s = 0.0;
   double interval_max_s = 0.0;
   double goals_per_cycle = 0.0;     // delivered / cycles
   double wall_ms = 0.0;
   double speedup() const { return wall_ms > 0 ? mission_s * 1000.0 / wall_ms : 0.0; }
 };
+
+// The areas whose refresh interval is measured: square tiles of side
+// `tile` [m] in the map frame (floor(x / tile), floor(y / tile)), the same
+// for every configuration of a scenario (plan.yaml's area_tile_m, chosen by
+// the planner: sqrt(reachable area / team size)). -1 when tile <= 0.
+int64_t area_of(Point2 p, double tile);
+
+// The areas of a world: reachable area [m^2] of every tile of side `tile`
+// that holds reachable space.
+struct AreaWeights {
+  double tile = 0.0;                 // [m]
+  std::map<int64_t, double> area;    // area_of -> [m^2]
+};
+AreaWeights area_weights(const World& world, double tile);
 
 class MissionSimulator {
  public:
@@ -113,6 +139,8 @@ class MissionSimulator {
   MissionResult run(const MissionOptions& options);
 
   const MissionPlan& plan() const { return plan_; }
+  // Each agent's time budget in `result` (a run of this simulator).
+  std::vector<TimeBudget> time_budgets(const MissionResult& result) const;
   const RouteTimetable& route(int collector) const { return routes_[static_cast<std::size_t>(collector)]; }
 
  private:
@@ -128,15 +156,20 @@ class MissionSimulator {
   std::vector<RouteTimetable> routes_;
   std::unique_ptr<SharedDistances> shared_;
   std::vector<WorkerPolicy> workers_;  // the decisions of each worker, shared with the agents' worker role
+  AreaWeights areas_;  // of the refresh interval
 };
 
-// The refresh interval of a run (docs/simulator.md, "Metrics"): an area is a
-// worker's segment that holds at least one requested goal of the run; its
-// deliveries are the distinct times at which goals of it reached the OC
-// (times closer than 1 ms are one delivery); its interval is the mean gap
-// between consecutive deliveries, or the whole mission (cycles x period)
-// when it had fewer than two. Returns {mean over areas, max over areas}.
-std::pair<double, double> interval_stats(const std::vector<GoalRecord>& goals, int cycles, double period);
+
+// The refresh interval of a run (docs/simulator.md, "Metrics"): the areas
+// are the tiles of `areas`; an area's deliveries are the distinct times at
+// which goals of it reached the OC (times closer than 1 ms are one
+// delivery); its interval is the mean gap between consecutive deliveries,
+// or the whole mission (cycles x period) when it had fewer than two.
+// Returns {the mean over the areas weighted by their reachable area (the
+// interval at a random point of the reachable space: a sliver of a tile at
+// a wall weighs little), the largest area interval}.
+std::pair<double, double> interval_stats(const std::vector<GoalRecord>& goals, int cycles, double period,
+                                         const AreaWeights& areas);
 
 // Replays the goals' timestamps in time order, checks that every transition
 // is legal (pending -> carried -> delivered, pending -> expired, carried ->

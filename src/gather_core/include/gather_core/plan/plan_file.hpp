@@ -28,6 +28,7 @@ struct PlanFile {
   std::string labels_png;      // relative to the plan file
   int grid_factor = 1;         // the labels are on the map coarsened by this (grid/planning_grid.hpp)
   double cycle_period_s = 0.0;
+  double area_tile_m = 0.0;    // side of the square areas of the refresh interval (mission::area_of)
   double est_refresh_s = 0.0;
   double est_goals = 0.0;
   double est_interval_s = 0.0;

@@ -2,6 +2,8 @@
 // The parts of a plan that executing it needs (plan.yaml holds them): where
 // a worker meets its collector, a collector's closed route, the planner's
 // per-worker estimate. Plain data, no planning code.
+#include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "gather_core/grid/occupancy_grid.hpp"
@@ -32,6 +34,23 @@ struct CollectorRoute {
   std::vector<double> coverage_entries;  // [m] arc lengths where the route enters the OC's coverage (uploads)
 };
 
+// One area of the refresh interval (a tile of mission::area_of), or the part
+// of it in one worker's segment, and the deliveries of its data the
+// estimate expects (over the goal count; first and last of them [s]).
+struct AreaDeliveries {
+  int64_t area = 0;           // mission::area_of
+  double area_m2 = 0.0;       // reachable area of the tile in the segment
+  double covered_m2 = 0.0;    // of it inside the OC's coverage
+  double deliveries = 0.0;
+  double first = std::numeric_limits<double>::infinity(), last = -std::numeric_limits<double>::infinity();
+  void delivery(double t, double expected) {
+    if (expected <= 1e-9) return;
+    deliveries += expected;
+    if (t < first) first = t;
+    if (t > last) last = t;
+  }
+};
+
 struct WorkerEstimate {
   int segment = 0;
   int collector = -1;             // -1: delivers to the OC directly
@@ -39,7 +58,8 @@ struct WorkerEstimate {
   double delivered_goals = 0.0;   // of those, measured within the cycle
   double tour_s = 0.0;            // [s] time to measure all its goals (tour + approach)
   double refresh_s = 0.0;         // [s] mean request-to-delivery time of its goals (latency)
-  double interval_s = 0.0;        // [s] mean time between consecutive deliveries of its segment's data (interval)
+  double interval_s = 0.0;        // [s] mean over its areas of the time between their deliveries (interval)
+  std::vector<AreaDeliveries> areas;  // the tiles of its segment (not in plan.yaml)
 };
 
 }  // namespace plan

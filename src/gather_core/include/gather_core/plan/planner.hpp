@@ -38,6 +38,9 @@ struct PlanContext : mission::World {
   std::vector<double> coverage_distance;    // [m] geodesic distance to the coverage, +inf unreachable
   double farthest = 0.0;                    // [m] largest coverage_distance over reachable cells
   double cycle_period = 0.0;                // [s] time between two OC requests
+  // [m] side of the square areas of the refresh interval: sqrt(reachable
+  // area / team size), so about one area per robot whatever the configuration.
+  double area_tile = 0.0;
   ClearanceMap clearance;
   partition::PreparedArea prepared;         // reachability + clearance for the 27 partitions, computed once
   // Collector routes keep the robot radius from walls: they are marched on a
@@ -70,6 +73,7 @@ struct ConfigurationPlan {
   partition::PartitionResult partition;
   WorkerGraph graph;
   std::vector<int> collector_of_segment;  // index k-1: collector of segment k, -1 = the OC
+  std::vector<std::vector<AreaDeliveries>> area_parts;  // index k-1: the tiles of segment k (no deliveries)
   int moved_to_oc = 0;                     // segments the association step gave back to the OC
   std::vector<CollectorRoute> routes;
   Estimates estimates;
