@@ -106,9 +106,9 @@ scenario-report: build
 	$(PYTHON) tools/scenario_report.py --out docs/variants.md maps/variants/*.scenario.yaml
 
 # Where collectors pay off: on office, campus and office_a, every
-# (coverage, goals per request, request period) of a 3x3x3 grid planned and
-# simulated (27 configurations, 2 seeds x 4 cycles each) -> docs/regimes.md
-# and one figure per map in results/regimes/ (long: see docs/regimes.md).
+# (coverage, goals per request, request period) of a 3x3x2 grid planned and
+# simulated (27 configurations, 2 seeds x 3 cycles each) -> docs/regimes.md
+# and one figure per map in results/regimes/ (about 40 min: docs/regimes.md).
 regime-report: build
 	$(PYTHON) tools/regime_report.py
 

@@ -7,8 +7,8 @@ docs/regimes.md with one figure per map: the best (method, N_c) by estimate
 conclusions checked at each point and where the agents' time went.
 
   tools/regime_report.py [--gather BIN] [--out docs/regimes.md] [--results DIR]
-                         [--seeds 2] [--cycles 4] [--sensitivity-db +10,0,-10]
-                         [--goals-per-worker 1,10,50] [--periods 0.5,1,2] [SCENARIO...]
+                         [--seeds 2] [--cycles 3] [--sensitivity-db +10,0,-10]
+                         [--goals-per-worker 1,10,50] [--periods 1,2] [SCENARIO...]
 
 Per scenario and sensitivity offset it plans bap:0 once to learn the request
 period T0 the planner would pick (farthest reachable cell / speed), then per
@@ -151,11 +151,11 @@ def main():
     ap.add_argument("--out", default=os.path.join(REPO, "docs/regimes.md"))
     ap.add_argument("--results", default=os.path.join(REPO, "results/regimes"))
     ap.add_argument("--seeds", type=int, default=2)
-    ap.add_argument("--cycles", type=int, default=4)
+    ap.add_argument("--cycles", type=int, default=3)
     ap.add_argument("--sensitivity-db", default="+10,0,-10",
                     help="offsets [dB] added to the scenario's radio.sensitivity_dbm (+ = smaller coverage)")
     ap.add_argument("--goals-per-worker", default="1,10,50", help="goals per request / team.agents")
-    ap.add_argument("--periods", default="0.5,1,2", help="request period as a factor of T0")
+    ap.add_argument("--periods", default="1,2", help="request period as a factor of T0")
     ap.add_argument("scenarios", nargs="*")
     a = ap.parse_args()
     if a.seeds < 1 or a.cycles < 1:

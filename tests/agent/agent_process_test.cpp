@@ -27,7 +27,7 @@ const std::string& plan_dir() {
     const gather::Scenario map = gather::load_scenario(kScenario);
     const gather::Scenario s = gather::on_planning_grid(map, gather::planning_factor(map));
     const gather::plan::PlanContext ctx(s);
-    gather::plan::write_plan_directory(d, ctx, gather::plan::plan_configuration(ctx, gather::partition::Method::kPap, 4), 1);
+    gather::plan::write_plan_directory(d, ctx, gather::plan::plan_configuration(ctx, gather::partition::Method::kPap, 4, gather::plan::grown_groups()), 1);
     return d;
   }();
   return dir;

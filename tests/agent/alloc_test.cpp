@@ -81,7 +81,8 @@ TEST(ControlStep, AllocatesNothingAfterTheFirstCycleOnMapsOffice) {
   const Scenario s = on_planning_grid(map, planning_factor(map));
   const plan::PlanContext ctx(s);
   for (const auto& [method, nc] : {std::pair{partition::Method::kPap, 4}, std::pair{partition::Method::kBap, 0}}) {
-    const mission::MissionPlan plan = mission::mission_plan(ctx, plan::plan_configuration(ctx, method, nc));
+    const mission::MissionPlan plan =
+        mission::mission_plan(ctx, plan::plan_configuration(ctx, method, nc, plan::grown_groups()));
     for (unsigned seed : {1u, 2u}) {
       long steps = 0;
       const long n = steps_allocations(plan, ctx, 10, seed, &steps);

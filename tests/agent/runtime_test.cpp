@@ -352,7 +352,10 @@ TEST(TeamRunner, RequestsArrivingTogetherLeaveOnlyTheNewest) {
   const RunOutcome out = TeamRunner(team, RunOptions{}).run();
   ASSERT_TRUE(out.completed) << out.failure;
   EXPECT_EQ(out.result.goals[0].state, mission::GoalState::kDelivered);
-  EXPECT_EQ(out.result.goals[1].state, mission::GoalState::kDelivered);
+  // Request 0 is valid for one period (mission::request_deadline): the goal
+  // 12 m further than the first expires at 10 s, as in the simulator.
+  EXPECT_EQ(out.result.goals[1].state, mission::GoalState::kExpired);
+  EXPECT_NEAR(out.result.goals[1].expired_at, 10.0, 1e-6);
   EXPECT_EQ(out.result.goals[2].state, mission::GoalState::kExpired);
   EXPECT_NEAR(out.result.goals[2].expired_at, 43.5, 1e-6);
   EXPECT_EQ(out.agents[1].report.skipped, 1);
@@ -367,7 +370,7 @@ struct Office {
   Scenario map = load_scenario(std::string(GATHER_REPO_DIR) + "/maps/office.scenario.yaml");
   Scenario scenario = on_planning_grid(map, planning_factor(map));
   plan::PlanContext ctx{scenario};
-  mission::MissionPlan pap4 = mission::mission_plan(ctx, plan::plan_configuration(ctx, partition::Method::kPap, 4));
+  mission::MissionPlan pap4 = mission::mission_plan(ctx, plan::plan_configuration(ctx, partition::Method::kPap, 4, plan::grown_groups()));
   mission::MissionPlan bap0 = mission::mission_plan(ctx, plan::plan_configuration(ctx, partition::Method::kBap, 0));
 };
 

@@ -88,6 +88,10 @@ copy nan_waypoint; edit nan_waypoint '(waypoints:\n +- \[)[-0-9.e]+' '\1.nan'
 check nan_waypoint "$tmp/nan_waypoint/plan.yaml"
 copy zero_period; edit zero_period 'cycle_period_s: [0-9.e+]+' 'cycle_period_s: 0'
 check zero_period "$tmp/zero_period/plan.yaml"
+copy zero_tile; edit zero_tile 'area_tile_m: [0-9.e+]+' 'area_tile_m: 0'
+check zero_tile "$tmp/zero_tile/plan.yaml"
+copy no_interval; edit no_interval 'interval_s: [0-9.e+]+, ' ''
+check no_interval "$tmp/no_interval/plan.yaml"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ] && [ "$passed" -gt 0 ]

@@ -135,6 +135,8 @@ def main():
          "unknown key 'planner.method'"),
         ("max_cells_negative", scenario(extra="planner:\n  max_cells: -5\n"), "max_cells_negative.yaml",
          "planner.max_cells"),
+        ("refresh_unknown", scenario(extra="planner:\n  refresh: age\n"), "refresh_unknown.yaml",
+         "planner.refresh"),
         ("unknown_map_yaml_key", scenario(map_file="../maps/unknown_key.yaml"), "unknown_key.yaml",
          "unknown key 'occupied_threshold'"),
         ("resolution_zero", scenario(map_file="../maps/resolution_zero.yaml"), "resolution_zero.yaml", "resolution"),

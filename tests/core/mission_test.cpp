@@ -1,4 +1,6 @@
 #include <gtest/gtest.h>
+
+#include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/videoio.hpp>
 #include <unistd.h>
@@ -185,10 +187,12 @@ TEST(MissionTest, WorkerThatMissesItsCollectorDeliversOnTheNextPass) {
 
 TEST(MissionTest, RequestsArrivingTogetherLeaveOnlyTheNewest) {
   // T = 10 s, route 29 s: driven back to back (t = 0, 29, 58, ...).
-  // Requests 1 (t = 10 s) and 2 (t = 20 s) both wait for the collector to
-  // re-enter the coverage (26.95 s) and reach the worker together at the
-  // next pass (43.5 s): request 2 supersedes request 1, whose goal expires
-  // there unmeasured. Request 0 is valid until 43.5 s: both goals are measured.
+  // Request 1 (t = 10 s) waits for the collector to re-enter the coverage
+  // (26.95 s) and reaches the worker at the next pass (43.5 s), together
+  // with request 2 (t = 20 s), which supersedes it: its goal expires there
+  // unmeasured. Request 0 is known from the start and valid for one period
+  // (mission::request_deadline): the goal measured at 4.5 s is delivered,
+  // the one 12 m further (16.5 s) expires at 10 s.
   Scenario s = corridor();
   s.mission.period = 10.0;
   const plan::PlanContext ctx(s);
@@ -201,10 +205,41 @@ TEST(MissionTest, RequestsArrivingTogetherLeaveOnlyTheNewest) {
   const MissionResult r = sim.run(opt);
   check_invariants(r, 2, 1);
   EXPECT_EQ(goal_at(r, 5.05, 0).state, mission::GoalState::kDelivered);
-  EXPECT_EQ(goal_at(r, 17.05, 0).state, mission::GoalState::kDelivered);
-  EXPECT_NEAR(goal_at(r, 17.05, 0).measured_at, 16.5, 1e-3);
+  EXPECT_NEAR(goal_at(r, 5.05, 0).measured_at, 4.5, 1e-3);
+  EXPECT_EQ(goal_at(r, 17.05, 0).state, mission::GoalState::kExpired);
+  EXPECT_NEAR(goal_at(r, 17.05, 0).expired_at, 10.0, 1e-3);
   EXPECT_EQ(goal_at(r, 5.05, 1).state, mission::GoalState::kExpired);
   EXPECT_NEAR(goal_at(r, 5.05, 1).expired_at, 43.5, 1e-3);
+}
+
+// The one expiry rule: a worker of the OC gets the same span as the worker
+// of a collector above, one request period from when the request reached it.
+// The corridor without its collector, T = 10 s: the OC worker knows request
+// 0 at t = 0; it measures the goal at 4.5 s, the one 14 m further would
+// take it until 18.5 s: it expires at 10 s (before the rule it measured all
+// its request whatever the time), and the worker comes back with the first.
+// Its deadline for a request learned at t is t + T.
+TEST(MissionTest, OneExpiryRuleForWorkersOfTheOcToo) {
+  Scenario s = corridor();
+  s.mission.period = 10.0;
+  const plan::PlanContext ctx(s);
+  mission::MissionPlan p = corridor_plan(s);
+  p.file.cycle_period_s = 10.0;
+  p.file.collectors = 0;
+  p.file.routes.clear();
+  p.file.agents = {plan::AgentAssignment{0, false, 1, -1}};
+  MissionSimulator sim(ctx, p);
+  MissionOptions opt;
+  opt.cycles = 1;
+  opt.fixed_goals = {{0, Point2{5.05, 0.25}}, {0, Point2{19.05, 0.25}}};
+  const MissionResult r = sim.run(opt);
+  check_invariants(r, 1, 1);
+  EXPECT_EQ(goal_at(r, 5.05, 0).state, mission::GoalState::kDelivered);
+  EXPECT_NEAR(goal_at(r, 5.05, 0).measured_at, 4.5, 1e-3);
+  EXPECT_EQ(goal_at(r, 19.05, 0).state, mission::GoalState::kExpired);
+  EXPECT_NEAR(goal_at(r, 19.05, 0).expired_at, 10.0, 1e-3);
+  EXPECT_NEAR(mission::request_deadline(37.0, std::numeric_limits<double>::infinity(), 10.0), 47.0, 1e-12);
+  EXPECT_NEAR(mission::request_deadline(37.0, 41.0, 10.0), 41.0, 1e-12);  // superseded earlier
 }
 
 class MissionOfficeTest : public testing_support::SmallOfficeTest {};

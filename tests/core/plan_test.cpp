@@ -251,7 +251,9 @@ TEST(PlanEstimateTest, ManyGoalsPerRequestAreNotLostToUnderflow) {
   const plan::PlanContext ctx(s);
   const auto cfg = plan::plan_configuration(ctx, partition::Method::kBap, 0);
   for (const auto& w : cfg.estimates.workers) EXPECT_GT(w.delivered_goals, 1.0) << "segment " << w.segment;
-  EXPECT_GT(cfg.estimates.goals, 100.0);
+  // Far fewer than 6000 are measured: only what fits in a request period
+  // after the request reached the worker (mission::request_deadline).
+  EXPECT_GT(cfg.estimates.goals, 40.0);
   EXPECT_LE(cfg.estimates.goals, 6000.0 + 1e-6);
 }
 

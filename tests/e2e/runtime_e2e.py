@@ -3,7 +3,8 @@
 run in one process (`gather run`) and with one gather_agent process per agent
 over LCM (`gather run --lcm`, this test's process namespace only) must give
 byte-identical goals.csv, cycles.csv and agents.csv, on maps/office with
-collectors (pap:4) and without (bap:0). Agents whose plan differs from the
+collectors (pap:4 with --association off: all four busy) and without
+(bap:0). Agents whose plan differs from the
 OC's must refuse it (exit 2, one line), and `gather run --lcm` must fail with
 one line naming the agent. Each agent process stays within 16 MB resident.
 
@@ -53,7 +54,7 @@ def main():
     plans = {}
     for config in ("pap:4", "bap:0"):
         d = os.path.join(tmp, "plan_" + config.replace(":", ""))
-        rc, out, err = run([a.gather, "plan", scenario, "--config", config, "--out", d])
+        rc, out, err = run([a.gather, "plan", scenario, "--config", config, "--association", "off", "--out", d])
         if not check("plan %s" % config, rc == 0, err):
             continue
         plans[config] = d

@@ -94,7 +94,7 @@ struct Pap4 {
       const Scenario map = load_scenario(std::string(GATHER_REPO_DIR) + "/maps/office.scenario.yaml");
       const Scenario sc = on_planning_grid(map, planning_factor(map));
       const plan::PlanContext ctx(sc);
-      plan::write_plan_directory(d, ctx, plan::plan_configuration(ctx, partition::Method::kPap, 4), 1);
+      plan::write_plan_directory(d, ctx, plan::plan_configuration(ctx, partition::Method::kPap, 4, plan::grown_groups()), 1);
       return d;
     }();
     plan = agent::load_plan(dir);

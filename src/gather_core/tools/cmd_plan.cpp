@@ -1,4 +1,4 @@
-// gather plan SCENARIO --out DIR [--config METHOD:NC] [--seed K] [--threads T]:
+// gather plan SCENARIO --out DIR [--config METHOD:NC] [--seed K] [--threads T] [--association on|off]:
 // the deployment planner. Sweeps (method, N_c) over the scenario's planner
 // section (or plans one configuration), writes plan.yaml for the best,
 // report.csv with one row per configuration, labels.png and the figures.
@@ -28,9 +28,10 @@ using Clock = std::chrono::steady_clock;
 }  // namespace
 
 int plan(int argc, char** argv) {
-  cli::Args args(argc, argv, 2, {"--out", "--config", "--seed", "--threads"}, {});
+  cli::Args args(argc, argv, 2, {"--out", "--config", "--seed", "--threads", "--association"}, {});
   if (args.positional().size() != 1 || !args.has("--out"))
-    throw cli::UsageError("usage: gather plan SCENARIO --out DIR [--config METHOD:NC] [--seed K] [--threads T]");
+    throw cli::UsageError(
+        "usage: gather plan SCENARIO --out DIR [--config METHOD:NC] [--seed K] [--threads T] [--association on|off]");
   const auto t_start = Clock::now();
   const Scenario map_scenario = load_scenario(args.positional()[0]);
   const int factor = planning_factor(map_scenario);
@@ -43,6 +44,10 @@ int plan(int argc, char** argv) {
   opt.seed = static_cast<unsigned>(args.get_int("--seed", static_cast<int>(s.mission.seed)));
   opt.threads = args.get_int("--threads", 2);
   if (opt.threads < 1) throw cli::UsageError("--threads must be >= 1");
+  const std::string association = args.get("--association", "on");
+  if (association != "on" && association != "off")
+    throw cli::UsageError("--association must be on or off, got '" + association.substr(0, 40) + "'");
+  opt.associate = association == "on";
   const std::string out = args.get("--out");
 
   const auto t_ctx = Clock::now();

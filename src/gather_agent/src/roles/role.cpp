@@ -96,8 +96,10 @@ bool TeamSetup::linked(Point2 a, Point2 b) const {
 double TeamSetup::deadline(int agent, int cycle) const {
   const plan::AgentAssignment& a = assignment(agent);
   if (a.collector || a.delivers_to < 0) return std::numeric_limits<double>::infinity();
-  return mission::request_reaches_worker(routes[static_cast<std::size_t>(a.delivers_to)],
-                                         meeting_arc_[static_cast<std::size_t>(agent)], cycle + 1, period);
+  const mission::RouteTimetable& r = routes[static_cast<std::size_t>(a.delivers_to)];
+  const double arc = meeting_arc_[static_cast<std::size_t>(agent)];
+  return mission::request_deadline(mission::request_reaches_worker(r, arc, cycle, period),
+                                   mission::request_reaches_worker(r, arc, cycle + 1, period), period);
 }
 
 Message* Outbox::add(Kind kind, int16_t dest) {

@@ -200,7 +200,8 @@ void WorkerRole::decide(double now) {
       notice(ItemKind::kSkipped, skipped_key(c, id_), oc_worker ? now : team_.deadline(id_, c));
     for (int local : known_) notice(ItemKind::kExpired, policy_.goal(static_cast<std::size_t>(local)).id, now);
     known_.clear();
-    const double deadline = team_.deadline(id_, request_.id);
+    const double deadline = oc_worker ? mission::request_deadline(now, kInf, team_.period)
+                                      : team_.deadline(id_, request_.id);
     scratch_.assign(request_.mine.begin(), request_.mine.end());
     for (mission::KnownGoal& g : scratch_) g.deadline = deadline;
     policy_.reserve(scratch_.size());

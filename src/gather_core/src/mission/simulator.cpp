@@ -155,8 +155,9 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
   const OccupancyGrid& grid = ctx_.scenario.grid;
   const RouteTimetable& route = *w.route();
   const auto& mine = run.goals_of[wi];
-  // A request's goals expire when the next request reaches the worker (it
-  // supersedes them); requests that arrive together leave only the newest.
+  // A request's goals expire one period after it reached the worker, or when
+  // the next request reaches it (it supersedes them): request_deadline;
+  // requests that arrive together leave only the newest.
   for (int c = 0; c < run.cycles; ++c) {
     const double until = w.deadline(c, period_);
     for (int id : mine[static_cast<std::size_t>(c)]) run.goals[static_cast<std::size_t>(id)].deadline = until;
@@ -276,8 +277,9 @@ void MissionSimulator::simulate_oc_worker(std::size_t wi, Run& run) {
   WorkerPolicy& w = workers_[wi];
   const OccupancyGrid& grid = ctx_.scenario.grid;
   const auto& mine = run.goals_of[wi];
-  // Its goals stay valid until the worker learns a newer request (in the
-  // coverage); it measures them all, then comes back.
+  // Its goals stay valid for one period after the worker learned the request
+  // (in the coverage), or until it learns a newer one: request_deadline; it
+  // measures what it can in time, then comes back.
   for (const auto& ids : mine)
     for (int id : ids) run.goals[static_cast<std::size_t>(id)].deadline = kInf;
 
@@ -308,6 +310,8 @@ void MissionSimulator::simulate_oc_worker(std::size_t wi, Run& run) {
       while (next_req < run.cycles && next_req * period_ <= t + kEps) {
         // The newer request supersedes what is left of the older one.
         for (int i : known) run.goals[static_cast<std::size_t>(w.goal(static_cast<std::size_t>(i)).id)].deadline = t;
+        for (int id : mine[static_cast<std::size_t>(next_req)])
+          run.goals[static_cast<std::size_t>(id)].deadline = request_deadline(t, kInf, period_);
         learn(w, run.goals, mine[static_cast<std::size_t>(next_req)], grid, run.scratch, known);
         ++next_req;
       }

@@ -213,7 +213,7 @@ double WorkerPolicy::learn_time(int cycle, double period) const {
 }
 
 double WorkerPolicy::deadline(int cycle, double period) const {
-  return route_ ? learn_time(cycle + 1, period) : kInf;
+  return route_ ? request_deadline(learn_time(cycle, period), learn_time(cycle + 1, period), period) : kInf;
 }
 
 void WorkerPolicy::march(Cell from, const std::vector<Cell>& targets, double* out) {

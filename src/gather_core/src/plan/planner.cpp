@@ -418,8 +418,9 @@ std::vector<double> goal_count_pmf(int G, double p) {
 
 // A worker delivering to the OC: whenever it is inside the coverage it
 // learns the newest request (waiting for the next one if it has served them
-// all), goes into its segment, measures all the request's goals, comes back
-// and delivers. Requests issued meanwhile, but the newest, expire.
+// all), goes into its segment, measures the request's goals it can within a
+// period (the expiry rule), comes back and delivers. Requests issued
+// meanwhile, but the newest, expire.
 // Deliveries of an area (`areas`: the tiles of the segment; G goals a
 // request over the reachable area A): its goals outside the coverage are
 // delivered together on the return (one delivery when the request has at
@@ -429,11 +430,15 @@ WorkerRun run_oc_worker(const TourModel& tour, const std::vector<double>& pmf, d
                         const std::vector<AreaDeliveries>& areas, double G, double A) {
   WorkerRun run;
   run.areas = areas;
+  // The goals it can measure within a period of learning the request
+  // (mission::request_deadline): those whose tour, but the way back, fits.
+  const double fits = tour.goals_within(v * T + tour.reach, static_cast<double>(pmf.size()));
   double loop = 0.0, goals = 0.0, weighted = 0.0;  // expected loop [s]; goals; goal-weighted loop
-  for (std::size_t n = 1; n < pmf.size(); ++n) {
-    loop += pmf[n] * tour.length(static_cast<double>(n)) / v;
-    goals += pmf[n] * static_cast<double>(n);
-    weighted += pmf[n] * static_cast<double>(n) * tour.length(static_cast<double>(n)) / v;
+  for (std::size_t k = 1; k < pmf.size(); ++k) {
+    const double n = std::min(static_cast<double>(k), fits);
+    loop += pmf[k] * tour.length(n) / v;
+    goals += pmf[k] * n;
+    weighted += pmf[k] * n * tour.length(n) / v;
   }
   double t = 0.0;  // the worker is inside the coverage at t
   for (int next = 0; next < cycles;) {
@@ -476,7 +481,10 @@ WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, co
   auto arrival = [&](int req) { return sched.next_at(m.route_s / v, pickup(req * T)); };
   for (int req = 0; req < cycles; ++req) {
     const double learn = arrival(req);
-    const double fits = model.goals_within(v * (arrival(req + 1) - learn), static_cast<double>(pmf.size()));
+    // Valid for a period after it arrived, or until the next one arrives
+    // (mission::request_deadline).
+    const double fits = model.goals_within(v * (std::min(arrival(req + 1), learn + T) - learn),
+                                           static_cast<double>(pmf.size()));
     for (std::size_t k = 1; k < pmf.size(); ++k) {
       const double n = std::min(static_cast<double>(k), fits);
       if (n <= 0.0) continue;

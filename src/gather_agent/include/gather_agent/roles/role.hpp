@@ -66,8 +66,9 @@ class TeamSetup {
   bool linked(Point2 a, Point2 b) const;
   // Where agent `agent` waits before the mission (free cells next to the OC).
   Point2 start_pose(int agent) const { return start_[static_cast<std::size_t>(agent)]; }
-  // Deadline [s] of a goal of request `cycle` for worker `agent`: when the
-  // next request reaches it (+inf for workers of the OC).
+  // Deadline [s] of a goal of request `cycle` for worker `agent` of a
+  // collector (mission::request_deadline); +inf for workers of the OC, whose
+  // deadline starts when they learn the request.
   double deadline(int agent, int cycle) const;
 
  private:

@@ -59,6 +59,15 @@ struct SharedDistances {
 // Request 0 is known from the start (0).
 double request_reaches_worker(const RouteTimetable& route, double meeting_arc, int cycle, double period);
 
+// The one expiry rule, for every worker (docs/simulator.md, "Expiry"): a
+// request's goals stay valid for one request period after the request
+// reached the worker (`reached` [s]), and no longer than until the next
+// request reaches it (`next_reached`, +inf when not known), which supersedes
+// them. Measured data never expires.
+inline double request_deadline(double reached, double next_reached, double period) {
+  return reached + period < next_reached ? reached + period : next_reached;
+}
+
 class WorkerPolicy {
  public:
   enum class Action {
@@ -110,9 +119,10 @@ class WorkerPolicy {
   // reaches the worker. Its collector has it when next inside the OC's
   // coverage at or after the issue, and hands it over when it next passes
   // the worker's meeting area. Request 0 is known from the start (t = 0).
-  // A request's goals expire when the next one reaches the worker:
-  // deadline(c) = learn_time(c + 1). Workers of the OC: +inf (they measure a
-  // request until they learn a newer one).
+  // A request's goals expire by request_deadline: deadline(c) =
+  // min(learn_time(c) + period, learn_time(c + 1)). Workers of the OC learn a
+  // request when they are next in the coverage, which this cannot know: +inf
+  // here, and request_deadline(the time they learned it, ...) when they do.
   double learn_time(int cycle, double period) const;
   double deadline(int cycle, double period) const;
 

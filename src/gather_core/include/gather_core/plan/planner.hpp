@@ -30,6 +30,16 @@ struct PlannerOptions {
   bool associate = true;        // decide per worker: collector or OC, and trim routes to the request period
 };
 
+// Options that keep the collector groups as grown (no association step:
+// every segment off the coverage is served by a collector, routes as long
+// as they come; `gather plan --association off`). For tests and
+// demonstrations that exercise the collectors.
+inline PlannerOptions grown_groups() {
+  PlannerOptions o;
+  o.associate = false;
+  return o;
+}
+
 // Everything that does not depend on the configuration, computed once: the
 // execution world (OC cell, reachable space, coverage, the way back into it)
 // plus what only planning needs.
