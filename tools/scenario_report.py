@@ -236,7 +236,8 @@ def main():
         L.append("- %s: latency E %d, R %d; interval E %d, R %d (of %d scenarios)." % (
             what, sum(r["e_concl_latency"][i] for r in reports), sum(r["r_concl_latency"][i] for r in reports),
             sum(r["e_concl_interval"][i] for r in reports), sum(r["r_concl_interval"][i] for r in reports), n))
-    within = [r["name"] for r in reports if max(mean_err(r, "latency"), mean_err(r, "interval"), mean_err(r, "n")) <= 0.10]
+    within = [r["name"] for r in reports
+              if all(e == e and e <= 0.10 for e in (mean_err(r, "latency"), mean_err(r, "interval"), mean_err(r, "n")))]
     L.append("- mean |E−R|/R within 10%% for latency, interval and goals: %d of %d scenarios%s." % (
         len(within), n, (" (" + ", ".join(sorted(set(r["name"] for r in reports) - set(within))) + " outside)")
         if len(within) < n else ""))

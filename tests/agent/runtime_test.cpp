@@ -361,6 +361,32 @@ TEST(TeamRunner, RequestsArrivingTogetherLeaveOnlyTheNewest) {
   EXPECT_EQ(out.agents[1].report.skipped, 1);
 }
 
+TEST(TeamRunner, OneExpiryRuleForWorkersOfTheOcToo) {
+  // As the simulator's test: the corridor without its collector, T = 10 s.
+  // The OC worker knows request 0 at t = 0, measures the goal at 4.5 s; the
+  // one it would reach at 18.5 s expires at 10 s, one period after it
+  // learned the request (mission::request_deadline).
+  Scenario s = corridor();
+  s.mission.period = 10.0;
+  s.team.agents = 1;
+  const mission::World world(s);
+  mission::MissionPlan p = corridor_plan(s);
+  p.file.cycle_period_s = 10.0;
+  p.file.collectors = 0;
+  p.file.routes.clear();
+  p.file.agents = {plan::AgentAssignment{0, false, 1, -1}};
+  MissionParams prm;
+  prm.cycles = 1, prm.goals_per_request = 2;
+  prm.fixed_goals = {{0, Point2{5.05, 0.25}}, {0, Point2{19.05, 0.25}}};
+  TeamSetup team(world, p, prm);
+  const RunOutcome out = TeamRunner(team, RunOptions{}).run();
+  ASSERT_TRUE(out.completed) << out.failure;
+  ASSERT_EQ(out.result.goals.size(), 2u);
+  EXPECT_EQ(out.result.goals[0].state, mission::GoalState::kDelivered);
+  EXPECT_EQ(out.result.goals[1].state, mission::GoalState::kExpired);
+  EXPECT_NEAR(out.result.goals[1].expired_at, 10.0, 0.11);  // within a tick
+}
+
 // maps/office, planned once per test binary.
 struct Office {
   static Office& get() {

@@ -64,7 +64,7 @@ mkdir -p "$tmp/empty_dir"
 check empty_dir "$tmp/empty_dir/plan.yaml"
 copy garbage_yaml; printf 'this: [is not\n' >"$tmp/garbage_yaml/plan.yaml"
 check garbage_yaml "$tmp/garbage_yaml/plan.yaml"
-copy wrong_format; edit wrong_format 'format: gather-plan/1' 'format: gather-plan/9'
+copy wrong_format; edit wrong_format 'format: gather-plan/2' 'format: gather-plan/9'
 check wrong_format "$tmp/wrong_format/plan.yaml"
 copy no_labels; rm "$tmp/no_labels/labels.png"
 check no_labels "$tmp/no_labels/labels.png"

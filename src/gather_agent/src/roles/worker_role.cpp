@@ -75,7 +75,10 @@ bool WorkerRole::contact(double now) const {
 double WorkerRole::due_time() const {
   if (resolved_ + 1 >= team_.params.cycles) return kInf;
   if (policy_.delivers_to_oc()) return (resolved_ + 1) * team_.period;
-  return resolved_ < 0 ? 0.0 : team_.deadline(id_, resolved_);
+  // A worker of a collector: when the next request reaches it.
+  return resolved_ < 0 ? 0.0
+                       : mission::request_reaches_worker(*policy_.route(), policy_.meeting_arc(), resolved_ + 1,
+                                                         team_.period);
 }
 
 void WorkerRole::on_request(const RequestPart& part, int16_t) {

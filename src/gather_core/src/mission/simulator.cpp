@@ -353,9 +353,10 @@ std::vector<TimeBudget> MissionSimulator::time_budgets(const MissionResult& resu
     if (a.collector) {
       b.role = "collector";
       // Driving: the loops of the timetable that fall in [0, horizon].
-      const plan::LoopSchedule& s = routes_[static_cast<std::size_t>(a.id)].schedule();
+      // (Stepping half a loop past a departure always reaches the next one.)
+      const plan::LoopSchedule& s = routes_[static_cast<std::size_t>(a.delivers_to)].schedule();
       if (!s.idle())
-        for (double t = s.next_departure(0.0); t < horizon; t = s.next_departure(t + 1e-9))
+        for (double t = s.next_departure(0.0); t < horizon; t = s.next_departure(t + 0.5 * s.travel()))
           b.commuting_s += std::min(s.travel(), horizon - t);
     } else {
       b.role = a.delivers_to >= 0 ? "collector_worker" : "oc_worker";

@@ -549,6 +549,7 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
   w.expected_goals = G * seg.area / ctx.reachable_area;
   const std::vector<double> pmf = goal_count_pmf(static_cast<int>(G), seg.area / ctx.reachable_area);
   WorkerRun run;
+  run.areas = cfg.area_parts[static_cast<std::size_t>(seg.id - 1)];  // no deliveries unless a run below finds some
   if (w.collector < 0) {
     const TourModel model = tour_model(seg, true, c);
     w.tour_s = model.length(w.expected_goals) / v;
@@ -572,9 +573,11 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
 }
 
 // The configuration's figures from its workers' estimates. The interval is
-// the mean over areas (tiles; a tile split between segments gets the
-// deliveries of each) weighted by their reachable area, as the simulator
-// weighs them by the goals requested in them.
+// the mean over the world's areas (ctx.areas: every tile with reachable
+// space, weighted by it, as mission::interval_stats weighs them; a tile
+// split between segments gets the deliveries of each, which counts an
+// upload carrying goals of both parts twice; a tile no estimate reaches
+// counts the whole mission).
 void combine(Estimates& e, const PlanContext& ctx) {
   e.goals = 0.0;
   double weighted = 0.0;
@@ -584,10 +587,11 @@ void combine(Estimates& e, const PlanContext& ctx) {
     double area = 0.0, deliveries = 0.0, first = kInf, last = -kInf;
   };
   std::map<int64_t, Tile> tiles;
+  for (const auto& [id, m2] : ctx.areas.area) tiles[id].area = m2;
   for (const WorkerEstimate& w : e.workers)
     for (const AreaDeliveries& a : w.areas) {
       Tile& t = tiles[a.area];
-      t.area += a.area_m2, t.deliveries += a.deliveries;
+      t.deliveries += a.deliveries;
       t.first = std::min(t.first, a.first), t.last = std::max(t.last, a.last);
     }
   const int cycles = std::max(1, ctx.scenario.mission.cycles);
@@ -772,6 +776,7 @@ PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_fi
   cycle_period = s.mission.period > 0 ? s.mission.period : farthest / s.team.speed;
   if (cycle_period <= 0) cycle_period = 1.0;  // the whole space is covered: any period works
   area_tile = std::sqrt(std::max(reachable_area, grid.cell_area()) / std::max(1, s.team.agents));
+  areas = mission::area_weights(*this, area_tile);
 }
 
 ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method method, int collectors,

@@ -26,7 +26,7 @@ WorkerGraph build_worker_graph(const OccupancyGrid& grid, const std::vector<int3
       ++s.cells;
       sx[static_cast<std::size_t>(k - 1)] += c;
       sy[static_cast<std::size_t>(k - 1)] += r;
-      if (coverage[i]) s.touches_coverage = true, s.covered_area += grid.cell_area();
+      if (coverage[i]) s.touches_coverage = true;
       if (std::isfinite(coverage_distance[i])) sd[static_cast<std::size_t>(k - 1)] += coverage_distance[i];
       if (coverage_distance[i] < s.coverage_distance) {
         s.coverage_distance = coverage_distance[i];

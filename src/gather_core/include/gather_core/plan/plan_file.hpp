@@ -19,7 +19,7 @@ struct AgentAssignment {
 };
 
 struct PlanFile {
-  static constexpr const char* kFormat = "gather-plan/1";
+  static constexpr const char* kFormat = "gather-plan/2";  // 2: area_tile_m, estimates.interval_s
   std::string scenario;        // absolute path of the scenario file
   std::string method;          // bap | pap | rap
   int collectors = 0;

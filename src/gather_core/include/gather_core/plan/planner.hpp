@@ -14,6 +14,7 @@
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/grid/clearance.hpp"
 #include "gather_core/partition/partition.hpp"
+#include "gather_core/mission/simulator.hpp"
 #include "gather_core/mission/world.hpp"
 #include "gather_core/plan/plan_types.hpp"
 #include "gather_core/plan/worker_graph.hpp"
@@ -51,6 +52,7 @@ struct PlanContext : mission::World {
   // [m] side of the square areas of the refresh interval: sqrt(reachable
   // area / team size), so about one area per robot whatever the configuration.
   double area_tile = 0.0;
+  mission::AreaWeights areas;               // the tiles of side area_tile and their reachable area
   ClearanceMap clearance;
   partition::PreparedArea prepared;         // reachability + clearance for the 27 partitions, computed once
   // Collector routes keep the robot radius from walls: they are marched on a

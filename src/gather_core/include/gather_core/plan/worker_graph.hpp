@@ -13,7 +13,6 @@ struct WorkerSegment {
   int id = 0;                   // label 1..N_w
   std::size_t cells = 0;
   double area = 0.0;            // [m^2]
-  double covered_area = 0.0;    // [m^2] of it inside the OC's coverage (its goals there are delivered when measured)
   Cell centroid;                // segment cell nearest to its centre of mass
   Point2 centroid_m;            // [m]
   std::vector<int> neighbours;  // ids of segments sharing a 4-neighbour border, ascending
