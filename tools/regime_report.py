@@ -8,14 +8,16 @@ conclusions checked at each point and where the agents' time went.
 
   tools/regime_report.py [--gather BIN] [--out docs/regimes.md] [--results DIR]
                          [--seeds 2] [--cycles 3] [--sensitivity-db +10,0,-10]
-                         [--goals-per-worker 1,10,50] [--periods 1,2] [SCENARIO...]
+                         [--goals-per-worker 1,10,50] [--periods 1,2] [--reuse] [SCENARIO...]
 
 Per scenario and sensitivity offset it plans bap:0 once to learn the request
 period T0 the planner would pick (farthest reachable cell / speed), then per
 (goals, period factor f) writes a scenario variant (mission.period = f T0)
 and runs `gather plan` and `gather sim --all-configs` on it through
 tools/scenario_report.py's report_scenario. Outputs and figures of every
-point stay in RESULTS/MAP/POINT/.
+point stay in RESULTS/MAP/POINT/; --reuse reads the plans and simulations
+found there instead of running them again (to redraw the figures and the
+report).
 """
 import argparse
 import csv
@@ -99,12 +101,15 @@ def draw_map_figure(path, title, points, sens, goals, periods):
     interval R); in each, rows = (period factor, goals per worker), columns
     = coverage; a cell names the best configuration (method and its active
     collectors) and is coloured by the active collectors."""
-    font = ImageFont.load_default()
-    cw, ch, left, top, gap = 92, 22, 118, 64, 26
+    try:
+        font = ImageFont.truetype("DejaVuSans.ttf", 12)
+    except OSError:
+        font = ImageFont.load_default()
+    cw, ch, left, top, gap = 104, 24, 130, 64, 26
     rows = [(f, g) for f in periods for g in goals]
     pw, ph = left + cw * len(sens), top + ch * len(rows)
     legend_h = 60
-    img = Image.new("RGB", (2 * pw + gap * 3, 2 * ph + gap * 3 + legend_h + 24), "white")
+    img = Image.new("RGB", (max(2 * pw + gap * 3, 760), 2 * ph + gap * 3 + legend_h + 24), "white")
     d = ImageDraw.Draw(img)
     d.text((gap, 6), title, fill="black", font=font)
     shades = [(225, 225, 225), (198, 235, 197), (141, 211, 141), (65, 171, 93), (35, 132, 67), (0, 90, 50)]
@@ -136,7 +141,7 @@ def draw_map_figure(path, title, points, sens, goals, periods):
     d.text((gap, ly), "cell: best method and its active collectors (those left with workers); colour:", fill="black",
            font=font)
     for n, col in enumerate(shades):
-        x = gap + n * 110
+        x = gap + n * 120
         d.rectangle([x, ly + 18, x + 18, ly + 32], fill=col, outline=(120, 120, 120))
         d.text((x + 24, ly + 20), "no collectors" if n == 0 else ("%d active" % n if n < 5 else "5+ active"),
                fill="black", font=font)
@@ -156,6 +161,8 @@ def main():
                     help="offsets [dB] added to the scenario's radio.sensitivity_dbm (+ = smaller coverage)")
     ap.add_argument("--goals-per-worker", default="1,10,50", help="goals per request / team.agents")
     ap.add_argument("--periods", default="1,2", help="request period as a factor of T0")
+    ap.add_argument("--reuse", action="store_true",
+                    help="read the plans and simulations already in --results instead of running them")
     ap.add_argument("scenarios", nargs="*")
     a = ap.parse_args()
     if a.seeds < 1 or a.cycles < 1:
@@ -204,16 +211,16 @@ def main():
                     best_with = max(with_c, key=lambda c: c["r_u_interval"]) if with_c else None
                     best_without = max(without, key=lambda c: c["r_u_interval"]) if without else None
                     points[(s, g, fct)] = dict(
-                        coverage=coverage, t0=t0, period=fct * t0, goals=max(1, int(round(g * agents))), report=rep,
+                        dir=out_dir, coverage=coverage, t0=t0, period=fct * t0, goals=max(1, int(round(g * agents))), report=rep,
                         best_with=best_with, best_without=best_without,
                         budget_with=role_budget(sim_dir, best_with["method"], best_with["nc"]) if best_with else {},
                         budget_without=role_budget(sim_dir, best_without["method"], best_without["nc"])
                         if best_without else {})
                     p = points[(s, g, fct)]
-                    print("%-10s %-18s cov %5.1f%%  best E/R latency %-7s/%-7s interval %-7s/%-7s  sim %.0f s" % (
+                    print("%-10s %-18s cov %5.1f%%  best E/R latency %-7s/%-7s interval %-7s/%-7s  sim %s s" % (
                         name, tag, coverage, point_label(rep["e_best_latency"]), point_label(rep["r_best_latency"]),
-                        point_label(rep["e_best_interval"]), point_label(rep["r_best_interval"]), rep["sim_wall"]),
-                        flush=True)
+                        point_label(rep["e_best_interval"]), point_label(rep["r_best_interval"]),
+                        "%.0f" % rep["sim_wall"] if rep["sim_wall"] is not None else "-"), flush=True)
         fig = os.path.join(a.results, name, "regimes_%s.png" % name)
         draw_map_figure(fig, "%s: best configuration per regime (%d seeds x %d cycles per point)" % (name, a.seeds, a.cycles),
                         points, sens, goals, periods)
@@ -225,18 +232,19 @@ def main():
 def write_markdown(a, results, sens, goals, periods, load, wall):
     yn = lambda b: "yes" if b else "no"
     L = ["# Where collectors pay off: regimes\n"]
-    L.append("Produced by `make regime-report` (`tools/regime_report.py`, %.0f min on this 2-core machine, load "
-             "average %s when it started). On each map, for every radio sensitivity offset (the OC's coverage, "
+    how = ("results of an earlier run read again with --reuse" if a.reuse else
+           "%.0f min on this 2-core machine, load average %s when it started" % (wall / 60.0, load))
+    L.append("Produced by `make regime-report` (`tools/regime_report.py`, %s). On each map, for every radio sensitivity offset (the OC's coverage, "
              "given as its share of the reachable space), goals per request (per worker: G = that x team size) and "
              "request period (a factor of T0 = farthest reachable cell from the coverage / speed, the planner's "
              "default), `gather plan` sweeps the 27 configurations and `gather sim --all-configs` simulates each "
              "(%d seeds x %d cycles). A configuration uses collectors when some worker delivers to one "
              "(the association may leave all of them at the OC); *active* counts those. E = estimate, R = "
              "simulation; the utility is computed on both refresh metrics (docs/planner.md, \"Two refresh "
-             "metrics\"). Nothing was tuned towards the seed's conclusions.\n" % (wall / 60.0, load, a.seeds, a.cycles))
+             "metrics\"). Nothing was tuned towards the seed's conclusions.\n" % (how, a.seeds, a.cycles))
     L.append("The seed's conclusions, checked at every point: (1) collectors beat no collectors, (2) the best "
              "number of collectors is 1-4, (3) BAP or PAP at least as good as RAP. Time budgets are "
-             "measuring / commuting / waiting in %% of the requests' span, from roles.csv, for the best "
+             "measuring / commuting / waiting in % of the requests' span, from roles.csv, for the best "
              "configuration by R on the interval metric with collectors (its collector workers, its collectors) "
              "and without (its OC workers).\n")
     total = {}
@@ -266,6 +274,37 @@ def write_markdown(a, results, sens, goals, periods, load, wall):
                         yn(r["r_concl_interval"][1]), yn(r["r_concl_interval"][2]),
                         fmt_budget(p["budget_without"], "oc_worker"), fmt_budget(p["budget_with"], "collector_worker"),
                         fmt_budget(p["budget_with"], "collector")))
+    L.append("\n## Where collectors pay off\n")
+    L.append("Every point where the best configuration by E or by R uses collectors, with the margin in U over "
+             "the best configuration without (same metric, same side), and the time budgets (measuring / "
+             "commuting / waiting, %) of that configuration's roles.\n")
+    L.append("| map | sens. [dB] (coverage) | G | period | metric | side | best | U | best without | U | "
+             "collector workers | collectors | OC workers |")
+    L.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    hits = 0
+    for name, sc, points, fig in results:
+        for s in sens:
+            for g in goals:
+                for fct in periods:
+                    p = points[(s, g, fct)]
+                    r = p["report"]
+                    for metric in ("latency", "interval"):
+                        for side, letter in (("e", "E"), ("r", "R")):
+                            best = r["%s_best_%s" % (side, metric)]
+                            if best["active"] == 0:
+                                continue
+                            key = "%s_u_%s" % (side, metric)
+                            without = max((c for c in r["configs"] if c["active"] == 0), key=lambda c: c[key],
+                                          default=None)
+                            budget = role_budget(os.path.join(p["dir"], "sim"), best["method"], best["nc"])
+                            hits += 1
+                            L.append("| %s | %+g (%.0f%%) | %d | %.0f s | %s | %s | %s | %.3f | %s | %s | %s | %s | %s |" % (
+                                name, s, p["coverage"], p["goals"], p["period"], metric, letter, point_label(best),
+                                best[key], point_label(without) if without else "–",
+                                "%.3f" % without[key] if without else "–", fmt_budget(budget, "collector_worker"),
+                                fmt_budget(budget, "collector"), fmt_budget(budget, "oc_worker")))
+    if hits == 0:
+        L.append("| (none) | | | | | | | | | | | | |")
     L.append("\n## Totals\n")
     names = ("collectors beat no collectors", "the best N_c lies in 1-4", "BAP or PAP at least as good as RAP")
     for i, what in enumerate(names):

@@ -94,23 +94,28 @@ def report_scenario(a, sc, name=None, out=None):
     beta = 0.5 if planner.get("beta") is None else float(planner["beta"])
     out = out or os.path.join(a.results, name)
     plan_dir, sim_dir = os.path.join(out, "plan"), os.path.join(out, "sim")
-    plans = []
-    for _ in range(a.repeat):
-        stdout, wall = run([a.gather, "plan", sc, "--out", plan_dir])
-        m = re.search(r"stages \[ms, summed over configurations\]: (.*); sweep wall (\d+) ms", stdout)
-        if not m:
-            die("no stage times in the output of gather plan " + sc)
-        grid = re.search(r"planning grid: (\S+) cells of (\S+) m", stdout)
-        plans.append((int(m.group(2)), m.group(1), wall, grid.group(1) + " at " + grid.group(2) + " m" if grid else None))
-    plans.sort(key=lambda p: p[0])
-    sweep_ms, stages, plan_wall, grid = plans[len(plans) // 2]
-    if grid is None:
-        grid = "the map's own grid"
-    sim_cmd = [a.gather, "sim", plan_dir, "--all-configs", "--seeds", str(a.seeds), "--out", sim_dir]
-    if a.cycles:
-        sim_cmd += ["--cycles", str(a.cycles)]
-    stdout, sim_wall = run(sim_cmd)
-    slowest = re.search(r"slowest run (\d+)x", stdout)
+    reuse = getattr(a, "reuse", False) and all(
+        os.path.isfile(p) for p in (os.path.join(plan_dir, "report.csv"), os.path.join(sim_dir, "summary.csv")))
+    if reuse:  # the outputs of an earlier run (regime_report --reuse): no timings
+        sweep_ms, stages, plan_wall, grid, sim_wall, slowest = None, None, None, None, None, None
+    else:
+        plans = []
+        for _ in range(a.repeat):
+            stdout, wall = run([a.gather, "plan", sc, "--out", plan_dir])
+            m = re.search(r"stages \[ms, summed over configurations\]: (.*); sweep wall (\d+) ms", stdout)
+            if not m:
+                die("no stage times in the output of gather plan " + sc)
+            grid = re.search(r"planning grid: (\S+) cells of (\S+) m", stdout)
+            plans.append((int(m.group(2)), m.group(1), wall, grid.group(1) + " at " + grid.group(2) + " m" if grid else None))
+        plans.sort(key=lambda p: p[0])
+        sweep_ms, stages, plan_wall, grid = plans[len(plans) // 2]
+        if grid is None:
+            grid = "the map's own grid"
+        sim_cmd = [a.gather, "sim", plan_dir, "--all-configs", "--seeds", str(a.seeds), "--out", sim_dir]
+        if a.cycles:
+            sim_cmd += ["--cycles", str(a.cycles)]
+        stdout, sim_wall = run(sim_cmd)
+        slowest = re.search(r"slowest run (\d+)x", stdout)
 
     est = {(r["method"], int(r["collectors"])): r for r in read_csv(os.path.join(plan_dir, "report.csv"))}
     rows = read_csv(os.path.join(sim_dir, "summary.csv"))

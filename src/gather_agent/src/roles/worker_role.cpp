@@ -244,9 +244,9 @@ void WorkerRole::decide(double now) {
       leg(grid.cell_center(d.landing), d.arrive, -1);
       ends_at_landing_ = true;
       break;
-    case Action::kGoToMeeting:
+    case Action::kGoToMeeting:  // a worker of the OC: its home in the coverage
       leg(grid.cell_center(d.landing), d.arrive, -1);
-      ends_at_meeting_ = true;
+      (oc_worker ? ends_at_landing_ : ends_at_meeting_) = true;
       break;
     case Action::kWork:
       for (std::size_t i = 0; i < d.k; ++i)

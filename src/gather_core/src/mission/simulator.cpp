@@ -323,6 +323,11 @@ void MissionSimulator::simulate_oc_worker(std::size_t wi, Run& run) {
       back_to_coverage();
       continue;
     }
+    if (dec.action == WorkerPolicy::Action::kGoToMeeting) {  // home, in the coverage
+      run.legs.push_back(Leg{w.agent(), t, dec.arrive, grid.cell_center(pos), grid.cell_center(dec.landing)});
+      t = dec.arrive, pos = dec.landing, at_landing = true;
+      continue;
+    }
     if (dec.action == WorkerPolicy::Action::kWait) {
       t = std::max(t, next_req * period_);
       continue;

@@ -161,6 +161,20 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
     }
   }
 
+  if (!route_) {
+    // A worker of the OC waits for requests at home: the coverage cell
+    // nearest its segment (where it comes back to from the segment's nearest
+    // cell), so that a request learned there can be served within its
+    // period (mission::request_deadline), wherever the OC itself stands.
+    double best = kInf;
+    Cell from{-1, -1};
+    for (Cell c : segment_cells_) {
+      const double d = world.covered(c) ? 0.0 : world.coverage_field.time(c);
+      if (d < best) best = d, from = c;
+    }
+    if (best < kInf) home_ = world.covered(from) ? from : way_back(from).first;
+  }
+
   tmp_.reserve(segment_cells_.size());
   solve_options_.targets.reserve(segment_cells_.size());
   landing_to_cell_.reserve(kMaxLandings);
@@ -387,6 +401,17 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
       d.landing = back.first;
       d.arrive = t + back.second / speed_;
       return d;
+    }
+    if (more_requests && home_.row >= 0 && !(at.cell == home_)) {
+      // Nothing to do in the coverage: wait for the next request at home.
+      double dist = kInf;
+      march_one(at.cell, home_, dist);
+      if (dist < kInf) {
+        d.action = Action::kGoToMeeting;
+        d.landing = home_;
+        d.arrive = t + dist / speed_;
+        return d;
+      }
     }
     d.action = more_requests ? Action::kWait : Action::kDone;
     return d;

@@ -73,7 +73,8 @@ class WorkerPolicy {
   enum class Action {
     kDone,            // nothing left, no request to come
     kGoToRendezvous,  // walk to rendezvous `rendezvous` (only when the meeting point cannot be reached)
-    kGoToMeeting,     // walk to the meeting point (`landing`), where the next request is handed over
+    kGoToMeeting,     // walk to the meeting point (`landing`), where the next request is handed over;
+                      // OC worker: to its home in the coverage (`landing`), where it waits for requests
     kWait,            // wait where it is for the next request
     kWork,            // measure tour[0..k), then (collector worker) walk to `rendezvous` and meet at `handover`
     kBackToCoverage,  // OC worker: walk to `landing` (the nearest coverage cell)
@@ -114,6 +115,9 @@ class WorkerPolicy {
   // over (so the worker hears it there). Invalid (row -1) when that cell is
   // not reachable; it then waits at its nearest pass.
   Cell meeting_cell() const { return meeting_cell_; }
+  // Workers of the OC: where they wait for requests, the coverage cell
+  // nearest their segment (row -1 when there is none).
+  Cell home() const { return home_; }
 
   // Collector workers: when request `cycle` (issued at cycle * period [s])
   // reaches the worker. Its collector has it when next inside the OC's
@@ -189,6 +193,7 @@ class WorkerPolicy {
   int box_width_ = 0, box_height_ = 0;
   std::vector<int32_t> box_index_;
   Cell meeting_cell_{-1, -1};
+  Cell home_{-1, -1};
   std::vector<float> meeting_to_cell_;  // [m] from the meeting point to every cell of the segment
   std::vector<double> meeting_to_rv_;   // [m] from the meeting point to each rendezvous
   // A workspace on the segment's bounding box plus a margin, traversable only
