@@ -108,7 +108,7 @@ def draw_map_figure(path, title, points, sens, goals, periods):
     cw, ch, left, top, gap = 104, 24, 130, 64, 26
     rows = [(f, g) for f in periods for g in goals]
     pw, ph = left + cw * len(sens), top + ch * len(rows)
-    legend_h = 60
+    legend_h = 76
     img = Image.new("RGB", (max(2 * pw + gap * 3, 760), 2 * ph + gap * 3 + legend_h + 24), "white")
     d = ImageDraw.Draw(img)
     d.text((gap, 6), title, fill="black", font=font)
@@ -121,7 +121,7 @@ def draw_map_figure(path, title, points, sens, goals, periods):
         d.text((ox, oy + 16), "period x T0, goals/worker", fill=(90, 90, 90), font=font)
         for j, s in enumerate(sens):
             cov = points.get((s, goals[0], periods[0]), {}).get("coverage")
-            label = "%+g dB" % s + (" (%.0f%%)" % cov if cov is not None else "")
+            label = "%+g dB" % s + ((" (%.1f%%)" if cov < 1 else " (%.0f%%)") % cov if cov is not None else "")
             d.text((ox + left + j * cw + 4, oy + 40), label, fill="black", font=font)
         for i, (f, g) in enumerate(rows):
             y = oy + top + i * ch
@@ -232,8 +232,11 @@ def main():
 def write_markdown(a, results, sens, goals, periods, load, wall):
     yn = lambda b: "yes" if b else "no"
     L = ["# Where collectors pay off: regimes\n"]
-    how = ("results of an earlier run read again with --reuse" if a.reuse else
-           "%.0f min on this 2-core machine, load average %s when it started" % (wall / 60.0, load))
+    how = "%.0f min on this 2-core machine, load average %s when it started" % (wall / 60.0, load)
+    if a.reuse:  # keep what the run that produced the results took, if the report says
+        old = open(a.out).read() if os.path.isfile(a.out) else ""
+        m = re.search(r"tools/regime_report\.py`, (\d+ min on this 2-core machine, load average \S+ when it started)", old)
+        how = (m.group(1) if m else "an earlier run") + "; report and figures redrawn from its results with --reuse"
     L.append("Produced by `make regime-report` (`tools/regime_report.py`, %s). On each map, for every radio sensitivity offset (the OC's coverage, "
              "given as its share of the reachable space), goals per request (per worker: G = that x team size) and "
              "request period (a factor of T0 = farthest reachable cell from the coverage / speed, the planner's "
