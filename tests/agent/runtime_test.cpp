@@ -343,8 +343,7 @@ TEST(TeamRunner, RequestsArrivingTogetherLeaveOnlyTheNewest) {
   Scenario s = corridor();
   s.mission.period = 10.0;
   const mission::World world(s);
-  mission::MissionPlan p = corridor_plan(s);
-  p.file.cycle_period_s = 10.0;
+  const mission::MissionPlan p = corridor_plan(s);
   MissionParams prm;
   prm.cycles = 2, prm.goals_per_request = 2;
   prm.fixed_goals = {{0, Point2{5.05, 0.25}}, {0, Point2{17.05, 0.25}}, {1, Point2{5.05, 0.25}}};
@@ -370,11 +369,7 @@ TEST(TeamRunner, OneExpiryRuleForWorkersOfTheOcToo) {
   s.mission.period = 10.0;
   s.team.agents = 1;
   const mission::World world(s);
-  mission::MissionPlan p = corridor_plan(s);
-  p.file.cycle_period_s = 10.0;
-  p.file.collectors = 0;
-  p.file.routes.clear();
-  p.file.agents = {plan::AgentAssignment{0, false, 1, -1}};
+  const mission::MissionPlan p = testing_support::corridor_plan_without_collector(s);
   MissionParams prm;
   prm.cycles = 1, prm.goals_per_request = 2;
   prm.fixed_goals = {{0, Point2{5.05, 0.25}}, {0, Point2{19.05, 0.25}}};

@@ -13,31 +13,38 @@
 namespace gather {
 namespace testing_support {
 
+// An open strip of w x h cells at 0.1 m/cell with the OC at `oc`, team
+// speed 1 m/s, radio range 2.07 m (sensitivity -49.5 dBm).
+inline Scenario open_strip(const char* name, int w, int h, Point2 oc) {
+  Scenario s;
+  s.path = name;
+  s.grid = OccupancyGrid(w, h, 0.1, Point2{0, 0}, std::vector<int8_t>(w * h, 0), std::vector<uint8_t>(w * h, 1));
+  s.oc = oc;
+  s.team.speed = 1.0;
+  s.radio.sensitivity_dbm = -49.5;
+  return s;
+}
+
 // A 20 m x 0.5 m open corridor at 0.1 m/cell, team speed 1 m/s, radio range
 // 2.07 m (coverage: cell centres within 2 m of the OC at x = 0.55 m, i.e. x < 2.6 m).
 inline Scenario corridor() {
-  const int w = 200, h = 5;
-  Scenario s;
-  s.path = "corridor";
-  s.grid = OccupancyGrid(w, h, 0.1, Point2{0, 0}, std::vector<int8_t>(w * h, 0), std::vector<uint8_t>(w * h, 1));
-  s.oc = Point2{0.55, 0.25};
+  Scenario s = open_strip("corridor", 200, 5, Point2{0.55, 0.25});
   s.team.agents = 2;
-  s.team.speed = 1.0;
   s.team.radius = 0.05;
-  s.radio.sensitivity_dbm = -49.5;
   s.mission.period = 100.0;
   return s;
 }
 
 // One collector driving OC (x = 0.55) -> x = 15.05 -> OC (29 m, 29 s), one
-// worker owning the whole corridor and meeting it at x = 15.05 (arc 14.5 m).
+// worker owning the whole corridor and meeting it at x = 15.05 (arc 14.5 m);
+// requests every mission.period of the scenario.
 inline mission::MissionPlan corridor_plan(const Scenario& s) {
   mission::MissionPlan m;
   m.width = s.grid.width(), m.height = s.grid.height();
   m.labels.assign(s.grid.size(), 1);
   plan::PlanFile& p = m.file;
   p.method = "hand";
-  p.collectors = 1, p.workers = 1, p.cycle_period_s = 100.0;
+  p.collectors = 1, p.workers = 1, p.cycle_period_s = s.mission.period;
   p.area_tile_m = 20.0;  // the whole corridor is one area of the refresh interval
   p.agents = {plan::AgentAssignment{0, true, 0, 0}, plan::AgentAssignment{1, false, 1, 0}};
   plan::CollectorRoute r;
@@ -48,6 +55,15 @@ inline mission::MissionPlan corridor_plan(const Scenario& s) {
   r.length = 29.0, r.period = 29.0;
   r.coverage_entries = {26.95, 29.0};
   p.routes = {r};
+  return m;
+}
+
+// The same corridor without its collector: one worker of the OC owning it.
+inline mission::MissionPlan corridor_plan_without_collector(const Scenario& s) {
+  mission::MissionPlan m = corridor_plan(s);
+  m.file.collectors = 0;
+  m.file.routes.clear();
+  m.file.agents = {plan::AgentAssignment{0, false, 1, -1}};
   return m;
 }
 

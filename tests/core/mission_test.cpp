@@ -196,9 +196,7 @@ TEST(MissionTest, RequestsArrivingTogetherLeaveOnlyTheNewest) {
   Scenario s = corridor();
   s.mission.period = 10.0;
   const plan::PlanContext ctx(s);
-  auto p = corridor_plan(s);
-  p.file.cycle_period_s = 10.0;
-  MissionSimulator sim(ctx, p);
+  MissionSimulator sim(ctx, corridor_plan(s));
   MissionOptions opt;
   opt.cycles = 2;
   opt.fixed_goals = {{0, Point2{5.05, 0.25}}, {0, Point2{17.05, 0.25}}, {1, Point2{5.05, 0.25}}};
@@ -223,12 +221,7 @@ TEST(MissionTest, OneExpiryRuleForWorkersOfTheOcToo) {
   Scenario s = corridor();
   s.mission.period = 10.0;
   const plan::PlanContext ctx(s);
-  mission::MissionPlan p = corridor_plan(s);
-  p.file.cycle_period_s = 10.0;
-  p.file.collectors = 0;
-  p.file.routes.clear();
-  p.file.agents = {plan::AgentAssignment{0, false, 1, -1}};
-  MissionSimulator sim(ctx, p);
+  MissionSimulator sim(ctx, testing_support::corridor_plan_without_collector(s));
   MissionOptions opt;
   opt.cycles = 1;
   opt.fixed_goals = {{0, Point2{5.05, 0.25}}, {0, Point2{19.05, 0.25}}};

@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "corridor.hpp"
 #include "small_office.hpp"
 #include "gather_core/error.hpp"
 #include "gather_core/plan/plan_export.hpp"
@@ -107,15 +108,9 @@ TEST_F(PlanTest, NoRouteIsLongerThanTheRequestPeriodAndTheDecisionNeverLowersThe
 // walking back itself: the decision gives it to the OC (and the collector
 // idles).
 Scenario corridor60(RefreshMetric metric) {
-  const int w = 600, h = 10;
-  Scenario s;
-  s.path = "corridor60";
-  s.grid = OccupancyGrid(w, h, 0.1, Point2{0, 0}, std::vector<int8_t>(w * h, 0), std::vector<uint8_t>(w * h, 1));
-  s.oc = Point2{0.55, 0.5};
+  Scenario s = testing_support::open_strip("corridor60", 600, 10, Point2{0.55, 0.5});  // ~2 m of coverage
   s.team.agents = 3;
-  s.team.speed = 1.0;
   s.team.radius = 0.1;
-  s.radio.sensitivity_dbm = -49.5;  // ~2 m of coverage
   s.mission.period = 200.0;
   s.mission.goals_per_request = 10;
   s.planner.collectors_min = 0, s.planner.collectors_max = 1;

@@ -348,6 +348,15 @@ def main():
 
         return True
 
+    def ended_by_ctrl_c(label, what, rc, out, shot):
+        """The checks after an RViz session stopped with Ctrl-C; False when RViz crashed (retried)."""
+        if rviz_crashed(out):
+            return False
+        check("%s: %s" % (label, what), rc == 0, "status %s" % rc)
+        quiet(out, label)
+        check_screen(label, shot, 4)
+        return True
+
     def office_a_run():
         # 2. office_a, its own pap:4 plan: RViz fits this map too; Ctrl-C ends it.
         out2 = os.path.join(tmp, "office_a")
@@ -365,13 +374,7 @@ def main():
             out = run.output()
         finally:
             run.close()
-        if rviz_crashed(out):
-            return False
-        check("office_a: Ctrl-C ends the launch", rc == 0, "status %s" % rc)
-        quiet(out, "office_a")
-        check_screen("office_a", shot, 4)
-
-        return True
+        return ended_by_ctrl_c("office_a", "Ctrl-C ends the launch", rc, out, shot)
 
     def review_run():
         # 3. review.launch on the office bag.
@@ -392,12 +395,7 @@ def main():
                 out = run.output()
             finally:
                 run.close()
-            if rviz_crashed(out):
-                return False
-            check("review: Ctrl-C ends it", rc == 0, "status %s" % rc)
-            quiet(out, "review")
-            check_screen("review", shot, 4)
-
+            return ended_by_ctrl_c("review", "Ctrl-C ends it", rc, out, shot)
         return True
 
     with_rviz("office", office_run)

@@ -41,7 +41,8 @@ const char* role_kind_name(RoleKind r) {
 }
 
 TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, const MissionParams& prm)
-    : world(w), plan(p), params(prm), radio(w.scenario.grid, w.scenario.radio) {
+    : world(w), plan(p), params(prm), radio(w.scenario.grid, w.scenario.radio),
+      areas(mission::area_weights(w, p.file.area_tile_m)) {
   const OccupancyGrid& grid = w.scenario.grid;
   const plan::PlanFile& pf = p.file;
   const std::string where = p.source.empty() ? "plan" : p.source;

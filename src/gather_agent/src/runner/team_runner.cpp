@@ -143,8 +143,7 @@ RunOutcome TeamRunner::run() {
                   std::to_string(oc().requested()) + " goals unresolved";
     return out;
   }
-  out.result = mission::mission_result(oc().goals(), team_.params.cycles, team_.period, out.wall_ms,
-                                        mission::area_weights(team_.world, team_.plan.file.area_tile_m));
+  out.result = mission::mission_result(oc().goals(), team_.params.cycles, team_.period, out.wall_ms, team_.areas);
   return out;
 }
 

@@ -155,8 +155,15 @@ AreaWeights area_weights(const World& world, double tile) {
   w.tile = tile;
   if (!(tile > 0)) return w;
   const OccupancyGrid& grid = world.scenario.grid;
-  for (std::size_t i = 0; i < world.reachable.size(); ++i)
-    if (world.reachable[i]) w.area[area_of(grid.cell_center(grid.cell(i)), tile)] += grid.cell_area();
+  // Neighbouring cells of a row mostly share a tile: look it up only when it changes.
+  int64_t last = -1;
+  double* area = nullptr;
+  for (std::size_t i = 0; i < world.reachable.size(); ++i) {
+    if (!world.reachable[i]) continue;
+    const int64_t a = area_of(grid.cell_center(grid.cell(i)), tile);
+    if (!area || a != last) last = a, area = &w.area[a];
+    *area += grid.cell_area();
+  }
   return w;
 }
 

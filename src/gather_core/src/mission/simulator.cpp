@@ -7,6 +7,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <tuple>
 
 #include "gather_core/error.hpp"
 #include "gather_core/mission/mission_csv.hpp"
@@ -351,6 +352,13 @@ void MissionSimulator::simulate_oc_worker(std::size_t wi, Run& run) {
 
 std::vector<TimeBudget> MissionSimulator::time_budgets(const MissionResult& result) const {
   const double horizon = result.mission_s;
+  // The workers' legs, summed in one pass: [agent] = {measuring, commuting}.
+  std::vector<std::pair<double, double>> walked(plan_.file.agents.size() + 1, {0.0, 0.0});
+  for (const Leg& l : result.legs) {
+    if (l.agent < 0 || static_cast<std::size_t>(l.agent) >= walked.size() || l.t0 >= horizon) continue;
+    const double d = std::max(0.0, std::min(l.t1, horizon) - l.t0);
+    (l.to_goal ? walked[static_cast<std::size_t>(l.agent)].first : walked[static_cast<std::size_t>(l.agent)].second) += d;
+  }
   std::vector<TimeBudget> out;
   for (const auto& a : plan_.file.agents) {
     TimeBudget b;
@@ -365,11 +373,8 @@ std::vector<TimeBudget> MissionSimulator::time_budgets(const MissionResult& resu
           b.commuting_s += std::min(s.travel(), horizon - t);
     } else {
       b.role = a.delivers_to >= 0 ? "collector_worker" : "oc_worker";
-      for (const Leg& l : result.legs) {
-        if (l.agent != a.id || l.t0 >= horizon) continue;
-        const double d = std::min(l.t1, horizon) - l.t0;
-        (l.to_goal ? b.measuring_s : b.commuting_s) += std::max(0.0, d);
-      }
+      if (a.id >= 0 && static_cast<std::size_t>(a.id) < walked.size())
+        std::tie(b.measuring_s, b.commuting_s) = walked[static_cast<std::size_t>(a.id)];
     }
     b.waiting_s = std::max(0.0, horizon - b.measuring_s - b.commuting_s);
     out.push_back(b);

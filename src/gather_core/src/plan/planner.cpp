@@ -479,6 +479,20 @@ WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, co
     return first;
   };
   auto arrival = [&](int req) { return sched.next_at(m.route_s / v, pickup(req * T)); };
+  // When a goal measured at `ready` reaches the OC: handed over at the first
+  // contact stretch the collector is in at or after then, uploaded where its
+  // route next enters the coverage.
+  auto delivered_at = [&](double ready) {
+    double best = kInf;
+    for (const auto& [a, b] : contact) {
+      const double loop_start = sched.next_at(b / v, ready) - b / v;
+      const double handover = std::max(ready, loop_start + a / v);
+      best = std::min(best, handover + upload_after(r, (handover - loop_start) * v) / v);
+    }
+    return best;
+  };
+  std::vector<double> at;  // upload times of one goal count's samples
+  at.reserve(16);
   for (int req = 0; req < cycles; ++req) {
     const double learn = arrival(req);
     // Valid for a period after it arrived, or until the next one arrives
@@ -491,17 +505,7 @@ WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, co
       const double tour = model.length(n) / v;
       constexpr int kSamples = 8;
       double sum = 0.0;
-      for (int i = 1; i <= kSamples; ++i) {
-        const double ready = learn + tour * i / kSamples;
-        double best = kInf;
-        for (const auto& [a, b] : contact) {
-          // The first time the collector is in this stretch at or after `ready`.
-          const double loop_start = sched.next_at(b / v, ready) - b / v;
-          const double handover = std::max(ready, loop_start + a / v);
-          best = std::min(best, handover + upload_after(r, (handover - loop_start) * v) / v);
-        }
-        sum += best - req * T;
-      }
+      for (int i = 1; i <= kSamples; ++i) sum += delivered_at(learn + tour * i / kSamples) - req * T;
       run.add(pmf[k] * n, sum / kSamples);
       // Deliveries: the uploads that carry some of the n goals (spread
       // evenly along the tour; each of goals_n samples stands for n /
@@ -509,16 +513,10 @@ WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, co
       // one of an area holding share f of it with probability 1 - (1 - f)^m;
       // weighted by P(k goals).
       const int goals_n = static_cast<int>(std::min(16.0, std::ceil(n)));
-      std::vector<double> at;
+      at.clear();
       for (int i = 1; i <= goals_n; ++i) {
-        const double ready = learn + tour * i / goals_n;
-        double best = kInf;
-        for (const auto& [a, b] : contact) {
-          const double loop_start = sched.next_at(b / v, ready) - b / v;
-          const double handover = std::max(ready, loop_start + a / v);
-          best = std::min(best, handover + upload_after(r, (handover - loop_start) * v) / v);
-        }
-        if (std::isfinite(best)) at.push_back(best);
+        const double t = delivered_at(learn + tour * i / goals_n);
+        if (std::isfinite(t)) at.push_back(t);
       }
       std::sort(at.begin(), at.end());
       const double per_sample = n / std::max(1, goals_n);
@@ -676,10 +674,29 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
     cfg.routes[static_cast<std::size_t>(saved_c)] = saved_route;
     cfg.estimates = saved_estimates;
   };
+  // A segment's worker delivering to the OC: its estimate depends on no
+  // route, so it is run once per segment, on first need.
+  struct OcAlternative {
+    bool known = false;
+    double goals = 0.0, latency = 0.0, interval = 0.0;  // per cycle; [s]; [s]
+  };
+  std::vector<OcAlternative> alternatives(cfg.graph.segments.size());
+  auto oc_alternative = [&](int segment) -> const OcAlternative& {
+    OcAlternative& a = alternatives[static_cast<std::size_t>(segment - 1)];
+    if (a.known) return a;
+    const WorkerSegment& seg = cfg.graph.segment(segment);
+    const std::vector<double> pmf = goal_count_pmf(s.mission.goals_per_request, seg.area / ctx.reachable_area);
+    const WorkerRun oc = run_oc_worker(tour_model(seg, true, opt.tsp_constant), pmf, v, T, cycles,
+                                       cfg.area_parts[static_cast<std::size_t>(segment - 1)], G, ctx.reachable_area);
+    a.known = true;
+    a.goals = oc.delivered / cycles;
+    a.latency = oc.delivered > 0 ? oc.refresh_sum / oc.delivered : 0.0;
+    a.interval = mean_interval(oc.areas, cycles * T);
+    return a;
+  };
   // The most promising moves first: by how much a worker's own share of J
-  // would grow if it delivered to the OC (cheap: an OC worker's estimate
-  // does not depend on any route). Only workers of collector `only` (-1:
-  // of any collector).
+  // would grow if it delivered to the OC. Only workers of collector `only`
+  // (-1: of any collector).
   auto ranked = [&](int only) {
     const double goals = std::max(1e-9, cfg.estimates.goals);
     // Latency: the worker's goal-weighted part of the mean; interval: its
@@ -692,13 +709,8 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
     std::vector<std::pair<double, int>> gain;
     for (const WorkerEstimate& w : cfg.estimates.workers) {
       if (w.collector < 0 || (only >= 0 && w.collector != only)) continue;
-      const WorkerSegment& seg = cfg.graph.segment(w.segment);
-      const std::vector<double> pmf = goal_count_pmf(s.mission.goals_per_request, seg.area / ctx.reachable_area);
-      const WorkerRun oc = run_oc_worker(tour_model(seg, true, opt.tsp_constant), pmf, v, T, cycles,
-                                         cfg.area_parts[static_cast<std::size_t>(seg.id - 1)], G, ctx.reachable_area);
-      const double d = oc.delivered / cycles, r = oc.delivered > 0 ? oc.refresh_sum / oc.delivered : 0.0;
-      gain.emplace_back(share(d, r, mean_interval(oc.areas, cycles * T)) -
-                            share(w.delivered_goals, w.refresh_s, w.interval_s),
+      const OcAlternative& oc = oc_alternative(w.segment);
+      gain.emplace_back(share(oc.goals, oc.latency, oc.interval) - share(w.delivered_goals, w.refresh_s, w.interval_s),
                         w.segment);
     }
     std::sort(gain.begin(), gain.end(), std::greater<>());
@@ -777,6 +789,13 @@ PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_fi
   if (cycle_period <= 0) cycle_period = 1.0;  // the whole space is covered: any period works
   area_tile = std::sqrt(std::max(reachable_area, grid.cell_area()) / std::max(1, s.team.agents));
   areas = mission::area_weights(*this, area_tile);
+  for (const auto& [id, m2] : areas.area) tile_ids.push_back(id);
+  tile_of_cell.assign(grid.size(), -1);
+  for (std::size_t i = 0; i < grid.size(); ++i)
+    if (reachable[i]) {
+      const int64_t a = mission::area_of(grid.cell_center(grid.cell(i)), area_tile);
+      tile_of_cell[i] = static_cast<int32_t>(std::lower_bound(tile_ids.begin(), tile_ids.end(), a) - tile_ids.begin());
+    }
 }
 
 ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method method, int collectors,
@@ -801,23 +820,25 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
   cfg.times.graph_ms = ms_since(t0);
   // The tiles of each segment (the areas of the refresh interval).
   {
-    cfg.area_parts.assign(static_cast<std::size_t>(cfg.workers), {});
-    std::vector<std::map<int64_t, std::size_t>> index(static_cast<std::size_t>(cfg.workers));
+    const std::size_t tiles = ctx.tile_ids.size(), workers = static_cast<std::size_t>(cfg.workers);
+    std::vector<double> area(tiles * workers, 0.0), covered(tiles * workers, 0.0);  // [segment][tile]
     const double cell = s.grid.cell_area();
     for (std::size_t i = 0; i < cfg.partition.labels.size(); ++i) {
       const int k = cfg.partition.labels[i];
-      if (k <= 0 || k > cfg.workers) continue;
-      const int64_t a = mission::area_of(s.grid.cell_center(s.grid.cell(i)), ctx.area_tile);
-      auto& idx = index[static_cast<std::size_t>(k - 1)];
-      auto& parts = cfg.area_parts[static_cast<std::size_t>(k - 1)];
-      auto it = idx.find(a);
-      if (it == idx.end()) {
-        it = idx.emplace(a, parts.size()).first;
-        parts.push_back(AreaDeliveries{a});
-      }
-      parts[it->second].area_m2 += cell;
-      if (ctx.coverage[i]) parts[it->second].covered_m2 += cell;
+      const int32_t t = ctx.tile_of_cell[i];
+      if (k <= 0 || k > cfg.workers || t < 0) continue;
+      const std::size_t j = static_cast<std::size_t>(k - 1) * tiles + static_cast<std::size_t>(t);
+      area[j] += cell;
+      if (ctx.coverage[i]) covered[j] += cell;
     }
+    cfg.area_parts.assign(workers, {});
+    for (std::size_t k = 0; k < workers; ++k)
+      for (std::size_t t = 0; t < tiles; ++t)
+        if (area[k * tiles + t] > 0) {
+          AreaDeliveries a{ctx.tile_ids[t]};
+          a.area_m2 = area[k * tiles + t], a.covered_m2 = covered[k * tiles + t];
+          cfg.area_parts[k].push_back(a);
+        }
   }
 
   t0 = Clock::now();
@@ -831,12 +852,8 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
 
   t0 = Clock::now();
   fmm::FastMarching fm = ctx.oc_field;  // a copy already on the route speed map
-  for (int c = 0; c < collectors; ++c) {
-    std::vector<int> segs;
-    for (const WorkerSegment& seg : cfg.graph.segments)
-      if (cfg.collector_of_segment[static_cast<std::size_t>(seg.id - 1)] == c) segs.push_back(seg.id);
-    cfg.routes.push_back(build_route(ctx, fm, cfg.graph, cfg.partition.labels, segs, c, opt));
-  }
+  for (int c = 0; c < collectors; ++c)
+    cfg.routes.push_back(build_route(ctx, fm, cfg.graph, cfg.partition.labels, segments_of(cfg, c), c, opt));
   cfg.times.routes_ms = ms_since(t0);
 
   t0 = Clock::now();

@@ -15,6 +15,7 @@
 #include "gather_agent/roles/custody.hpp"
 #include "gather_core/mission/mission_plan.hpp"
 #include "gather_core/mission/route_timetable.hpp"
+#include "gather_core/mission/simulator.hpp"
 #include "gather_core/mission/worker_policy.hpp"
 #include "gather_core/mission/world.hpp"
 #include "gather_core/path/grid_astar.hpp"
@@ -57,6 +58,7 @@ class TeamSetup {
   std::vector<mission::RouteTimetable> routes;  // by collector index
   std::unique_ptr<mission::SharedDistances> distances;
   std::unique_ptr<GridAStar> paths;  // A* on the reachable cells, for the simulated bases
+  mission::AreaWeights areas;        // of the refresh interval (plan.yaml's area_tile_m)
 
   int agents() const { return static_cast<int>(assignment_.size()); }
   const plan::AgentAssignment& assignment(int agent) const { return assignment_[static_cast<std::size_t>(agent)]; }
