@@ -337,6 +337,28 @@ TEST(TeamRunner, CorridorTimesAreTheSimulatorsUpToTicks) {
   EXPECT_GT(out.agents[1].link.gated, 0);  // out of the OC's range most of the time
 }
 
+// Hand-overs that take time (the lingering strip, one goal = 10 s of link):
+// the agents hand over when the simulator does, up to ticks and message
+// latencies, and the second goal waits for the first to be gone.
+TEST(TeamRunner, HandOverTakesItsTransferTimeAsInTheSimulator) {
+  const Scenario s = testing_support::lingering_strip();
+  const mission::World world(s);
+  const mission::MissionPlan p = testing_support::lingering_plan(s);
+  MissionParams prm;
+  prm.cycles = 1, prm.goals_per_request = 2;
+  prm.fixed_goals = {{0, Point2{5.05, 0.25}}, {0, Point2{7.05, 0.25}}};
+  TeamSetup team(world, p, prm);
+  const RunOutcome out = TeamRunner(team, RunOptions{}).run();
+  ASSERT_TRUE(out.completed) << out.failure;
+  const auto& g = out.result.goals;
+  ASSERT_EQ(g.size(), 2u);
+  const double start = 0.1 - (team.start_pose(1).x - 0.55);
+  EXPECT_NEAR(g[0].measured_at, 4.5 + start, 0.15);
+  EXPECT_NEAR(g[0].picked_up_at, g[0].measured_at + 10.0, 0.3);  // the simulator: 14.5 s
+  EXPECT_GT(g[1].measured_at, g[0].picked_up_at);
+  for (const auto& x : g) EXPECT_EQ(x.state, mission::GoalState::kDelivered);
+}
+
 TEST(TeamRunner, RequestsArrivingTogetherLeaveOnlyTheNewest) {
   // As the simulator's test: T = 10 s, route 29 s. Requests 1 and 2 reach
   // the worker together at 43.5 s; request 1 is skipped, its goal expires.

@@ -67,5 +67,44 @@ inline mission::MissionPlan corridor_plan_without_collector(const Scenario& s) {
   return m;
 }
 
+// A 40 m strip for hand-overs that take time: the OC at x = 0.55 m, one
+// collector driving out to x = 30.05, four times between 30.05 and 28.05,
+// and back (67 m, 67 s), and one worker owning the strip with two passes:
+// A at x = 10.05 (arc 9.5 m: the collector drives by, a link window of
+// 2 x 2.07 m = 4.14 s) and B at x = 29.05 (arc 28.5 m: the collector
+// lingers, within range of B from arc 26.43 to 40.57 m, 14.14 s). One goal
+// needs 10 s of link (1250 B at 1000 bit/s); requests every 200 s.
+inline Scenario lingering_strip() {
+  Scenario s = open_strip("lingering strip", 400, 5, Point2{0.55, 0.25});
+  s.team.agents = 2;
+  s.team.radius = 0.05;
+  s.mission.period = 200.0;
+  s.radio.bitrate_bps = 1000.0;
+  s.mission.bytes_per_goal = 1250.0;
+  return s;
+}
+
+inline mission::MissionPlan lingering_plan(const Scenario& s) {
+  mission::MissionPlan m;
+  m.width = s.grid.width(), m.height = s.grid.height();
+  m.labels.assign(s.grid.size(), 1);
+  plan::PlanFile& p = m.file;
+  p.method = "hand";
+  p.collectors = 1, p.workers = 1, p.cycle_period_s = s.mission.period;
+  p.area_tile_m = 40.0;
+  p.agents = {plan::AgentAssignment{0, true, 0, 0}, plan::AgentAssignment{1, false, 1, 0}};
+  plan::CollectorRoute r;
+  r.collector = 0;
+  r.segments = {1};
+  const double y = 0.25;
+  r.waypoints = {Point2{0.55, y},  Point2{30.05, y}, Point2{28.05, y}, Point2{30.05, y},
+                 Point2{28.05, y}, Point2{30.05, y}, Point2{0.55, y}};
+  r.meetings = {plan::MeetingArea{1, Point2{10.05, y}, 9.5, {9.5, 28.5}}};
+  r.length = 67.0, r.period = 67.0;
+  r.coverage_entries = {64.95, 67.0};
+  p.routes = {r};
+  return m;
+}
+
 }  // namespace testing_support
 }  // namespace gather

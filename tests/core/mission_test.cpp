@@ -235,6 +235,77 @@ TEST(MissionTest, OneExpiryRuleForWorkersOfTheOcToo) {
   EXPECT_NEAR(mission::request_deadline(37.0, 41.0, 10.0), 41.0, 1e-12);  // superseded earlier
 }
 
+// Rendezvous sized by the data (docs/simulator.md, "Hand-over"): on the
+// lingering strip one goal needs 10 s of link. Pass A's window (4.14 s) is
+// too short; the worker walks on to B, whose window holds for 14.14 s, and
+// the link holds over the whole transfer. With instant hand-overs it meets
+// the collector at A, the earlier pass.
+TEST(HandoverTest, ATransferThatNeedsTenSecondsPicksAPassWhereTheLinkLastsTenSeconds) {
+  for (const double bitrate : {1000.0, 0.0}) {
+    Scenario s = testing_support::lingering_strip();
+    s.radio.bitrate_bps = bitrate;
+    const mission::World world(s);
+    const mission::MissionPlan mp = testing_support::lingering_plan(s);
+    const mission::RouteTimetable route(mp.file.routes[0], s.team.speed, s.mission.period, s.grid, world.coverage);
+    mission::SharedDistances shared(world);
+    mission::WorkerPolicy policy(world, mp, mp.file.agents[1], &route, shared, 4);
+    const double range = RadioModel(s.grid, s.radio).free_space_range();
+    EXPECT_NEAR(policy.link_window(0).first, 9.5 - range, 0.1);
+    EXPECT_NEAR(policy.link_window(0).second, 9.5 + range, 0.1);
+    EXPECT_NEAR(policy.link_window(1).first, 28.5 - range, 0.1);
+    EXPECT_NEAR(policy.link_window(1).second, 37.5 + 1.0 + range, 0.1);  // out of range on the way home
+    EXPECT_EQ(policy.handover_capacity(), bitrate > 0 ? 1u : std::numeric_limits<std::size_t>::max());
+    const mission::KnownGoal goal{0, s.grid.world_to_cell(Point2{5.05, 0.25}), 200.0};
+    policy.learn(&goal, 1);
+    const int known[] = {0};
+    const auto d = policy.decide(mission::Spot{world.oc_cell}, 0.0, known, 1, 0, false);
+    ASSERT_EQ(d.action, mission::WorkerPolicy::Action::kWork);
+    ASSERT_EQ(d.k, 1u);
+    EXPECT_NEAR(d.at[0], 4.5, 1e-3);
+    if (bitrate == 0.0) {
+      EXPECT_EQ(d.rendezvous, 0);  // A: the collector passes at 9.5 s, the worker is there at 9.5 s
+      EXPECT_NEAR(d.handover, 9.5, 1e-3);
+      continue;
+    }
+    EXPECT_EQ(d.rendezvous, 1);
+    EXPECT_NEAR(d.arrive, 4.5 + 24.0, 1e-3);  // from x = 5.05 to 29.05
+    EXPECT_NEAR(d.handover, 28.5 + 10.0, 1e-3);
+    EXPECT_NEAR(d.link_until, 37.5 + 1.0 + range, 0.1);
+    EXPECT_LE(d.handover, d.link_until - 0.5 + 1e-9);
+    const Point2 w = policy.rendezvous_point(d.rendezvous);
+    const RadioModel radio(s.grid, s.radio);
+    for (double t = d.handover - 10.0; t <= d.handover; t += 0.05)
+      EXPECT_TRUE(radio.linked(w, route.position(t)) && std::hypot(route.position(t).x - w.x, 0.0) <= range) << t;
+  }
+}
+
+// The simulator executes it: the goal measured at 4.5 s reaches the
+// collector 10 s of link later (the worker walks alongside it, so the link
+// holds from the measurement on: taken on the way at 14.5 s); instantly
+// without a rate. One hand-over carries one goal (capacity 1): the second
+// goal is measured only once the first has gone; without a rate, on the
+// way out.
+TEST(HandoverTest, TheSimulatorHandsOverAfterTheTransferTime) {
+  for (const double bitrate : {1000.0, 0.0}) {
+    Scenario s = testing_support::lingering_strip();
+    s.radio.bitrate_bps = bitrate;
+    const plan::PlanContext ctx(s);
+    MissionSimulator sim(ctx, testing_support::lingering_plan(s));
+    MissionOptions opt;
+    opt.cycles = 1;
+    opt.fixed_goals = {{0, Point2{5.05, 0.25}}, {0, Point2{7.05, 0.25}}};
+    const MissionResult r = sim.run(opt);
+    check_invariants(r, 1, 1);
+    const GoalRecord& a = goal_at(r, 5.05, 0);
+    EXPECT_NEAR(a.measured_at, 4.5, 1e-3);
+    EXPECT_NEAR(a.picked_up_at, bitrate > 0 ? 14.5 : 4.5, 1e-3);
+    const GoalRecord& b = goal_at(r, 7.05, 0);
+    EXPECT_EQ(b.state, mission::GoalState::kDelivered);
+    if (bitrate > 0) EXPECT_GT(b.measured_at, a.picked_up_at);
+    else EXPECT_NEAR(b.measured_at, 6.5, 1e-3);
+  }
+}
+
 class MissionOfficeTest : public testing_support::SmallOfficeTest {};
 
 TEST_F(MissionOfficeTest, ConservationAndNoDuplicatesOverManySeeds) {

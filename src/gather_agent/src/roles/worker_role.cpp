@@ -177,8 +177,8 @@ bool WorkerRole::settled(double now, bool in_contact) {
       // Decide again once the data is gone (taken on the way or at the pass);
       // a pass without a link keeps the data for a later one.
       if (custody_.data() == 0) return true;
-      if (now >= handover_ && !in_contact) {
-        no_meeting_before_ = handover_ + 1.0;
+      if (now >= link_until_ && !in_contact) {
+        no_meeting_before_ = link_until_ + 1.0;
         return true;
       }
       return false;
@@ -215,7 +215,7 @@ void WorkerRole::decide(double now) {
   const bool more = resolved_ + 1 < team_.params.cycles;
   const mission::Spot spot{grid.world_to_cell(motion_.pose()), at_rv_, at_landing_, at_meeting_};
   const mission::WorkerPolicy::Decision d =
-      policy_.decide(spot, now, known_.data(), known_.size(), custody_.data() > 0, more, no_meeting_before_);
+      policy_.decide(spot, now, known_.data(), known_.size(), custody_.data(), more, no_meeting_before_);
   TRACE("%.1f decide: resolved %d known %zu carrying %zu -> action %d k %zu rv %d arrive %.1f handover %.1f\n", now,
         resolved_, known_.size(), custody_.data(), static_cast<int>(d.action), d.k, d.rendezvous, d.arrive, d.handover);
 
@@ -255,6 +255,7 @@ void WorkerRole::decide(double now) {
         leg(policy_.rendezvous_point(d.rendezvous), d.arrive, -1);
         target_rv_ = d.rendezvous;
         handover_ = d.handover;
+        link_until_ = d.link_until;
         plan_is_work_ = true;
       } else {
         const Cell last = policy_.goal(static_cast<std::size_t>(d.tour[d.k - 1])).cell;
@@ -320,12 +321,24 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
   const bool in_contact = need && contact(now);
   if (settled(now, in_contact)) decide(now);
 
-  // Custody: everything due goes upstream while in contact.
-  if (in_contact && custody_.size() > 0) {
+  // Custody: everything due goes upstream while in contact; to a collector,
+  // measured data once the contact has lasted its transfer time (notices
+  // alone at once; deliveries to the OC count as instant, as in the
+  // simulator).
+  if (!oc_worker && in_contact && custody_.data() > 0) {
+    if (transfer_since_ < 0) transfer_since_ = now;
+  } else {
+    transfer_since_ = -1.0;
+  }
+  if (!in_contact) sent_in_contact_ = false;
+  const bool transferred =
+      oc_worker || custody_.data() == 0 || now + kEps >= transfer_since_ + transfer_s(team_.world.scenario, custody_.data());
+  if (in_contact && custody_.size() > 0 && transferred) {
     DataBatch batch;
-    if (custody_.due(now, team_.params.resend_after, !contact_prev_, batch) > 0) {
+    if (custody_.due(now, team_.params.resend_after, !contact_prev_ || !sent_in_contact_, batch) > 0) {
       if (Message* m = send(out, Kind::kData, upstream_, now)) m->data = batch;
     }
+    sent_in_contact_ = true;
   }
   // State: a hello when it needs to hear from upstream, and the beacon.
   auto state = [&](int16_t dest) {

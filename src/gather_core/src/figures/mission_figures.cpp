@@ -145,25 +145,60 @@ void write_fig4_sync(const std::string& path, const plan::PlanContext& ctx, cons
     if (plan.labels[i] == segment) canvas.paint(g.cell(i), cv::Vec3b(215, 235, 250));
   const cv::Scalar blue(200, 90, 20), red(30, 30, 210);
   fmm::FastMarching fm(g);
-  if (collector >= 0)
-    canvas.polyline(route_between(sim.route(collector), t0, t1, ctx.scenario.team.speed), red, 2);
+  const cv::Scalar window_colour(190, 190, 250), transfer_colour(60, 200, 60), rv_colour(120, 0, 120);
+  const double v = ctx.scenario.team.speed;
+  const mission::WorkerPolicy* policy = sim.worker(agent);
+  if (collector >= 0 && policy) {
+    // Under the routes: where the collector is linked to each of the
+    // worker's rendezvous points (the passes' link windows).
+    const mission::RouteTimetable& route = sim.route(collector);
+    for (std::size_t r = 0; r < policy->rendezvous().size(); ++r) {
+      const auto [lo, hi] = policy->link_window(static_cast<int>(r));
+      std::vector<Point2> stretch;
+      for (double s = lo; s < hi; s += 0.25) stretch.push_back(route.position_at_arc(s));
+      stretch.push_back(route.position_at_arc(hi));
+      canvas.polyline(stretch, window_colour, 9);
+    }
+  }
+  if (collector >= 0) canvas.polyline(route_between(sim.route(collector), t0, t1, v), red, 2);
   for (const mission::Leg& leg : result.legs) {
     if (leg.agent != agent || leg.t1 < t0 || leg.t0 > t1) continue;
     canvas.polyline(leg_path(fm, g, leg), blue, 2);
   }
+  // Each hand-over: the collector's path while the link carried the batch
+  // (transfer_s of its goals, ending at the pick-up), then its end.
+  std::map<double, std::size_t> batches;  // picked_up_at -> goals
   for (const auto& goal : result.goals) {
     if (goal.measured_by != agent || goal.measured_at < t0 || goal.measured_at > t1) continue;
     canvas.dot(goal.point, cv::Scalar(0, 170, 255), 4);
-    if (goal.picked_up_at >= 0) canvas.dot(sim.route(collector).position(goal.picked_up_at), cv::Scalar(60, 200, 60), 5);
+    if (goal.picked_up_at >= 0) ++batches[goal.picked_up_at];
   }
+  for (const auto& [at, n] : batches) {
+    const double tau = transfer_s(ctx.scenario, n);
+    if (tau > 0) canvas.polyline(route_between(sim.route(collector), at - tau, at, v), transfer_colour, 5);
+    canvas.dot(sim.route(collector).position(at), transfer_colour, 5);
+  }
+  if (policy)
+    for (std::size_t r = 0; r < policy->rendezvous().size(); ++r) {
+      const cv::Point q = canvas.px(policy->rendezvous_point(static_cast<int>(r)));
+      cv::drawMarker(canvas.image(), q, rv_colour, cv::MARKER_DIAMOND, 12, 2);
+    }
   canvas.oc(ctx.scenario.oc);
   char caption[256];
-  std::snprintf(caption, sizeof caption, "Fig. 4a: worker %d (blue) and its collector %d (red), t = %.0f..%.0f s",
-                agent, collector, t0, t1);
+  if (ctx.scenario.radio.bitrate_bps > 0)
+    std::snprintf(caption, sizeof caption,
+                  "Fig. 4a: worker %d (blue) and its collector %d (red), t = %.0f..%.0f s; a goal takes %.2f s of link",
+                  agent, collector, t0, t1, transfer_s(ctx.scenario, 1));
+  else
+    std::snprintf(caption, sizeof caption, "Fig. 4a: worker %d (blue) and its collector %d (red), t = %.0f..%.0f s; instant hand-over",
+                  agent, collector, t0, t1);
   canvas.save(path, caption,
               {{LegendItem::kLine, blue, "worker"}, {LegendItem::kLine, red, "collector"},
+               {LegendItem::kLine, window_colour, "link window of a pass"},
+               {LegendItem::kLine, transfer_colour, "transfer (collector's path)"},
+               {LegendItem::kSquare, rv_colour, "rendezvous point"},
                {LegendItem::kCircle, cv::Scalar(0, 170, 255), "goal measured"},
-               {LegendItem::kCircle, cv::Scalar(60, 200, 60), "hand-over"}});
+               {LegendItem::kCircle, transfer_colour, "hand-over done"}});
 }
 
 namespace {

@@ -187,30 +187,51 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
   // The collector also takes the data whenever the radio link holds on the
   // way (not only at the planned pass): probed every kLinkProbe seconds while
   // the worker walks from `from` to `to` during [t0, t1] or waits (from ==
-  // to); its position along a walk is interpolated on the straight line.
+  // to); its position along a walk is interpolated on the straight line. A
+  // hand-over of n goals needs the link to hold for transfer_s(n) from when
+  // it came up with data on board (goals measured meanwhile join it): the
+  // link's start is carried from one walk to the next while it holds.
   const double link_range = radio_.free_space_range();
-  // Returns the time of the pick-up, or -1 if the link never came up.
+  double link_since = -1.0;     // [s] the current contact with data began (-1: none)
+  double probed_until = -1.0;   // [s] the last probe (link_since is valid only from there on)
+  // Returns the time of the pick-up, or -1 if it did not happen during [t0, t1].
   auto pick_up_on_the_way = [&](Point2 from, Point2 to, double t0, double t1) -> double {
-    if (carried.empty() || !(t1 > t0)) return -1.0;
+    if (std::abs(t0 - probed_until) > kEps) link_since = -1.0;
+    probed_until = t1;
+    if (carried.empty() || !(t1 >= t0)) {
+      link_since = -1.0;
+      return -1.0;
+    }
     auto linked_at = [&](double t) {
-      const double f = (t - t0) / (t1 - t0);
+      const double f = t1 > t0 ? (t - t0) / (t1 - t0) : 0.0;
       const Point2 p{from.x + f * (to.x - from.x), from.y + f * (to.y - from.y)};
       const Point2 c = route.position(t);
       return std::hypot(p.x - c.x, p.y - c.y) <= link_range && radio_.linked(p, c);
     };
+    const double need = transfer_s(ctx_.scenario, carried.size());
     const int steps = std::max(1, static_cast<int>(std::ceil((t1 - t0) / kLinkProbe)));
     for (int i = 0; i <= steps; ++i) {
-      double hi = t0 + (t1 - t0) * i / steps;
-      if (!linked_at(hi)) continue;
-      if (i > 0) {  // the link came up between two probes: find when, to 1e-4 s
-        double lo = t0 + (t1 - t0) * (i - 1) / steps;
-        while (hi - lo > 1e-4) {
-          const double mid = 0.5 * (lo + hi);
-          (linked_at(mid) ? hi : lo) = mid;
+      const double at = t0 + (t1 - t0) * i / steps;
+      if (!linked_at(at)) {
+        link_since = -1.0;
+        continue;
+      }
+      if (link_since < 0) {
+        link_since = at;
+        if (i > 0) {  // the link came up between two probes: find when, to 1e-4 s
+          double lo = t0 + (t1 - t0) * (i - 1) / steps;
+          while (link_since - lo > 1e-4) {
+            const double mid = 0.5 * (lo + link_since);
+            (linked_at(mid) ? link_since : lo) = mid;
+          }
         }
       }
-      hand_over(hi);
-      return hi;
+      const double done = std::max(link_since + need, t0);
+      if (done <= at + kEps) {
+        hand_over(done);
+        link_since = -1.0;
+        return done;
+      }
     }
     return -1.0;
   };
@@ -223,7 +244,7 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
       ++next_req;
     }
     const WorkerPolicy::Decision dec = w.decide(Spot{pos, at_rv, false, at_meeting}, t, known.data(), known.size(),
-                                                !carried.empty(), next_req < run.cycles, no_meeting_before);
+                                                carried.size(), next_req < run.cycles, no_meeting_before);
     if (dec.action == WorkerPolicy::Action::kDone) break;
     if (dec.action == WorkerPolicy::Action::kGoToRendezvous) {
       const Cell to = w.rendezvous()[static_cast<std::size_t>(dec.rendezvous)];
@@ -258,18 +279,17 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
     const double arrive = dec.arrive;
     run.legs.push_back(Leg{w.agent(), clock, arrive, here, meet_point});
     pick_up_on_the_way(here, meet_point, clock, arrive);
-    const double taken = pick_up_on_the_way(meet_point, meet_point, arrive, dec.handover);
+    // Wait there for the hand-over, at most until the pass's link window ends.
+    const double taken = pick_up_on_the_way(meet_point, meet_point, arrive, std::max(arrive, dec.link_until));
     pos = w.rendezvous()[static_cast<std::size_t>(dec.rendezvous)];
     at_rv = dec.rendezvous;
     at_meeting = false;
     if (carried.empty()) {
-      // Taken on the way: no need to wait for the pass; decide again as soon
-      // as the data is gone (at the pass, or when the collector came in range).
+      // Taken (on the way or there): decide again as soon as the data is gone.
       t = std::max(arrive, taken);
     } else {
-      t = dec.handover;
-      if (radio_.linked(meet_point, route.position(t))) hand_over(t);
-      else no_meeting_before = t + 1.0;  // the worker keeps its data for a later pass
+      t = std::max(arrive, dec.link_until);
+      no_meeting_before = t + 1.0;  // the worker keeps its data for a later pass
     }
   }
 }
@@ -318,7 +338,7 @@ void MissionSimulator::simulate_oc_worker(std::size_t wi, Run& run) {
       }
     }
     const WorkerPolicy::Decision dec =
-        w.decide(Spot{pos, -1, at_landing}, t, known.data(), known.size(), !carried.empty(), next_req < run.cycles);
+        w.decide(Spot{pos, -1, at_landing}, t, known.data(), known.size(), carried.size(), next_req < run.cycles);
     if (dec.action == WorkerPolicy::Action::kDone) break;
     if (dec.action == WorkerPolicy::Action::kBackToCoverage) {
       back_to_coverage();

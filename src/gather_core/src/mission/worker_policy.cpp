@@ -7,6 +7,7 @@
 
 #include "gather_core/error.hpp"
 #include "gather_core/mission/tour.hpp"
+#include "gather_core/radio/radio_model.hpp"
 
 namespace gather {
 namespace mission {
@@ -16,6 +17,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kEps = 1e-9;           // [s] time tolerance
 constexpr double kWindowMargin = 1.0;   // [m] around a segment's bounding box for marches between its goals
 constexpr std::size_t kMaxLandings = 16;  // per OC worker: landing tables kept; beyond, march each time
+constexpr double kLinkStep = 0.1;       // [m] of route between two samples of a rendezvous' link window
 
 [[noreturn]] void bug(const std::string& what) { throw Error("mission", what); }
 
@@ -67,6 +69,33 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
     }
     if (rendezvous_.empty())
       throw Error(where, "segment " + std::to_string(segment_) + " has no reachable pass of its collector");
+    // Each pass's link window: from the pass along the route both ways while
+    // the rendezvous point (where the worker waits) stays linked to the
+    // collector, within one loop (the route starts and ends at the OC).
+    const RadioModel radio(grid, world.scenario.radio);
+    const double range = radio.free_space_range();
+    double longest = 0.0;
+    for (std::size_t r = 0; r < rendezvous_.size(); ++r) {
+      const Point2 w = grid.cell_center(rendezvous_[r]);
+      auto linked = [&](double s) {
+        const Point2 c = route_->position_at_arc(s);
+        return std::hypot(c.x - w.x, c.y - w.y) <= range && radio.linked(w, c);
+      };
+      const double s0 = rendezvous_arc_[r];
+      double lo = s0, hi = s0;
+      if (linked(s0)) {
+        while (lo > 0.0 && linked(std::max(0.0, lo - kLinkStep))) lo = std::max(0.0, lo - kLinkStep);
+        while (hi < route_->length() && linked(std::min(route_->length(), hi + kLinkStep)))
+          hi = std::min(route_->length(), hi + kLinkStep);
+      }
+      link_window_.emplace_back(lo, hi);
+      longest = std::max(longest, (hi - lo) / route_->speed());
+    }
+    const double one = transfer_s(world.scenario, 1);
+    capacity_ = one > 0.0 ? static_cast<std::size_t>(std::floor((longest - handover_guard(longest)) / one + kEps))
+                          : std::numeric_limits<std::size_t>::max();
+  } else {
+    capacity_ = std::numeric_limits<std::size_t>::max();
   }
   for (std::size_t i = 0; i < mp.labels.size() && i < grid.size(); ++i)
     if (mp.labels[i] == segment_ && world.reachable[i]) segment_cells_.push_back(grid.cell(i));
@@ -361,23 +390,45 @@ void WorkerPolicy::order_tour(const int* known, std::size_t n_known) {
   tour_n_ = n_known;
 }
 
-// Earliest meeting with the collector after measuring the first k goals of
-// the tour: over every rendezvous, the collector's next pass after the
-// worker can be there (and not before no_meeting_before).
-double WorkerPolicy::earliest_meeting(std::size_t k, double t, double no_meeting_before, int& best_rv) const {
-  double best = kInf;
+// The hand-over of `load` goals at rendezvous r by a worker standing there
+// from `arrive` [s]: at the collector's first pass whose link window still
+// holds for the transfer (and the guard) after the worker is there; the
+// transfer starts when both are there and linked. done = +inf when no
+// window of r is long enough for the load.
+WorkerPolicy::Meeting WorkerPolicy::meeting_at(std::size_t r, double arrive, std::size_t load) const {
+  Meeting m;
+  m.done = kInf;
+  const double v = route_->speed(), s = rendezvous_arc_[r];
+  const double before = (s - link_window_[r].first) / v, after = (link_window_[r].second - s) / v;
+  const double need = transfer_s(world_.scenario, load), guard = handover_guard(before + after);
+  if (before + after < need + guard - kEps) return m;
+  const double h = route_->next_time_at(s, std::max(0.0, arrive + need + guard - after));
+  m.rv = static_cast<int>(r);
+  m.start = std::max(arrive, h - before);
+  m.done = m.start + need;
+  m.until = h + after;
+  return m;
+}
+
+// The earliest hand-over of `load` goals after measuring the first k goals
+// of the tour, over every rendezvous (and not before no_meeting_before).
+WorkerPolicy::Meeting WorkerPolicy::earliest_meeting(std::size_t k, double t, double no_meeting_before,
+                                                     std::size_t load) const {
+  Meeting best;
+  best.done = kInf;
   for (std::size_t r = 0; r < rendezvous_.size(); ++r) {
     const double dist = k == 0 ? position_to_rv_[r] : from_[static_cast<std::size_t>(tour_[k - 1]) * stride_ + n_ + r];
     if (!(dist < kInf)) continue;
     const double arrive = std::max((k == 0 ? t : at_[k - 1]) + dist / speed_, no_meeting_before);
-    const double h = route_->next_time_at(rendezvous_arc_[r], arrive);
-    if (h < best) best = h, best_rv = static_cast<int>(r);
+    const Meeting m = meeting_at(r, arrive, load);
+    if (m.done < best.done) best = m;
   }
   return best;
 }
 
 WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int* known, std::size_t n_known,
-                                            bool carrying, bool more_requests, double no_meeting_before) {
+                                            std::size_t carried, bool more_requests, double no_meeting_before) {
+  const bool carrying = carried > 0;
   Decision d;
   d.tour = tour_.data();
   d.at = at_.data();
@@ -387,6 +438,9 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
     distances_from(at);
     order_tour(known, n_known);
     kmax = arrival_times(t);
+    // A hand-over carries at most capacity_ goals: measure no more than it
+    // can still hand over (the rest expire, reported).
+    if (!delivers_to_oc()) kmax = std::min(kmax, capacity_ > carried ? capacity_ - carried : 0);
   }
   if (delivers_to_oc()) {
     // Measure every goal that can still be measured in time, then come back.
@@ -468,31 +522,35 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
     d.action = Action::kWait;
     return d;
   }
-  // The earliest meeting reachable after measuring at least one goal; then as
-  // many goals of the tour as still reach that same meeting.
-  int rv = 0;
+  // The earliest hand-over reachable after measuring at least one goal; then
+  // as many goals of the tour as can still be handed over in that same pass's
+  // link window: the worker measures until the latest moment from which it
+  // reaches the rendezvous in time for the transfer of all it carries to end
+  // within the window (less the guard), walking to meet the collector in
+  // movement instead of waiting for its pass.
   std::size_t k = 0;
-  double handover = kInf;
+  Meeting meet;
   if (kmax == 0) {
-    handover = earliest_meeting(0, t, no_meeting_before, rv);
+    meet = earliest_meeting(0, t, no_meeting_before, carried);
   } else {
-    int rv1 = 0;
-    const double first = earliest_meeting(1, t, no_meeting_before, rv1);
-    k = 1, rv = rv1, handover = first;
-    for (std::size_t j = 2; j <= kmax; ++j) {
-      int rvj = 0;
-      const double h = earliest_meeting(j, t, no_meeting_before, rvj);
-      if (h <= first + kEps) k = j, rv = rvj, handover = h;
+    meet = earliest_meeting(1, t, no_meeting_before, carried + 1);
+    k = 1;
+    const double until = meet.until;
+    for (std::size_t j = 2; j <= kmax && meet.rv >= 0; ++j) {
+      const Meeting m = earliest_meeting(j, t, no_meeting_before, carried + j);
+      if (m.done <= until + kEps) k = j, meet = m;
     }
   }
-  if (!(handover < kInf)) bug("worker " + std::to_string(agent_) + " cannot reach any pass of its collector");
-  const double dist = k == 0 ? position_to_rv_[static_cast<std::size_t>(rv)]
-                             : from_[static_cast<std::size_t>(tour_[k - 1]) * stride_ + n_ + static_cast<std::size_t>(rv)];
+  // (The load never exceeds capacity_, which the longest window holds.)
+  if (!(meet.done < kInf)) bug("worker " + std::to_string(agent_) + " cannot reach any pass of its collector");
+  const std::size_t rv = static_cast<std::size_t>(meet.rv);
+  const double dist = k == 0 ? position_to_rv_[rv] : from_[static_cast<std::size_t>(tour_[k - 1]) * stride_ + n_ + rv];
   d.action = Action::kWork;
   d.k = k;
-  d.rendezvous = rv;
+  d.rendezvous = meet.rv;
   d.arrive = (k == 0 ? t : at_[k - 1]) + dist / speed_;
-  d.handover = handover;
+  d.handover = meet.done;
+  d.link_until = meet.until;
   return d;
 }
 

@@ -464,9 +464,13 @@ WorkerRun run_oc_worker(const TourModel& tour, const std::vector<double>& pmf, d
 // until then, goals evenly along its tour, and hands each goal over at the
 // first pass next to its segment after measuring it; the collector uploads
 // where its route next enters the coverage.
+// A hand-over of n goals takes transfer_s(n) = n * per_goal [s] of link; it
+// must end within a contact stretch, less the policy's guard
+// (mission::handover_guard), so a worker hands over at most
+// floor((longest stretch - guard) / per_goal) goals a request.
 WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, const Stretches& contact,
                                const TourModel& model, const std::vector<double>& pmf, double v, double T, int cycles,
-                               const std::vector<AreaDeliveries>& areas) {
+                               const std::vector<AreaDeliveries>& areas, double per_goal) {
   WorkerRun run;
   run.areas = areas;
   const LoopSchedule sched(r.period, T);
@@ -479,33 +483,40 @@ WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, co
     return first;
   };
   auto arrival = [&](int req) { return sched.next_at(m.route_s / v, pickup(req * T)); };
-  // When a goal measured at `ready` reaches the OC: handed over at the first
-  // contact stretch the collector is in at or after then, uploaded where its
+  // When a goal measured at `ready` reaches the OC in a hand-over that needs
+  // `need` [s] of link: handed over in the first contact stretch of the
+  // collector that still holds that long after then, uploaded where its
   // route next enters the coverage.
-  auto delivered_at = [&](double ready) {
+  auto delivered_at = [&](double ready, double need) {
     double best = kInf;
     for (const auto& [a, b] : contact) {
-      const double loop_start = sched.next_at(b / v, ready) - b / v;
-      const double handover = std::max(ready, loop_start + a / v);
+      const double guard = mission::handover_guard((b - a) / v);
+      if ((b - a) / v < need + guard - 1e-9) continue;
+      const double loop_start = sched.next_at(b / v, ready + need + guard) - b / v;
+      const double handover = std::max(ready, loop_start + a / v) + need;
       best = std::min(best, handover + upload_after(r, (handover - loop_start) * v) / v);
     }
     return best;
   };
+  double longest = 0.0;
+  for (const auto& [a, b] : contact) longest = std::max(longest, (b - a) / v);
+  const double capacity = per_goal > 0.0 ? std::floor((longest - mission::handover_guard(longest)) / per_goal + 1e-9)
+                                         : kInf;
   std::vector<double> at;  // upload times of one goal count's samples
   at.reserve(16);
   for (int req = 0; req < cycles; ++req) {
     const double learn = arrival(req);
     // Valid for a period after it arrived, or until the next one arrives
     // (mission::request_deadline).
-    const double fits = model.goals_within(v * (std::min(arrival(req + 1), learn + T) - learn),
-                                           static_cast<double>(pmf.size()));
+    const double fits = std::min(capacity, model.goals_within(v * (std::min(arrival(req + 1), learn + T) - learn),
+                                                              static_cast<double>(pmf.size())));
     for (std::size_t k = 1; k < pmf.size(); ++k) {
       const double n = std::min(static_cast<double>(k), fits);
       if (n <= 0.0) continue;
-      const double tour = model.length(n) / v;
+      const double tour = model.length(n) / v, need = n * per_goal;
       constexpr int kSamples = 8;
       double sum = 0.0;
-      for (int i = 1; i <= kSamples; ++i) sum += delivered_at(learn + tour * i / kSamples) - req * T;
+      for (int i = 1; i <= kSamples; ++i) sum += delivered_at(learn + tour * i / kSamples, need) - req * T;
       run.add(pmf[k] * n, sum / kSamples);
       // Deliveries: the uploads that carry some of the n goals (spread
       // evenly along the tour; each of goals_n samples stands for n /
@@ -515,7 +526,7 @@ WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, co
       const int goals_n = static_cast<int>(std::min(16.0, std::ceil(n)));
       at.clear();
       for (int i = 1; i <= goals_n; ++i) {
-        const double t = delivered_at(learn + tour * i / goals_n);
+        const double t = delivered_at(learn + tour * i / goals_n, need);
         if (std::isfinite(t)) at.push_back(t);
       }
       std::sort(at.begin(), at.end());
@@ -561,7 +572,7 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
     w.tour_s = model.length(w.expected_goals) / v;
     if (m != r.meetings.end())
       run = run_collector_worker(r, *m, contact_stretches(r, *m, seg.centroid_m, radio), model, pmf, v, T, cycles,
-                                 cfg.area_parts[static_cast<std::size_t>(seg.id - 1)]);
+                                 cfg.area_parts[static_cast<std::size_t>(seg.id - 1)], transfer_s(s, 1));
   }
   w.delivered_goals = run.delivered / cycles;
   w.refresh_s = run.delivered > 0 ? run.refresh_sum / run.delivered : 0.0;

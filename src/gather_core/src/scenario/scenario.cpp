@@ -45,7 +45,7 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   require(s.team.radius >= 0 && std::isfinite(s.team.radius), path, "team.radius must be >= 0 m, got " + num(s.team.radius));
 
   const yaml::Fields radio = f.section("radio");
-  radio.allow({"tx_power_dbm", "ref_loss_db", "exponent", "wall_loss_db", "max_walls", "sensitivity_dbm"});
+  radio.allow({"tx_power_dbm", "ref_loss_db", "exponent", "wall_loss_db", "max_walls", "sensitivity_dbm", "bitrate_bps"});
   RadioParams& r = s.radio;
   r.tx_power_dbm = radio.optional<double>("tx_power_dbm", r.tx_power_dbm);
   r.ref_loss_db = radio.optional<double>("ref_loss_db", r.ref_loss_db);
@@ -56,9 +56,12 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   require(r.exponent > 0, path, "radio.exponent must be > 0, got " + num(r.exponent));
   require(r.wall_loss_db >= 0, path, "radio.wall_loss_db must be >= 0, got " + num(r.wall_loss_db));
   require(r.max_walls >= 0, path, "radio.max_walls must be >= 0, got " + std::to_string(r.max_walls));
+  r.bitrate_bps = radio.optional<double>("bitrate_bps", r.bitrate_bps);
+  require(r.bitrate_bps >= 0 && r.bitrate_bps <= 1e12, path,
+          "radio.bitrate_bps must be in [0, 1e12] bit/s (0 = instant hand-over), got " + num(r.bitrate_bps));
 
   const yaml::Fields mission = f.section("mission");
-  mission.allow({"goals_per_request", "cycles", "seed", "period"});
+  mission.allow({"goals_per_request", "cycles", "seed", "period", "bytes_per_goal"});
   s.mission.goals_per_request = mission.optional<int>("goals_per_request", s.mission.goals_per_request);
   s.mission.cycles = mission.optional<int>("cycles", s.mission.cycles);
   s.mission.seed = mission.optional<unsigned>("seed", s.mission.seed);
@@ -67,6 +70,9 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   s.mission.period = mission.optional<double>("period", s.mission.period);
   require(s.mission.period >= 0 && std::isfinite(s.mission.period), path,
           "mission.period must be >= 0 s (0 = automatic), got " + num(s.mission.period));
+  s.mission.bytes_per_goal = mission.optional<double>("bytes_per_goal", s.mission.bytes_per_goal);
+  require(s.mission.bytes_per_goal >= 0 && s.mission.bytes_per_goal <= 1e9, path,
+          "mission.bytes_per_goal must be in [0, 1e9] bytes, got " + num(s.mission.bytes_per_goal));
 
   const yaml::Fields planner = f.section("planner");
   planner.allow({"methods", "collectors", "alpha", "beta", "refresh", "max_cells"});
@@ -102,6 +108,11 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
           "planner.max_cells must be 0 (plan on the map's own grid) or >= 10000, got " + std::to_string(max_cells));
   p.max_cells = static_cast<std::size_t>(max_cells);
   return s;
+}
+
+double transfer_s(const Scenario& s, std::size_t n) {
+  if (!(s.radio.bitrate_bps > 0.0)) return 0.0;
+  return static_cast<double>(n) * s.mission.bytes_per_goal * 8.0 / s.radio.bitrate_bps;
 }
 
 Scenario load_scenario(const std::string& path) {

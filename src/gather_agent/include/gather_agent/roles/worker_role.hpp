@@ -72,7 +72,12 @@ class WorkerRole : public Role {
   int target_rv_ = -1, at_rv_ = -1;
   bool ends_at_landing_ = false, at_landing_ = false;
   bool ends_at_meeting_ = false, at_meeting_ = false;
-  double handover_ = 0.0, no_meeting_before_ = 0.0;
+  double handover_ = 0.0, link_until_ = 0.0, no_meeting_before_ = 0.0;
+  // [s] since when the worker is in contact upstream with data on board (-1:
+  // not): a hand-over of n goals goes out once that has lasted
+  // transfer_s(n) (docs/simulator.md, "Hand-over").
+  double transfer_since_ = -1.0;
+  bool sent_in_contact_ = false;
   // Contact and state messages.
   bool contact_prev_ = false;
   bool heard_oc_ = false;     // OC workers: the OC answered since it came back into the coverage

@@ -28,6 +28,7 @@ class RouteTimetable {
 
   bool idle() const { return length_ <= 0.0; }
   double length() const { return length_; }                      // [m]
+  double speed() const { return speed_; }                         // [m/s]
   double period() const { return idle() ? 0.0 : length_ / speed_; }  // [s] one loop's driving time
   const plan::LoopSchedule& schedule() const { return schedule_; }
   Point2 position_at_arc(double s) const;                         // s in [0, length] [m]

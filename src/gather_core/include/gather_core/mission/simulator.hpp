@@ -142,6 +142,12 @@ class MissionSimulator {
   // Each agent's time budget in `result` (a run of this simulator).
   std::vector<TimeBudget> time_budgets(const MissionResult& result) const;
   const RouteTimetable& route(int collector) const { return routes_[static_cast<std::size_t>(collector)]; }
+  // The decisions of worker `agent` (nullptr for a collector or no such agent).
+  const WorkerPolicy* worker(int agent) const {
+    for (const WorkerPolicy& w : workers_)
+      if (w.agent() == agent) return &w;
+    return nullptr;
+  }
 
  private:
   struct Run;

@@ -68,6 +68,11 @@ inline double request_deadline(double reached, double next_reached, double perio
   return reached + period < next_reached ? reached + period : next_reached;
 }
 
+// A hand-over is planned to end this long [s] before its pass's link window
+// does: 0.5 s, at most half the window (`window_s` [s]). Room for an agent's
+// control period and its message round trip (docs/simulator.md, "Hand-over").
+inline double handover_guard(double window_s) { return window_s < 1.0 ? 0.5 * window_s : 0.5; }
+
 class WorkerPolicy {
  public:
   enum class Action {
@@ -76,7 +81,7 @@ class WorkerPolicy {
     kGoToMeeting,     // walk to the meeting point (`landing`), where the next request is handed over;
                       // OC worker: to its home in the coverage (`landing`), where it waits for requests
     kWait,            // wait where it is for the next request
-    kWork,            // measure tour[0..k), then (collector worker) walk to `rendezvous` and meet at `handover`
+    kWork,            // measure tour[0..k), then (collector worker) walk to `rendezvous` and hand over by `handover`
     kBackToCoverage,  // OC worker: walk to `landing` (the nearest coverage cell)
   };
   struct Decision {
@@ -86,7 +91,8 @@ class WorkerPolicy {
     const double* at = nullptr;
     int rendezvous = -1;         // collector worker: where it hands over
     double arrive = 0.0;         // [s] at the rendezvous (or the landing cell)
-    double handover = 0.0;       // [s] when its collector passes there
+    double handover = 0.0;       // [s] when the hand-over there is planned to end (the link held for transfer_s)
+    double link_until = 0.0;     // [s] when that pass's link window ends (the worker gives up after it)
     Cell landing;                // kBackToCoverage: the coverage cell; kGoToMeeting: the meeting point's cell
   };
 
@@ -108,6 +114,14 @@ class WorkerPolicy {
   const std::vector<Cell>& rendezvous() const { return rendezvous_; }
   Point2 rendezvous_point(int r) const;
   double meeting_arc() const { return meeting_arc_; }  // [m] on the route
+  // The arcs [m] of the route around rendezvous r's pass over which the
+  // radio link between the rendezvous point and the collector holds without
+  // a break (sampled every kLinkStep metres; docs/simulator.md, "Hand-over").
+  std::pair<double, double> link_window(int r) const { return link_window_[static_cast<std::size_t>(r)]; }
+  // Most goals one hand-over can carry: the longest link window, less the
+  // guard, over one goal's transfer time (max_goals when transfers are
+  // instant; 0: this worker can hand nothing over, and measures nothing).
+  std::size_t handover_capacity() const { return capacity_; }
   // A reachable cell of this worker's segment (where its goals are).
   bool in_segment(Cell c) const { return segment_index(c) >= 0; }
   // Where a worker with nothing to do waits for the next request: the cell
@@ -146,12 +160,12 @@ class WorkerPolicy {
 
   // The next step of a worker at `at` at time t [s] whose unmeasured goals
   // of the current request are `known` (local indices, deadlines not yet
-  // passed), `carrying` data not yet handed over, with `more_requests` still
-  // to come. Collector workers: `no_meeting_before` [s] excludes meetings
+  // passed), carrying `carried` measured goals not yet handed over, with
+  // `more_requests` still to come. Collector workers: `no_meeting_before` [s] excludes meetings
   // before then (after a pass where the link failed). The returned pointers
   // stay valid until the next call.
-  Decision decide(const Spot& at, double t, const int* known, std::size_t n_known, bool carrying, bool more_requests,
-                  double no_meeting_before = 0.0);
+  Decision decide(const Spot& at, double t, const int* known, std::size_t n_known, std::size_t carried,
+                  bool more_requests, double no_meeting_before = 0.0);
 
   // OC workers: the nearest cell of the coverage from `from` and the way's
   // length [m] (the labelled march from the coverage border). Throws
@@ -171,7 +185,14 @@ class WorkerPolicy {
   void from_landing(Cell landing, const Cell* targets, std::size_t n, double* out);
   void order_tour(const int* known, std::size_t n_known);
   std::size_t arrival_times(double t);
-  double earliest_meeting(std::size_t k, double t, double no_meeting_before, int& best_rv) const;
+  // A hand-over at one pass of the collector: the worker there from
+  // `arrive`, the transfer from `start` to `done`, the link until `until` [s].
+  struct Meeting {
+    int rv = -1;
+    double start = 0.0, done = 0.0, until = 0.0;
+  };
+  Meeting meeting_at(std::size_t r, double arrive, std::size_t load) const;
+  Meeting earliest_meeting(std::size_t k, double t, double no_meeting_before, std::size_t load) const;
 
   const World& world_;
   SharedDistances& shared_;
@@ -181,6 +202,8 @@ class WorkerPolicy {
   double meeting_arc_ = 0.0;
   std::vector<Cell> rendezvous_;        // cells of its collector's passes next to its segment
   std::vector<double> rendezvous_arc_;  // [m] their arc positions on the route
+  std::vector<std::pair<double, double>> link_window_;  // [m] arcs of the route linked to each rendezvous
+  std::size_t capacity_ = 0;  // goals per hand-over (handover_capacity)
   // Geodesic distances [m] from each rendezvous to every cell of the segment
   // (by the cell's index in its segment) and to the other rendezvous.
   std::vector<std::vector<float>> rendezvous_to_cell_;

@@ -22,6 +22,11 @@ struct RadioParams {
   double wall_loss_db = 5.0;  // per wall crossed (a run of non-free cells along the ray)
   int max_walls = 4;
   double sensitivity_dbm = -75.0;  // a link exists when received >= sensitivity
+  // Data rate of a worker-to-collector hand-over [bit/s], in [0, 1e12]; 0 =
+  // instant hand-over (the link needs to hold for one instant). With a rate,
+  // handing over n goals needs the link to hold for transfer_s(n) seconds
+  // (docs/simulator.md, "Hand-over").
+  double bitrate_bps = 0.0;
 };
 
 struct MissionParams {
@@ -32,6 +37,9 @@ struct MissionParams {
   // the OC's coverage to the farthest reachable point at team speed
   // (extension of DESIGN's format; see docs/planner.md).
   double period = 0.0;
+  // Size of one goal's measurement [byte], in [0, 1e9]: with
+  // radio.bitrate_bps it sets how long a hand-over takes.
+  double bytes_per_goal = 4096.0;
 };
 
 // Which refresh time the utility weighs (docs/planner.md, "Two refresh
@@ -52,6 +60,11 @@ struct PlannerParams {
   // grid/planning_grid.hpp and docs/planner.md.
   std::size_t max_cells = 250000;
 };
+
+struct Scenario;
+// Time [s] a hand-over of n goals needs the worker-collector link to hold:
+// n * mission.bytes_per_goal * 8 / radio.bitrate_bps, 0 when the rate is 0.
+double transfer_s(const Scenario& s, std::size_t n);
 
 struct Scenario {
   std::string path;      // the scenario file
