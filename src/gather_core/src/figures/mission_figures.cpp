@@ -145,7 +145,7 @@ void write_fig4_sync(const std::string& path, const plan::PlanContext& ctx, cons
     if (plan.labels[i] == segment) canvas.paint(g.cell(i), cv::Vec3b(215, 235, 250));
   const cv::Scalar blue(200, 90, 20), red(30, 30, 210);
   fmm::FastMarching fm(g);
-  const cv::Scalar window_colour(190, 190, 250), transfer_colour(60, 200, 60), rv_colour(120, 0, 120);
+  const cv::Scalar window_colour(215, 205, 140), transfer_colour(60, 200, 60), rv_colour(120, 0, 120);
   const double v = ctx.scenario.team.speed;
   const mission::WorkerPolicy* policy = sim.worker(agent);
   if (collector >= 0 && policy) {
