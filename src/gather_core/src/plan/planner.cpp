@@ -433,20 +433,53 @@ WorkerRun run_oc_worker(const TourModel& tour, const std::vector<double>& pmf, d
   // The goals it can measure within a period of learning the request
   // (mission::request_deadline): those whose tour, but the way back, fits.
   const double fits = tour.goals_within(v * T + tour.reach, static_cast<double>(pmf.size()));
-  double loop = 0.0, goals = 0.0, weighted = 0.0;  // expected loop [s]; goals; goal-weighted loop
+  double loop = 0.0, goals = 0.0;  // expected loop [s]; goals
   for (std::size_t k = 1; k < pmf.size(); ++k) {
     const double n = std::min(static_cast<double>(k), fits);
     loop += pmf[k] * tour.length(n) / v;
     goals += pmf[k] * n;
-    weighted += pmf[k] * n * tour.length(n) / v;
   }
+  // Goals and latency: the worker's lateness (when it is back in the
+  // coverage after request r's issue) is a random walk, not its mean: a
+  // loop longer than T makes it late for the next request, a shorter one
+  // lets it wait; a lateness of a whole period or more means a newer request
+  // was issued meanwhile, and request r is skipped. Its distribution is
+  // carried over the cycles on bins of T / kBins (a loop of mean close to T
+  // skips requests that the mean alone never would).
+  constexpr int kBins = 64;
+  const double bin = T / kBins;
+  std::vector<double> late(2 * kBins + 2, 0.0), next_late(late.size());
+  late[0] = 1.0;
+  for (int r = 0; r < cycles; ++r) {
+    std::fill(next_late.begin(), next_late.end(), 0.0);
+    auto put = [&](double lateness, double p) {
+      const double b = std::max(0.0, lateness) / bin + 0.5;
+      next_late[b >= static_cast<double>(next_late.size() - 1) ? next_late.size() - 1 : static_cast<std::size_t>(b)] += p;
+    };
+    for (std::size_t b = 0; b < late.size(); ++b) {
+      const double p = late[b], lambda = static_cast<double>(b) * bin;
+      if (p <= 0.0) continue;
+      if (lambda >= T - 1e-9) {  // skipped: back after request r + 1 was issued
+        put(lambda - T, p);
+        continue;
+      }
+      for (std::size_t k = 0; k < pmf.size(); ++k) {
+        if (pmf[k] <= 0.0) continue;
+        const double n = std::min(static_cast<double>(k), fits), trip = tour.length(n) / v;
+        if (n > 0.0) run.add(p * pmf[k] * n, lambda + trip);
+        put(lambda + trip - T, p * pmf[k]);
+      }
+    }
+    late.swap(next_late);
+  }
+  // Interval: the deliveries on the mean timeline (a trip delivers the
+  // request it served; skips are in the timeline's own jumps).
   double t = 0.0;  // the worker is inside the coverage at t
   for (int next = 0; next < cycles;) {
     const int req = std::max(next, std::min(cycles - 1, static_cast<int>(std::floor(t / T + 1e-9))));
     t = std::max(t, req * T);
     next = req + 1;
     if (goals <= 0.0) continue;
-    run.add(goals, t - req * T + weighted / goals);
     for (AreaDeliveries& a : run.areas) {
       a.delivery(t + loop, 1.0 - std::pow(std::max(0.0, 1.0 - (a.area_m2 - a.covered_m2) / A), G));
       const double inside = G * a.covered_m2 / A;
