@@ -100,12 +100,13 @@ std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s
   s.results_dir = gather::resolve_launch_path(s.results_dir);
   if (s.cycles < 0 || s.cycles > 100000) return "~cycles must be in 0..100000 (0: the scenario's), got " + std::to_string(s.cycles);
   if (s.clock != "lockstep" && s.clock != "wall") return "~clock must be lockstep or wall, got '" + s.clock.substr(0, 40) + "'";
-  if (!(s.rate >= 0.0)) return "~rate must be >= 0 (0: as fast as the lockstep allows)";
+  if (!(s.rate >= 0.0 && s.rate <= 1e6)) return "~rate must be in [0, 1e6] (0: as fast as the lockstep allows)";
   if (s.clock == "wall" && s.rate == 0.0) s.rate = 1.0;  // the wall clock runs at real time unless told otherwise
   if (!(s.tick > 0.0 && s.tick <= 0.1)) return "~tick must be in (0, 0.1] s";
   if (!(s.loss >= 0.0 && s.loss < 1.0)) return "~loss must be in [0, 1)";
-  if (!(s.ready_timeout > 0.0)) return "~ready_timeout must be > 0 s";
-  if (!(s.map_timeout > 0.0)) return "~map_timeout must be > 0 s";
+  if (s.loss_seed < 0) return "~loss_seed must be >= 0";
+  if (!(s.ready_timeout > 0.0 && s.ready_timeout <= 86400.0)) return "~ready_timeout must be in (0, 86400] s";
+  if (!(s.map_timeout > 0.0 && s.map_timeout <= 86400.0)) return "~map_timeout must be in (0, 86400] s";
   if (!(s.view_period >= s.tick && s.view_period <= 3600.0)) return "~view_period must be in [~tick, 3600] s of mission time";
   if (s.frame.empty()) return "~frame_id must not be empty";
   return "";
