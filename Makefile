@@ -50,13 +50,21 @@ test-ros: build
 	@grep -qE "^Summary: [1-9][0-9]* tests, 0 errors, 0 failures" $(WS)/build/test_results.txt \
 	  || { echo "test-ros: no test results found (catkin_test_results)" >&2; exit 1; }
 
-# gather_core and gather_agent as plain CMake projects, no ROS, own build dir.
+# gather_core and gather_agent as plain CMake projects, no ROS, own build
+# dir, built with AddressSanitizer + UndefinedBehaviorSanitizer (+ float-cast-
+# overflow; any report aborts): the unit tests (LCM payload fuzzing among
+# them), then the seeded mutation fuzz smoke over scenarios, maps, plan
+# directories and flags (tests/fuzz/fuzz_smoke.py; docs/input_limits.md).
+FUZZ_CASES ?= 300
 test-plain: deps
 	@if grep -rnE '#include [<"](ros|nav_msgs|visualization_msgs|std_msgs)/' src/gather_core src/gather_agent tests/core tests/agent; then \
 	  echo "gather_core/gather_agent must not include ROS headers" >&2; exit 1; fi
-	cmake -S src/gather_agent -B $(PLAIN) -DCMAKE_BUILD_TYPE=Release > /dev/null
+	cmake -S src/gather_agent -B $(PLAIN) -DCMAKE_BUILD_TYPE=Release -DGATHER_SANITIZE=ON > /dev/null
 	cmake --build $(PLAIN) -j$(JOBS)
-	cd $(PLAIN) && ctest --output-on-failure -j$(JOBS)
+	cd $(PLAIN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  ctest --output-on-failure -j$(JOBS) --timeout 600
+	$(PYTHON) tests/fuzz/fuzz_smoke.py --gather $(PLAIN)/gather_core/gather --agent $(PLAIN)/gather_agent \
+	  --cases $(FUZZ_CASES) --seed 1 --keep results/fuzz
 
 # Every bad input gives one line naming the file and exit status 2, from every
 # binary: bad scenarios, and bad plan directories.

@@ -92,6 +92,23 @@ copy zero_tile; edit zero_tile 'area_tile_m: [0-9.e+]+' 'area_tile_m: 0'
 check zero_tile "$tmp/zero_tile/plan.yaml"
 copy no_interval; edit no_interval 'interval_s: [0-9.e+]+, ' ''
 check no_interval "$tmp/no_interval/plan.yaml"
+# Ids and counts against each other (docs/input_limits.md).
+copy route_index; edit route_index '(routes:\n +- collector: )0' '\g<1>1'
+check route_index "$tmp/route_index/plan.yaml"
+copy collector_not_its_id; edit collector_not_its_id '\{id: 0, role: collector, segment: 0, collector: 0\}' '{id: 0, role: collector, segment: 0, collector: 1}'
+check collector_not_its_id "$tmp/collector_not_its_id/plan.yaml"
+copy worker_as_collector; edit worker_as_collector '\{id: ([0-9]+), role: worker, segment: [0-9]+, collector: -?[0-9]+\}' '{id: \1, role: collector, segment: 0, collector: 0}'
+check worker_as_collector "$tmp/worker_as_collector/plan.yaml"
+copy nan_pass; edit nan_pass 'passes_m: \[[-0-9.e]+' 'passes_m: [.nan'
+check nan_pass "$tmp/nan_pass/plan.yaml"
+copy far_waypoint; edit far_waypoint '(waypoints:\n +- \[)[-0-9.e]+' '\g<1>1e12'
+check far_waypoint "$tmp/far_waypoint/plan.yaml"
+copy huge_period; edit huge_period 'cycle_period_s: [0-9.e+]+' 'cycle_period_s: 1e300'
+check huge_period "$tmp/huge_period/plan.yaml"
+copy meeting_off_route; edit meeting_off_route 'at_m: [0-9.e+]+' 'at_m: 1e9'
+check meeting_off_route "$tmp/meeting_off_route/plan.yaml"
+copy segment_out_of_range; edit segment_out_of_range 'segments: \[[0-9]+' 'segments: [999'
+check segment_out_of_range "$tmp/segment_out_of_range/plan.yaml"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ] && [ "$passed" -gt 0 ]

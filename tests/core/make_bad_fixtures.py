@@ -93,6 +93,13 @@ def main():
         "wrong_type.yaml": map_yaml("ok.pgm", resolution="fine"),
         "bad_mode.yaml": map_yaml("ok.pgm", mode="ternary"),
         "rotated.yaml": map_yaml("ok.pgm", origin="[0.0, 0.0, 1.57]"),
+        "pgm_header_20000.yaml": map_yaml("header_20000.pgm"),
+        "png_decodes_huge.yaml": map_yaml("decodes_huge.png"),
+        "image_dev_zero.yaml": map_yaml("/dev/zero"),
+        "image_directory.yaml": map_yaml("."),
+        "resolution_tiny.yaml": map_yaml("ok.pgm", resolution="1e-300"),
+        "origin_nan.yaml": map_yaml("ok.pgm", origin="[.nan, 0.0, 0.0]"),
+        "origin_huge.yaml": map_yaml("ok.pgm", origin="[1e300, 0.0, 0.0]"),
     }
     for name, text in maps.items():
         write(os.path.join(MAPS, name), text)
@@ -110,6 +117,17 @@ def main():
     write(os.path.join(MAPS, "huge_header.png"), b"\x89PNG\r\n\x1a\n" + png_chunk(b"IHDR", ihdr) +
           png_chunk(b"IDAT", zlib.compress(b"\0" * 100)) + png_chunk(b"IEND", b""))
     write(os.path.join(MAPS, "pgm16.pgm"), b"P5\n2 2\n65535\n" + b"\x00" * 8)
+    # A 19-byte PGM header claiming 20000 x 20000 pixels: refused by the
+    # pixel limit before anything that size is allocated.
+    write(os.path.join(MAPS, "header_20000.pgm"), b"P5\n20000 20000\n255\n")
+    # A small PNG (zlib packs 9000 x 9000 zero bytes into ~80 KB) that
+    # decodes to 81 M pixels: refused by the pixel limit from its header.
+    ihdr = struct.pack(">IIBBBBB", 9000, 9000, 8, 0, 0, 0, 0)
+    comp = zlib.compressobj(9)
+    row = b"\0" * 9001
+    idat = b"".join(comp.compress(row) for _ in range(9000)) + comp.flush()
+    write(os.path.join(MAPS, "decodes_huge.png"), b"\x89PNG\r\n\x1a\n" + png_chunk(b"IHDR", ihdr) +
+          png_chunk(b"IDAT", idat) + png_chunk(b"IEND", b""))
 
     # Scenarios: (case, text or None for "file absent", file the message must name, problem words).
     cases = [
@@ -121,7 +139,7 @@ def main():
         ("truncated_p5", scenario(map_file="../maps/truncated_p5.yaml"), "truncated_p5.pgm", "truncated"),
         ("truncated_p2", scenario(map_file="../maps/truncated_p2.yaml"), "truncated_p2.pgm", "truncated"),
         ("truncated_png", scenario(map_file="../maps/truncated_png.yaml"), "truncated.png", "truncated"),
-        ("png_huge_header", scenario(map_file="../maps/png_huge_header.yaml"), "huge_header.png", "truncated or corrupt"),
+        ("png_huge_header", scenario(map_file="../maps/png_huge_header.yaml"), "huge_header.png", "limit"),
         ("pgm_16bit", scenario(map_file="../maps/pgm16.yaml"), "pgm16.pgm", "maxval"),
         ("missing_key_map", scenario(map_file=None), "missing_key_map.yaml", "missing key 'map'"),
         ("missing_key_oc", scenario(map_file="../maps/ok.yaml", oc=None), "missing_key_oc.yaml", "missing key 'oc'"),
@@ -139,6 +157,23 @@ def main():
          "planner.refresh"),
         ("bitrate_negative", scenario(extra="radio:\n  bitrate_bps: -1\n"), "bitrate_negative.yaml",
          "radio.bitrate_bps"),
+        ("pgm_header_20000", scenario(map_file="../maps/pgm_header_20000.yaml"), "header_20000.pgm", "limit"),
+        ("png_decodes_huge", scenario(map_file="../maps/png_decodes_huge.yaml"), "decodes_huge.png", "limit"),
+        ("image_dev_zero", scenario(map_file="../maps/image_dev_zero.yaml"), "/dev/zero", "not a regular file"),
+        ("image_directory", scenario(map_file="../maps/image_directory.yaml"), "maps/.", "directory"),
+        ("scenario_dev_zero", "@/dev/zero", "scenario_dev_zero.yaml", "not a regular file"),
+        ("resolution_tiny", scenario(map_file="../maps/resolution_tiny.yaml"), "resolution_tiny.yaml", "resolution"),
+        ("origin_nan", scenario(map_file="../maps/origin_nan.yaml"), "origin_nan.yaml", "origin"),
+        ("origin_huge", scenario(map_file="../maps/origin_huge.yaml"), "origin_huge.yaml", "origin"),
+        ("oc_nan", scenario(oc="[.nan, 1.0]"), "oc_nan.yaml", "oc x"),
+        ("speed_tiny", scenario().replace("speed: 0.5", "speed: 1e-9"), "speed_tiny.yaml", "team.speed"),
+        ("max_walls_huge", scenario(extra="radio:\n  max_walls: 2000000000\n  wall_loss_db: 0\n"),
+         "max_walls_huge.yaml", "radio.max_walls"),
+        ("tx_power_nan", scenario(extra="radio:\n  tx_power_dbm: .nan\n"), "tx_power_nan.yaml", "radio.tx_power_dbm"),
+        ("sensitivity_inf", scenario(extra="radio:\n  sensitivity_dbm: -.inf\n"), "sensitivity_inf.yaml",
+         "radio.sensitivity_dbm"),
+        ("cycles_huge", scenario(extra="mission:\n  cycles: 2147483647\n"), "cycles_huge.yaml", "mission.cycles"),
+        ("alpha_inf", scenario(extra="planner:\n  alpha: .inf\n"), "alpha_inf.yaml", "planner.alpha"),
         ("bytes_per_goal_nan", scenario(extra="mission:\n  bytes_per_goal: .nan\n"), "bytes_per_goal_nan.yaml",
          "mission.bytes_per_goal"),
         ("unknown_map_yaml_key", scenario(map_file="../maps/unknown_key.yaml"), "unknown_key.yaml",
@@ -172,7 +207,9 @@ def main():
     lines = ["# <scenario in cases/> <file the one-line error must name> <words naming the problem>\n"]
     for case, text, named, words in cases:
         fname = case + ".yaml"
-        if text is not None:
+        if text is not None and text.startswith("@"):  # a symlink to a device
+            os.symlink(text[1:], os.path.join(CASES, fname))
+        elif text is not None:
             write(os.path.join(CASES, fname), text)
         lines.append("%-28s %-28s %s\n" % (fname, named, words))
     write(os.path.join(OUT, "cases.txt"), "".join(lines))

@@ -17,7 +17,7 @@ double parse_number(const std::string& flag, const char* s) {
   errno = 0;
   const double v = std::strtod(s, &end);
   if (*s == '\0' || *end != '\0' || errno != 0 || !std::isfinite(v))
-    throw Error(kWhere, flag + " expects a number, got '" + s + "'");
+    throw Error(kWhere, flag + " expects a number, got '" + std::string(s).substr(0, 40) + "'");
   return v;
 }
 

@@ -19,6 +19,17 @@ else()
   include(CTest)
 endif()
 
+# Sanitized build (make test-plain): AddressSanitizer and UndefinedBehavior-
+# Sanitizer, with float-to-int overflow, on every target; any report aborts
+# the process (-fno-sanitize-recover), so a test or fuzz case that triggers
+# one fails.
+option(GATHER_SANITIZE "Build with -fsanitize=address,undefined,float-cast-overflow" OFF)
+if(GATHER_SANITIZE)
+  add_compile_options(-fsanitize=address,undefined -fsanitize=float-cast-overflow -fno-sanitize-recover=all
+                      -fno-omit-frame-pointer -g1)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
 function(gather_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic)
 endfunction()

@@ -1,19 +1,20 @@
 #include "gather_core/yaml_fields.hpp"
 
-#include <fstream>
+#include <sstream>
+
+#include "gather_core/input_file.hpp"
 
 namespace gather {
 namespace yaml {
 
 YAML::Node load_file(const std::string& path) {
-  std::ifstream probe(path);
-  if (!probe) throw Error(path, "cannot open file");
+  const std::vector<uint8_t> bytes = read_input_file(path, kMaxYamlBytes, "YAML file");
   try {
-    YAML::Node root = YAML::LoadFile(path);
+    YAML::Node root = YAML::Load(std::string(bytes.begin(), bytes.end()));
     if (!root.IsMap()) throw Error(path, "expected a YAML mapping at the top level");
     return root;
   } catch (const YAML::Exception& e) {
-    throw Error(path, "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+    throw Error(path, "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + quote_input(e.msg));
   }
 }
 

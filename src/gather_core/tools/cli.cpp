@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
+#include <sstream>
+
+#include "gather_core/input_file.hpp"
 
 namespace gather {
 namespace cli {
@@ -32,7 +36,7 @@ Args::Args(int argc, char** argv, int first, std::vector<std::string> value_flag
         }
         values_[a].push_back(value);
       } else {
-        throw UsageError("unknown option " + a);
+        throw UsageError("unknown option " + quote_input(a, 40));
       }
     } else {
       positional_.push_back(a);
@@ -50,24 +54,35 @@ std::vector<std::string> Args::all(const std::string& flag) const {
   return it == values_.end() ? std::vector<std::string>{} : it->second;
 }
 
-int Args::get_int(const std::string& flag, int fallback) const {
+namespace {
+std::string num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+}  // namespace
+
+int Args::get_int(const std::string& flag, int fallback, int lo, int hi) const {
   if (!has(flag)) return fallback;
   const std::string s = get(flag);
   char* end = nullptr;
   errno = 0;
   const long v = std::strtol(s.c_str(), &end, 10);
-  if (s.empty() || *end != '\0') throw UsageError(flag + " expects an integer, got '" + s + "'");
-  if (errno != 0 || v < -2147483647L || v > 2147483647L)
-    throw UsageError(flag + " is out of range, got '" + s.substr(0, 40) + "'");
+  if (s.empty() || *end != '\0') throw UsageError(flag + " expects an integer, got '" + quote_input(s, 40) + "'");
+  if (errno != 0 || v < lo || v > hi)
+    throw UsageError(flag + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" +
+                     quote_input(s, 40) + "'");
   return static_cast<int>(v);
 }
 
-double Args::get_double(const std::string& flag, double fallback) const {
+double Args::get_double(const std::string& flag, double fallback, double lo, double hi) const {
   if (!has(flag)) return fallback;
   const std::string s = get(flag);
   char* end = nullptr;
   const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || *end != '\0') throw UsageError(flag + " expects a number, got '" + s + "'");
+  if (s.empty() || *end != '\0') throw UsageError(flag + " expects a number, got '" + quote_input(s, 40) + "'");
+  if (!std::isfinite(v) || v < lo || v > hi)
+    throw UsageError(flag + " must be a finite value in [" + num(lo) + ", " + num(hi) + "], got '" + quote_input(s, 40) + "'");
   return v;
 }
 

@@ -27,9 +27,11 @@ class Args {
   std::string get(const std::string& flag, const std::string& fallback = "") const;
   // Every value of a repeatable flag, in order.
   std::vector<std::string> all(const std::string& flag) const;
-  // Value parsed as a number; a malformed number is a UsageError naming the flag.
-  int get_int(const std::string& flag, int fallback) const;
-  double get_double(const std::string& flag, double fallback) const;
+  // Value parsed as a number in [lo, hi] (every numeric flag has a
+  // documented range; a double must be finite); a malformed or out-of-range
+  // value is a UsageError naming the flag and its range.
+  int get_int(const std::string& flag, int fallback, int lo, int hi) const;
+  double get_double(const std::string& flag, double fallback, double lo, double hi) const;
 
  private:
   std::vector<std::string> positional_;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cli.hpp"
+#include "gather_core/input_file.hpp"
 #include "commands.hpp"
 #include "gather_core/error.hpp"
 #include "gather_core/fmm/fast_marching.hpp"
@@ -58,7 +59,7 @@ Cell parse_source(const std::string& text, const std::string& where, int height)
   long row = 0, col = 0;
   std::string rest;
   if (!(in >> row >> col) || (in >> rest))
-    throw cli::UsageError(where + ": expected ROW,COL, got '" + text + "'");
+    throw cli::UsageError(where + ": expected ROW,COL, got '" + quote_input(text, 40) + "'");
   if (row < -1000000000L || row > 1000000000L || col < -1000000000L || col > 1000000000L)
     throw Error(where, "source (" + std::to_string(row) + ", " + std::to_string(col) + ") is off the map");
   return Cell{height - 1 - static_cast<int>(row), static_cast<int>(col)};
@@ -119,9 +120,9 @@ int fmm(int argc, char** argv) {
                  {});
   if (!args.positional().empty()) throw cli::UsageError("unexpected argument '" + args.positional()[0] + "'");
   if (!args.has("--map")) throw cli::UsageError("--map FILE is required");
-  const int order = args.get_int("--order", 1);
+  const int order = args.get_int("--order", 1, 1, 2);
   if (order != 1 && order != 2) throw cli::UsageError("--order must be 1 or 2");
-  const int repeat = args.get_int("--repeat", 1);
+  const int repeat = args.get_int("--repeat", 1, 1, 1000);
   if (repeat < 1) throw cli::UsageError("--repeat must be >= 1");
   const std::string queue = args.get("--queue", "auto");
   if (queue != "auto" && queue != "buckets" && queue != "sorted" && queue != "heap")
@@ -133,9 +134,9 @@ int fmm(int argc, char** argv) {
               : queue == "sorted"  ? fmm::QueueKind::kSortedBuckets
               : queue == "buckets" ? fmm::QueueKind::kBuckets
                                    : fmm::QueueKind::kAuto;
-  opt.bucket_width = args.get_double("--bucket-width", opt.bucket_width);
+  opt.bucket_width = args.get_double("--bucket-width", opt.bucket_width, 1e-6, 1e6);
   if (!(opt.bucket_width >= 0.0)) throw cli::UsageError("--bucket-width must be >= 0 (0 = default)");
-  opt.max_time = args.get_double("--max-time", opt.max_time);
+  opt.max_time = args.get_double("--max-time", opt.max_time, 0.0, 1e15);
   if (!(opt.max_time >= 0.0)) throw cli::UsageError("--max-time must be >= 0");
   const std::string labels_path = args.get("--labels");
   opt.labels = !labels_path.empty();
@@ -155,8 +156,8 @@ int fmm(int argc, char** argv) {
     sources.push_back(fmm::Source::at_cell(parse_source(s, "--source", height)));
   if (args.has("--sources-file")) {
     const std::string path = args.get("--sources-file");
-    std::ifstream in(path);
-    if (!in) throw Error(path, "cannot open sources file");
+    const std::vector<uint8_t> bytes = read_input_file(path, kMaxTextBytes, "sources file");
+    std::istringstream in(std::string(bytes.begin(), bytes.end()));
     std::string line;
     int lineno = 0;
     while (std::getline(in, line)) {

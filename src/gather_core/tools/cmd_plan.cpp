@@ -4,6 +4,7 @@
 // report.csv with one row per configuration, labels.png and the figures.
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include "cli.hpp"
 #include "commands.hpp"
 #include "gather_core/error.hpp"
+#include "gather_core/input_file.hpp"
 #include "gather_core/plan/plan_export.hpp"
 #include "gather_core/figures/partition_figure.hpp"
 #include "gather_core/figures/plan_figures.hpp"
@@ -36,19 +38,38 @@ int plan(int argc, char** argv) {
   const Scenario map_scenario = load_scenario(args.positional()[0]);
   const int factor = planning_factor(map_scenario);
   const Scenario s = on_planning_grid(map_scenario, factor);
-  if (factor > 1)
-    std::printf("planning grid: %dx%d cells of %.2f m (the %dx%d map coarsened %dx; planner.max_cells %zu)\n",
-                s.grid.width(), s.grid.height(), s.grid.resolution(), map_scenario.grid.width(),
-                map_scenario.grid.height(), factor, s.planner.max_cells);
   plan::PlannerOptions opt;
-  opt.seed = static_cast<unsigned>(args.get_int("--seed", static_cast<int>(s.mission.seed)));
-  opt.threads = args.get_int("--threads", 2);
+  opt.seed = static_cast<unsigned>(args.get_int("--seed", static_cast<int>(s.mission.seed), 0, 2147483647));
+  opt.threads = args.get_int("--threads", 2, 1, 64);
   if (opt.threads < 1) throw cli::UsageError("--threads must be >= 1");
   const std::string association = args.get("--association", "on");
   if (association != "on" && association != "off")
     throw cli::UsageError("--association must be on or off, got '" + association.substr(0, 40) + "'");
   opt.associate = association == "on";
   const std::string out = args.get("--out");
+  partition::Method config_method{};
+  long config_nc = 0;
+  if (args.has("--config")) {
+    const std::string spec = args.get("--config");
+    const auto colon = spec.find(':');
+    if (colon == std::string::npos)
+      throw cli::UsageError("--config expects METHOD:NC, e.g. pap:2, got '" + quote_input(spec, 40) + "'");
+    try {
+      config_method = partition::parse_method(spec.substr(0, colon));
+    } catch (const Error&) {
+      throw cli::UsageError("--config: the method must be bap, pap or rap, got '" + quote_input(spec.substr(0, colon), 40) + "'");
+    }
+    char* end = nullptr;
+    config_nc = std::strtol(spec.c_str() + colon + 1, &end, 10);
+    if (*end != '\0' || colon + 1 == spec.size() || config_nc < 0 || config_nc > s.team.agents - 1)
+      throw cli::UsageError("--config: N_c must be an integer in [0, " + std::to_string(s.team.agents - 1) +
+                            "] (team.agents - 1), got '" + quote_input(spec, 40) + "'");
+  }
+  // (Output only once every flag is read: a bad flag prints one line, on stderr.)
+  if (factor > 1)
+    std::printf("planning grid: %dx%d cells of %.2f m (the %dx%d map coarsened %dx; planner.max_cells %zu)\n",
+                s.grid.width(), s.grid.height(), s.grid.resolution(), map_scenario.grid.width(),
+                map_scenario.grid.height(), factor, s.planner.max_cells);
 
   const auto t_ctx = Clock::now();
   const plan::PlanContext ctx(s);
@@ -60,15 +81,8 @@ int plan(int argc, char** argv) {
 
   plan::SweepResult sweep;
   if (args.has("--config")) {
-    const std::string spec = args.get("--config");
-    const auto colon = spec.find(':');
-    if (colon == std::string::npos) throw cli::UsageError("--config expects METHOD:NC, e.g. pap:2, got '" + spec + "'");
-    const partition::Method method = partition::parse_method(spec.substr(0, colon));
-    char* end = nullptr;
-    const long nc = std::strtol(spec.c_str() + colon + 1, &end, 10);
-    if (*end != '\0' || colon + 1 == spec.size()) throw cli::UsageError("--config: N_c must be an integer, got '" + spec + "'");
     const auto t0 = Clock::now();
-    sweep.configs.push_back(plan::plan_configuration(ctx, method, static_cast<int>(nc), opt));
+    sweep.configs.push_back(plan::plan_configuration(ctx, config_method, static_cast<int>(config_nc), opt));
     plan::compute_utilities(sweep.configs, s.planner.alpha, s.planner.beta, s.planner.refresh);
     sweep.best = 0;
     sweep.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();

@@ -33,7 +33,7 @@ int radio(int argc, char** argv) {
     tx = Point2{x, y};
     if (!s.grid.contains(s.grid.world_to_cell(tx))) throw Error("--at", "point [" + at + "] is outside the map");
   }
-  const int repeat = args.get_int("--repeat", 5);
+  const int repeat = args.get_int("--repeat", 5, 1, 1000);
   if (repeat < 1) throw cli::UsageError("--repeat must be >= 1");
   const RadioModel radio(s.grid, s.radio);
   std::vector<uint8_t> mask;

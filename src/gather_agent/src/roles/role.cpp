@@ -51,7 +51,7 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
                            ", the scenario's map " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()));
   const int n = static_cast<int>(pf.agents.size());
   if (n < 1 || n > kMaxTeam) throw Error(where, "a team of " + std::to_string(n) + " agents (1.." + std::to_string(kMaxTeam) + ")");
-  mission::check_plan(p, w.scenario.team.agents);
+  mission::check_plan(p, w.scenario.team.agents, w.scenario.grid);
   period = pf.cycle_period_s;
   speed = w.scenario.team.speed;
   if (!(period > 0) || !std::isfinite(period)) throw Error(where, "cycle_period_s must be > 0");

@@ -30,7 +30,7 @@ LoadedPlan load_plan(const std::string& plan_dir) {
     throw Error(yaml.string(), "its labels are " + std::to_string(l.plan.width) + "x" + std::to_string(l.plan.height) +
                                    " cells, scenario " + l.plan.file.scenario + " on the plan's grid is " +
                                    std::to_string(g.width()) + "x" + std::to_string(g.height()));
-  mission::check_plan(l.plan, l.scenario.team.agents);
+  mission::check_plan(l.plan, l.scenario.team.agents, g);
   return l;
 }
 

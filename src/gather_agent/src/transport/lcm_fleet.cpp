@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <limits>
 
 #include "gather_agent/lcm_open.hpp"
@@ -291,6 +292,18 @@ bool LcmFleet::handle(int timeout_ms) {
   return true;
 }
 
+// LCM's generated decode resizes a variable-length array to the count it
+// reads before checking that the bytes are there: a negative count
+// (int16) throws std::length_error. Any exception is an undecodable message.
+template <typename T>
+int safe_decode(T& msg, const void* data, int size) {
+  try {
+    return msg.decode(data, 0, size);
+  } catch (const std::exception&) {
+    return -1;
+  }
+}
+
 void LcmFleet::on_radio(const char* channel, const void* data, int size) {
   Wire& w = wire();
   Message m;
@@ -300,7 +313,7 @@ void LcmFleet::on_radio(const char* channel, const void* data, int size) {
     return true;
   };
   if (std::strcmp(channel, kRequestChannel) == 0) {
-    if (!decoded(w.request.decode(data, 0, size))) return;
+    if (!decoded(safe_decode(w.request, data, size))) return;
     const gather_lcm::request_t& r = w.request;
     h = &r.h;
     if (r.count < 0 || r.count > kRequestPartGoals || r.parts < 1 || r.parts > kMaxRequestParts || r.part < 0 ||
@@ -320,7 +333,7 @@ void LcmFleet::on_radio(const char* channel, const void* data, int size) {
       m.request.cells[i] = static_cast<uint32_t>(r.cells[i]);
     }
   } else if (std::strcmp(channel, kDataChannel) == 0) {
-    if (!decoded(w.data.decode(data, 0, size))) return;
+    if (!decoded(safe_decode(w.data, data, size))) return;
     const gather_lcm::data_t& d = w.data;
     h = &d.h;
     if (d.count < 0 || d.count > kMaxBatch) return void(++refused_.out_of_range);
@@ -336,7 +349,7 @@ void LcmFleet::on_radio(const char* channel, const void* data, int size) {
       it.picked_up_by = o.picked_up_by, it.picked_up_at = o.picked_up_at;
     }
   } else if (std::strcmp(channel, kAckChannel) == 0) {
-    if (!decoded(w.ack.decode(data, 0, size))) return;
+    if (!decoded(safe_decode(w.ack, data, size))) return;
     const gather_lcm::ack_t& a = w.ack;
     h = &a.h;
     if (a.count < 0 || a.count > kMaxBatch) return void(++refused_.out_of_range);
@@ -344,7 +357,7 @@ void LcmFleet::on_radio(const char* channel, const void* data, int size) {
     m.ack.count = static_cast<uint16_t>(a.count);
     std::copy(a.keys, a.keys + a.count, m.ack.keys);
   } else if (std::strcmp(channel, kStateChannel) == 0) {
-    if (!decoded(w.state.decode(data, 0, size))) return;
+    if (!decoded(safe_decode(w.state, data, size))) return;
     const gather_lcm::agent_state_t& s = w.state;
     h = &s.h;
     if (s.role < 1 || s.role > 3 || s.carried < 0 || s.notices < 0 || s.pending < 0) return void(++refused_.out_of_range);
@@ -375,19 +388,23 @@ void LcmFleet::on_radio(const char* channel, const void* data, int size) {
 void LcmFleet::on_clock(const char* channel, const void* data, int size) {
   Wire& w = wire();
   if (std::strcmp(channel, kTickChannel) == 0) {
-    if (w.tick.decode(data, 0, size) != size) return void(++refused_.undecodable);
+    if (safe_decode(w.tick, data, size) != size) return void(++refused_.undecodable);
     if (w.tick.schema_version != gather_lcm::tick_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
     if (w.tick.tick < 0 || !finite(w.tick.t) || w.tick.sent_before < 0 || w.tick.start_us < 0)
       return void(++refused_.out_of_range);
     ticks_.push_back(Tick{w.tick.tick, w.tick.t, w.tick.sent_before, w.tick.report != 0, w.tick.done != 0, w.tick.start_us});
   } else if (std::strcmp(channel, kPlanChannel) == 0) {
-    if (w.plan.decode(data, 0, size) != size) return void(++refused_.undecodable);
+    if (safe_decode(w.plan, data, size) != size) return void(++refused_.undecodable);
     const gather_lcm::plan_t& p = w.plan;
     if (p.schema_version != gather_lcm::plan_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
+    // Bounded as the scenario's own values are (docs/input_limits.md): a
+    // plan message sizes the agents' buffers.
+    constexpr int32_t kMaxCapacity = 1 << 22;
     if (p.agents < 1 || p.agents > kMaxTeam || p.cycles < 1 || p.cycles > kMaxRequests || p.goals_per_request < 0 ||
-        p.data_capacity < 1 || p.notice_capacity < 1 || !(p.tick > 0 && p.tick <= 0.1) || !(p.loss >= 0 && p.loss < 1) ||
-        !(p.beacon_period > 0) || !(p.resend_after > 0) || !finite(p.beacon_period) || !finite(p.resend_after) ||
-        (p.clock != 0 && p.clock != 1) || !(p.rate > 0) || !finite(p.rate))
+        p.goals_per_request > 100000 || p.data_capacity < 1 || p.data_capacity > kMaxCapacity || p.notice_capacity < 1 ||
+        p.notice_capacity > kMaxCapacity || !(p.tick > 0 && p.tick <= 0.1) || !(p.loss >= 0 && p.loss < 1) ||
+        !(p.beacon_period > 0 && p.beacon_period <= 3600) || !(p.resend_after > 0 && p.resend_after <= 3600) ||
+        (p.clock != 0 && p.clock != 1) || !(p.rate > 0 && p.rate <= 1e6))
       return void(++refused_.out_of_range);
     PlanAnnounce a;
     a.digest = static_cast<uint64_t>(p.digest);
@@ -406,7 +423,7 @@ void LcmFleet::on_clock(const char* channel, const void* data, int size) {
     a.rate = p.rate;
     plans_.push_back(a);
   } else if (std::strcmp(channel, kReplyChannel) == 0) {
-    if (w.reply.decode(data, 0, size) != size) return void(++refused_.undecodable);
+    if (safe_decode(w.reply, data, size) != size) return void(++refused_.undecodable);
     const gather_lcm::tick_reply_t& r = w.reply;
     if (r.schema_version != gather_lcm::tick_reply_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
     if (r.agent < 0 || r.agent >= team_ || r.status < 1 || r.status > 3 || r.sent < 0 || r.n_keys < 0 ||

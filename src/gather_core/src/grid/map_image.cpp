@@ -10,16 +10,18 @@
 #include <memory>
 
 #include "gather_core/error.hpp"
+#include "gather_core/input_file.hpp"
 
 namespace gather {
 namespace {
 
-std::vector<uint8_t> read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path, "cannot open file");
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw Error(path, "read error");
-  return bytes;
+std::vector<uint8_t> read_file(const std::string& path) { return read_input_file(path, kMaxImageBytes, "image"); }
+
+// The documented pixel limit (input_file.hpp), before any pixel is allocated.
+void check_pixels(const std::string& path, uint64_t w, uint64_t h) {
+  if (w * h > kMaxImagePixels)
+    throw Error(path, "image of " + std::to_string(w) + "x" + std::to_string(h) + " pixels is larger than the limit of " +
+                          std::to_string(kMaxImagePixels) + " pixels");
 }
 
 // --- PGM --------------------------------------------------------------------
@@ -68,7 +70,7 @@ MapImage decode_pgm(const std::vector<uint8_t>& b, const std::string& path) {
   const long h = tok.next_uint("height");
   const long maxval = tok.next_uint("maxval");
   if (w <= 0 || h <= 0) throw Error(path, "bad PGM header: zero width or height");
-  if (w * h > 400L * 1000 * 1000) throw Error(path, "PGM too large");
+  check_pixels(path, static_cast<uint64_t>(w), static_cast<uint64_t>(h));
   if (maxval <= 0 || maxval > 255)
     throw Error(path, "unsupported PGM maxval " + std::to_string(maxval) + " (map_server reads 8-bit PGM only)");
   MapImage img;
@@ -76,6 +78,11 @@ MapImage decode_pgm(const std::vector<uint8_t>& b, const std::string& path) {
   img.height = static_cast<int>(h);
   img.channels = 1;
   const std::size_t n = static_cast<std::size_t>(w * h);
+  // Before allocating: P5 holds a byte a pixel, P2 at least two (a digit and a space).
+  const std::size_t left = b.size() - tok.pos();
+  if (left < (ascii ? 2 * n - 1 : n))
+    throw Error(path, std::string("truncated PGM: ") + std::to_string(left) + " bytes after the header for " +
+                          std::to_string(w) + "x" + std::to_string(h) + " pixels");
   img.pixels.resize(n);
   if (ascii) {
     for (std::size_t i = 0; i < n; ++i) {
@@ -134,6 +141,11 @@ MapImage decode_png(const std::vector<uint8_t>& b, const std::string& path) {
   png_set_user_limits(png, 100000, 100000);
   png_read_info(png, info);
   const int color_type = png_get_color_type(png, info);
+  if (static_cast<uint64_t>(png_get_image_width(png, info)) * png_get_image_height(png, info) > kMaxImagePixels) {
+    const std::string size = std::to_string(png_get_image_width(png, info)) + "x" + std::to_string(png_get_image_height(png, info));
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw Error(path, "image of " + size + " pixels is larger than the limit of " + std::to_string(kMaxImagePixels) + " pixels");
+  }
 
   // The same transformations SDL_image applies before map_server sees pixels.
   png_set_strip_16(png);
@@ -217,6 +229,11 @@ Gray16Image decode_gray16_png(const std::vector<uint8_t>& b, const std::string& 
   png_set_read_fn(png, &reader, png_read_from_vector);
   png_set_user_limits(png, 100000, 100000);
   png_read_info(png, info);
+  if (static_cast<uint64_t>(png_get_image_width(png, info)) * png_get_image_height(png, info) > kMaxImagePixels) {
+    const std::string size = std::to_string(png_get_image_width(png, info)) + "x" + std::to_string(png_get_image_height(png, info));
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw Error(path, "image of " + size + " pixels is larger than the limit of " + std::to_string(kMaxImagePixels) + " pixels");
+  }
   if (png_get_color_type(png, info) != PNG_COLOR_TYPE_GRAY || png_get_bit_depth(png, info) != 16) {
     png_destroy_read_struct(&png, &info, nullptr);
     throw Error(path, "the label image must be a 16-bit single-channel PNG");

@@ -19,7 +19,7 @@ MapMetadata read_map_metadata(const std::string& yaml_path) {
   m.resolution = f.required<double>("resolution");
   const std::vector<double> origin = f.required<std::vector<double>>("origin");
   if (origin.size() != 3) throw Error(yaml_path, "origin must be [x, y, yaw]");
-  if (origin[2] != 0.0) throw Error(yaml_path, "origin yaw must be 0 (rotated maps are not supported)");
+  if (origin[2] != 0.0 || !std::isfinite(origin[2])) throw Error(yaml_path, "origin yaw must be 0 (rotated maps are not supported)");
   m.origin = Point2{origin[0], origin[1]};
   m.negate = f.required<int>("negate") != 0;
   m.occupied_thresh = f.required<double>("occupied_thresh");
@@ -30,8 +30,10 @@ MapMetadata read_map_metadata(const std::string& yaml_path) {
   else if (mode == "raw") m.mode = MapMode::kRaw;
   else throw Error(yaml_path, "mode must be trinary, scale or raw, got '" + mode + "'");
 
-  if (!(m.resolution > 0.0) || !std::isfinite(m.resolution))
-    throw Error(yaml_path, "resolution must be > 0, got " + std::to_string(m.resolution));
+  if (!(m.resolution >= 1e-4 && m.resolution <= 1e3))
+    throw Error(yaml_path, "resolution must be a finite value in [0.0001, 1000] m/cell, got " + std::to_string(m.resolution));
+  if (!(std::abs(origin[0]) <= 1e7 && std::abs(origin[1]) <= 1e7))
+    throw Error(yaml_path, "origin x and y must be finite values in [-1e7, 1e7] m");
   if (!(m.free_thresh >= 0.0 && m.occupied_thresh <= 1.0 && m.free_thresh < m.occupied_thresh))
     throw Error(yaml_path, "thresholds out of order: need 0 <= free_thresh (" + std::to_string(m.free_thresh) +
                                ") < occupied_thresh (" + std::to_string(m.occupied_thresh) + ") <= 1");

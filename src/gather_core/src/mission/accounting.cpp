@@ -23,7 +23,8 @@ struct Event {
   int goal;
 };
 
-[[noreturn]] void broken(const std::string& what) { throw Error("mission accounting", what); }
+// A broken invariant of the accounting is a bug (exit status 1), not bad input.
+[[noreturn]] void broken(const std::string& what) { throw RuntimeError("mission accounting (internal error)", what); }
 
 }  // namespace
 

@@ -34,17 +34,22 @@ MissionPlan load_mission_plan(const std::string& plan_path) {
   return m;
 }
 
-void check_plan(const MissionPlan& p, int team) {
+void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
   const plan::PlanFile& pf = p.file;
   const std::string where = p.source.empty() ? "plan" : p.source;
   const int n = static_cast<int>(pf.agents.size());
+  if (p.width != grid.width() || p.height != grid.height())
+    throw Error(where, "label image is " + std::to_string(p.width) + "x" + std::to_string(p.height) +
+                           ", the scenario's planning grid " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()));
   if (n != team) throw Error(where, "plans " + std::to_string(n) + " agents, the scenario's team has " + std::to_string(team));
   if (pf.collectors < 0 || pf.workers < 1 || pf.collectors + pf.workers != n)
     throw Error(where, "collectors (" + std::to_string(pf.collectors) + ") + workers (" + std::to_string(pf.workers) +
                            ") must be the " + std::to_string(n) + " agents");
   if (static_cast<int>(pf.routes.size()) != pf.collectors)
     throw Error(where, std::to_string(pf.routes.size()) + " routes for " + std::to_string(pf.collectors) + " collectors");
-  if (!(pf.cycle_period_s > 0) || !std::isfinite(pf.cycle_period_s)) throw Error(where, "cycle_period_s must be > 0");
+  if (!(pf.cycle_period_s > 0 && pf.cycle_period_s <= 1e6))
+    throw Error(where, "cycle_period_s must be a finite value in (0, 1e6] s");
+  if (!(pf.area_tile_m > 0 && pf.area_tile_m <= 1e6)) throw Error(where, "area_tile_m must be a finite value in (0, 1e6] m");
   std::vector<char> id_seen(static_cast<std::size_t>(n), 0), collector_seen(static_cast<std::size_t>(pf.collectors), 0),
       segment_seen(static_cast<std::size_t>(pf.workers) + 1, 0);
   for (const plan::AgentAssignment& a : pf.agents) {
@@ -52,9 +57,11 @@ void check_plan(const MissionPlan& p, int team) {
     if (a.id < 0 || a.id >= n || id_seen[static_cast<std::size_t>(a.id)])
       throw Error(where, who + ": ids must be 0.." + std::to_string(n - 1) + ", once each");
     id_seen[static_cast<std::size_t>(a.id)] = 1;
+    if (a.collector != (a.id < pf.collectors))
+      throw Error(where, who + ": agents 0.." + std::to_string(pf.collectors - 1) + " must be the collectors, the others workers");
     if (a.collector) {
-      if (a.delivers_to < 0 || a.delivers_to >= pf.collectors || collector_seen[static_cast<std::size_t>(a.delivers_to)])
-        throw Error(where, who + ": collector index must be 0.." + std::to_string(pf.collectors - 1) + ", once each");
+      if (a.delivers_to != a.id || collector_seen[static_cast<std::size_t>(a.delivers_to)])
+        throw Error(where, who + ": a collector's index must be its own id");
       collector_seen[static_cast<std::size_t>(a.delivers_to)] = 1;
       continue;
     }
@@ -69,15 +76,33 @@ void check_plan(const MissionPlan& p, int team) {
       throw Error(where, "collector " + std::to_string(a.delivers_to) + " has no meeting area for segment " +
                              std::to_string(a.segment) + " (" + who + ")");
   }
+  const double x0 = grid.origin().x - 1.0, y0 = grid.origin().y - 1.0;
+  const double x1 = grid.origin().x + grid.width() * grid.resolution() + 1.0;
+  const double y1 = grid.origin().y + grid.height() * grid.resolution() + 1.0;
   for (std::size_t c = 0; c < pf.routes.size(); ++c) {
     const plan::CollectorRoute& r = pf.routes[c];
-    for (const Point2& q : r.waypoints)
-      if (!std::isfinite(q.x) || !std::isfinite(q.y))
-        throw Error(where, "route of collector " + std::to_string(c) + ": a waypoint is not finite");
+    const std::string route = "route of collector " + std::to_string(c);
+    if (r.collector != static_cast<int>(c)) throw Error(where, route + ": its collector index must be " + std::to_string(c));
+    double polyline = 0.0;
+    for (std::size_t i = 0; i < r.waypoints.size(); ++i) {
+      const Point2& q = r.waypoints[i];
+      if (!(q.x >= x0 && q.x <= x1 && q.y >= y0 && q.y <= y1))
+        throw Error(where, route + ": a waypoint is not finite or outside the map");
+      if (i > 0) polyline += std::hypot(q.x - r.waypoints[i - 1].x, q.y - r.waypoints[i - 1].y);
+    }
+    const double most = 2.0 * polyline + 1.0;  // arcs [m]: within the route (its length is recomputed from the waypoints)
+    auto arc_ok = [&](double s) { return s >= 0.0 && s <= most; };
+    if (!(r.length >= 0.0 && r.length <= most)) throw Error(where, route + ": length_m is not finite or not the route's");
+    for (double u : r.coverage_entries)
+      if (!arc_ok(u)) throw Error(where, route + ": a coverage entry is not finite or off the route");
+    for (int seg : r.segments)
+      if (seg < 1 || seg > pf.workers) throw Error(where, route + ": segment " + std::to_string(seg) + " does not exist");
     for (const plan::MeetingArea& m : r.meetings) {
-      if (!std::isfinite(m.route_s)) throw Error(where, "route of collector " + std::to_string(c) + ": a meeting area is not finite");
+      if (m.segment < 1 || m.segment > pf.workers)
+        throw Error(where, route + ": a meeting area's segment " + std::to_string(m.segment) + " does not exist");
+      if (!arc_ok(m.route_s)) throw Error(where, route + ": a meeting area is not finite or off the route");
       for (double pass : m.passes)
-        if (!std::isfinite(pass)) throw Error(where, "route of collector " + std::to_string(c) + ": a pass is not finite");
+        if (!arc_ok(pass)) throw Error(where, route + ": a pass is not finite or off the route");
     }
   }
 }

@@ -22,7 +22,8 @@ constexpr double kEps = 1e-9;        // [s] time tolerance
 constexpr int kMaxDecisions = 1000000;  // per worker: a loop that long is a bug
 constexpr double kLinkProbe = 1.0;      // [s] between two radio link checks of a walking or waiting worker
 
-[[noreturn]] void bug(const std::string& what) { throw Error("mission", what); }
+// An internal invariant broke (a bug, not bad input): exit status 1.
+[[noreturn]] void bug(const std::string& what) { throw RuntimeError("mission (internal error)", what); }
 
 }  // namespace
 
@@ -68,9 +69,7 @@ MissionSimulator::MissionSimulator(const World& ctx, MissionPlan plan)
   const OccupancyGrid& grid = s.grid;
   const plan::PlanFile& pf = plan_.file;
   const std::string where = plan_.source.empty() ? "plan" : plan_.source;
-  if (plan_.width != grid.width() || plan_.height != grid.height())
-    throw Error(where, "label image is " + std::to_string(plan_.width) + "x" + std::to_string(plan_.height) +
-                           ", the scenario's map " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()));
+  check_plan(plan_, static_cast<int>(pf.agents.size()), grid);
   speed_ = s.team.speed;
   period_ = pf.cycle_period_s;
   if (!(period_ > 0)) throw Error(where, "cycle_period_s must be > 0");

@@ -19,7 +19,8 @@ constexpr double kWindowMargin = 1.0;   // [m] around a segment's bounding box f
 constexpr std::size_t kMaxLandings = 16;  // per OC worker: landing tables kept; beyond, march each time
 constexpr double kLinkStep = 0.1;       // [m] of route between two samples of a rendezvous' link window
 
-[[noreturn]] void bug(const std::string& what) { throw Error("mission", what); }
+// An internal invariant broke (a bug, not bad input): exit status 1.
+[[noreturn]] void bug(const std::string& what) { throw RuntimeError("mission (internal error)", what); }
 
 }  // namespace
 

@@ -112,7 +112,7 @@ PlanFile read_plan_file(const std::string& path) {
   p.seed = f.required<unsigned>("seed");
   p.labels_png = f.required<std::string>("labels");
   p.grid_factor = f.optional<int>("grid_factor", 1);
-  if (p.grid_factor < 1) throw Error(path, "grid_factor must be >= 1");
+  if (p.grid_factor < 1 || p.grid_factor > 1000) throw Error(path, "grid_factor must be in [1, 1000]");
   p.cycle_period_s = f.required<double>("cycle_period_s");
   p.area_tile_m = f.required<double>("area_tile_m");
   if (!(p.area_tile_m > 0)) throw Error(path, "area_tile_m must be > 0");

@@ -22,6 +22,12 @@ void require(bool ok, const std::string& file, const std::string& what) {
   if (!ok) throw Error(file, what);
 }
 
+// A finite value in [lo, hi] (docs/input_limits.md), or one line naming the key.
+void in_range(double v, double lo, double hi, const std::string& file, const std::string& key, const char* unit) {
+  require(std::isfinite(v) && v >= lo && v <= hi, file,
+          key + " must be a finite value in [" + num(lo) + ", " + num(hi) + "]" + unit + ", got " + num(v));
+}
+
 }  // namespace
 
 Scenario load_scenario_settings(const std::string& path, bool map_required) {
@@ -33,16 +39,19 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   if (map_required || f.has("map")) s.map_path = yaml::resolve_path(path, f.required<std::string>("map"));
   const std::vector<double> oc = f.required<std::vector<double>>("oc");
   require(oc.size() == 2, path, "oc must be [x, y] in meters");
+  in_range(oc[0], -1e7, 1e7, path, "oc x", " m");
+  in_range(oc[1], -1e7, 1e7, path, "oc y", " m");
   s.oc = Point2{oc[0], oc[1]};
 
   const yaml::Fields team = f.section("team");
   team.allow({"agents", "speed", "radius"});
   s.team.agents = team.optional<int>("agents", s.team.agents);
   s.team.speed = team.optional<double>("speed", s.team.speed);
-  require(s.team.agents >= 1, path, "team.agents must be >= 1, got " + std::to_string(s.team.agents));
-  require(s.team.speed > 0 && std::isfinite(s.team.speed), path, "team.speed must be > 0 m/s, got " + num(s.team.speed));
+  require(s.team.agents >= 1 && s.team.agents <= 1000, path,
+          "team.agents must be in [1, 1000], got " + std::to_string(s.team.agents));
+  in_range(s.team.speed, 0.01, 100.0, path, "team.speed", " m/s");
   s.team.radius = team.optional<double>("radius", s.team.radius);
-  require(s.team.radius >= 0 && std::isfinite(s.team.radius), path, "team.radius must be >= 0 m, got " + num(s.team.radius));
+  in_range(s.team.radius, 0.0, 100.0, path, "team.radius", " m");
 
   const yaml::Fields radio = f.section("radio");
   radio.allow({"tx_power_dbm", "ref_loss_db", "exponent", "wall_loss_db", "max_walls", "sensitivity_dbm", "bitrate_bps"});
@@ -53,9 +62,12 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   r.wall_loss_db = radio.optional<double>("wall_loss_db", r.wall_loss_db);
   r.max_walls = radio.optional<int>("max_walls", r.max_walls);
   r.sensitivity_dbm = radio.optional<double>("sensitivity_dbm", r.sensitivity_dbm);
-  require(r.exponent > 0, path, "radio.exponent must be > 0, got " + num(r.exponent));
-  require(r.wall_loss_db >= 0, path, "radio.wall_loss_db must be >= 0, got " + num(r.wall_loss_db));
-  require(r.max_walls >= 0, path, "radio.max_walls must be >= 0, got " + std::to_string(r.max_walls));
+  in_range(r.tx_power_dbm, -100.0, 100.0, path, "radio.tx_power_dbm", " dBm");
+  in_range(r.ref_loss_db, 0.0, 200.0, path, "radio.ref_loss_db", " dB");
+  in_range(r.exponent, 0.5, 10.0, path, "radio.exponent", "");
+  in_range(r.wall_loss_db, 0.0, 200.0, path, "radio.wall_loss_db", " dB");
+  require(r.max_walls >= 0 && r.max_walls <= 100, path, "radio.max_walls must be in [0, 100], got " + std::to_string(r.max_walls));
+  in_range(r.sensitivity_dbm, -200.0, 100.0, path, "radio.sensitivity_dbm", " dBm");
   r.bitrate_bps = radio.optional<double>("bitrate_bps", r.bitrate_bps);
   require(r.bitrate_bps >= 0 && r.bitrate_bps <= 1e12, path,
           "radio.bitrate_bps must be in [0, 1e12] bit/s (0 = instant hand-over), got " + num(r.bitrate_bps));
@@ -65,11 +77,12 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   s.mission.goals_per_request = mission.optional<int>("goals_per_request", s.mission.goals_per_request);
   s.mission.cycles = mission.optional<int>("cycles", s.mission.cycles);
   s.mission.seed = mission.optional<unsigned>("seed", s.mission.seed);
-  require(s.mission.goals_per_request >= 1, path, "mission.goals_per_request must be >= 1");
-  require(s.mission.cycles >= 1, path, "mission.cycles must be >= 1");
+  require(s.mission.goals_per_request >= 1 && s.mission.goals_per_request <= 100000, path,
+          "mission.goals_per_request must be in [1, 100000], got " + std::to_string(s.mission.goals_per_request));
+  require(s.mission.cycles >= 1 && s.mission.cycles <= 10000, path,
+          "mission.cycles must be in [1, 10000], got " + std::to_string(s.mission.cycles));
   s.mission.period = mission.optional<double>("period", s.mission.period);
-  require(s.mission.period >= 0 && std::isfinite(s.mission.period), path,
-          "mission.period must be >= 0 s (0 = automatic), got " + num(s.mission.period));
+  in_range(s.mission.period, 0.0, 1e6, path, "mission.period", " s (0 = automatic)");
   s.mission.bytes_per_goal = mission.optional<double>("bytes_per_goal", s.mission.bytes_per_goal);
   require(s.mission.bytes_per_goal >= 0 && s.mission.bytes_per_goal <= 1e9, path,
           "mission.bytes_per_goal must be in [0, 1e9] bytes, got " + num(s.mission.bytes_per_goal));
@@ -98,7 +111,9 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   }
   p.alpha = planner.optional<double>("alpha", p.alpha);
   p.beta = planner.optional<double>("beta", p.beta);
-  require(p.alpha >= 0 && p.beta >= 0 && p.alpha + p.beta > 0, path, "planner.alpha and beta must be >= 0, not both 0");
+  in_range(p.alpha, 0.0, 1e6, path, "planner.alpha", "");
+  in_range(p.beta, 0.0, 1e6, path, "planner.beta", "");
+  require(p.alpha + p.beta > 0, path, "planner.alpha and beta must not both be 0");
   const std::string refresh = planner.optional<std::string>("refresh", refresh_metric_name(p.refresh));
   require(refresh == "latency" || refresh == "interval", path,
           "planner.refresh must be latency or interval, got '" + refresh.substr(0, 40) + "'");

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "gather_core/grid/occupancy_grid.hpp"
 #include "gather_core/plan/plan_file.hpp"
 
 namespace gather {
@@ -24,13 +25,17 @@ struct MissionPlan {
 // gather::Error naming the file on I/O or format errors.
 MissionPlan load_mission_plan(const std::string& plan_path);
 
-// The structure executing a plan relies on, for a team of `team` agents:
-// ids 0..team-1 once each, collector indices 0..N_c-1 once each with one
-// route each, one worker per segment 1..N_w delivering to the OC or to a
-// collector whose route has a meeting area for its segment, finite
-// waypoints, cycle_period_s > 0. Throws gather::Error naming plan.source
+// The structure executing a plan relies on, for a team of `team` agents on
+// `grid` (the plan's grid; docs/input_limits.md): ids 0..team-1 once each,
+// collectors the agents 0..N_c-1 with their own id as collector index and
+// route index, one worker per segment 1..N_w delivering to the OC or to a
+// collector whose route has a meeting area for its segment; cycle_period_s
+// in (0, 1e6] s, area_tile_m in (0, 1e6] m; routes: finite waypoints within
+// the map (1 m margin), length, meeting areas, passes and coverage entries
+// finite and within [0, 2 x the polyline's length], segments in 1..N_w; the
+// label image of the grid's size. Throws gather::Error naming plan.source
 // ("plan" for a plan built in memory) and the agent or route at fault.
-void check_plan(const MissionPlan& plan, int team);
+void check_plan(const MissionPlan& plan, int team, const OccupancyGrid& grid);
 
 }  // namespace mission
 }  // namespace gather
