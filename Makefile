@@ -41,10 +41,12 @@ run: build
 test: build test-plain test-ros test-cli test-e2e
 	@echo "make test: all tests passed"
 
-# GoogleTest suites through catkin (gather_core, gather_agent, gather_oc).
+# GoogleTest suites of gather_oc through catkin (those of gather_core and
+# gather_agent run in test-plain, under the sanitizers: no need to build and
+# run them twice).
 test-ros: build
 	rm -rf $(WS)/build/test_results
-	tools/netns-run bash -c '$(SETUP) && catkin_make -C $(WS) -j$(JOBS) run_tests --no-color > $(WS)/build/run_tests.log 2>&1' \
+	tools/netns-run bash -c '$(SETUP) && catkin_make -C $(WS) -j$(JOBS) run_tests_gather_oc --no-color > $(WS)/build/run_tests.log 2>&1' \
 	  || { tail -n 60 $(WS)/build/run_tests.log; echo "test-ros: building or running the tests failed" >&2; exit 1; }
 	catkin_test_results --verbose $(WS)/build/test_results | tee $(WS)/build/test_results.txt | tail -n 40
 	@grep -qE "^Summary: [1-9][0-9]* tests, 0 errors, 0 failures" $(WS)/build/test_results.txt \
