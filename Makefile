@@ -63,8 +63,8 @@ test-plain: deps
 	  echo "gather_core/gather_agent must not include ROS headers" >&2; exit 1; fi
 	cmake -S src/gather_agent -B $(PLAIN) -DCMAKE_BUILD_TYPE=Release -DGATHER_SANITIZE=ON > /dev/null
 	cmake --build $(PLAIN) -j$(JOBS)
-	cd $(PLAIN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  ctest --output-on-failure -j$(JOBS) --timeout 600
+	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  ctest --test-dir $(PLAIN) --output-on-failure -j$(JOBS) --timeout 600
 	$(PYTHON) tests/fuzz/fuzz_smoke.py --gather $(PLAIN)/gather_core/gather --agent $(PLAIN)/gather_agent \
 	  --cases $(FUZZ_CASES) --seed 1 --keep results/fuzz
 

@@ -22,10 +22,11 @@ endif()
 # Sanitized build (make test-plain): AddressSanitizer and UndefinedBehavior-
 # Sanitizer, with float-to-int overflow, on every target; any report aborts
 # the process (-fno-sanitize-recover), so a test or fuzz case that triggers
-# one fails.
+# one fails. -O1 (after the build type's -O3, so it wins): what the
+# sanitizers' documentation recommends, and it compiles in less time.
 option(GATHER_SANITIZE "Build with -fsanitize=address,undefined,float-cast-overflow" OFF)
 if(GATHER_SANITIZE)
-  add_compile_options(-fsanitize=address,undefined -fsanitize=float-cast-overflow -fno-sanitize-recover=all
+  add_compile_options(-O1 -fsanitize=address,undefined -fsanitize=float-cast-overflow -fno-sanitize-recover=all
                       -fno-omit-frame-pointer -g1)
   add_link_options(-fsanitize=address,undefined)
 endif()
