@@ -37,6 +37,9 @@ void note_allocation() {
 
 }  // namespace
 
+// GCC cannot see that every operator new here is malloc: its
+// -Wmismatched-new-delete on the frees below is a false positive.
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
 void* operator new(std::size_t n) {
   note_allocation();
   if (void* p = std::malloc(n ? n : 1)) return p;

@@ -150,7 +150,7 @@ int run(int argc, char** argv) {
     digest = agent::plan_digest(loaded);
   }
   for (int k = 0; k < seeds; ++k) {
-    team.params.seed = static_cast<unsigned>(seed0 + k);
+    team.params.seed = static_cast<unsigned>(seed0) + static_cast<unsigned>(k);
     const agent::RunOutcome r = over_lcm ? run_over_lcm(team, loaded, digest, opt, rate, wall_clock, lcm_url,
                                                         args.get("--reply-url", agent::LcmFleet::reply_url_for(lcm_url)),
                                                         agent_bin)

@@ -134,7 +134,7 @@ int fmm(int argc, char** argv) {
               : queue == "sorted"  ? fmm::QueueKind::kSortedBuckets
               : queue == "buckets" ? fmm::QueueKind::kBuckets
                                    : fmm::QueueKind::kAuto;
-  opt.bucket_width = args.get_double("--bucket-width", opt.bucket_width, 1e-6, 1e6);
+  opt.bucket_width = args.get_double("--bucket-width", opt.bucket_width, 0.0, 1e6);
   if (!(opt.bucket_width >= 0.0)) throw cli::UsageError("--bucket-width must be >= 0 (0 = default)");
   opt.max_time = args.get_double("--max-time", opt.max_time, 0.0, 1e15);
   if (!(opt.max_time >= 0.0)) throw cli::UsageError("--max-time must be >= 0");

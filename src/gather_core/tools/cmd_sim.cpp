@@ -51,7 +51,7 @@ ConfigOutput simulate(mission::MissionSimulator& sim, int cycles, int seed0, int
   for (int k = 0; k < seeds; ++k) {
     mission::MissionOptions opt;
     opt.cycles = cycles;
-    opt.seed = static_cast<unsigned>(seed0 + k);
+    opt.seed = static_cast<unsigned>(seed0) + static_cast<unsigned>(k);
     label.seed = opt.seed;
     const mission::MissionResult r = sim.run(opt);
     mission::append_goal_rows(out.goals, label, r.goals);

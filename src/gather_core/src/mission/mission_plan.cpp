@@ -90,7 +90,7 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
         throw Error(where, route + ": a waypoint is not finite or outside the map");
       if (i > 0) polyline += std::hypot(q.x - r.waypoints[i - 1].x, q.y - r.waypoints[i - 1].y);
     }
-    const double most = 2.0 * polyline + 1.0;  // arcs [m]: within the route (its length is recomputed from the waypoints)
+    const double most = polyline + 1e-3;  // arcs [m]: on the route (its length is recomputed from the waypoints)
     auto arc_ok = [&](double s) { return s >= 0.0 && s <= most; };
     if (!(r.length >= 0.0 && r.length <= most)) throw Error(where, route + ": length_m is not finite or not the route's");
     for (double u : r.coverage_entries)

@@ -93,8 +93,11 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
       longest = std::max(longest, (hi - lo) / route_->speed());
     }
     const double one = transfer_s(world.scenario, 1);
-    capacity_ = one > 0.0 ? static_cast<std::size_t>(std::floor((longest - handover_guard(longest)) / one + kEps))
-                          : std::numeric_limits<std::size_t>::max();
+    // n goals fit a window when n * one + guard <= window (+ kEps [s], as
+    // meeting_at); clamped before the cast (a goal of a few bytes at a fast
+    // rate would overflow it).
+    const double fits = one > 0.0 ? std::floor((longest - handover_guard(longest) + kEps) / one) : 1e12;
+    capacity_ = fits >= 1e9 ? std::numeric_limits<std::size_t>::max() : static_cast<std::size_t>(std::max(0.0, fits));
   } else {
     capacity_ = std::numeric_limits<std::size_t>::max();
   }

@@ -103,7 +103,9 @@ void RadioModel::coverage(Point2 tx, std::vector<uint8_t>& mask) const {
   const double range = free_range_m_;
   if (range <= 0) return;
   const double ax = (tx.x - o.x) / res, ay = (tx.y - o.y) / res;
-  const double range_cells = range / res + 1.0;
+  // Clamped to the grid before any cast (a huge link budget's range would
+  // overflow int).
+  const double range_cells = std::min(range / res + 1.0, static_cast<double>(grid_.width() + grid_.height()) + 1.0);
   const int c0 = std::max(0, static_cast<int>(std::floor(ax - range_cells)));
   const int c1 = std::min(grid_.width() - 1, static_cast<int>(std::ceil(ax + range_cells)));
   const int r0 = std::max(0, static_cast<int>(std::floor(ay - range_cells)));

@@ -68,6 +68,13 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   in_range(r.wall_loss_db, 0.0, 200.0, path, "radio.wall_loss_db", " dB");
   require(r.max_walls >= 0 && r.max_walls <= 100, path, "radio.max_walls must be in [0, 100], got " + std::to_string(r.max_walls));
   in_range(r.sensitivity_dbm, -200.0, 100.0, path, "radio.sensitivity_dbm", " dBm");
+  {
+    // The free-space range the link budget gives (RadioModel): at most 100 km.
+    const double budget = r.tx_power_dbm - r.ref_loss_db - r.sensitivity_dbm;
+    require(budget / (10.0 * r.exponent) <= 5.0, path,
+            "radio: tx_power_dbm - ref_loss_db - sensitivity_dbm = " + num(budget) + " dB over exponent " + num(r.exponent) +
+                " gives a free-space range over 100 km; lower the budget or raise radio.exponent");
+  }
   r.bitrate_bps = radio.optional<double>("bitrate_bps", r.bitrate_bps);
   require(r.bitrate_bps >= 0 && r.bitrate_bps <= 1e12, path,
           "radio.bitrate_bps must be in [0, 1e12] bit/s (0 = instant hand-over), got " + num(r.bitrate_bps));
@@ -82,7 +89,9 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   require(s.mission.cycles >= 1 && s.mission.cycles <= 10000, path,
           "mission.cycles must be in [1, 10000], got " + std::to_string(s.mission.cycles));
   s.mission.period = mission.optional<double>("period", s.mission.period);
-  in_range(s.mission.period, 0.0, 1e6, path, "mission.period", " s (0 = automatic)");
+  require(s.mission.period == 0.0 || (s.mission.period >= 1.0 && s.mission.period <= 1e6), path,
+          "mission.period must be 0 (automatic) or a finite value in [1, 1e6] s, got " + num(s.mission.period));
+  require(s.mission.seed <= 2147483647u, path, "mission.seed must be in [0, 2147483647], got " + std::to_string(s.mission.seed));
   s.mission.bytes_per_goal = mission.optional<double>("bytes_per_goal", s.mission.bytes_per_goal);
   require(s.mission.bytes_per_goal >= 0 && s.mission.bytes_per_goal <= 1e9, path,
           "mission.bytes_per_goal must be in [0, 1e9] bytes, got " + num(s.mission.bytes_per_goal));

@@ -32,7 +32,7 @@ MissionPlan load_mission_plan(const std::string& plan_path);
 // collector whose route has a meeting area for its segment; cycle_period_s
 // in (0, 1e6] s, area_tile_m in (0, 1e6] m; routes: finite waypoints within
 // the map (1 m margin), length, meeting areas, passes and coverage entries
-// finite and within [0, 2 x the polyline's length], segments in 1..N_w; the
+// finite and within [0, the polyline's length], segments in 1..N_w; the
 // label image of the grid's size. Throws gather::Error naming plan.source
 // ("plan" for a plan built in memory) and the agent or route at fault.
 void check_plan(const MissionPlan& plan, int team, const OccupancyGrid& grid);
