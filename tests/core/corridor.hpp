@@ -38,24 +38,32 @@ inline Scenario corridor() {
 // One collector driving OC (x = 0.55) -> x = 15.05 -> OC (29 m, 29 s), one
 // worker owning the whole corridor and meeting it at x = 15.05 (arc 14.5 m);
 // requests every mission.period of the scenario.
-inline mission::MissionPlan corridor_plan(const Scenario& s) {
+// One collector (agent 0) on `route` and one worker (agent 1) owning every
+// cell of the strip (one area of `tile_m` for the refresh interval), its
+// requests every mission.period of the scenario.
+inline mission::MissionPlan one_collector_plan(const Scenario& s, plan::CollectorRoute route, double tile_m) {
   mission::MissionPlan m;
   m.width = s.grid.width(), m.height = s.grid.height();
   m.labels.assign(s.grid.size(), 1);
   plan::PlanFile& p = m.file;
   p.method = "hand";
   p.collectors = 1, p.workers = 1, p.cycle_period_s = s.mission.period;
-  p.area_tile_m = 20.0;  // the whole corridor is one area of the refresh interval
+  p.area_tile_m = tile_m;
   p.agents = {plan::AgentAssignment{0, true, 0, 0}, plan::AgentAssignment{1, false, 1, 0}};
+  route.collector = 0;
+  route.segments = {1};
+  route.period = route.length;  // [s] at the strips' 1 m/s
+  p.routes = {route};
+  return m;
+}
+
+inline mission::MissionPlan corridor_plan(const Scenario& s) {
   plan::CollectorRoute r;
-  r.collector = 0;
-  r.segments = {1};
   r.waypoints = {Point2{0.55, 0.25}, Point2{15.05, 0.25}, Point2{0.55, 0.25}};
   r.meetings = {plan::MeetingArea{1, Point2{15.05, 0.25}, 14.5, {14.5}}};
-  r.length = 29.0, r.period = 29.0;
+  r.length = 29.0;
   r.coverage_entries = {26.95, 29.0};
-  p.routes = {r};
-  return m;
+  return one_collector_plan(s, r, 20.0);  // the whole corridor is one area of the refresh interval
 }
 
 // The same corridor without its collector: one worker of the OC owning it.
@@ -85,25 +93,14 @@ inline Scenario lingering_strip() {
 }
 
 inline mission::MissionPlan lingering_plan(const Scenario& s) {
-  mission::MissionPlan m;
-  m.width = s.grid.width(), m.height = s.grid.height();
-  m.labels.assign(s.grid.size(), 1);
-  plan::PlanFile& p = m.file;
-  p.method = "hand";
-  p.collectors = 1, p.workers = 1, p.cycle_period_s = s.mission.period;
-  p.area_tile_m = 40.0;
-  p.agents = {plan::AgentAssignment{0, true, 0, 0}, plan::AgentAssignment{1, false, 1, 0}};
   plan::CollectorRoute r;
-  r.collector = 0;
-  r.segments = {1};
   const double y = 0.25;
   r.waypoints = {Point2{0.55, y},  Point2{30.05, y}, Point2{28.05, y}, Point2{30.05, y},
                  Point2{28.05, y}, Point2{30.05, y}, Point2{0.55, y}};
   r.meetings = {plan::MeetingArea{1, Point2{10.05, y}, 9.5, {9.5, 28.5}}};
-  r.length = 67.0, r.period = 67.0;
+  r.length = 67.0;
   r.coverage_entries = {64.95, 67.0};
-  p.routes = {r};
-  return m;
+  return one_collector_plan(s, r, 40.0);
 }
 
 }  // namespace testing_support

@@ -127,9 +127,7 @@ int run(int argc, char** argv) {
   opt.loss_seed = static_cast<uint64_t>(args.get_int("--loss-seed", 1, 0, 2147483647));
   if (params.cycles < 1 || params.cycles > 100000) throw cli::UsageError("--cycles must be in 1..100000");
   if (seeds < 1 || seeds > 10000) throw cli::UsageError("--seeds must be in 1..10000");
-  if (seed0 < 0) throw cli::UsageError("--seed must be >= 0");
   if (!(opt.tick > 0.0) || opt.tick > 0.1) throw cli::UsageError("--tick must be in (0, 0.1] s");
-  if (!(opt.loss >= 0.0) || !(opt.loss < 1.0)) throw cli::UsageError("--loss must be in [0, 1)");
   const std::string out = args.get("--out");
   std::filesystem::create_directories(out);
 

@@ -135,7 +135,6 @@ int fmm(int argc, char** argv) {
               : queue == "buckets" ? fmm::QueueKind::kBuckets
                                    : fmm::QueueKind::kAuto;
   opt.bucket_width = args.get_double("--bucket-width", opt.bucket_width, 0.0, 1e6);
-  if (!(opt.bucket_width >= 0.0)) throw cli::UsageError("--bucket-width must be >= 0 (0 = default)");
   opt.max_time = args.get_double("--max-time", opt.max_time, 0.0, 1e15);
   if (!(opt.max_time >= 0.0)) throw cli::UsageError("--max-time must be >= 0");
   const std::string labels_path = args.get("--labels");

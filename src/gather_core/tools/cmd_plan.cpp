@@ -41,7 +41,6 @@ int plan(int argc, char** argv) {
   plan::PlannerOptions opt;
   opt.seed = static_cast<unsigned>(args.get_int("--seed", static_cast<int>(s.mission.seed), 0, 2147483647));
   opt.threads = args.get_int("--threads", 2, 1, 64);
-  if (opt.threads < 1) throw cli::UsageError("--threads must be >= 1");
   const std::string association = args.get("--association", "on");
   if (association != "on" && association != "off")
     throw cli::UsageError("--association must be on or off, got '" + association.substr(0, 40) + "'");

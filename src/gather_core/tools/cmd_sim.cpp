@@ -111,7 +111,6 @@ int sim(int argc, char** argv) {
   const int threads = args.get_int("--threads", 2, 1, 64);
   if (cycles < 1) throw cli::UsageError("--cycles must be >= 1");
   if (seeds < 1) throw cli::UsageError("--seeds must be >= 1");
-  if (threads < 1) throw cli::UsageError("--threads must be >= 1");
   if (args.has("--video")) {
     std::string ext = std::filesystem::path(args.get("--video")).extension().string();
     for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));

@@ -104,6 +104,17 @@ MapImage decode_pgm(const std::vector<uint8_t>& b, const std::string& path) {
 
 // --- PNG --------------------------------------------------------------------
 
+// check_pixels on a PNG's header; frees libpng's structs before it throws.
+void png_check_pixels(png_structp& png, png_infop& info, const std::string& path) {
+  const uint64_t w = png_get_image_width(png, info), h = png_get_image_height(png, info);
+  try {
+    check_pixels(path, w, h);
+  } catch (const Error&) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw;
+  }
+}
+
 struct PngReader {
   const std::vector<uint8_t>* bytes;
   std::size_t pos;
@@ -141,11 +152,7 @@ MapImage decode_png(const std::vector<uint8_t>& b, const std::string& path) {
   png_set_user_limits(png, 100000, 100000);
   png_read_info(png, info);
   const int color_type = png_get_color_type(png, info);
-  if (static_cast<uint64_t>(png_get_image_width(png, info)) * png_get_image_height(png, info) > kMaxImagePixels) {
-    const std::string size = std::to_string(png_get_image_width(png, info)) + "x" + std::to_string(png_get_image_height(png, info));
-    png_destroy_read_struct(&png, &info, nullptr);
-    throw Error(path, "image of " + size + " pixels is larger than the limit of " + std::to_string(kMaxImagePixels) + " pixels");
-  }
+  png_check_pixels(png, info, path);
 
   // The same transformations SDL_image applies before map_server sees pixels.
   png_set_strip_16(png);
@@ -229,11 +236,7 @@ Gray16Image decode_gray16_png(const std::vector<uint8_t>& b, const std::string& 
   png_set_read_fn(png, &reader, png_read_from_vector);
   png_set_user_limits(png, 100000, 100000);
   png_read_info(png, info);
-  if (static_cast<uint64_t>(png_get_image_width(png, info)) * png_get_image_height(png, info) > kMaxImagePixels) {
-    const std::string size = std::to_string(png_get_image_width(png, info)) + "x" + std::to_string(png_get_image_height(png, info));
-    png_destroy_read_struct(&png, &info, nullptr);
-    throw Error(path, "image of " + size + " pixels is larger than the limit of " + std::to_string(kMaxImagePixels) + " pixels");
-  }
+  png_check_pixels(png, info, path);
   if (png_get_color_type(png, info) != PNG_COLOR_TYPE_GRAY || png_get_bit_depth(png, info) != 16) {
     png_destroy_read_struct(&png, &info, nullptr);
     throw Error(path, "the label image must be a 16-bit single-channel PNG");

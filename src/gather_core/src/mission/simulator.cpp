@@ -72,9 +72,7 @@ MissionSimulator::MissionSimulator(const World& ctx, MissionPlan plan)
   check_plan(plan_, static_cast<int>(pf.agents.size()), grid);
   speed_ = s.team.speed;
   period_ = pf.cycle_period_s;
-  if (!(period_ > 0)) throw Error(where, "cycle_period_s must be > 0");
   areas_ = area_weights(ctx, pf.area_tile_m);
-  if (static_cast<int>(pf.routes.size()) != pf.collectors) throw Error(where, "one route per collector expected");
   for (const plan::CollectorRoute& r : pf.routes) {
     try {
       routes_.emplace_back(r, speed_, period_, grid, ctx.coverage);
@@ -86,7 +84,6 @@ MissionSimulator::MissionSimulator(const World& ctx, MissionPlan plan)
   const std::size_t max_goals = static_cast<std::size_t>(std::max(0, s.mission.goals_per_request));
   for (const plan::AgentAssignment& a : pf.agents) {
     if (a.collector) continue;
-    if (a.delivers_to >= pf.collectors) throw Error(where, "agent " + std::to_string(a.id) + ": bad collector");
     const RouteTimetable* route = a.delivers_to >= 0 ? &routes_[static_cast<std::size_t>(a.delivers_to)] : nullptr;
     workers_.emplace_back(ctx, plan_, a, route, *shared_, max_goals);
   }
