@@ -13,7 +13,7 @@ CYCLES ?= 0
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build run test test-ros test-plain test-cli test-e2e bench-fmm bench-runtime partition-report scenario-report regime-report runtime-report clean help
+.PHONY: all deps build run test test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults partition-report scenario-report regime-report runtime-report clean help
 
 all: build
 
@@ -103,6 +103,12 @@ bench-runtime: build
 # over LCM against one process -> docs/runtime_equivalence.md (~4 min).
 runtime-report: build
 	tools/netns-run $(PYTHON) tools/runtime_report.py
+
+# Faults on maps/office (pap:4 with busy collectors, bap:0; 10 cycles, 5
+# seeds): 20% loss, and one worker or collector killed, each repair ->
+# docs/faults_bench.md (~1 min; fails when a target is not met).
+bench-faults: build
+	$(PYTHON) tools/fault_bench.py
 
 # Partition metrics of BAP/PAP/RAP on every map -> docs/partitions.md.
 partition-report: build

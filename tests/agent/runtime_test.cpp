@@ -11,6 +11,7 @@
 #include <set>
 
 #include "../core/corridor.hpp"
+#include "office_team.hpp"
 #include "gather_agent/roles/collector_role.hpp"
 #include "gather_agent/roles/oc_role.hpp"
 #include "gather_agent/roles/worker_role.hpp"
@@ -180,6 +181,7 @@ struct Stepper {
 
 Message request(int32_t id, int32_t first, std::vector<Point2> goals, const OccupancyGrid& grid, int16_t from, int16_t to) {
   Message m = message(Kind::kRequest, from, to, 0, Point2{0.55, 0.25}, id);
+  m.request = RequestPart{};
   m.request.request = id, m.request.first_goal = first, m.request.total = static_cast<int32_t>(goals.size());
   m.request.part = 0, m.request.parts = 1, m.request.count = static_cast<uint16_t>(goals.size());
   for (std::size_t i = 0; i < goals.size(); ++i) m.request.cells[i] = static_cast<uint32_t>(grid.index(grid.world_to_cell(goals[i])));
@@ -404,24 +406,8 @@ TEST(TeamRunner, OneExpiryRuleForWorkersOfTheOcToo) {
   EXPECT_NEAR(out.result.goals[1].expired_at, 10.0, 0.11);  // within a tick
 }
 
-// maps/office, planned once per test binary.
-struct Office {
-  static Office& get() {
-    static Office o;
-    return o;
-  }
-  Scenario map = load_scenario(std::string(GATHER_REPO_DIR) + "/maps/office.scenario.yaml");
-  Scenario scenario = on_planning_grid(map, planning_factor(map));
-  plan::PlanContext ctx{scenario};
-  mission::MissionPlan pap4 = mission::mission_plan(ctx, plan::plan_configuration(ctx, partition::Method::kPap, 4, plan::grown_groups()));
-  mission::MissionPlan bap0 = mission::mission_plan(ctx, plan::plan_configuration(ctx, partition::Method::kBap, 0));
-};
-
-MissionParams office_params(int cycles, unsigned seed) {
-  MissionParams p;
-  p.cycles = cycles, p.seed = seed, p.goals_per_request = Office::get().scenario.mission.goals_per_request;
-  return p;
-}
+using testing_support::Office;
+using testing_support::office_params;
 
 // The guard of "one protocol": the agents and the analytic simulator, same
 // plans and seeds, agree within 5% on refresh time and goals per cycle.

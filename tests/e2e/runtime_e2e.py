@@ -99,6 +99,29 @@ def main():
                 same = open(os.path.join(lossy_one, name), "rb").read() == open(os.path.join(lossy_lcm, name), "rb").read()
                 check("loss 0.2: %s over LCM == in one process" % name, same)
 
+    # Dead agents (issue: faults): collector 1 and worker 9 SIGKILLed at
+    # t = 150 s and 200 s over LCM, 20% loss; the OC declares them dead, the
+    # collector's workers deliver to the OC, the worker's segment is merged,
+    # what they had is lost_with_agent; the same run as in one process.
+    if "pap:4" in plans:
+        import csv
+        kill_one, kill_lcm = os.path.join(tmp, "kill_one"), os.path.join(tmp, "kill_lcm")
+        args = ["--cycles", "4", "--loss", "0.2", "--loss-seed", "3", "--kill", "1@150,9@200"]
+        run([a.gather, "run", plans["pap:4"], "--out", kill_one] + args)
+        rc, out, err = run([a.gather, "run", plans["pap:4"], "--out", kill_lcm, "--lcm"] + args)
+        if check("collector 1 and worker 9 killed (SIGKILL) at 150 s and 200 s over LCM, 20% loss", rc == 0, err[-1500:]):
+            faults = list(csv.DictReader(open(os.path.join(kill_lcm, "faults.csv"))))
+            check("kill: the OC declared agents 1 and 9 (only) dead after they died",
+                  [(f["agent"], float(f["declared_at"]) > float(f["killed_at"]) >= 150) for f in faults]
+                  == [("1", True), ("9", True)], str(faults))
+            goals = list(csv.DictReader(open(os.path.join(kill_lcm, "goals.csv"))))
+            states = set(g["state"] for g in goals)
+            check("kill: every goal delivered, expired or lost_with_agent",
+                  states <= {"delivered", "expired", "lost_with_agent"}, str(states))
+            for name in ("goals.csv", "cycles.csv", "faults.csv"):
+                same = open(os.path.join(kill_one, name), "rb").read() == open(os.path.join(kill_lcm, name), "rb").read()
+                check("kill: %s over LCM == in one process" % name, same)
+
     # Wall-clock mode (as real robots run): not reproducible, but the same
     # mission: every goal resolved, nearly all as in the lockstep run.
     if "pap:4" in plans:

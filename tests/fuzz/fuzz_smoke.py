@@ -224,13 +224,15 @@ class Fuzzer:
         else:
             cmd = r.choice(["sim", "run", "plan", "fmm"])
             flags = {"sim": ["--cycles", "--seeds", "--seed", "--threads"],
-                     "run": ["--cycles", "--seeds", "--seed", "--tick", "--loss", "--loss-seed", "--rate"],
+                     "run": ["--cycles", "--seeds", "--seed", "--tick", "--loss", "--loss-seed", "--rate", "--kill",
+                             "--repair", "--silent-intervals"],
                      "plan": ["--seed", "--threads", "--config", "--association"],
                      "fmm": ["--order", "--repeat", "--bucket-width", "--max-time", "--source", "--sources-file"]}[cmd]
             extra = []
             for _ in range(1 + r.randrange(2)):
                 f = r.choice(flags)
-                v = r.choice(NASTY + ["pap:99", "rap:-1", "x:1", "1,1", "/dev/zero", "0,0", "2,2", "on", "off"])
+                v = r.choice(NASTY + ["pap:99", "rap:-1", "x:1", "1,1", "/dev/zero", "0,0", "2,2", "on", "off",
+                                      "1@5", "0@0,1@3", "3@nan", "1@1e300", "99@5", "1@5,1@6", "merge", "none"])
                 extra += [f, v.strip('"')]
             if cmd == "sim":
                 argv = [g, "sim", plan, "--out", os.path.join(d, "sim")] + extra

@@ -1,5 +1,6 @@
 // gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT]
-//                     [--loss P] [--loss-seed N]
+//                     [--loss P] [--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none]
+//                     [--silent-intervals K]
 //                     [--lcm [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R]
 //                            [--clock lockstep|wall]]:
 // runs the plan with the agent runtime for K seeds: every role in this
@@ -12,7 +13,10 @@
 // lost). --lcm sends UDP multicast: only inside a private network namespace
 // (tools/netns-run) or with an explicit --lcm-url. --clock wall runs the
 // fleet as real robots would (no ticks: mission time is the wall clock x
-// --rate, default 1): not reproducible, no per-agent counters.
+// --rate, default 1): not reproducible, no per-agent counters. --kill ends
+// agents at mission times (over LCM: SIGKILL to their processes); the OC
+// declares silent agents dead and the survivors run the repaired plan
+// (docs/faults.md).
 #include <chrono>
 #include <cstdlib>
 #include <cstdio>
@@ -46,6 +50,7 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
   try {
     agent::MasterOptions mo;
     mo.tick = opt.tick, mo.loss = opt.loss, mo.loss_seed = opt.loss_seed, mo.rate = rate;
+    mo.kills = opt.kills;
     if (wall) mo.clock = agent::ClockMode::kWall;
     agent::LockstepMaster master(team, fleet, digest, mo);
     const auto t0 = std::chrono::steady_clock::now();
@@ -73,9 +78,12 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
                 (out.wall_ms - master.publish_ms() - master.inbox_ms() - master.oc_ms() - master.wait_ms()) / ticks);
     processes.wait(5.0);  // they end by themselves on the last tick
     processes.stop(2.0);
-    for (const AgentProcess& p : processes.agents())
-      if (p.exit_status != 0)
+    for (const AgentProcess& p : processes.agents()) {
+      bool killed = false;
+      for (const agent::Kill& k : opt.kills) killed = killed || k.agent == p.id;
+      if (p.exit_status != 0 && !killed)
         throw RuntimeError("agent " + std::to_string(p.id), "exited with status " + std::to_string(p.exit_status));
+    }
     return out;
   } catch (const RuntimeError&) {
     throw;
@@ -92,12 +100,12 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
 int run(int argc, char** argv) {
   cli::Args args(argc, argv, 2,
                  {"--cycles", "--seeds", "--seed", "--out", "--tick", "--loss", "--loss-seed", "--lcm-url", "--reply-url",
-                  "--agent-bin", "--rate", "--clock"},
+                  "--agent-bin", "--rate", "--clock", "--kill", "--repair", "--silent-intervals"},
                  {"--lcm"});
   if (args.positional().size() != 1 || !args.has("--out"))
     throw cli::UsageError(
         "usage: gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT] [--loss P] "
-        "[--loss-seed N] [--lcm [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R] [--clock lockstep|wall]]");
+        "[--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none] [--silent-intervals K] [--lcm [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R] [--clock lockstep|wall]]");
   const bool over_lcm = args.on("--lcm");
   for (const char* flag : {"--lcm-url", "--reply-url", "--agent-bin", "--rate", "--clock"})
     if (args.has(flag) && !over_lcm) throw cli::UsageError(std::string(flag) + " needs --lcm");
@@ -125,6 +133,9 @@ int run(int argc, char** argv) {
   opt.tick = args.get_double("--tick", opt.tick, 0.001, 10.0);
   opt.loss = args.get_double("--loss", opt.loss, 0.0, 0.999);
   opt.loss_seed = static_cast<uint64_t>(args.get_int("--loss-seed", 1, 0, 2147483647));
+  params.repair = mission::parse_repair_mode(args.get("--repair", "merge"), "--repair");
+  params.silent_intervals = args.get_double("--silent-intervals", params.silent_intervals, 1.5, 100.0);
+  opt.kills = agent::parse_kills(args.get("--kill", ""), static_cast<int>(loaded.plan.file.agents.size()), "--kill");
   if (params.cycles < 1 || params.cycles > 100000) throw cli::UsageError("--cycles must be in 1..100000");
   if (seeds < 1 || seeds > 10000) throw cli::UsageError("--seeds must be in 1..10000");
   if (!(opt.tick > 0.0) || opt.tick > 0.1) throw cli::UsageError("--tick must be in (0, 0.1] s");
@@ -161,6 +172,15 @@ int run(int argc, char** argv) {
     refresh += r.result.refresh_mean_s, per_cycle += r.result.goals_per_cycle;
     slowest = std::min(slowest, (wall_clock ? r.end_s : r.result.mission_s) * 1000.0 / r.wall_ms);
     messages += r.messages, ticks += r.ticks;
+    if (!opt.kills.empty() || !r.declared_dead.empty()) {
+      std::string dead;
+      for (const auto& [a, at] : r.declared_dead)
+        dead += (dead.empty() ? "" : ", ") + std::to_string(a) + " at " + std::to_string(static_cast<int>(at)) + " s";
+      std::printf("seed %u: declared dead: %s; goals delivered %d, expired %d, dropped %d, lost with an agent %d "
+                  "(%lld declared lost and recovered later)\n",
+                  team.params.seed, dead.empty() ? "none" : dead.c_str(), r.result.delivered, r.result.expired,
+                  r.result.dropped, r.result.lost_with_agent, static_cast<long long>(r.recovered));
+    }
   }
   files.write(out);
   const double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();

@@ -20,6 +20,8 @@ constexpr int kMaxTeam = 4096;      // agent ids 0..kMaxTeam-1
 constexpr int kRequestPartGoals = 256;  // goals in one request message (a request is sent in parts)
 constexpr int kMaxRequestParts = 64;    // so at most 16384 goals a request
 constexpr int kMaxBatch = 64;           // data items or acks in one message
+constexpr int kMaxDead = 32;            // agents the OC declares dead in one mission (docs/faults.md)
+constexpr int kMaxHeard = 64;           // workers a collector reports news of in one state message
 
 enum class Kind : uint8_t { kRequest = 1, kData = 2, kAck = 3, kState = 4 };
 const char* kind_name(Kind k);
@@ -33,6 +35,7 @@ struct Header {
   double t = 0.0;          // [s] mission time at sending
   Point2 pos;              // [m] sender's position at sending
   int32_t request = -1;    // newest request the sender knows, -1 none
+  uint8_t dead = 0;        // how many of the OC's declarations of dead agents the sender knows
 };
 
 // One part of goal request `request`: goals first_goal .. first_goal +
@@ -47,6 +50,10 @@ struct RequestPart {
   uint16_t part = 0, parts = 1;
   uint16_t count = 0;
   uint32_t cells[kRequestPartGoals];
+  // The agents the OC has declared dead so far, in the order it declared
+  // them (the plan every agent executes is mission::repair_plan of them).
+  uint8_t dead_count = 0;
+  int16_t dead[kMaxDead];
 };
 
 // What happened to a goal (or to a whole request of one worker), carried to
@@ -93,6 +100,11 @@ struct StateReport {
   uint16_t notices = 0;     // expiry / drop / skip notices in custody
   uint16_t pending = 0;     // goals known and not yet measured
   int32_t measured = 0;     // goals measured so far
+  // Collectors: when they last heard each of their workers (the OC's news
+  // of workers it cannot hear; docs/faults.md, "Liveness").
+  uint8_t heard_count = 0;
+  int16_t heard_agent[kMaxHeard];
+  double heard_at[kMaxHeard];  // [s] mission time
 };
 
 struct Message {

@@ -25,6 +25,7 @@ CollectorRole::CollectorRole(TeamSetup& team, int agent, MotionBackend& motion)
   const std::size_t g = static_cast<std::size_t>(team.params.goals_per_request);
   parts_.resize(std::max<std::size_t>(1, (g + kRequestPartGoals - 1) / kRequestPartGoals));
   acks_.reserve(kMaxBatch);
+  dead_.reserve(kMaxDead);
   next_beacon_ = team.params.beacon_period * static_cast<double>(agent % 10) / 10.0;
   counters_.role = RoleKind::kCollector;
   counters_.id = agent;
@@ -34,6 +35,7 @@ CollectorRole::CollectorRole(TeamSetup& team, int agent, MotionBackend& motion)
 RoleReport CollectorRole::report() const {
   RoleReport r = counters_;
   r.requests = newest_request();
+  r.dead_known = static_cast<int64_t>(dead_.size());
   return r;
 }
 
@@ -44,6 +46,7 @@ CollectorRole::Served* CollectorRole::served(int16_t agent) {
 }
 
 void CollectorRole::on_request(const RequestPart& part) {
+  learn_dead(part);
   if (part.request < request_id_ || part.request >= team_.params.cycles) return;
   if (part.parts == 0 || part.parts > kMaxRequestParts || part.part >= part.parts || part.count > kRequestPartGoals) return;
   if (part.parts > parts_.size()) parts_.resize(part.parts);  // a larger request than the scenario's
@@ -55,16 +58,21 @@ void CollectorRole::on_request(const RequestPart& part) {
 }
 
 void CollectorRole::hand_request(Served& w, double now, Outbox& out) {
-  if (!complete_ || w.handed >= request_id_) return;
+  if (!complete_ || (w.handed >= request_id_ && w.handed_dead >= dead_.size())) return;
   const uint16_t parts = parts_[0].parts;
   for (uint16_t p = 0; p < parts; ++p)
-    if (Message* m = send(out, Kind::kRequest, w.agent, now)) m->request = parts_[p];
+    if (Message* m = send(out, Kind::kRequest, w.agent, now)) {
+      m->request = parts_[p];
+      stamp_dead(m->request);
+    }
   w.handed = request_id_;
+  w.handed_dead = dead_.size();
 }
 
 void CollectorRole::step(double now, const Message* const* inbox, std::size_t n, Outbox& out) {
   for (std::size_t i = 0; i < n; ++i) {
     const Message& m = *inbox[i];
+    if (Served* w = served(m.h.sender)) w->heard_at = now;
     if (m.h.dest != id_ && m.h.dest != kBroadcast) continue;
     switch (m.h.kind) {
       case Kind::kRequest:
@@ -93,12 +101,18 @@ void CollectorRole::step(double now, const Message* const* inbox, std::size_t n,
         }
         // A worker that lacks the request it should have (it missed the
         // meeting area) gets it now.
-        if (m.h.request < request_id_ && w->handed >= request_id_) w->handed = -1, hand_request(*w, now, out);
+        if ((m.h.request < request_id_ || m.h.dead < dead_.size()) && w->handed >= request_id_)
+          w->handed = -1, hand_request(*w, now, out);
         break;
       }
       case Kind::kState: {
         Served* w = served(m.h.sender);
-        if (w && m.h.request < request_id_ && w->handed >= request_id_) w->handed = -1, hand_request(*w, now, out);
+        // One that asks (a hello: its request is due) gets it now, even
+        // before this loop's pass handed it (it missed request 0 at the
+        // start, or the hand-over at the pass was lost); a beacon only
+        // after the pass.
+        if (w && (m.h.request < request_id_ || m.h.dead < dead_.size()) && (m.h.dest == id_ || w->handed >= request_id_))
+          w->handed = -1, hand_request(*w, now, out);
         break;
       }
     }
@@ -122,6 +136,10 @@ void CollectorRole::step(double now, const Message* const* inbox, std::size_t n,
       m->state.role = RoleKind::kCollector;
       m->state.carried = static_cast<uint16_t>(std::min<std::size_t>(custody_.data(), 65535));
       m->state.notices = static_cast<uint16_t>(std::min<std::size_t>(custody_.notices(), 65535));
+      const std::size_t k = std::min<std::size_t>(workers_.size(), kMaxHeard);
+      m->state.heard_count = static_cast<uint8_t>(k);
+      for (std::size_t i = 0; i < k; ++i)
+        m->state.heard_agent[i] = workers_[i].agent, m->state.heard_at[i] = workers_[i].heard_at;
     }
   };
   if (in_contact && !contact_prev_) state(kOc);

@@ -49,6 +49,10 @@ OcRole::OcRole(TeamSetup& team, MotionBackend& station) : Role(kOc, station), te
     if (g.worker < 0) unassigned_.push_back(g.id);
   delivered_by_.assign(static_cast<std::size_t>(team.agents()), 0);
   acks_.reserve(kMaxBatch);
+  heard_.assign(static_cast<std::size_t>(team.agents()), 0.0);  // the team starts next to the OC
+  declared_at_.assign(static_cast<std::size_t>(team.agents()), -1.0);
+  grace_until_.assign(static_cast<std::size_t>(team.agents()), 0.0);
+  dead_.reserve(kMaxDead);
 }
 
 std::size_t OcRole::requested() const { return first_[static_cast<std::size_t>(issued_)]; }
@@ -59,6 +63,7 @@ RoleReport OcRole::report() const {
   r.id = kOc;
   r.requests = newest_request();
   r.pending = static_cast<int64_t>(requested() - resolved_count_);
+  r.dead_known = static_cast<int64_t>(dead_.size());
   return r;
 }
 
@@ -79,7 +84,57 @@ void OcRole::issue(int cycle, int16_t dest, double now, Outbox& out) {
     const int begin = p * kRequestPartGoals, end = std::min(count, begin + kRequestPartGoals);
     r.count = static_cast<uint16_t>(std::max(0, end - begin));
     for (int k = begin; k < end; ++k) r.cells[k - begin] = cell_of_[first + static_cast<std::size_t>(k)];
+    stamp_dead(r);
   }
+}
+
+bool OcRole::open(std::size_t goal) {
+  if (!resolved_[goal]) return true;
+  mission::GoalRecord& g = goals_[goal];
+  if (g.state != mission::GoalState::kLostWithAgent) return false;
+  g.lost_at = -1.0;
+  g.state = mission::GoalState::kPending;
+  resolved_[goal] = 0;
+  --resolved_count_;
+  ++recovered_;
+  return true;
+}
+
+void OcRole::declare_dead(int16_t agent, double now, Outbox& out) {
+  const plan::AgentAssignment before = assigned(agent);
+  std::vector<uint8_t> served_by_it(static_cast<std::size_t>(team_.agents()), 0);  // whose goals it had
+  served_by_it[static_cast<std::size_t>(agent)] = 1;
+  if (before.collector)
+    for (int a = 0; a < team_.agents(); ++a)
+      if (!assigned(a).collector && assigned(a).delivers_to == before.delivers_to) served_by_it[static_cast<std::size_t>(a)] = 1;
+  dead_.push_back(agent);
+  declared_at_[static_cast<std::size_t>(agent)] = now;
+  repair_ = &team_.repaired(dead_.data(), dead_.size());
+  // What was its own is declared lost now: the goals of the requests issued
+  // so far that it (a worker) or its workers (a collector) had not resolved.
+  // News from a survivor that still holds one overrides this (open()).
+  for (std::size_t i = 0; i < requested(); ++i) {
+    mission::GoalRecord& g = goals_[i];
+    if (resolved_[i] || g.worker < 0 || !served_by_it[static_cast<std::size_t>(g.worker)]) continue;
+    g.lost_at = now;
+    resolve(g, mission::GoalState::kLostWithAgent);
+  }
+  // The requests to come go by the repaired plan.
+  for (std::size_t i = requested(); i < goals_.size(); ++i) {
+    mission::GoalRecord& g = goals_[i];
+    const bool was_unassigned = g.worker < 0;
+    g.segment = repair_->plan.labels[cell_of_[i]];
+    g.worker = g.segment > 0 ? team_.worker_of_segment(g.segment) : -1;
+    g.deadline = g.worker < 0 || assigned(g.worker).delivers_to < 0 ? std::numeric_limits<double>::infinity()
+                                                                     : team_.deadline(g.worker, g.cycle);
+    if (g.worker < 0 && !was_unassigned) unassigned_.push_back(g.id);
+  }
+  // Workers that now deliver to the OC: as long to come as they had to be
+  // heard of before (they learn of it by their own timeout, then walk).
+  for (int a = 0; a < team_.agents(); ++a)
+    if (!repair_->dead[static_cast<std::size_t>(a)] && served_by_it[static_cast<std::size_t>(a)])
+      grace_until_[static_cast<std::size_t>(a)] = now + team_.silent_timeout(team_.plan, a);
+  if (issued_ > 0) issue(issued_ - 1, kBroadcast, now, out);  // the news, to whoever is in the coverage
 }
 
 void OcRole::resolve(mission::GoalRecord& g, mission::GoalState state) {
@@ -96,7 +151,7 @@ bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
     if (!(item.at >= issued_at_[static_cast<std::size_t>(c)] - 1e-6) || !(item.at <= now + 1e-6)) return false;
     for (std::size_t i = first_[static_cast<std::size_t>(c)]; i < first_[static_cast<std::size_t>(c) + 1]; ++i) {
       mission::GoalRecord& g = goals_[i];
-      if (g.worker != item.by || resolved_[i]) continue;
+      if (g.worker != item.by || !open(i)) continue;
       g.expired_at = std::max(item.at, g.requested_at);
       resolve(g, mission::GoalState::kExpired);
     }
@@ -104,19 +159,34 @@ bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
   }
   if (item.key < 0 || static_cast<std::size_t>(item.key) >= requested()) return false;
   mission::GoalRecord& g = goals_[static_cast<std::size_t>(item.key)];
-  if (g.worker != item.by) return false;
+  // Its worker, or the one whose segment its cell is in since a repair (a
+  // request issued before the repair, learned after it).
+  if (g.worker != item.by) {
+    const int32_t now_in = repair_ ? repair_->plan.labels[cell_of_[static_cast<std::size_t>(item.key)]] : 0;
+    if (now_in <= 0 || team_.worker_of_segment(now_in) != item.by) return false;
+    // Its deadline is the new worker's (goals.csv keeps the worker it was
+    // issued to; measured_by says who measured it).
+    g.deadline = assigned(item.by).delivers_to < 0 ? std::numeric_limits<double>::infinity()
+                                                   : team_.deadline(item.by, g.cycle);
+  }
   // Times a worker and a collector could have: after the request, not after now.
   const double eps = 1e-6;
   if (!(item.at >= g.requested_at - eps && item.at <= now + eps)) return false;
   if (item.kind == ItemKind::kMeasured && item.picked_up_by >= 0 &&
       !(item.picked_up_at >= item.at - 1e-3 && item.picked_up_at <= now + eps))
     return false;
-  if (resolved_[static_cast<std::size_t>(item.key)]) {
+  if (!open(static_cast<std::size_t>(item.key))) {
     ++duplicates_;
     return true;
   }
   switch (item.kind) {
     case ItemKind::kMeasured:
+      // A worker of a collector that brings its own data works for the OC
+      // (it found its collector silent before the OC declared it dead): its
+      // deadline started when it learned the request, as for every worker
+      // of the OC, which the OC's record could not know at the issue.
+      if (item.at > g.deadline && item.picked_up_by < 0 && sender == item.by && team_.assignment(sender).delivers_to >= 0)
+        g.deadline = std::numeric_limits<double>::infinity();
       g.measured_at = item.at, g.measured_by = item.by;
       g.picked_up_at = item.picked_up_at, g.picked_up_by = item.picked_up_by;
       g.delivered_at = now, g.delivered_by = sender;
@@ -165,6 +235,13 @@ void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox
     const Message& m = *inbox[i];
     const int16_t s = m.h.sender;
     if (s < 0 || s >= team_.agents()) continue;
+    heard_[static_cast<std::size_t>(s)] = now;
+    if (m.h.kind == Kind::kState && assigned(s).collector)  // its news of its workers
+      for (std::size_t k = 0; k < std::min<std::size_t>(m.state.heard_count, kMaxHeard); ++k) {
+        const int16_t w = m.state.heard_agent[k];
+        if (w >= 0 && w < team_.agents() && m.state.heard_at[k] <= now)
+          heard_[static_cast<std::size_t>(w)] = std::max(heard_[static_cast<std::size_t>(w)], m.state.heard_at[k]);
+      }
     const bool addressed = m.h.dest == kOc;
     if (addressed && m.h.kind == Kind::kData) {
       acks_.clear();
@@ -183,14 +260,25 @@ void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox
     // Collectors and workers of the OC take requests from the OC: one that
     // lacks the newest gets it, at once when it asked (data, hello), else
     // once a resend interval (its beacon: the broadcast may have been lost).
-    const plan::AgentAssignment& a = team_.assignment(s);
-    const bool from_oc = a.collector || a.delivers_to < 0;
+    // So does one that lacks the newest declarations of dead agents, and
+    // any agent that asks (a worker whose collector went silent comes to
+    // the OC before the OC's repair says so).
+    const plan::AgentAssignment& a = assigned(s);
+    const bool from_oc = a.collector || a.delivers_to < 0 || addressed;
+    const bool lags = m.h.request < issued_ - 1 || m.h.dead < dead_.size();
     double& answered = answered_at_[static_cast<std::size_t>(s)];
-    if (from_oc && issued_ > 0 && m.h.request < issued_ - 1 &&
+    if (from_oc && issued_ > 0 && lags &&
         ((addressed && answered < now) || now - answered >= team_.params.resend_after)) {
       answered = now;
       issue(issued_ - 1, s, now, out);
     }
+  }
+  // An agent unheard for longer than its timeout is declared dead.
+  for (int a = 0; a < team_.agents(); ++a) {
+    if (declared_at_[static_cast<std::size_t>(a)] >= 0 || dead_.size() >= static_cast<std::size_t>(kMaxDead)) continue;
+    if (now - heard_[static_cast<std::size_t>(a)] > team_.silent_timeout(current_plan(), a) &&
+        now > grace_until_[static_cast<std::size_t>(a)])
+      declare_dead(static_cast<int16_t>(a), now, out);
   }
 }
 

@@ -57,6 +57,8 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
   if (!(period > 0) || !std::isfinite(period)) throw Error(where, "cycle_period_s must be > 0");
   if (params.cycles < 1 || params.cycles > kMaxRequests) throw Error(where, "cycles must be in 1..100000");
   if (params.goals_per_request < 0) throw Error(where, "goals per request must be >= 0");
+  if (!(params.silent_intervals >= 1.5 && params.silent_intervals <= 100.0))
+    throw Error("--silent-intervals", "must be in [1.5, 100], got " + std::to_string(params.silent_intervals));
   if (params.data_capacity == 0)
     params.data_capacity = std::max<std::size_t>(64, 4 * static_cast<std::size_t>(params.goals_per_request));
   if (params.notice_capacity == 0) params.notice_capacity = params.data_capacity;
@@ -103,6 +105,43 @@ double TeamSetup::deadline(int agent, int cycle) const {
                                    mission::request_reaches_worker(r, arc, cycle + 1, period), period);
 }
 
+const mission::RepairedPlan& TeamSetup::repaired(const int16_t* dead, std::size_t n) {
+  std::vector<int> key(dead, dead + n);
+  std::sort(key.begin(), key.end());
+  key.erase(std::unique(key.begin(), key.end()), key.end());
+  for (const auto& [set, plan] : repaired_)
+    if (set == key) return *plan;
+  const std::size_t cells = static_cast<std::size_t>(plan.width) * static_cast<std::size_t>(plan.height);
+  if (plan.labels.size() == cells) {
+    repaired_.emplace_back(key, std::make_unique<mission::RepairedPlan>(mission::repair_plan(plan, key, params.repair)));
+  } else {
+    mission::MissionPlan full;
+    full.source = plan.source, full.file = plan.file, full.width = plan.width, full.height = plan.height;
+    full.labels.reserve(cells);
+    for (const auto& [label, n] : label_runs_) full.labels.insert(full.labels.end(), n, label);
+    if (full.labels.size() != cells) throw RuntimeError("plan repair (internal error)", "the plan's label image was dropped");
+    repaired_.emplace_back(key, std::make_unique<mission::RepairedPlan>(mission::repair_plan(full, key, params.repair)));
+  }
+  return *repaired_.back().second;
+}
+
+void TeamSetup::keep_labels() {
+  label_runs_.clear();
+  for (int32_t l : plan.labels) {
+    if (label_runs_.empty() || label_runs_.back().first != l) label_runs_.emplace_back(l, 0);
+    ++label_runs_.back().second;
+  }
+  label_runs_.shrink_to_fit();
+}
+
+double TeamSetup::silent_timeout(const mission::MissionPlan& p, int agent) const {
+  const plan::AgentAssignment& a = p.file.agents[static_cast<std::size_t>(agent)];
+  if (a.delivers_to < 0) return mission::silent_timeout(mission::Liveness::kOcWorker, period, 0.0, params.silent_intervals);
+  const double loop = routes[static_cast<std::size_t>(a.delivers_to)].period();
+  return mission::silent_timeout(a.collector ? mission::Liveness::kCollector : mission::Liveness::kCollectorWorker, period,
+                                 loop, params.silent_intervals);
+}
+
 Message* Outbox::add(Kind kind, int16_t dest) {
   if (n_ >= messages_.size()) {
     ++refused_;
@@ -122,7 +161,20 @@ Message* Role::send(Outbox& out, Kind kind, int16_t dest, double now) {
   m->h.t = now;
   m->h.pos = motion_.pose();
   m->h.request = newest_request();
+  m->h.dead = static_cast<uint8_t>(dead_.size());
   return m;
+}
+
+bool Role::learn_dead(const RequestPart& part) {
+  const std::size_t n = std::min<std::size_t>(part.dead_count, kMaxDead);
+  if (n <= dead_.size()) return false;
+  dead_.assign(part.dead, part.dead + n);
+  return true;
+}
+
+void Role::stamp_dead(RequestPart& part) const {
+  part.dead_count = static_cast<uint8_t>(std::min<std::size_t>(dead_.size(), kMaxDead));
+  std::copy(dead_.begin(), dead_.begin() + part.dead_count, part.dead);
 }
 
 }  // namespace agent

@@ -36,12 +36,13 @@ std::size_t initial_goals(const TeamSetup& team) {
 WorkerRole::WorkerRole(TeamSetup& team, int agent, MotionBackend& motion)
     : Role(static_cast<int16_t>(agent), motion),
       team_(team),
-      policy_(team.world, team.plan, team.assignment(agent),
-              team.assignment(agent).delivers_to >= 0 ? &team.routes[static_cast<std::size_t>(team.assignment(agent).delivers_to)]
-                                                      : nullptr,
-              *team.distances, initial_goals(team)),
+      policy_(std::make_unique<mission::WorkerPolicy>(
+          team.world, team.plan, team.assignment(agent),
+          team.assignment(agent).delivers_to >= 0 ? &team.routes[static_cast<std::size_t>(team.assignment(agent).delivers_to)]
+                                                  : nullptr,
+          *team.distances, initial_goals(team))),
       custody_(team.params.data_capacity, team.params.notice_capacity) {
-  if (policy_.collector() >= 0) upstream_ = static_cast<int16_t>(team.collector_agent(policy_.collector()));
+  if (policy_->collector() >= 0) upstream_ = static_cast<int16_t>(team.collector_agent(policy_->collector()));
   const std::size_t g = static_cast<std::size_t>(team.params.goals_per_request);
   request_.mine.reserve(initial_goals(team));
   scratch_.reserve(initial_goals(team));
@@ -49,7 +50,7 @@ WorkerRole::WorkerRole(TeamSetup& team, int agent, MotionBackend& motion)
   measured_in_step_.reserve(g);
   legs_.resize(g + 2);
   leg_goal_.resize(g + 2);
-  policy_.reserve_all();  // no allocation in the control step after this
+  policy_->reserve_all();  // no allocation in the control step after this
   if (motion.max_legs() < g + 2)
     throw Error("agent " + std::to_string(agent), "its motion backend takes " + std::to_string(motion.max_legs()) +
                                                       " legs, a plan may need " + std::to_string(g + 2));
@@ -57,27 +58,74 @@ WorkerRole::WorkerRole(TeamSetup& team, int agent, MotionBackend& motion)
   next_beacon_ = team.params.beacon_period * static_cast<double>(agent % 10) / 10.0;
   counters_.role = RoleKind::kWorker;
   counters_.id = agent;
+  const int segment = team.assignment(agent).segment;
+  served_cells_ = std::count(team.plan.labels.begin(), team.plan.labels.end(), segment);
+  if (policy_->collector() >= 0) {
+    // As long as the OC waits before it declares the collector dead (the
+    // OC answers a worker that comes to it before that all the same).
+    const double loop = team.routes[static_cast<std::size_t>(policy_->collector())].period();
+    suspect_after_ = mission::silent_timeout(mission::Liveness::kCollector, team.period, loop, team.params.silent_intervals);
+  }
+  dead_.reserve(kMaxDead);
+}
+
+double WorkerRole::deadline(int cycle) const {
+  return policy_->delivers_to_oc() ? kInf : team_.deadline(id_, cycle);
+}
+
+void WorkerRole::repair(double now) {
+  std::vector<int16_t> set(dead_);
+  if (suspected_ >= 0) set.push_back(suspected_);
+  const mission::RepairedPlan& r = team_.repaired(set.data(), set.size());
+  if (r.dead[static_cast<std::size_t>(id_)]) {  // declared dead while alive: it stops for good
+    retired_ = true;
+    motion_.hold();
+    phase_ = Phase::kDone;
+    TRACE("%.1f retired: declared dead\n", now);
+    return;
+  }
+  const plan::AgentAssignment& a = r.plan.file.agents[static_cast<std::size_t>(id_)];
+  const int64_t cells = std::count(r.plan.labels.begin(), r.plan.labels.end(), a.segment);
+  const bool new_upstream = a.delivers_to != policy_->collector();
+  if (!new_upstream && cells == served_cells_) return;
+  const mission::RouteTimetable* route =
+      a.delivers_to >= 0 ? &team_.routes[static_cast<std::size_t>(a.delivers_to)] : nullptr;
+  auto fresh = std::make_unique<mission::WorkerPolicy>(team_.world, r.plan, a, route, *team_.distances,
+                                                       policy_->max_goals());
+  fresh->reserve_all();
+  // The current request's goals, in the same order: the plan under way
+  // refers to them by their local index.
+  scratch_.clear();
+  for (std::size_t i = 0; i < policy_->goals(); ++i) scratch_.push_back(policy_->goal(i));
+  fresh->learn(scratch_.data(), scratch_.size());
+  policy_ = std::move(fresh);
+  served_cells_ = cells;
+  upstream_ = route ? static_cast<int16_t>(team_.collector_agent(a.delivers_to)) : kOc;
+  TRACE("%.1f repaired: segment cells %lld, delivers to %d\n", now, static_cast<long long>(cells), a.delivers_to);
+  if (new_upstream && phase_ != Phase::kMoving) phase_ = Phase::kReady;  // decide again, for the OC
+  if (new_upstream) heard_oc_ = false, last_hello_ = -kInf, transfer_since_ = -1.0;
 }
 
 RoleReport WorkerRole::report() const {
   RoleReport r = counters_;
   r.pending = static_cast<int64_t>(known_.size());
   r.requests = newest_request();
+  r.dead_known = static_cast<int64_t>(dead_.size());
   return r;
 }
 
 bool WorkerRole::contact(double now) const {
   const Point2 here = motion_.pose();
-  if (policy_.delivers_to_oc()) return team_.linked(here, team_.world.scenario.oc);
-  return team_.linked(here, policy_.route()->position(now));
+  if (policy_->delivers_to_oc()) return team_.linked(here, team_.world.scenario.oc);
+  return team_.linked(here, policy_->route()->position(now));
 }
 
 double WorkerRole::due_time() const {
   if (resolved_ + 1 >= team_.params.cycles) return kInf;
-  if (policy_.delivers_to_oc()) return (resolved_ + 1) * team_.period;
+  if (policy_->delivers_to_oc()) return (resolved_ + 1) * team_.period;
   // A worker of a collector: when the next request reaches it.
   return resolved_ < 0 ? 0.0
-                       : mission::request_reaches_worker(*policy_.route(), policy_.meeting_arc(), resolved_ + 1,
+                       : mission::request_reaches_worker(*policy_->route(), policy_->meeting_arc(), resolved_ + 1,
                                                          team_.period);
 }
 
@@ -99,7 +147,7 @@ void WorkerRole::on_request(const RequestPart& part, int16_t) {
   request_.seen |= 1ull << part.part;
   for (uint16_t k = 0; k < part.count; ++k) {
     const uint32_t cell = part.cells[k];
-    if (cell >= grid.size() || !policy_.in_segment(grid.cell(cell))) continue;
+    if (cell >= grid.size() || !policy_->in_segment(grid.cell(cell))) continue;
     const int64_t index = static_cast<int64_t>(part.part) * kRequestPartGoals + k;
     if (index >= part.total) break;
     const int32_t goal = part.first_goal + static_cast<int32_t>(index);
@@ -122,7 +170,7 @@ void WorkerRole::notice(ItemKind kind, int32_t key, double at) {
 }
 
 void WorkerRole::measure(int local, double at) {
-  const int32_t goal = policy_.goal(static_cast<std::size_t>(local)).id;
+  const int32_t goal = policy_->goal(static_cast<std::size_t>(local)).id;
   const auto it = std::find(known_.begin(), known_.end(), local);
   if (it == known_.end()) return;  // expired meanwhile (within the deadline's tolerance): its notice is out
   known_.erase(it);
@@ -141,10 +189,10 @@ void WorkerRole::measure(int local, double at) {
 // the worker can no longer be measured (it was superseded on the way, or
 // never heard): its goals here expire, reported as one notice.
 void WorkerRole::skip_overdue(double now) {
-  if (policy_.delivers_to_oc()) return;
+  if (policy_->delivers_to_oc()) return;
   while (resolved_ + 1 < team_.params.cycles) {
     const int c = resolved_ + 1;
-    const double d = team_.deadline(id_, c);
+    const double d = deadline(c);
     if (d > now + kEps) break;
     notice(ItemKind::kSkipped, skipped_key(c, id_), d);
     TRACE("%.1f skip request %d (deadline %.1f)\n", now, c, d);
@@ -154,7 +202,7 @@ void WorkerRole::skip_overdue(double now) {
 
 void WorkerRole::expire_overdue(double now) {
   for (std::size_t i = 0; i < known_.size();) {
-    const mission::KnownGoal& g = policy_.goal(static_cast<std::size_t>(known_[i]));
+    const mission::KnownGoal& g = policy_->goal(static_cast<std::size_t>(known_[i]));
     if (g.deadline <= now + kEps) {
       notice(ItemKind::kExpired, g.id, g.deadline);
       known_.erase(known_.begin() + static_cast<long>(i));
@@ -167,7 +215,9 @@ void WorkerRole::expire_overdue(double now) {
 bool WorkerRole::settled(double now, bool in_contact) {
   switch (phase_) {
     case Phase::kStart:
-      return request_.complete() && request_.id > resolved_;
+      // Request 0, or (it missed request 0: its deadline passed) the way to
+      // where the next one comes.
+      return (request_.complete() && request_.id > resolved_) || resolved_ >= 0;
     case Phase::kReady:
       return true;
     case Phase::kMoving:
@@ -194,28 +244,27 @@ bool WorkerRole::settled(double now, bool in_contact) {
 
 void WorkerRole::decide(double now) {
   const OccupancyGrid& grid = team_.world.scenario.grid;
-  const bool oc_worker = policy_.delivers_to_oc();
+  const bool oc_worker = policy_->delivers_to_oc();
   const bool may_learn = !oc_worker || team_.world.covered(grid.world_to_cell(motion_.pose()));  // OC workers: in the coverage
   if (may_learn && request_.complete() && request_.id > resolved_) {
     // Requests in between never reached this worker; what is left of the
     // older one is superseded by the newer.
     for (int c = resolved_ + 1; c < request_.id; ++c)
-      notice(ItemKind::kSkipped, skipped_key(c, id_), oc_worker ? now : team_.deadline(id_, c));
-    for (int local : known_) notice(ItemKind::kExpired, policy_.goal(static_cast<std::size_t>(local)).id, now);
+      notice(ItemKind::kSkipped, skipped_key(c, id_), oc_worker ? now : deadline(c));
+    for (int local : known_) notice(ItemKind::kExpired, policy_->goal(static_cast<std::size_t>(local)).id, now);
     known_.clear();
-    const double deadline = oc_worker ? mission::request_deadline(now, kInf, team_.period)
-                                      : team_.deadline(id_, request_.id);
+    const double due = oc_worker ? mission::request_deadline(now, kInf, team_.period) : deadline(request_.id);
     scratch_.assign(request_.mine.begin(), request_.mine.end());
-    for (mission::KnownGoal& g : scratch_) g.deadline = deadline;
-    policy_.reserve(scratch_.size());
-    policy_.learn(scratch_.data(), scratch_.size());
+    for (mission::KnownGoal& g : scratch_) g.deadline = due;
+    policy_->reserve(scratch_.size());
+    policy_->learn(scratch_.data(), scratch_.size());
     for (std::size_t i = 0; i < scratch_.size(); ++i) known_.push_back(static_cast<int>(i));
     resolved_ = request_.id;
   }
   const bool more = resolved_ + 1 < team_.params.cycles;
   const mission::Spot spot{grid.world_to_cell(motion_.pose()), at_rv_, at_landing_, at_meeting_};
   const mission::WorkerPolicy::Decision d =
-      policy_.decide(spot, now, known_.data(), known_.size(), custody_.data(), more, no_meeting_before_);
+      policy_->decide(spot, now, known_.data(), known_.size(), custody_.data(), more, no_meeting_before_);
   TRACE("%.1f decide: resolved %d known %zu carrying %zu -> action %d k %zu rv %d arrive %.1f handover %.1f\n", now,
         resolved_, known_.size(), custody_.data(), static_cast<int>(d.action), d.k, d.rendezvous, d.arrive, d.handover);
 
@@ -237,7 +286,7 @@ void WorkerRole::decide(double now) {
       phase_ = Phase::kWaiting;
       return;
     case Action::kGoToRendezvous:
-      leg(policy_.rendezvous_point(d.rendezvous), d.arrive, -1);
+      leg(policy_->rendezvous_point(d.rendezvous), d.arrive, -1);
       target_rv_ = d.rendezvous;
       break;
     case Action::kBackToCoverage:
@@ -250,17 +299,17 @@ void WorkerRole::decide(double now) {
       break;
     case Action::kWork:
       for (std::size_t i = 0; i < d.k; ++i)
-        leg(grid.cell_center(policy_.goal(static_cast<std::size_t>(d.tour[i])).cell), d.at[i], d.tour[i]);
+        leg(grid.cell_center(policy_->goal(static_cast<std::size_t>(d.tour[i])).cell), d.at[i], d.tour[i]);
       if (!oc_worker) {
-        leg(policy_.rendezvous_point(d.rendezvous), d.arrive, -1);
+        leg(policy_->rendezvous_point(d.rendezvous), d.arrive, -1);
         target_rv_ = d.rendezvous;
         handover_ = d.handover;
         link_until_ = d.link_until;
         plan_is_work_ = true;
       } else {
-        const Cell last = policy_.goal(static_cast<std::size_t>(d.tour[d.k - 1])).cell;
+        const Cell last = policy_->goal(static_cast<std::size_t>(d.tour[d.k - 1])).cell;
         if (!team_.world.covered(last)) {
-          const auto back = policy_.way_back(last);
+          const auto back = policy_->way_back(last);
           leg(grid.cell_center(back.first), d.at[d.k - 1] + back.second / team_.speed, -1);
           ends_at_landing_ = true;
         }
@@ -273,18 +322,27 @@ void WorkerRole::decide(double now) {
 }
 
 void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Outbox& out) {
-  const bool oc_worker = policy_.delivers_to_oc();
   measured_in_step_.clear();
+  if (retired_) return;
+  bool oc_worker = policy_->delivers_to_oc();
   for (std::size_t i = 0; i < n; ++i) {
     const Message& m = *inbox[i];
+    if (m.h.sender == upstream_) upstream_heard_ = now;
     if (oc_worker && m.h.sender == kOc) heard_oc_ = true, oc_newest_ = std::max(oc_newest_, m.h.request);
     if (m.h.dest != id_ && m.h.dest != kBroadcast) continue;
     switch (m.h.kind) {
       case Kind::kRequest:
         // A worker of a collector hears requests from its collector only
         // (request 0 comes from the OC: the whole team starts next to it).
-        if (m.h.sender == upstream_ || (m.h.sender == kOc && (oc_worker || m.request.request == 0)))
+        // The OC's declarations of dead agents come with them.
+        if (m.h.sender == upstream_ || (m.h.sender == kOc && (oc_worker || m.request.request == 0))) {
+          if (learn_dead(m.request)) {
+            repair(now);
+            if (retired_) return;
+            oc_worker = policy_->delivers_to_oc();
+          }
           on_request(m.request, m.h.sender);
+        }
         break;
       case Kind::kAck:
         if (m.h.sender == upstream_ && m.h.dest == id_) custody_.acked(m.ack.keys, std::min<std::size_t>(m.ack.count, kMaxBatch));
@@ -312,6 +370,14 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
         phase_ = Phase::kReady;
       }
     }
+  }
+  // Its collector silent for too long: it works for the OC (docs/faults.md).
+  if (!oc_worker && suspected_ < 0 && now - upstream_heard_ > suspect_after_) {
+    suspected_ = upstream_;
+    TRACE("%.1f suspects collector %d (silent since %.1f)\n", now, suspected_, upstream_heard_);
+    repair(now);
+    if (retired_) return;
+    oc_worker = policy_->delivers_to_oc();
   }
   skip_overdue(now);
   expire_overdue(now);

@@ -1,6 +1,8 @@
 #include "gather_agent/runner/lockstep.hpp"
 
 #include <malloc.h>
+#include <signal.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -142,6 +144,9 @@ bool LockstepAgent::take_plan(std::string* why) {
   clock_ = p.clock;
   rate_ = p.rate;
   fleet_.set_team(p.agents);
+  // A worker keeps the label image run-length encoded, for a repair (a
+  // repaired plan merges segments: docs/faults.md).
+  if (!plan_.plan.file.agents[static_cast<std::size_t>(id_)].collector) team_->keep_labels();
   std::vector<int32_t>().swap(plan_.plan.labels);
   malloc_trim(0);  // give back what loading the map and the plan used and freed
   return true;
@@ -242,6 +247,7 @@ LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, 
       if (next_tick_ == 0) {  // (again) READY: the OC may not have heard the last one
         Reply r;
         r.tick = -1, r.agent = static_cast<int16_t>(id_), r.status = ReplyStatus::kReady;
+        r.pid = static_cast<int32_t>(getpid());
         r.role = unit_.role->kind();
         r.pose = unit_.motion->pose();
         fleet_.publish(r);
@@ -315,6 +321,11 @@ LockstepMaster::LockstepMaster(TeamSetup& team, LcmFleet& fleet, uint64_t digest
     r.pose = team.start_pose(a);
   }
   replied_.assign(static_cast<std::size_t>(team.agents()), 0);
+  killed_.assign(static_cast<std::size_t>(team.agents()), 0);
+  pid_.assign(static_cast<std::size_t>(team.agents()), 0);
+  for (const Kill& k : options_.kills)
+    if (k.agent < 0 || k.agent >= team.agents())
+      throw Error("--kill", "agent " + std::to_string(k.agent) + " is not in the team of " + std::to_string(team.agents()));
   held_.reserve(kHeld);
   current_.reserve(kHeld);
   inbox_.reserve(1024);
@@ -323,9 +334,13 @@ LockstepMaster::LockstepMaster(TeamSetup& team, LcmFleet& fleet, uint64_t digest
 
 LockstepMaster::~LockstepMaster() = default;
 
+bool LockstepMaster::oc_role_dead(int agent) const {
+  return static_cast<const OcRole&>(*oc_.role).declared_dead_at(agent) >= 0;
+}
+
 void LockstepMaster::collect_replies(int64_t tick, ReplyStatus want, double timeout_s, ShutdownSignal* signal) {
-  std::fill(replied_.begin(), replied_.end(), 0);
-  std::size_t missing = replied_.size();
+  std::size_t missing = 0;
+  for (std::size_t a = 0; a < replied_.size(); ++a) replied_[a] = killed_[a], missing += !killed_[a];
   const auto t0 = Clock::now();
   auto last_announce = Clock::now() - std::chrono::seconds(1);
   while (missing > 0) {
@@ -346,6 +361,7 @@ void LockstepMaster::collect_replies(int64_t tick, ReplyStatus want, double time
         throw Error("agent " + std::to_string(r.agent), "refused the plan: its plan files differ from the OC's (see its log)");
       if (r.status != want || replied_[a]) continue;
       replied_[a] = 1, --missing;
+      if (r.status == ReplyStatus::kReady) pid_[a] = r.pid;
       if (r.path_revision == last_[a].path_revision && r.path.empty()) r.path.swap(last_[a].path);
       if (options_.observe)
         for (int32_t g : r.measured_goals) events_.measured.push_back(MeasuredEvent{g, r.agent, tick * options_.tick});
@@ -433,8 +449,19 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
     }
     wait_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - w0).count();
   }
+  // Agents killed now (--kill): SIGKILL to their processes, before they
+  // hear this tick; their last replies (a report tick's: their custody)
+  // stand for them from now on.
+  for (const Kill& kill : options_.kills) {
+    const std::size_t a = static_cast<std::size_t>(kill.agent);
+    if (killed_[a] || t < kill.at - 1e-9) continue;
+    if (pid_[a] > 0) ::kill(static_cast<pid_t>(pid_[a]), SIGKILL);
+    killed_[a] = 1;
+  }
   bool report = false;
   for (int c = next_check_; c < team_.params.cycles && t >= (c + 1) * team_.period; ++c) report = true;
+  for (const Kill& kill : options_.kills)
+    if (!killed_[static_cast<std::size_t>(kill.agent)] && t + options_.tick >= kill.at - 1e-9) report = true;
   const auto p0 = Clock::now();
   fleet_.publish(Tick{k, t, sent_before_, report, false, 0});
   publish_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - p0).count();
@@ -471,6 +498,7 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   wait_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - r0).count();
   int64_t sent = static_cast<int64_t>(outbox_.size());
   for (const Reply& r : last_) {
+    if (killed_[static_cast<std::size_t>(r.agent)]) continue;  // its last reply is of a tick before
     sent += r.sent;
     if (r.incomplete > 0 || r.late > 0)
       throw Error("lockstep", "agent " + std::to_string(r.agent) + " stepped tick " + std::to_string(k) +
@@ -499,7 +527,8 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   // Done when every goal is resolved and every ack has landed (no agent
   // still holds a copy of something the OC already has).
   bool held = false;
-  for (const Reply& r : last_) held = held || r.carried > 0 || r.notices > 0;
+  for (const Reply& r : last_)
+    held = held || ((r.carried > 0 || r.notices > 0) && !gone(r.agent));
   return !(oc().done() && !held) && t < limit_;
 }
 
@@ -561,6 +590,9 @@ RunOutcome LockstepMaster::finish() {
   out.messages = messages_;
   out.invalid_items = oc().invalid_items();
   out.duplicate_items = oc().duplicate_items();
+  out.recovered = oc().recovered();
+  out.kills = options_.kills;
+  for (int16_t a : oc().dead()) out.declared_dead.emplace_back(a, oc().declared_dead_at(a));
   if (!out.completed) {
     out.failure = "mission not finished at t = " + std::to_string(out.end_s) + " s (limit " + std::to_string(limit_) +
                   " s): " + std::to_string(oc().requested() - oc().resolved_count()) + " of " +

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <fstream>
 
 #include <yaml-cpp/yaml.h>
@@ -60,12 +61,13 @@ void append_agent_rows(std::string& out, const plan::PlanFile& plan, unsigned se
 void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const MissionParams& params,
                         const RunSettings& settings, const RunOutcome& run) {
   const plan::PlanFile& pf = plan.plan.file;
-  int64_t requested = 0, delivered = 0, expired = 0, dropped = 0;
+  int64_t requested = 0, delivered = 0, expired = 0, dropped = 0, lost = 0;
   for (const mission::GoalRecord& g : run.result.goals) {
     ++requested;
     delivered += g.state == mission::GoalState::kDelivered;
     expired += g.state == mission::GoalState::kExpired;
     dropped += g.state == mission::GoalState::kDropped;
+    lost += g.state == mission::GoalState::kLostWithAgent;
   }
   YAML::Emitter y;
   y.SetDoublePrecision(6);
@@ -92,7 +94,8 @@ void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const M
     << "messages" << YAML::Value << run.messages << YAML::EndMap;
   y << YAML::Key << "goals" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "requested" << YAML::Value
     << requested << YAML::Key << "delivered" << YAML::Value << delivered << YAML::Key << "expired" << YAML::Value
-    << expired << YAML::Key << "dropped" << YAML::Value << dropped << YAML::Key << "per_cycle" << YAML::Value
+    << expired << YAML::Key << "dropped" << YAML::Value << dropped << YAML::Key << "lost_with_agent" << YAML::Value
+    << lost << YAML::Key << "per_cycle" << YAML::Value
     << run.result.goals_per_cycle << YAML::Key << "est_per_cycle" << YAML::Value << pf.est_goals << YAML::EndMap;
   y << YAML::Key << "refresh" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "mean_s" << YAML::Value
     << run.result.refresh_mean_s << YAML::Key << "max_s" << YAML::Value << run.result.refresh_max_s << YAML::Key
@@ -102,6 +105,15 @@ void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const M
     << YAML::Value << run.oc_link.gated << YAML::Key << "lost" << YAML::Value << run.oc_link.lost << YAML::Key << "bad"
     << YAML::Value << run.oc_link.bad << YAML::Key << "invalid_items" << YAML::Value << run.invalid_items << YAML::Key
     << "duplicate_items" << YAML::Value << run.duplicate_items << YAML::EndMap;
+  y << YAML::Key << "faults" << YAML::Value << YAML::BeginSeq;
+  for (const auto& [a, at] : run.declared_dead) {
+    double killed = -1.0;
+    for (const Kill& k : run.kills)
+      if (k.agent == a) killed = k.at;
+    y << YAML::Flow << YAML::BeginMap << YAML::Key << "agent" << YAML::Value << a << YAML::Key << "declared_dead_at"
+      << YAML::Value << at << YAML::Key << "killed_at" << YAML::Value << killed << YAML::EndMap;
+  }
+  y << YAML::EndSeq;
   y << YAML::Key << "agents" << YAML::Value << YAML::BeginSeq;
   for (const AgentSummary& a : run.agents) {
     y << YAML::Flow << YAML::BeginMap << YAML::Key << "id" << YAML::Value << a.id << YAML::Key << "role" << YAML::Value
@@ -128,6 +140,26 @@ void RunFiles::add(const plan::PlanFile& plan, const MissionParams& params, cons
   mission::append_cycle_rows(cycles_, label, run.result.cycles);
   mission::append_summary_row(summary_, label, run.result);
   append_agent_rows(agents_, plan, params.seed, run.agents);
+  append_fault_rows(faults_, plan, params.seed, run);
+}
+
+const char* const kFaultsCsvHeader = "method,collectors,seed,agent,role,killed_at,declared_at,recovered\n";
+
+void append_fault_rows(std::string& out, const plan::PlanFile& plan, unsigned seed, const RunOutcome& run) {
+  std::map<int, std::pair<double, double>> rows;  // agent -> (killed_at, declared_at), -1: not
+  for (const Kill& k : run.kills) rows.emplace(k.agent, std::make_pair(k.at, -1.0));
+  for (const auto& [a, at] : run.declared_dead) {
+    auto it = rows.emplace(a, std::make_pair(-1.0, at)).first;
+    it->second.second = at;
+  }
+  char line[256];
+  for (const auto& [a, t] : rows) {
+    const plan::AgentAssignment& x = plan.agents[static_cast<std::size_t>(a)];
+    std::snprintf(line, sizeof line, "%s,%d,%u,%d,%s,%.3f,%.3f,%lld\n", plan.method.c_str(), plan.collectors, seed, a,
+                  x.collector ? "collector" : x.delivers_to < 0 ? "oc_worker" : "collector_worker", t.first, t.second,
+                  static_cast<long long>(run.recovered));
+    out += line;
+  }
 }
 
 void RunFiles::write(const std::string& dir) const {
@@ -142,6 +174,7 @@ void RunFiles::write(const std::string& dir) const {
   put("cycles.csv", mission::kCyclesCsvHeader, cycles_);
   put("summary.csv", mission::kSummaryCsvHeader, summary_);
   put("agents.csv", kAgentsCsvHeader, agents_);
+  put("faults.csv", kFaultsCsvHeader, faults_);
 }
 
 }  // namespace agent

@@ -39,15 +39,24 @@ AgentUnit make_oc(TeamSetup& team) {
 void check_conservation(const OcRole& oc, int64_t measured_total, std::vector<int32_t>& custody, double now) {
   std::sort(custody.begin(), custody.end());
   custody.erase(std::unique(custody.begin(), custody.end()), custody.end());
-  int64_t carried = 0;
-  for (int32_t key : custody)
-    if (key >= 0 && static_cast<std::size_t>(key) < oc.goals().size() && !oc.resolved(key)) ++carried;
-  int64_t delivered = 0, expired = 0, dropped = 0;
+  auto delivered_goal = [&](int32_t key) {
+    return oc.resolved(key) && oc.goals()[static_cast<std::size_t>(key)].state == mission::GoalState::kDelivered;
+  };
+  // Carried: in someone's custody (a dead agent's too) and not delivered;
+  // the OC may already have declared it lost with an agent.
+  int64_t carried = 0, lost_carried = 0;
+  for (int32_t key : custody) {
+    if (key < 0 || static_cast<std::size_t>(key) >= oc.goals().size() || delivered_goal(key)) continue;
+    ++carried;
+    lost_carried += oc.resolved(key) && oc.goals()[static_cast<std::size_t>(key)].state == mission::GoalState::kLostWithAgent;
+  }
+  int64_t delivered = 0, expired = 0, dropped = 0, lost = 0;
   for (const mission::GoalRecord& g : oc.goals()) {
     if (!oc.resolved(g.id)) continue;
     delivered += g.state == mission::GoalState::kDelivered;
     expired += g.state == mission::GoalState::kExpired;
     dropped += g.state == mission::GoalState::kDropped;
+    lost += g.state == mission::GoalState::kLostWithAgent;
   }
   if (measured_total != delivered + carried)
     throw RuntimeError("conservation", "at t = " + std::to_string(now) + " s: " + std::to_string(measured_total) +
@@ -55,11 +64,12 @@ void check_conservation(const OcRole& oc, int64_t measured_total, std::vector<in
                                     std::to_string(carried) + " carried (" +
                                     (measured_total > delivered + carried ? "data lost" : "goals counted twice") + ")");
   const int64_t requested = static_cast<int64_t>(oc.requested());
-  const int64_t pending = requested - delivered - carried - expired - dropped;
+  const int64_t pending = requested - delivered - carried - expired - dropped - (lost - lost_carried);
   if (pending < 0)
     throw RuntimeError("conservation", "at t = " + std::to_string(now) + " s: requested " + std::to_string(requested) +
                                     " < delivered " + std::to_string(delivered) + " + carried " + std::to_string(carried) +
-                                    " + expired " + std::to_string(expired) + " + dropped " + std::to_string(dropped));
+                                    " + expired " + std::to_string(expired) + " + dropped " + std::to_string(dropped) +
+                                    " + lost with an agent " + std::to_string(lost - lost_carried));
 }
 
 }  // namespace agent

@@ -5,14 +5,77 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <set>
+#include <stdexcept>
 
 #include "gather_agent/roles/worker_role.hpp"
 
 #include "gather_core/error.hpp"
+#include "gather_core/input_file.hpp"
 #include "gather_core/mission/mission_csv.hpp"
 
 namespace gather {
 namespace agent {
+
+Kill parse_kill(const std::string& text, int agents, const std::string& flag) {
+  const std::size_t at = text.find('@');
+  Kill k;
+  try {
+    if (at == std::string::npos || at == 0 || at + 1 >= text.size()) throw std::invalid_argument("form");
+    std::size_t used = 0;
+    k.agent = std::stoi(text.substr(0, at), &used);
+    if (used != at) throw std::invalid_argument("id");
+    const std::string t = text.substr(at + 1);
+    k.at = std::stod(t, &used);
+    if (used != t.size()) throw std::invalid_argument("time");
+  } catch (const std::exception&) {
+    throw Error(flag, "must be ID@T (agent id, mission time in s), got '" + quote_input(text) + "'");
+  }
+  if (k.agent < 0 || k.agent >= agents)
+    throw Error(flag, "agent " + std::to_string(k.agent) + " is not in the team of " + std::to_string(agents));
+  if (!std::isfinite(k.at) || k.at < 0.0 || k.at > 1e7)
+    throw Error(flag, "time must be in [0, 1e7] s, got '" + quote_input(text) + "'");
+  return k;
+}
+
+std::vector<Kill> parse_kills(const std::string& list, int agents, const std::string& flag) {
+  std::vector<Kill> kills;
+  if (list.empty() || list == "none") return kills;
+  std::size_t from = 0;
+  for (;;) {
+    const std::size_t comma = list.find(',', from);
+    const Kill k = parse_kill(list.substr(from, comma == std::string::npos ? std::string::npos : comma - from), agents, flag);
+    for (const Kill& other : kills)
+      if (other.agent == k.agent) throw Error(flag, "agent " + std::to_string(k.agent) + " is killed twice");
+    kills.push_back(k);
+    if (kills.size() > static_cast<std::size_t>(kMaxDead))
+      throw Error(flag, "at most " + std::to_string(kMaxDead) + " agents");
+    if (comma == std::string::npos) break;
+    from = comma + 1;
+  }
+  return kills;
+}
+
+void check_lost_goals(const OcRole& oc, const std::vector<const Role*>& roles, const std::vector<uint8_t>& gone) {
+  std::vector<uint8_t> held_by_gone(oc.goals().size(), 0);
+  std::set<std::pair<int, int>> skips_held;  // (request, worker) of skip notices a dead agent held
+  for (std::size_t a = 0; a < roles.size(); ++a) {
+    if (!gone[a]) continue;
+    if (const Custody* c = roles[a]->custody())
+      for (std::size_t i = 0; i < c->size(); ++i) {
+        const int32_t key = c->item(i).key;
+        if (key >= 0 && static_cast<std::size_t>(key) < held_by_gone.size()) held_by_gone[static_cast<std::size_t>(key)] = 1;
+        if (key < 0) skips_held.emplace(skipped_request(key), skipped_worker(key));
+      }
+  }
+  for (const mission::GoalRecord& g : oc.goals()) {
+    if (g.state != mission::GoalState::kLostWithAgent) continue;
+    const bool own = g.worker >= 0 && gone[static_cast<std::size_t>(g.worker)];
+    if (!held_by_gone[static_cast<std::size_t>(g.id)] && !own && !skips_held.count({g.cycle, g.worker}))
+      throw RuntimeError("faults", "goal " + std::to_string(g.id) + " was declared lost with an agent, but no dead agent "
+                                   "had it (worker " + std::to_string(g.worker) + ")");
+  }
+}
 
 double time_limit(const TeamSetup& team) {
   double longest = 0.0;
@@ -25,6 +88,7 @@ void check_team_conservation(const OcRole& oc, const std::vector<AgentUnit>& age
   scratch.clear();
   int64_t measured = 0;
   for (const AgentUnit& u : agents) {
+    if (!u.role) continue;
     if (u.role->kind() == RoleKind::kWorker) measured += u.role->report().measured;
     if (const Custody* c = u.role->custody())
       for (std::size_t i = 0; i < c->size(); ++i)
@@ -60,6 +124,10 @@ TeamRunner::TeamRunner(TeamSetup& team, const RunOptions& options)
   for (std::size_t i = 0; i < units_.size(); ++i) outboxes_.emplace_back(options_.outbox);
   links_.assign(units_.size(), LinkCounters{});
   seq_.assign(units_.size(), 0);
+  killed_.assign(units_.size(), 0);
+  for (const Kill& k : options_.kills)
+    if (k.agent < 0 || k.agent >= team.agents())
+      throw Error("--kill", "agent " + std::to_string(k.agent) + " is not in the team of " + std::to_string(team.agents()));
   sent_.reserve(units_.size() * 8);
   next_.reserve(units_.size() * 8);
   inbox_.reserve(options_.inbox);
@@ -74,9 +142,12 @@ OcRole& TeamRunner::oc() { return static_cast<OcRole&>(*units_[0].role); }
 bool TeamRunner::tick() {
   const double t = now();
   next_.clear();
+  for (const Kill& k : options_.kills)
+    if (t >= k.at - 1e-9) killed_[static_cast<std::size_t>(k.agent) + 1] = 1;
   for (std::size_t i = 0; i < units_.size(); ++i) {
     AgentUnit& u = units_[i];
     Outbox& out = outboxes_[i];
+    if (killed_[i]) continue;  // dead: no motion, no radio; its memory stays as it was
     if (before_) before_();
     u.motion->advance(t);
     gather_inbox(sent_, u.role->id(), u.motion->pose(), gate_, links_[i], inbox_);
@@ -101,8 +172,10 @@ bool TeamRunner::tick() {
   // Done when every goal is resolved and every ack has landed (no agent
   // still holds a copy of something the OC already has).
   bool held = false;
-  for (const AgentUnit& u : units_)
-    if (const Custody* c = u.role->custody()) held = held || c->size() > 0;
+  for (std::size_t i = 0; i < units_.size(); ++i)
+    if (const Custody* c = units_[i].role->custody())
+      held = held || (c->size() > 0 && !killed_[i] && !units_[i].role->retired() &&
+                      !(i > 0 && oc().declared_dead_at(static_cast<int>(i) - 1) >= 0));
   return !(oc().done() && !held) && t < limit_;
 }
 
@@ -123,6 +196,9 @@ RunOutcome TeamRunner::run() {
   for (const LinkCounters& l : links_) out.messages += l.sent;
   out.invalid_items = oc().invalid_items();
   out.duplicate_items = oc().duplicate_items();
+  out.recovered = oc().recovered();
+  out.kills = options_.kills;
+  for (int16_t a : oc().dead()) out.declared_dead.emplace_back(a, oc().declared_dead_at(a));
   if (!out.completed && std::getenv("GATHER_DEBUG")) {
     for (const mission::GoalRecord& g : oc().goals()) {
       if (static_cast<std::size_t>(g.id) >= oc().requested() || oc().resolved(g.id)) continue;
@@ -143,6 +219,10 @@ RunOutcome TeamRunner::run() {
                   std::to_string(oc().requested()) + " goals unresolved";
     return out;
   }
+  std::vector<uint8_t> gone(static_cast<std::size_t>(team_.agents()), 0);
+  for (std::size_t i = 1; i < units_.size(); ++i)
+    gone[i - 1] = killed_[i] || units_[i].role->retired() || oc().declared_dead_at(static_cast<int>(i) - 1) >= 0;
+  check_lost_goals(oc(), roles, gone);
   out.result = mission::mission_result(oc().goals(), team_.params.cycles, team_.period, out.wall_ms, team_.areas);
   return out;
 }

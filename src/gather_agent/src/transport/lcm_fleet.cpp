@@ -73,6 +73,7 @@ void to_wire(const Header& h, gather_lcm::header_t& w) {
   w.x = h.pos.x;
   w.y = h.pos.y;
   w.request = h.request;
+  w.dead = static_cast<int8_t>(std::min<int>(h.dead, kMaxDead));
 }
 
 void radio_handler(const lcm_recv_buf_t* rbuf, const char* channel, void* user) {
@@ -139,6 +140,8 @@ bool LcmFleet::publish(const Message& m) {
       r.parts = static_cast<int16_t>(m.request.parts);
       r.count = static_cast<int16_t>(m.request.count);
       for (int i = 0; i < kRequestPartGoals; ++i) r.cells[i] = i < m.request.count ? static_cast<int32_t>(m.request.cells[i]) : 0;
+      r.n_dead = static_cast<int8_t>(std::min<int>(m.request.dead_count, kMaxDead));
+      r.dead.assign(m.request.dead, m.request.dead + r.n_dead);
       n = r.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
       channel = kRequestChannel;
       break;
@@ -178,6 +181,9 @@ bool LcmFleet::publish(const Message& m) {
       s.notices = static_cast<int16_t>(std::min<int>(m.state.notices, 32767));
       s.pending = static_cast<int16_t>(std::min<int>(m.state.pending, 32767));
       s.measured = m.state.measured;
+      s.n_heard = static_cast<int16_t>(std::min<int>(m.state.heard_count, kMaxHeard));
+      s.heard_agent.assign(m.state.heard_agent, m.state.heard_agent + s.n_heard);
+      s.heard_at.assign(m.state.heard_at, m.state.heard_at + s.n_heard);
       n = s.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
       channel = kStateChannel;
       break;
@@ -204,6 +210,8 @@ bool LcmFleet::publish(const PlanAnnounce& p) {
   w.loss_seed = static_cast<int64_t>(p.loss_seed);
   w.clock = static_cast<int8_t>(p.clock);
   w.rate = p.rate;
+  w.repair = static_cast<int8_t>(p.params.repair);
+  w.silent_intervals = p.params.silent_intervals;
   const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
   if (n < 0 || lcm_publish(lcm_, kPlanChannel, buffer_.data(), static_cast<unsigned>(n)) != 0) return ++publish_failures_, false;
   return true;
@@ -229,6 +237,7 @@ bool LcmFleet::publish(const Reply& r) {
   w.tick = r.tick;
   w.agent = r.agent;
   w.status = static_cast<int8_t>(r.status);
+  w.pid = r.pid;
   w.sent = r.sent;
   w.x = r.pose.x;
   w.y = r.pose.y;
@@ -332,6 +341,13 @@ void LcmFleet::on_radio(const char* channel, const void* data, int size) {
       if (r.cells[i] < 0) return void(++refused_.out_of_range);
       m.request.cells[i] = static_cast<uint32_t>(r.cells[i]);
     }
+    if (r.n_dead < 0 || r.n_dead > kMaxDead) return void(++refused_.out_of_range);
+    m.request.dead_count = static_cast<uint8_t>(r.n_dead);
+    for (int i = 0; i < r.n_dead; ++i) {
+      if (r.dead[static_cast<std::size_t>(i)] < 0 || r.dead[static_cast<std::size_t>(i)] >= team_)
+        return void(++refused_.out_of_range);
+      m.request.dead[i] = r.dead[static_cast<std::size_t>(i)];
+    }
   } else if (std::strcmp(channel, kDataChannel) == 0) {
     if (!decoded(safe_decode(w.data, data, size))) return;
     const gather_lcm::data_t& d = w.data;
@@ -367,12 +383,21 @@ void LcmFleet::on_radio(const char* channel, const void* data, int size) {
     m.state.notices = static_cast<uint16_t>(s.notices);
     m.state.pending = static_cast<uint16_t>(s.pending);
     m.state.measured = s.measured;
+    if (s.n_heard < 0 || s.n_heard > kMaxHeard) return void(++refused_.out_of_range);
+    m.state.heard_count = static_cast<uint8_t>(s.n_heard);
+    for (int i = 0; i < s.n_heard; ++i) {
+      const int16_t a = s.heard_agent[static_cast<std::size_t>(i)];
+      const double at = s.heard_at[static_cast<std::size_t>(i)];
+      if (a < 0 || a >= team_ || !finite(at)) return void(++refused_.out_of_range);
+      m.state.heard_agent[i] = a, m.state.heard_at[i] = at;
+    }
   } else {
     return;
   }
   if (h->schema_version != gather_lcm::header_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
   if (h->sender < kOc || h->sender >= team_ || (h->dest != kBroadcast && (h->dest < kOc || h->dest >= team_)) ||
-      h->seq < 0 || h->request < -1 || !finite(h->t) || !finite(h->x) || !finite(h->y))
+      h->seq < 0 || h->request < -1 || h->dead < 0 || h->dead > kMaxDead || !finite(h->t) || !finite(h->x) ||
+      !finite(h->y))
     return void(++refused_.out_of_range);
   m.h.sender = h->sender;
   m.h.dest = h->dest;
@@ -381,6 +406,7 @@ void LcmFleet::on_radio(const char* channel, const void* data, int size) {
   m.h.t = h->t;
   m.h.pos = Point2{h->x, h->y};
   m.h.request = h->request;
+  m.h.dead = static_cast<uint8_t>(h->dead);
   if (radio_.size() >= radio_.capacity()) return void(++refused_.queue_full);
   radio_.push_back(m);
 }
@@ -404,7 +430,8 @@ void LcmFleet::on_clock(const char* channel, const void* data, int size) {
         p.goals_per_request > 100000 || p.data_capacity < 1 || p.data_capacity > kMaxCapacity || p.notice_capacity < 1 ||
         p.notice_capacity > kMaxCapacity || !(p.tick > 0 && p.tick <= 0.1) || !(p.loss >= 0 && p.loss < 1) ||
         !(p.beacon_period > 0 && p.beacon_period <= 3600) || !(p.resend_after > 0 && p.resend_after <= 3600) ||
-        (p.clock != 0 && p.clock != 1) || !(p.rate > 0 && p.rate <= 1e6))
+        (p.clock != 0 && p.clock != 1) || !(p.rate > 0 && p.rate <= 1e6) || (p.repair != 0 && p.repair != 1) ||
+        !(p.silent_intervals >= 1.5 && p.silent_intervals <= 100.0))
       return void(++refused_.out_of_range);
     PlanAnnounce a;
     a.digest = static_cast<uint64_t>(p.digest);
@@ -416,6 +443,8 @@ void LcmFleet::on_clock(const char* channel, const void* data, int size) {
     a.params.notice_capacity = static_cast<std::size_t>(p.notice_capacity);
     a.params.beacon_period = p.beacon_period;
     a.params.resend_after = p.resend_after;
+    a.params.repair = static_cast<mission::RepairMode>(p.repair);
+    a.params.silent_intervals = p.silent_intervals;
     a.tick = p.tick;
     a.loss = p.loss;
     a.loss_seed = static_cast<uint64_t>(p.loss_seed);
@@ -440,6 +469,7 @@ void LcmFleet::on_clock(const char* channel, const void* data, int size) {
     o.tick = r.tick;
     o.agent = r.agent;
     o.status = static_cast<ReplyStatus>(r.status);
+    o.pid = r.pid;
     o.sent = r.sent;
     o.pose = Point2{r.x, r.y};
     o.role = static_cast<RoleKind>(r.role);

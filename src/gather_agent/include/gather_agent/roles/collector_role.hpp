@@ -4,7 +4,9 @@
 // takes the newest request from the OC and hands it to each of its workers
 // as it passes their meeting area, takes their data under custody (acks
 // what it stored, refuses what does not fit) and delivers it to the OC
-// whenever it is inside the coverage.
+// whenever it is inside the coverage. It reports to the OC when it last
+// heard each of its workers, and passes the OC's declarations of dead agents
+// on with the requests.
 #include <cstdint>
 #include <vector>
 
@@ -30,6 +32,8 @@ class CollectorRole : public Role {
     int16_t agent;
     double meeting_arc;   // [m]
     int32_t handed = -1;  // newest request handed to it
+    std::size_t handed_dead = 0;  // declarations of dead agents handed with it
+    double heard_at = 0.0;  // [s] its latest message (reported to the OC: docs/faults.md)
   };
   void on_request(const RequestPart& part);
   void hand_request(Served& w, double now, Outbox& out);

@@ -35,6 +35,12 @@ class OcRole : public Role {
   int64_t duplicate_items() const { return duplicates_; }
   // Items each agent delivered (by agent id).
   int64_t delivered_by(int agent) const { return delivered_by_[static_cast<std::size_t>(agent)]; }
+  // Faults (docs/faults.md): when the OC declared each agent dead (-1: it
+  // did not), and goals it had declared lost that a survivor resolved later.
+  double declared_dead_at(int agent) const { return declared_at_[static_cast<std::size_t>(agent)]; }
+  int64_t recovered() const { return recovered_; }
+  // The plan the OC runs now (the original until it declares a death).
+  const mission::MissionPlan& current_plan() const { return repair_ ? repair_->plan : team_.plan; }
 
  private:
   void issue(int cycle, int16_t dest, double now, Outbox& out);
@@ -42,6 +48,13 @@ class OcRole : public Role {
   // this mission (it is acked all the same, so its sender lets go).
   bool apply(const DataItem& item, int16_t sender, double now);
   void resolve(mission::GoalRecord& g, mission::GoalState state);
+  // A goal resolved by news from an agent: unresolved, or declared lost
+  // with an agent (the news overrides that; counted as recovered).
+  bool open(std::size_t goal);
+  const plan::AgentAssignment& assigned(int agent) const { return current_plan().file.agents[static_cast<std::size_t>(agent)]; }
+  // Declares `agent` dead at `now`: repairs the plan, declares lost what was
+  // its own (docs/faults.md), and tells whoever is in the coverage.
+  void declare_dead(int16_t agent, double now, Outbox& out);
 
   TeamSetup& team_;
   std::vector<std::size_t> first_;          // first goal id of each cycle's request, and the total at the end
@@ -56,6 +69,13 @@ class OcRole : public Role {
   std::vector<int64_t> delivered_by_;
   std::vector<int32_t> acks_;
   int64_t invalid_ = 0, duplicates_ = 0;
+  // Liveness: the latest news of each agent [s] (its own messages, or a
+  // collector's report of its worker), and the repair in force.
+  std::vector<double> heard_;
+  std::vector<double> declared_at_;
+  std::vector<double> grace_until_;  // [s] no declaration before (workers moved to the OC)
+  const mission::RepairedPlan* repair_ = nullptr;
+  int64_t recovered_ = 0;
 };
 
 }  // namespace agent

@@ -14,6 +14,7 @@
 #include "gather_agent/motion/motion_backend.hpp"
 #include "gather_agent/roles/custody.hpp"
 #include "gather_core/mission/mission_plan.hpp"
+#include "gather_core/mission/repair.hpp"
 #include "gather_core/mission/route_timetable.hpp"
 #include "gather_core/mission/simulator.hpp"
 #include "gather_core/mission/worker_policy.hpp"
@@ -34,6 +35,11 @@ struct MissionParams {
   std::size_t notice_capacity = 0;  // custody buffer: notices (0: as data_capacity)
   double beacon_period = 1.0;       // [s] agent state broadcast
   double resend_after = 1.0;        // [s] in contact without an ack: send again
+  // Faults (docs/faults.md): what becomes of a dead worker's segment, and
+  // the OC's liveness timeout in units of an agent's contact interval
+  // (mission::silent_timeout), [1.5, 100].
+  mission::RepairMode repair = mission::RepairMode::kMerge;
+  double silent_intervals = 2.0;
   // Tests: the OC requests these goals (cycle, point [m]) instead of drawing
   // them (only the OC uses it; goals_per_request must be at least the
   // largest count of a cycle).
@@ -73,6 +79,19 @@ class TeamSetup {
   // deadline starts when they learn the request.
   double deadline(int agent, int cycle) const;
 
+  // The plan the survivors execute once the agents in dead[0..n) are dead
+  // (mission::repair_plan with params.repair), computed once per set of
+  // dead agents and kept (agents learn the same sets in the same order).
+  // Needs the plan's label image: plan.labels, or the copy keep_labels()
+  // made before the caller dropped it.
+  const mission::RepairedPlan& repaired(const int16_t* dead, std::size_t n);
+  // Keeps the label image run-length encoded (an agent process drops the
+  // plan's full image to save memory; a repair needs it back).
+  void keep_labels();
+  // How long the OC waits without news of `agent` under `plan` (the
+  // repaired one) before it declares it dead [s] (mission::silent_timeout).
+  double silent_timeout(const mission::MissionPlan& plan, int agent) const;
+
  private:
   std::vector<plan::AgentAssignment> assignment_;  // by agent id
   std::vector<int> collector_agent_;               // agent id by collector index
@@ -80,6 +99,8 @@ class TeamSetup {
   std::vector<double> meeting_arc_;                // [m] by agent id (workers of collectors)
   std::vector<Point2> start_;
   double range_ = 0.0;
+  std::vector<std::pair<std::vector<int>, std::unique_ptr<mission::RepairedPlan>>> repaired_;
+  std::vector<std::pair<int32_t, uint32_t>> label_runs_;  // (label, cells) in row-major order
 };
 
 // Messages a step sends, at most `capacity` (the rest is refused and counted).
@@ -114,6 +135,7 @@ struct RoleReport {
   int64_t refused_full = 0;   // items refused because the custody buffer was full
   int64_t lost_notices = 0;   // notices that found no room (must stay 0)
   int64_t requests = 0;       // newest request known
+  int64_t dead_known = 0;     // the OC's declarations of dead agents it knows
 };
 
 class Role {
@@ -133,6 +155,12 @@ class Role {
   virtual const Custody* custody() const { return nullptr; }
   // Newest request this role knows (-1: none), carried in every header.
   virtual int32_t newest_request() const = 0;
+  // A worker the OC declared dead while it was alive (its messages were
+  // lost): it stops for good (docs/faults.md). Its custody stays where it is.
+  virtual bool retired() const { return false; }
+  // The agents the OC has declared dead, as far as this role knows, in the
+  // order the OC declared them.
+  const std::vector<int16_t>& dead() const { return dead_; }
 
   // Goals this role measured (and stored) in its last step, for views: the
   // OC's picture of which goals are being carried (nullptr: never any).
@@ -143,11 +171,18 @@ class Role {
   const MotionBackend& motion() const { return motion_; }
 
  protected:
-  // A message with this role's header filled in (sender, time, pose, request).
+  // A message with this role's header filled in (sender, time, pose,
+  // request, the deaths it knows).
   Message* send(Outbox& out, Kind kind, int16_t dest, double now);
+  // Takes the OC's list of dead agents from a request part when it is longer
+  // than the one known (the OC only appends to it); true when it grew.
+  bool learn_dead(const RequestPart& part);
+  // Writes the known list into a request part passed on.
+  void stamp_dead(RequestPart& part) const;
 
   int16_t id_;
   MotionBackend& motion_;
+  std::vector<int16_t> dead_;
 };
 
 }  // namespace agent

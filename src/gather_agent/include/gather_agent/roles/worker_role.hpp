@@ -7,6 +7,7 @@
 // (kept until acked), expired goals and skipped requests are reported to the
 // OC as notices. docs/runtime.md describes the states.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "gather_agent/roles/role.hpp"
@@ -31,8 +32,12 @@ class WorkerRole : public Role {
   Phase phase() const { return phase_; }
   // "start", "ready", "moving", "at_pass", "settling", "waiting", "done"; "?" out of range.
   static const char* phase_name(int phase);
-  const mission::WorkerPolicy& policy() const { return policy_; }
-  bool delivers_to_oc() const { return policy_.delivers_to_oc(); }
+  const mission::WorkerPolicy& policy() const { return *policy_; }
+  bool delivers_to_oc() const { return policy_->delivers_to_oc(); }
+  bool retired() const override { return retired_; }
+  // Its collector went silent for longer than the OC waits to declare it
+  // dead: it works for the OC until told otherwise (docs/faults.md).
+  bool suspects_collector() const { return suspected_ >= 0; }
   int16_t upstream() const { return upstream_; }  // its collector's agent id, or kOc
 
  private:
@@ -54,9 +59,19 @@ class WorkerRole : public Role {
   void decide(double now);
   bool contact(double now) const;  // with its upstream, as predicted by the radio model
   double due_time() const;         // [s] when the next request should reach it
+  double deadline(int cycle) const;  // [s] of request `cycle`'s goals here (inf: a worker of the OC)
+  // Executes the plan repaired for the deaths it knows (the OC's, and its
+  // collector if it suspects it): a new policy when its segment or its
+  // collector changed, or retirement when it is declared dead itself.
+  void repair(double now);
 
   TeamSetup& team_;
-  mission::WorkerPolicy policy_;
+  std::unique_ptr<mission::WorkerPolicy> policy_;
+  bool retired_ = false;
+  int16_t suspected_ = -1;        // the collector (agent id) it suspects dead, -1 none
+  double upstream_heard_ = 0.0;   // [s] the latest message from its collector
+  double suspect_after_ = 0.0;    // [s] of silence from its collector before it suspects it
+  int64_t served_cells_ = 0;      // cells of the label it serves (grows when a segment is merged into it)
   Custody custody_;
   int16_t upstream_ = kOc;
   Phase phase_ = Phase::kStart;

@@ -98,6 +98,8 @@ struct MasterOptions {
   double reply_timeout_s = 10.0; // for every agent to reply to a tick
   double time_limit = 0.0;       // [s] of mission time; 0: time_limit(team)
   bool observe = false;          // keep ViewEvents for take_events() (the OC's views)
+  // Agents to end (SIGKILL to the pid each said READY with; lockstep only).
+  std::vector<Kill> kills;
 };
 
 // What views of the mission need beyond the agents' last replies (kept only
@@ -161,6 +163,12 @@ class LockstepMaster {
   void collect_replies(int64_t tick, ReplyStatus want, double timeout_s, ShutdownSignal* signal);
   bool tick_wall(ShutdownSignal* signal);
   void observe(double t, bool wall);
+  // Killed by the lockstep, or declared dead by the OC: its custody no
+  // longer holds the mission's end.
+  bool gone(int agent) const {
+    return killed_[static_cast<std::size_t>(agent)] || oc_role_dead(agent);
+  }
+  bool oc_role_dead(int agent) const;
 
   TeamSetup& team_;
   LcmFleet& fleet_;
@@ -178,6 +186,8 @@ class LockstepMaster {
   int64_t messages_ = 0;
   std::vector<Reply> last_;
   std::vector<uint8_t> replied_;
+  std::vector<uint8_t> killed_;
+  std::vector<int32_t> pid_;
   std::vector<Message> held_, current_;
   std::vector<const Message*> inbox_;
   std::vector<int32_t> keys_;

@@ -32,12 +32,13 @@ MissionParams mission_params(const Scenario& scenario);
 class RunFiles {
  public:
   void add(const plan::PlanFile& plan, const MissionParams& params, const RunOutcome& run);
-  // Writes DIR/goals.csv, cycles.csv, summary.csv, agents.csv; throws
-  // gather::Error naming DIR when it cannot.
+  // Writes DIR/goals.csv, cycles.csv, summary.csv, agents.csv, faults.csv
+  // (one row per agent killed or declared dead); throws gather::Error naming
+  // DIR when it cannot.
   void write(const std::string& dir) const;
 
  private:
-  std::string goals_, cycles_, summary_, agents_;
+  std::string goals_, cycles_, summary_, agents_, faults_;
 };
 
 // How a mission was run (for mission.yaml).
@@ -57,6 +58,8 @@ void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const M
                         const RunSettings& settings, const RunOutcome& run);
 
 extern const char* const kAgentsCsvHeader;
+extern const char* const kFaultsCsvHeader;
+void append_fault_rows(std::string& out, const plan::PlanFile& plan, unsigned seed, const RunOutcome& run);
 void append_agent_rows(std::string& out, const plan::PlanFile& plan, unsigned seed, const std::vector<AgentSummary>& agents);
 
 }  // namespace agent

@@ -18,6 +18,20 @@
 namespace gather {
 namespace agent {
 
+// An agent that dies at mission time `at` [s] (--kill ID@T): it stops at
+// the first tick at or after `at`, keeping whatever it carried (in the
+// multi-process fleet the OC sends its process SIGKILL then).
+struct Kill {
+  int agent = 0;
+  double at = 0.0;
+};
+// Parses "ID@T" (agent id, mission time [s]); throws gather::Error naming
+// `flag` when it is not that, or the id is not in 0..agents-1.
+Kill parse_kill(const std::string& text, int agents, const std::string& flag);
+// A comma-separated list of them ("" or "none": no kill), at most kMaxDead,
+// each agent once.
+std::vector<Kill> parse_kills(const std::string& list, int agents, const std::string& flag);
+
 struct RunOptions {
   double tick = 0.1;        // [s] of mission time per tick (the control rate), (0, 0.1]
   double loss = 0.0;        // injected message loss probability, [0, 1)
@@ -25,6 +39,7 @@ struct RunOptions {
   double time_limit = 0.0;  // [s] of mission time; 0: automatic (time_limit())
   std::size_t inbox = 1024; // messages an agent takes per tick (the rest is counted as overflow)
   std::size_t outbox = 64;  // messages a role sends per tick
+  std::vector<Kill> kills;  // agents to end during the run
 };
 
 // Mission time after which an unfinished run stops: the requests, then
@@ -43,6 +58,11 @@ struct RunOutcome {
   int64_t messages = 0;       // sent by everyone
   int64_t invalid_items = 0;  // items the OC could not place
   int64_t duplicate_items = 0;
+  // Faults: agents the OC declared dead (id, when), by declaration; goals it
+  // declared lost that a survivor resolved later.
+  std::vector<std::pair<int, double>> declared_dead;
+  int64_t recovered = 0;
+  std::vector<Kill> kills;  // as asked (RunOptions::kills)
 };
 
 class TeamRunner {
@@ -74,6 +94,7 @@ class TeamRunner {
   std::vector<uint32_t> seq_;
   std::vector<Message> sent_, next_;
   std::vector<const Message*> inbox_;
+  std::vector<uint8_t> killed_;  // by unit
   int64_t ticks_ = 0;
   int next_check_ = 0;  // the next cycle end to check conservation at
   double limit_ = 0.0;
@@ -82,9 +103,17 @@ class TeamRunner {
   void (*after_)() = nullptr;
 };
 
-// Conservation over a team in one process (custody read from the roles).
+// Conservation over a team in one process (custody read from the roles,
+// the dead ones' included).
 void check_team_conservation(const OcRole& oc, const std::vector<AgentUnit>& agents, double now,
                              std::vector<int32_t>& scratch);
+
+// At the end of a run in one process, where the ground truth is at hand:
+// every goal the OC declared lost with an agent was in the custody of an
+// agent that died (or retired), or was one of a dead worker's own; throws
+// gather::RuntimeError otherwise. `roles` and `gone` (the dead or retired)
+// by agent id.
+void check_lost_goals(const OcRole& oc, const std::vector<const Role*>& roles, const std::vector<uint8_t>& gone);
 
 // The summaries of a run, by agent id.
 std::vector<AgentSummary> summarize(const OcRole& oc, const std::vector<const Role*>& roles,

@@ -1,0 +1,101 @@
+#include "gather_core/mission/repair.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include "gather_core/error.hpp"
+#include "gather_core/input_file.hpp"
+
+namespace gather {
+namespace mission {
+
+const char* repair_mode_name(RepairMode m) { return m == RepairMode::kMerge ? "merge" : "none"; }
+
+RepairMode parse_repair_mode(const std::string& text, const std::string& where) {
+  if (text == "merge") return RepairMode::kMerge;
+  if (text == "none") return RepairMode::kNone;
+  throw Error(where, "must be merge or none, got '" + quote_input(text) + "'");
+}
+
+RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, RepairMode mode) {
+  RepairedPlan out;
+  out.plan = base;
+  const int n = static_cast<int>(base.file.agents.size());
+  const int segments = base.file.workers;
+  out.dead.assign(static_cast<std::size_t>(n), 0);
+  for (int a : dead)
+    if (a >= 0 && a < n) out.dead[static_cast<std::size_t>(a)] = 1;
+  // Owner of each label as it is now (labels only ever name live workers'
+  // segments or dead workers not yet merged).
+  std::vector<int> owner(static_cast<std::size_t>(segments) + 1, -1);
+  for (const plan::AgentAssignment& a : base.file.agents)
+    if (!a.collector && a.segment >= 1 && a.segment <= segments) owner[static_cast<std::size_t>(a.segment)] = a.id;
+  std::vector<int32_t>& labels = out.plan.labels;
+  const int w = base.width, h = base.height;
+  if (static_cast<std::size_t>(w) * static_cast<std::size_t>(h) != labels.size())
+    throw RuntimeError("plan repair (internal error)", "label image size");
+  std::vector<int64_t> cells(static_cast<std::size_t>(segments) + 1, 0);
+  for (int32_t l : labels)
+    if (l >= 1 && l <= segments) ++cells[static_cast<std::size_t>(l)];
+  // Which label stands for each original segment (itself until merged).
+  std::vector<int> now_label(static_cast<std::size_t>(segments) + 1);
+  for (int s = 0; s <= segments; ++s) now_label[static_cast<std::size_t>(s)] = s;
+
+  for (int a = 0; a < n; ++a) {
+    if (!out.dead[static_cast<std::size_t>(a)]) continue;
+    const plan::AgentAssignment& dying = base.file.agents[static_cast<std::size_t>(a)];
+    if (dying.collector) {
+      for (plan::AgentAssignment& x : out.plan.file.agents)
+        if (!x.collector && x.delivers_to == dying.delivers_to) x.delivers_to = -1;
+      continue;
+    }
+    const int32_t s = now_label[static_cast<std::size_t>(dying.segment)];
+    if (s < 1) continue;
+    // The neighbouring segments of live workers, by their cell counts.
+    int32_t into = 0;
+    if (mode == RepairMode::kMerge) {
+      std::vector<uint8_t> touches(static_cast<std::size_t>(segments) + 1, 0);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          if (labels[static_cast<std::size_t>(y) * w + x] != s) continue;
+          const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
+          for (int k = 0; k < 4; ++k) {
+            if (nx[k] < 0 || ny[k] < 0 || nx[k] >= w || ny[k] >= h) continue;
+            const int32_t l = labels[static_cast<std::size_t>(ny[k]) * w + nx[k]];
+            if (l >= 1 && l <= segments && l != s) touches[static_cast<std::size_t>(l)] = 1;
+          }
+        }
+      int64_t best = std::numeric_limits<int64_t>::max();
+      for (int l = 1; l <= segments; ++l) {
+        const int o = owner[static_cast<std::size_t>(l)];
+        if (!touches[static_cast<std::size_t>(l)] || o < 0 || out.dead[static_cast<std::size_t>(o)]) continue;
+        if (cells[static_cast<std::size_t>(l)] < best) best = cells[static_cast<std::size_t>(l)], into = l;
+      }
+    }
+    for (int32_t& l : labels)
+      if (l == s) l = into;
+    cells[static_cast<std::size_t>(into)] += cells[static_cast<std::size_t>(s)];
+    cells[static_cast<std::size_t>(s)] = 0;
+    for (int seg = 1; seg <= segments; ++seg)
+      if (now_label[static_cast<std::size_t>(seg)] == s) now_label[static_cast<std::size_t>(seg)] = into;
+  }
+  out.worker_of_segment.assign(static_cast<std::size_t>(segments) + 1, -1);
+  for (int seg = 1; seg <= segments; ++seg) {
+    const int l = now_label[static_cast<std::size_t>(seg)];
+    const int o = l >= 1 ? owner[static_cast<std::size_t>(l)] : -1;
+    out.worker_of_segment[static_cast<std::size_t>(seg)] = o >= 0 && !out.dead[static_cast<std::size_t>(o)] ? o : -1;
+  }
+  return out;
+}
+
+double silent_timeout(Liveness kind, double period, double route_period, double intervals) {
+  switch (kind) {
+    case Liveness::kCollector: return intervals * route_period;
+    case Liveness::kOcWorker: return intervals * period;
+    case Liveness::kCollectorWorker: return intervals * (route_period + period);
+  }
+  return intervals * period;
+}
+
+}  // namespace mission
+}  // namespace gather

@@ -1,0 +1,245 @@
+// Faults of the team (docs/faults.md): plan repair as a pure function of
+// the dead set, the OC's liveness timeout, and whole missions on maps/office
+// where a worker or a collector dies: the OC declares it dead, the
+// survivors run the repaired plan, and every goal it took with it ends as
+// lost_with_agent (checked against the ground truth by the runner), none
+// silently, none twice.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "gather_agent/roles/worker_role.hpp"
+#include "office_team.hpp"
+#include "gather_agent/runner/team_runner.hpp"
+#include "gather_core/error.hpp"
+#include "gather_core/mission/repair.hpp"
+#include "gather_core/plan/plan_export.hpp"
+
+namespace gather {
+namespace agent {
+namespace {
+
+using testing_support::Office;
+
+MissionParams params(int cycles, unsigned seed) { return testing_support::office_params(cycles, seed); }
+
+int64_t cells_of(const mission::MissionPlan& p, int32_t label) {
+  return std::count(p.labels.begin(), p.labels.end(), label);
+}
+
+// The first worker of `plan` (of the OC when `of_oc`, else of a collector).
+int a_worker(const mission::MissionPlan& plan, bool of_oc) {
+  for (const plan::AgentAssignment& a : plan.file.agents)
+    if (!a.collector && (a.delivers_to < 0) == of_oc) return a.id;
+  return -1;
+}
+
+TEST(RepairPlan, ADeadWorkersSegmentGoesToItsSmallestLiveNeighbour) {
+  const mission::MissionPlan& base = Office::get().bap0;
+  const int dead = a_worker(base, true);
+  const int s = base.file.agents[static_cast<std::size_t>(dead)].segment;
+  const mission::RepairedPlan r = mission::repair_plan(base, {dead}, mission::RepairMode::kMerge);
+  EXPECT_EQ(cells_of(r.plan, s), 0);
+  EXPECT_TRUE(r.dead[static_cast<std::size_t>(dead)]);
+  const int into_worker = r.worker_of_segment[static_cast<std::size_t>(s)];
+  ASSERT_GE(into_worker, 0);
+  ASSERT_NE(into_worker, dead);
+  const int into = base.file.agents[static_cast<std::size_t>(into_worker)].segment;
+  EXPECT_EQ(cells_of(r.plan, into), cells_of(base, into) + cells_of(base, s));
+  // No other neighbour of s is smaller than the one chosen.
+  const int w = base.width, h = base.height;
+  std::set<int32_t> touching;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x + 1 < w; ++x) {
+      const int32_t a = base.labels[static_cast<std::size_t>(y) * w + x], b = base.labels[static_cast<std::size_t>(y) * w + x + 1];
+      if (a == s && b > 0 && b != s) touching.insert(b);
+      if (b == s && a > 0 && a != s) touching.insert(a);
+    }
+  for (int y = 0; y + 1 < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int32_t a = base.labels[static_cast<std::size_t>(y) * w + x], b = base.labels[static_cast<std::size_t>(y + 1) * w + x];
+      if (a == s && b > 0 && b != s) touching.insert(b);
+      if (b == s && a > 0 && a != s) touching.insert(a);
+    }
+  ASSERT_TRUE(touching.count(into));
+  for (int32_t t : touching) EXPECT_GE(cells_of(base, t), cells_of(base, into)) << "segment " << t;
+  // Other segments and every assignment are unchanged.
+  for (std::size_t i = 0; i < base.labels.size(); ++i)
+    if (base.labels[i] != s) EXPECT_EQ(r.plan.labels[i], base.labels[i]);
+  for (std::size_t a = 0; a < base.file.agents.size(); ++a)
+    EXPECT_EQ(r.plan.file.agents[a].delivers_to, base.file.agents[a].delivers_to);
+}
+
+TEST(RepairPlan, NoneLeavesTheSegmentToNobodyAndTheSetOrderDoesNotMatter) {
+  const mission::MissionPlan& base = Office::get().bap0;
+  const int a = 3, b = 7;
+  const mission::RepairedPlan none = mission::repair_plan(base, {a}, mission::RepairMode::kNone);
+  EXPECT_EQ(cells_of(none.plan, base.file.agents[a].segment), 0);
+  EXPECT_EQ(none.worker_of_segment[static_cast<std::size_t>(base.file.agents[a].segment)], -1);
+  const mission::RepairedPlan ab = mission::repair_plan(base, {a, b}, mission::RepairMode::kMerge);
+  const mission::RepairedPlan ba = mission::repair_plan(base, {b, a, b}, mission::RepairMode::kMerge);
+  EXPECT_EQ(ab.plan.labels, ba.plan.labels);
+  EXPECT_EQ(ab.worker_of_segment, ba.worker_of_segment);
+  for (int seg = 1; seg <= base.file.workers; ++seg) {
+    const int o = ab.worker_of_segment[static_cast<std::size_t>(seg)];
+    if (o >= 0) EXPECT_FALSE(ab.dead[static_cast<std::size_t>(o)]);
+  }
+}
+
+// The collector of `plan` with the most workers.
+int busiest_collector(const mission::MissionPlan& plan) {
+  std::vector<int> n(static_cast<std::size_t>(plan.file.collectors), 0);
+  for (const plan::AgentAssignment& a : plan.file.agents)
+    if (!a.collector && a.delivers_to >= 0) ++n[static_cast<std::size_t>(a.delivers_to)];
+  return static_cast<int>(std::max_element(n.begin(), n.end()) - n.begin());
+}
+
+TEST(RepairPlan, ADeadCollectorsWorkersDeliverToTheOc) {
+  const mission::MissionPlan& base = Office::get().pap4;
+  const int c = busiest_collector(base);  // collector c is agent c
+  const mission::RepairedPlan r = mission::repair_plan(base, {c}, mission::RepairMode::kMerge);
+  int moved = 0;
+  for (std::size_t a = 0; a < base.file.agents.size(); ++a) {
+    const plan::AgentAssignment& before = base.file.agents[a];
+    const plan::AgentAssignment& after = r.plan.file.agents[a];
+    if (!before.collector && before.delivers_to == c) {
+      EXPECT_EQ(after.delivers_to, -1);
+      ++moved;
+    } else {
+      EXPECT_EQ(after.delivers_to, before.delivers_to);
+    }
+  }
+  EXPECT_GT(moved, 0);
+  EXPECT_EQ(r.plan.labels, base.labels);
+}
+
+TEST(Liveness, TimeoutsFollowEachRolesContactInterval) {
+  EXPECT_DOUBLE_EQ(mission::silent_timeout(mission::Liveness::kCollector, 100, 80, 3), 240);
+  EXPECT_DOUBLE_EQ(mission::silent_timeout(mission::Liveness::kOcWorker, 100, 80, 3), 300);
+  EXPECT_DOUBLE_EQ(mission::silent_timeout(mission::Liveness::kCollectorWorker, 100, 80, 3), 540);
+}
+
+TEST(Kill, ParsesIdAtTimeAndRefusesTheRest) {
+  const Kill k = parse_kill("3@120.5", 20, "--kill");
+  EXPECT_EQ(k.agent, 3);
+  EXPECT_DOUBLE_EQ(k.at, 120.5);
+  for (const char* bad : {"3", "@5", "3@", "x@5", "3@5s", "20@5", "-1@5", "3@-1", "3@nan", "3@inf"})
+    EXPECT_THROW(parse_kill(bad, 20, "--kill"), Error) << bad;
+}
+
+struct Counts {
+  int delivered = 0, expired = 0, dropped = 0, lost = 0;
+};
+Counts counts(const RunOutcome& out) {
+  Counts c;
+  for (const mission::GoalRecord& g : out.result.goals) {
+    c.delivered += g.state == mission::GoalState::kDelivered;
+    c.expired += g.state == mission::GoalState::kExpired;
+    c.dropped += g.state == mission::GoalState::kDropped;
+    c.lost += g.state == mission::GoalState::kLostWithAgent;
+  }
+  return c;
+}
+
+RunOutcome run(const mission::MissionPlan& plan, int cycles, unsigned seed, std::vector<Kill> kills, double loss = 0.0,
+               mission::RepairMode mode = mission::RepairMode::kMerge) {
+  MissionParams p = params(cycles, seed);
+  p.repair = mode;
+  TeamSetup team(Office::get().ctx, plan, p);
+  RunOptions opt;
+  opt.kills = std::move(kills);
+  opt.loss = loss, opt.loss_seed = seed;
+  return TeamRunner(team, opt).run();  // conservation every cycle; lost goals against the ground truth at the end
+}
+
+TEST(Faults, NoFaultNoDeclarationEvenWithALossyRadio) {
+  for (const mission::MissionPlan* plan : {&Office::get().pap4, &Office::get().bap0}) {
+    const RunOutcome out = run(*plan, 6, 2, {}, 0.3);
+    ASSERT_TRUE(out.completed) << out.failure;
+    EXPECT_TRUE(out.declared_dead.empty()) << plan->file.method << ": agent " << out.declared_dead[0].first << " at "
+                                           << out.declared_dead[0].second << " s";
+    EXPECT_EQ(counts(out).lost, 0);
+  }
+}
+
+TEST(Faults, ADeadWorkerIsDeclaredItsSegmentMergedItsGoalsLostWithItOnly) {
+  const mission::MissionPlan& plan = Office::get().bap0;
+  const int victim = a_worker(plan, true);
+  const double period = plan.file.cycle_period_s;
+  const double kill_at = 2.5 * period;
+  const RunOutcome out = run(plan, 10, 1, {{victim, kill_at}});
+  ASSERT_TRUE(out.completed) << out.failure;
+  ASSERT_EQ(out.declared_dead.size(), 1u);
+  EXPECT_EQ(out.declared_dead[0].first, victim);
+  const double declared = out.declared_dead[0].second;
+  EXPECT_GT(declared, kill_at);
+  EXPECT_LE(declared, kill_at + 3.0 * period + 1.0);  // 3 request periods unheard, for a worker of the OC
+  const Counts c = counts(out);
+  EXPECT_GT(c.lost, 0);
+  const int s = plan.file.agents[static_cast<std::size_t>(victim)].segment;
+  const OccupancyGrid& grid = Office::get().scenario.grid;
+  auto in_s = [&](const mission::GoalRecord& g) {
+    return plan.labels[static_cast<std::size_t>(grid.index(grid.world_to_cell(g.point)))] == s;
+  };
+  int after_in_s = 0, after_in_s_delivered = 0;
+  for (const mission::GoalRecord& g : out.result.goals) {
+    if (g.state == mission::GoalState::kLostWithAgent) {
+      EXPECT_EQ(g.worker, victim) << "goal " << g.id;
+      EXPECT_LE(g.requested_at, declared) << "goal " << g.id;
+    }
+    if (g.requested_at > declared && in_s(g)) {
+      ++after_in_s;
+      EXPECT_NE(g.worker, victim);
+      after_in_s_delivered += g.state == mission::GoalState::kDelivered;
+    }
+  }
+  EXPECT_GT(after_in_s, 0);
+  EXPECT_GT(after_in_s_delivered, 0);  // its neighbour serves the merged segment
+  // Leaving the segment to nobody: its goals after the declaration expire
+  // (docs/faults_bench.md compares the two over seeds).
+  const RunOutcome none = run(plan, 10, 1, {{victim, kill_at}}, 0.0, mission::RepairMode::kNone);
+  ASSERT_TRUE(none.completed) << none.failure;
+  for (const mission::GoalRecord& g : none.result.goals)
+    if (g.requested_at > declared && in_s(g)) EXPECT_EQ(g.state, mission::GoalState::kExpired) << "goal " << g.id;
+}
+
+TEST(Faults, ADeadCollectorsWorkersComeToTheOcAndOnlyItsCargoIsLost) {
+  const mission::MissionPlan& plan = Office::get().pap4;
+  const double period = plan.file.cycle_period_s;
+  const RunOutcome base = run(plan, 10, 1, {});
+  ASSERT_TRUE(base.completed) << base.failure;
+  const int victim = busiest_collector(plan);
+  const RunOutcome out = run(plan, 10, 1, {{victim, 3.3 * period}}, 0.2);
+  ASSERT_TRUE(out.completed) << out.failure;
+  ASSERT_EQ(out.declared_dead.size(), 1u) << "agent " << out.declared_dead[1].first;
+  EXPECT_EQ(out.declared_dead[0].first, victim);
+  const double declared = out.declared_dead[0].second;
+  // Its workers deliver to the OC themselves after that.
+  int direct = 0;
+  for (const mission::GoalRecord& g : out.result.goals)
+    if (g.requested_at > declared && g.state == mission::GoalState::kDelivered && g.worker >= 0 &&
+        plan.file.agents[static_cast<std::size_t>(g.worker)].delivers_to == victim) {
+      EXPECT_EQ(g.delivered_by, g.worker);
+      ++direct;
+    }
+  EXPECT_GT(direct, 0);
+  const Counts c = counts(out), b = counts(base);
+  EXPECT_GE(c.delivered, 0.9 * b.delivered) << "fault-free " << b.delivered;
+  EXPECT_EQ(out.invalid_items, 0);
+}
+
+TEST(Faults, AWorkerOfACollectorDiesUnderLossAndTheMissionGoesOn) {
+  const mission::MissionPlan& plan = Office::get().pap4;
+  const int victim = a_worker(plan, false);
+  const RunOutcome base = run(plan, 10, 3, {});
+  const RunOutcome out = run(plan, 10, 3, {{victim, 4.1 * plan.file.cycle_period_s}}, 0.2);
+  ASSERT_TRUE(out.completed) << out.failure;
+  ASSERT_EQ(out.declared_dead.size(), 1u);
+  EXPECT_EQ(out.declared_dead[0].first, victim);
+  EXPECT_GE(counts(out).delivered, 0.9 * counts(base).delivered);
+}
+
+}  // namespace
+}  // namespace agent
+}  // namespace gather
