@@ -3,8 +3,9 @@
 // published where the plan is (/gather/plan_dir), reports agents that
 // fail, and on shutdown stops those still running and writes
 // `~results_dir/fleet.yaml`. Agents end by themselves (exit 0) when the OC
-// ends the mission. Exit status: 0 every agent exited 0 within 1 s of its
-// stop, 1 otherwise, 2 bad input.
+// ends the mission; an agent of ~kill (mission.launch's kill:=) that the OC
+// ended with SIGKILL is no failure. Exit status: 0 every agent exited 0
+// within 1 s of its stop (or was killed as asked), 1 otherwise, 2 bad input.
 #include <ros/ros.h>
 #include <yaml-cpp/yaml.h>
 
@@ -14,6 +15,7 @@
 #include <fstream>
 
 #include "gather_agent/runner/agent_fleet.hpp"
+#include "gather_agent/runner/team_runner.hpp"
 #include "gather_agent/transport/lcm_fleet.hpp"
 #include "gather_core/plan/plan_file.hpp"
 #include "gather_core/scenario/scenario.hpp"
@@ -24,7 +26,16 @@ namespace {
 volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
-void write_fleet_results(const std::string& path, const gather::AgentFleet& fleet, bool ok) {
+// Agents the OC kills (~kill) end with SIGKILL: as asked.
+bool killed_as_asked(const gather::AgentProcess& a, const std::vector<gather::agent::Kill>& kills) {
+  if (a.exit_status != 128 + SIGKILL) return false;
+  for (const gather::agent::Kill& k : kills)
+    if (k.agent == a.id) return true;
+  return false;
+}
+
+void write_fleet_results(const std::string& path, const gather::AgentFleet& fleet, bool ok,
+                         const std::vector<gather::agent::Kill>& kills) {
   YAML::Emitter y;
   y.SetDoublePrecision(6);
   y << YAML::BeginMap << YAML::Key << "status" << YAML::Value << (ok ? "ok" : "failed");
@@ -34,7 +45,8 @@ void write_fleet_results(const std::string& path, const gather::AgentFleet& flee
     // see exit_status); otherwise stopped with SIGTERM after stop_latency_s.
     y << YAML::Flow << YAML::BeginMap << YAML::Key << "id" << YAML::Value << a.id << YAML::Key << "exit_status"
       << YAML::Value << a.exit_status << YAML::Key << "ended" << YAML::Value << (a.exited_early ? "by_itself" : "stopped")
-      << YAML::Key << "stop_latency_s" << YAML::Value << a.stop_latency_s << YAML::EndMap;
+      << YAML::Key << "stop_latency_s" << YAML::Value << a.stop_latency_s << YAML::Key << "killed_as_asked"
+      << YAML::Value << killed_as_asked(a, kills) << YAML::EndMap;
   }
   y << YAML::EndSeq << YAML::EndMap;
   std::error_code ec;
@@ -76,12 +88,13 @@ int main(int argc, char** argv) {
   }
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
-  std::string lcm_url, reply_url, agent_bin, results_dir;
+  std::string lcm_url, reply_url, agent_bin, results_dir, kill;
   double plan_timeout = 300.0;
   pnh.param<std::string>("lcm_url", lcm_url, "");
   pnh.param<std::string>("reply_url", reply_url, "");
   pnh.param<std::string>("agent_bin", agent_bin, "");
   pnh.param<std::string>("results_dir", results_dir, "");
+  pnh.param<std::string>("kill", kill, "none");
   pnh.param("plan_timeout", plan_timeout, 300.0);
   if (lcm_url == "default") lcm_url.clear();    // mission.launch's "not given"
   if (agent_bin == "auto") agent_bin.clear();
@@ -113,6 +126,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "fleet: %s\n", e.what());
     return 1;
   }
+  std::vector<gather::agent::Kill> kills;
+  try {
+    kills = gather::agent::parse_kills(kill, agents, "~kill");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fleet: %s\n", e.what());
+    return 2;
+  }
   std::vector<std::string> command{bin, "--id", "{id}", "--plan", plan_dir};
   if (!lcm_url.empty()) command.insert(command.end(), {"--lcm-url", lcm_url});
   command.insert(command.end(), {"--reply-url", reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(lcm_url) : reply_url});
@@ -131,7 +151,9 @@ int main(int argc, char** argv) {
     for (int id : fleet.poll()) {
       ++done;
       const int status = fleet.agents()[static_cast<std::size_t>(id)].exit_status;
-      if (status != 0) {
+      if (killed_as_asked(fleet.agents()[static_cast<std::size_t>(id)], kills)) {
+        ROS_WARN("fleet: agent %d killed (SIGKILL) as asked (~kill)", id);
+      } else if (status != 0) {
         ok = false;
         ROS_ERROR("fleet: agent %d ended with status %d", id, status);
       }
@@ -141,10 +163,10 @@ int main(int argc, char** argv) {
   fleet.stop(2.0);
   int slow = 0;
   for (const auto& a : fleet.agents()) {
-    if (a.exit_status != 0) ok = false;
+    if (a.exit_status != 0 && !killed_as_asked(a, kills)) ok = false;
     if (!a.exited_early && a.stop_latency_s > 1.0) ok = false, ++slow;
   }
-  if (!results_dir.empty()) write_fleet_results(results_dir + "/fleet.yaml", fleet, ok);
+  if (!results_dir.empty()) write_fleet_results(results_dir + "/fleet.yaml", fleet, ok, kills);
   nh.setParam("/gather/fleet_status", ok ? "ok" : "failed");  // the OC ends the launch once it is there
   std::printf("fleet: %d agents: %s%s\n", agents, ok ? "all exited 0" : "FAILURES (see fleet.yaml)",
               slow ? (", " + std::to_string(slow) + " took > 1 s to stop").c_str() : "");

@@ -60,7 +60,7 @@ void MissionPublisher::views(agent::LockstepMaster& master, double t, double rat
   master.take_events(events_);
   view_.take(events_, oc);
   const gather_msgs::MissionStatus status = view_.status(oc, state, t, rate, now);
-  visualization_msgs::MarkerArray team = view_.team_markers(agents, t, true, now);
+  visualization_msgs::MarkerArray team = view_.team_markers(agents, t, true, now, &oc);
   team.markers.push_back(view_.status_text(status));
   team_markers_.publish(team);
   // Goals: when one was measured or resolved, and every few seconds for

@@ -15,7 +15,7 @@ using visualization_msgs::Marker;
 
 constexpr double kHandoverShown = 3.0;  // [s] of mission time a hand-over stays on screen
 
-enum GoalView { kPending = 0, kCarried, kDelivered, kExpired, kDropped, kGoalViews };
+enum GoalView { kPending = 0, kCarried, kDelivered, kExpired, kDropped, kLost, kGoalViews };
 
 }  // namespace
 
@@ -48,6 +48,7 @@ int MissionView::goal_state(const agent::OcRole& oc, int id) const {
     switch (g.state) {
       case mission::GoalState::kDelivered: return kDelivered;
       case mission::GoalState::kDropped: return kDropped;
+      case mission::GoalState::kLostWithAgent: return kLost;
       default: return kExpired;
     }
   }
@@ -57,7 +58,7 @@ int MissionView::goal_state(const agent::OcRole& oc, int id) const {
 }
 
 visualization_msgs::MarkerArray MissionView::team_markers(const std::vector<agent::Reply>& agents, double t,
-                                                          bool started, const ros::Time& stamp) {
+                                                          bool started, const ros::Time& stamp, const agent::OcRole* ledger) {
   visualization_msgs::MarkerArray out;
   const double u = style_.unit;
   // Links: every pair in radio range, the OC included.
@@ -92,19 +93,24 @@ visualization_msgs::MarkerArray MissionView::team_markers(const std::vector<agen
   out.markers.push_back(hand);
 
   for (const agent::Reply& r : agents) {
-    const plan::AgentAssignment& as = team_.assignment(r.agent);
+    // As the OC runs the plan now (a dead collector's workers deliver to it).
+    const plan::AgentAssignment& as =
+        ledger ? ledger->current_plan().file.agents[static_cast<std::size_t>(r.agent)] : team_.assignment(r.agent);
     const bool collector = as.collector;
     Marker m = marker(frame_, stamp, "agents", r.agent, collector ? Marker::CUBE : Marker::CYLINDER);
     m.pose.position = pt(r.pose, kZAgents);
     m.scale.x = m.scale.y = u * (collector ? 1.1 : 1.0);
     m.scale.z = u * 0.3;
-    m.color = !started ? style_.waiting : as.delivers_to >= 0 ? style_.collector(as.delivers_to) : style_.oc_worker;
+    const bool dead = ledger && ledger->declared_dead_at(r.agent) >= 0;
+    m.color = !started ? style_.waiting : dead ? style_.dead
+                                        : as.delivers_to >= 0 ? style_.collector(as.delivers_to) : style_.oc_worker;
     out.markers.push_back(m);
     Marker id = marker(frame_, stamp, "agent_ids", r.agent, Marker::TEXT_VIEW_FACING);
     id.pose.position = pt(Point2{r.pose.x + u * 0.9, r.pose.y + u * 0.9}, kZLabels);
     id.scale.z = u * 1.1;
     id.color = style_.label;
     id.text = collector ? "C" + std::to_string(as.delivers_to) + " (" + std::to_string(r.agent) + ")" : std::to_string(r.agent);
+    if (dead) id.text += " dead";
     out.markers.push_back(id);
   }
   return out;
@@ -112,9 +118,9 @@ visualization_msgs::MarkerArray MissionView::team_markers(const std::vector<agen
 
 visualization_msgs::MarkerArray MissionView::goal_markers(const agent::OcRole& oc, const ros::Time& stamp) const {
   static const char* const names[kGoalViews] = {"goals_pending", "goals_carried", "goals_delivered", "goals_expired",
-                                                "goals_dropped"};
+                                                "goals_dropped", "goals_lost"};
   const std_msgs::ColorRGBA colours[kGoalViews] = {style_.goal_pending, style_.goal_carried, style_.goal_delivered,
-                                                   style_.goal_expired, style_.goal_dropped};
+                                                   style_.goal_expired, style_.goal_dropped, style_.goal_lost};
   visualization_msgs::MarkerArray out;
   std::vector<Marker> lists;
   for (int k = 0; k < kGoalViews; ++k) {
@@ -226,6 +232,7 @@ void MissionView::add(Totals& t, const agent::OcRole& oc, std::size_t goal) cons
     }
     case kExpired: ++t.expired; break;
     case kDropped: ++t.dropped; break;
+    case kLost: ++t.lost; break;
     default: break;
   }
 }
@@ -253,7 +260,10 @@ void MissionView::settle(const agent::OcRole& oc) {
     row_ = Totals{};
   };
   const std::size_t n = oc.requested();
-  while (settled_ < n && oc.resolved(static_cast<int32_t>(settled_))) {
+  // A goal declared lost with an agent may still be recovered by a
+  // survivor: final only once the mission is over.
+  while (settled_ < n && oc.resolved(static_cast<int32_t>(settled_)) &&
+         (over_ || goals[settled_].state != mission::GoalState::kLostWithAgent)) {
     const mission::GoalRecord& g = goals[settled_];
     if (g.cycle != row_cycle_) {
       flush();  // the goals of a request are consecutive: the one before is complete
@@ -269,6 +279,7 @@ void MissionView::settle(const agent::OcRole& oc) {
 
 gather_msgs::MissionStatus MissionView::status(const agent::OcRole& oc, const std::string& state, double t,
                                                double rate, const ros::Time& stamp) {
+  over_ = over_ || state == "done" || state == "failed";
   settle(oc);
   gather_msgs::MissionStatus s;
   s.header.frame_id = frame_;
@@ -294,6 +305,8 @@ gather_msgs::MissionStatus MissionView::status(const agent::OcRole& oc, const st
   s.delivered = settled_totals_.delivered + open.delivered;
   s.expired = settled_totals_.expired + open.expired;
   s.dropped = settled_totals_.dropped + open.dropped;
+  s.lost_with_agent = settled_totals_.lost + open.lost;
+  s.dead = static_cast<uint16_t>(oc.dead().size());
   s.refresh_mean = s.delivered > 0 ? (settled_totals_.refresh_sum + open.refresh_sum) / s.delivered : 0.0;
   s.refresh_max = std::max(settled_totals_.refresh_max, open.refresh_max);
   s.rate = rate;
@@ -313,6 +326,8 @@ visualization_msgs::Marker MissionView::status_text(const gather_msgs::MissionSt
                 s.expired);
   m.text = text;
   if (s.dropped > 0) m.text += ", " + std::to_string(s.dropped) + " dropped";
+  if (s.lost_with_agent > 0) m.text += ", " + std::to_string(s.lost_with_agent) + " lost with agent";
+  if (s.dead > 0) m.text += " | " + std::to_string(s.dead) + " agent" + (s.dead > 1 ? "s" : "") + " dead";
   return m;
 }
 

@@ -66,9 +66,10 @@ bool same_map(const gather::OccupancyGrid& a, const gather::OccupancyGrid& b) {
 
 // Settings users change per run (private parameters; mission.launch's arguments).
 struct Settings {
-  std::string results_dir, lcm_url, reply_url, clock, frame;
+  std::string results_dir, lcm_url, reply_url, clock, frame, kill, repair;
   int cycles = 0, seed = -1, loss_seed = 1;
   double rate = 0.0, tick = 0.1, loss = 0.0, ready_timeout = 60.0, map_timeout = 30.0, view_period = 0.5;
+  double silent_intervals = 2.0;
   bool close_on_end = false, sim_time = false;
 };
 
@@ -91,6 +92,9 @@ std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s
   read(typed_param(pnh, "tick", s.tick, 0.1));
   read(typed_param(pnh, "loss", s.loss, 0.0));
   read(typed_param(pnh, "loss_seed", s.loss_seed, 1));
+  read(typed_param<std::string>(pnh, "kill", s.kill, "none"));
+  read(typed_param<std::string>(pnh, "repair", s.repair, "merge"));
+  read(typed_param(pnh, "silent_intervals", s.silent_intervals, 2.0));
   read(typed_param(pnh, "ready_timeout", s.ready_timeout, 60.0));
   read(typed_param(pnh, "map_timeout", s.map_timeout, 30.0));
   read(typed_param(pnh, "view_period", s.view_period, 0.5));
@@ -105,6 +109,8 @@ std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s
   if (!(s.tick > 0.0 && s.tick <= 0.1)) return "~tick must be in (0, 0.1] s";
   if (!(s.loss >= 0.0 && s.loss < 1.0)) return "~loss must be in [0, 1)";
   if (s.loss_seed < 0) return "~loss_seed must be >= 0";
+  if (s.repair != "merge" && s.repair != "none") return "~repair must be merge or none, got '" + s.repair.substr(0, 40) + "'";
+  if (!(s.silent_intervals >= 1.5 && s.silent_intervals <= 100.0)) return "~silent_intervals must be in [1.5, 100]";
   if (!(s.ready_timeout > 0.0 && s.ready_timeout <= 86400.0)) return "~ready_timeout must be in (0, 86400] s";
   if (!(s.map_timeout > 0.0 && s.map_timeout <= 86400.0)) return "~map_timeout must be in (0, 86400] s";
   if (!(s.view_period >= s.tick && s.view_period <= 3600.0)) return "~view_period must be in [~tick, 3600] s of mission time";
@@ -231,6 +237,8 @@ int main(int argc, char** argv) {
   gather::agent::MissionParams params = gather::agent::mission_params(plan->scenario);
   if (set.cycles > 0) params.cycles = set.cycles;
   if (set.seed >= 0) params.seed = static_cast<unsigned>(set.seed);
+  params.repair = set.repair == "none" ? gather::mission::RepairMode::kNone : gather::mission::RepairMode::kMerge;
+  params.silent_intervals = set.silent_intervals;
 
   // What can still be wrong with the plan or the settings is bad input (2);
   // what goes wrong after this is a runtime failure (1).
@@ -247,6 +255,8 @@ int main(int argc, char** argv) {
     mo.tick = set.tick, mo.rate = set.rate, mo.loss = set.loss, mo.loss_seed = static_cast<uint64_t>(set.loss_seed);
     mo.ready_timeout_s = set.ready_timeout;
     mo.observe = true;
+    mo.kills = gather::agent::parse_kills(set.kill, team_ptr->agents(), "~kill");
+    if (!mo.kills.empty() && set.clock == "wall") throw gather::Error("~kill", "needs the lockstep clock");
     if (set.clock == "wall") mo.clock = gather::agent::ClockMode::kWall;
     master_ptr = std::make_unique<gather::agent::LockstepMaster>(*team_ptr, *fleet_ptr, gather::agent::plan_digest(*plan), mo);
   } catch (const std::exception& e) {

@@ -200,15 +200,20 @@ void legend(visualization_msgs::MarkerArray& out, const Style& style, const Box&
   const Item items[] = {
       {"goal pending", Marker::CUBE, style.goal_pending},     {"carried", Marker::CUBE, style.goal_carried},
       {"delivered", Marker::CUBE, style.goal_delivered},       {"expired", Marker::CUBE, style.goal_expired},
+      {"lost with agent", Marker::CUBE, style.goal_lost},
       {"collector", Marker::CUBE, style.collector(0)},         {"its worker", Marker::CYLINDER, style.collector(0)},
       {"OC worker", Marker::CYLINDER, style.oc_worker},        {"radio link", Marker::LINE_LIST, style.link},
       {"hand-over", Marker::LINE_LIST, style.handover},        {"coverage", Marker::LINE_LIST, style.oc},
+      {"dead agent", Marker::CYLINDER, style.dead},
   };
   const double u = style.unit, h = u * 1.1;  // text height
   double x = below.x0;
-  const double y = below.y0 - u * 1.8;
+  double y = below.y0 - u * 1.8;
   int id = 0;
   for (const Item& it : items) {
+    // A second row when this item would pass the box's right side.
+    const double item_w = u * 1.6 + 0.62 * h * static_cast<double>(std::strlen(it.text));
+    if (x > below.x0 && x + item_w > below.x1) x = below.x0, y -= u * 1.6;
     Marker sym = marker(frame, stamp, "legend", id++, it.type);
     sym.color = it.colour;
     sym.scale.x = sym.scale.y = u * 0.9, sym.scale.z = 0.05;

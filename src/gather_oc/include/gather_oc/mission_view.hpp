@@ -4,7 +4,8 @@
 // lockstep master observed (goals measured, custody hand-overs):
 //   /gather/team_markers   agents by role (collector squares, worker discs in
 //                          their collector's colour, workers of the OC black;
-//                          orange before the mission starts) with their ids,
+//                          orange before the mission starts, grey once the OC
+//                          declared them dead) with their ids,
 //                          radio links between agents in range (thin grey)
 //                          and custody hand-overs of the last seconds (green);
 //                          a status line above the map (time, request, goals)
@@ -47,7 +48,7 @@ class MissionView {
   void take(const agent::ViewEvents& events, const agent::OcRole& oc);
 
   visualization_msgs::MarkerArray team_markers(const std::vector<agent::Reply>& agents, double t, bool started,
-                                               const ros::Time& stamp);
+                                               const ros::Time& stamp, const agent::OcRole* ledger = nullptr);
   visualization_msgs::MarkerArray goal_markers(const agent::OcRole& oc, const ros::Time& stamp) const;
   // True when some worker's planned path changed since the last path_markers().
   bool paths_changed(const std::vector<agent::Reply>& agents) const;
@@ -63,7 +64,9 @@ class MissionView {
   // Cycles whose goals have all been resolved since the last call, in order.
   std::vector<gather_msgs::CycleStats> resolved_cycles(const agent::OcRole& oc, const ros::Time& stamp);
 
-  // The view's state of goal `id` (for tests): 0 pending, 1 carried, 2 delivered, 3 expired, 4 dropped.
+  // The view's state of goal `id` (for tests): 0 pending, 1 carried, 2 delivered, 3 expired, 4 dropped,
+  // 5 lost with an agent (final only at the mission's end: a survivor may
+  // still resolve it).
   int goal_state(const agent::OcRole& oc, int id) const;
 
  private:
@@ -74,7 +77,7 @@ class MissionView {
   // resolved, the newest requests'.
   void settle(const agent::OcRole& oc);
   struct Totals {
-    uint32_t requested = 0, delivered = 0, expired = 0, dropped = 0;
+    uint32_t requested = 0, delivered = 0, expired = 0, dropped = 0, lost = 0;
     double refresh_sum = 0.0, refresh_max = 0.0;
   };
   void add(Totals& t, const agent::OcRole& oc, std::size_t goal) const;
@@ -89,6 +92,7 @@ class MissionView {
   std::vector<Point2> last_pose_;
   Box box_;                                      // where the team can be
   std::size_t settled_ = 0;                      // goals [0, settled_) are all resolved
+  bool over_ = false;                            // the mission is over: lost goals are final
   Totals settled_totals_;                        // of those
   int row_cycle_ = -1;                           // the cycle being added up
   Totals row_;                                   // its goals so far
