@@ -105,8 +105,9 @@ runtime-report: build
 	tools/netns-run $(PYTHON) tools/runtime_report.py
 
 # Faults on maps/office (pap:4 with busy collectors, bap:0; 10 cycles, 5
-# seeds): 20% loss, and one worker or collector killed, each repair ->
-# docs/faults_bench.md (~1 min; fails when a target is not met).
+# seeds): 20% loss, one worker or collector killed (each repair), an agent
+# carrying data crashed and restarted from its journal ->
+# docs/faults_bench.md (~5 min; fails when a target is not met).
 bench-faults: build
 	$(PYTHON) tools/fault_bench.py
 

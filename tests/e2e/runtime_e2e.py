@@ -122,6 +122,48 @@ def main():
                 same = open(os.path.join(kill_one, name), "rb").read() == open(os.path.join(kill_lcm, name), "rb").read()
                 check("kill: %s over LCM == in one process" % name, same)
 
+    # A crash and a restart (issue: faults): a worker of a collector is
+    # SIGKILLed while it carries data (found in one process first) and its
+    # process is started again at once (--rejoin) from its journal: every
+    # goal it carried reaches the OC once, and the run over LCM is the one in
+    # one process.
+    if "pap:4" in plans:
+        import csv
+        import re
+        workers = [int(m.group(1)) for m in re.finditer(r"\{id: (\d+), role: worker, segment: \d+, collector: [0-9]",
+                                                        open(os.path.join(plans["pap:4"], "plan.yaml")).read())]
+        pick = None
+        for agent in workers[:4]:
+            for t in (120, 180, 240):
+                d = os.path.join(tmp, "probe")
+                rc, out, err = run([a.gather, "run", plans["pap:4"], "--cycles", "3", "--loss", "0.2", "--out", d,
+                                    "--restart", "%d@%d" % (agent, t)])
+                m = re.search(r"\((\d+) measured goals carried", out)
+                if rc == 0 and m and int(m.group(1)) > 0:
+                    pick = (agent, t, int(m.group(1)))
+                    break
+            if pick:
+                break
+        if check("restart: a worker of a collector carrying data found", pick is not None, str(workers)):
+            agent, t, carried = pick
+            args = ["--cycles", "3", "--loss", "0.2", "--restart", "%d@%d" % (agent, t)]
+            one, lcm = os.path.join(tmp, "restart_one"), os.path.join(tmp, "restart_lcm")
+            run([a.gather, "run", plans["pap:4"], "--out", one] + args)
+            rc, out, err = run([a.gather, "run", plans["pap:4"], "--out", lcm, "--lcm"] + args)
+            if check("restart: agent %d SIGKILLed at %d s carrying %d goals, started again over LCM" % (agent, t, carried),
+                     rc == 0, err[-1500:]):
+                goals = list(csv.DictReader(open(os.path.join(lcm, "goals.csv"))))
+                measured = [g for g in goals if float(g["measured_at"]) >= 0]
+                check("restart: every measured goal delivered (%d), none lost" % len(measured),
+                      measured and all(g["state"] == "delivered" for g in measured)
+                      and all(g["state"] in ("delivered", "expired") for g in goals))
+                agents = list(csv.DictReader(open(os.path.join(lcm, "agents.csv"))))
+                check("restart: goals measured by the agents == goals delivered (nothing twice)",
+                      sum(int(r["measured"]) for r in agents) == len(measured))
+                for name in ("goals.csv", "cycles.csv", "faults.csv"):
+                    same = open(os.path.join(one, name), "rb").read() == open(os.path.join(lcm, name), "rb").read()
+                    check("restart: %s over LCM == in one process" % name, same)
+
     # Wall-clock mode (as real robots run): not reproducible, but the same
     # mission: every goal resolved, nearly all as in the lockstep run.
     if "pap:4" in plans:

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
                                                                      : opt.reply_url,
                                   false);
     gather::agent::LockstepAgent agent(plan, opt.id, fleet);
+    agent.set_journal(opt.journal, opt.rejoin);
     std::printf("gather_agent %d: plan %s (%s, %d collectors), waiting for the OC\n", opt.id, opt.plan.c_str(),
                 plan.plan.file.method.c_str(), plan.plan.file.collectors);
     std::fflush(stdout);

@@ -24,7 +24,7 @@ double parse_number(const std::string& flag, const char* s) {
 }  // namespace
 
 const char* agent_usage() {
-  return "usage: gather_agent --id K --plan PLAN_DIR [--lcm-url URL] [--reply-url URL] [--motion sim|base] [--silence S]";
+  return "usage: gather_agent --id K --plan PLAN_DIR [--lcm-url URL] [--reply-url URL] [--motion sim|base] [--silence S] [--journal DIR [--rejoin]]";
 }
 
 AgentOptions parse_agent_options(int argc, char** argv) {
@@ -53,6 +53,11 @@ AgentOptions parse_agent_options(int argc, char** argv) {
     } else if (a == "--motion") {
       o.motion = value(a);
       if (o.motion != "sim" && o.motion != "base") throw Error(kWhere, "--motion must be sim or base, got '" + o.motion.substr(0, 40) + "'");
+    } else if (a == "--journal") {
+      o.journal = value(a);
+      if (o.journal.empty()) throw Error(kWhere, "--journal needs a directory");
+    } else if (a == "--rejoin") {
+      o.rejoin = true;
     } else if (a == "--silence") {
       o.silence_s = parse_number(a, value(a));
       if (!(o.silence_s > 0 && o.silence_s <= 86400)) throw Error(kWhere, "--silence must be in (0, 86400] s");
@@ -62,6 +67,7 @@ AgentOptions parse_agent_options(int argc, char** argv) {
   }
   if (!have_id) throw Error(kWhere, std::string("--id is required (") + agent_usage() + ")");
   if (o.plan.empty()) throw Error(kWhere, std::string("--plan is required (") + agent_usage() + ")");
+  if (o.rejoin && o.journal.empty()) throw Error(kWhere, "--rejoin needs --journal (the journal it replays)");
   return o;
 }
 

@@ -1,6 +1,6 @@
 // gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT]
 //                     [--loss P] [--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none]
-//                     [--silent-intervals K]
+//                     [--silent-intervals K] [--restart ID@T[,ID@T...]]
 //                     [--lcm [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R]
 //                            [--clock lockstep|wall]]:
 // runs the plan with the agent runtime for K seeds: every role in this
@@ -44,13 +44,17 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
                                const agent::RunOptions& opt, double rate, bool wall, const std::string& url,
                                const std::string& reply_url, const std::string& agent_bin) {
   agent::LcmFleet fleet(url, reply_url, true, team.agents());
-  AgentFleet processes({agent_bin, "--id", "{id}", "--plan", plan.dir, "--lcm-url", url, "--reply-url", reply_url},
-                       team.agents());
+  std::vector<std::string> command{agent_bin, "--id", "{id}", "--plan", plan.dir, "--lcm-url", url, "--reply-url", reply_url};
+  if (!opt.journal_dir.empty()) command.insert(command.end(), {"--journal", opt.journal_dir});
+  AgentFleet processes(command, team.agents());
   processes.start();
   try {
     agent::MasterOptions mo;
     mo.tick = opt.tick, mo.loss = opt.loss, mo.loss_seed = opt.loss_seed, mo.rate = rate;
     mo.kills = opt.kills;
+    mo.restarts = opt.restarts;
+    mo.respawn = [&processes](int id) { processes.respawn(id, {"--rejoin"}); };
+    mo.kill_agent = [&processes](int id) { processes.kill(id); };
     if (wall) mo.clock = agent::ClockMode::kWall;
     agent::LockstepMaster master(team, fleet, digest, mo);
     const auto t0 = std::chrono::steady_clock::now();
@@ -100,12 +104,12 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
 int run(int argc, char** argv) {
   cli::Args args(argc, argv, 2,
                  {"--cycles", "--seeds", "--seed", "--out", "--tick", "--loss", "--loss-seed", "--lcm-url", "--reply-url",
-                  "--agent-bin", "--rate", "--clock", "--kill", "--repair", "--silent-intervals"},
+                  "--agent-bin", "--rate", "--clock", "--kill", "--repair", "--silent-intervals", "--restart"},
                  {"--lcm"});
   if (args.positional().size() != 1 || !args.has("--out"))
     throw cli::UsageError(
         "usage: gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT] [--loss P] "
-        "[--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none] [--silent-intervals K] [--lcm [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R] [--clock lockstep|wall]]");
+        "[--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none] [--silent-intervals K] [--restart ID@T[,ID@T...]] [--lcm [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R] [--clock lockstep|wall]]");
   const bool over_lcm = args.on("--lcm");
   for (const char* flag : {"--lcm-url", "--reply-url", "--agent-bin", "--rate", "--clock"})
     if (args.has(flag) && !over_lcm) throw cli::UsageError(std::string(flag) + " needs --lcm");
@@ -136,11 +140,21 @@ int run(int argc, char** argv) {
   params.repair = mission::parse_repair_mode(args.get("--repair", "merge"), "--repair");
   params.silent_intervals = args.get_double("--silent-intervals", params.silent_intervals, 1.5, 100.0);
   opt.kills = agent::parse_kills(args.get("--kill", ""), static_cast<int>(loaded.plan.file.agents.size()), "--kill");
+  opt.restarts =
+      agent::parse_kills(args.get("--restart", ""), static_cast<int>(loaded.plan.file.agents.size()), "--restart");
+  for (const agent::Kill& r : opt.restarts)
+    for (const agent::Kill& k : opt.kills)
+      if (r.agent == k.agent) throw cli::UsageError("--restart: agent " + std::to_string(r.agent) + " is also killed (--kill)");
+  if (!opt.restarts.empty() && wall_clock) throw cli::UsageError("--restart needs the lockstep clock");
+  if (!opt.kills.empty() && wall_clock) throw cli::UsageError("--kill needs the lockstep clock");
   if (params.cycles < 1 || params.cycles > 100000) throw cli::UsageError("--cycles must be in 1..100000");
   if (seeds < 1 || seeds > 10000) throw cli::UsageError("--seeds must be in 1..10000");
   if (!(opt.tick > 0.0) || opt.tick > 0.1) throw cli::UsageError("--tick must be in (0, 0.1] s");
   const std::string out = args.get("--out");
   std::filesystem::create_directories(out);
+  // With restarts every agent journals what it carries (each run starts
+  // its journals afresh).
+  if (!opt.restarts.empty()) opt.journal_dir = (std::filesystem::path(out) / "journal").string();
 
   const mission::World world(loaded.scenario);
   agent::TeamSetup team(world, loaded.plan, params);
@@ -172,14 +186,21 @@ int run(int argc, char** argv) {
     refresh += r.result.refresh_mean_s, per_cycle += r.result.goals_per_cycle;
     slowest = std::min(slowest, (wall_clock ? r.end_s : r.result.mission_s) * 1000.0 / r.wall_ms);
     messages += r.messages, ticks += r.ticks;
-    if (!opt.kills.empty() || !r.declared_dead.empty()) {
+    if (!opt.kills.empty() || !opt.restarts.empty() || !r.declared_dead.empty()) {
       std::string dead;
       for (const auto& [a, at] : r.declared_dead)
         dead += (dead.empty() ? "" : ", ") + std::to_string(a) + " at " + std::to_string(static_cast<int>(at)) + " s";
-      std::printf("seed %u: declared dead: %s; goals delivered %d, expired %d, dropped %d, lost with an agent %d "
+      std::string restarted;
+      for (const agent::Kill& k : opt.restarts) {
+        restarted += (restarted.empty() ? "" : ", ") + std::to_string(k.agent) + " at " + std::to_string(static_cast<int>(k.at)) + " s";
+        for (const auto& [a, n] : r.restored)
+          if (a == k.agent) restarted += " (" + std::to_string(n) + " measured goals carried, from its journal)";
+      }
+      std::printf("seed %u: %s%sdeclared dead: %s; goals delivered %d, expired %d, dropped %d, lost with an agent %d "
                   "(%lld declared lost and recovered later)\n",
-                  team.params.seed, dead.empty() ? "none" : dead.c_str(), r.result.delivered, r.result.expired,
-                  r.result.dropped, r.result.lost_with_agent, static_cast<long long>(r.recovered));
+                  team.params.seed, restarted.empty() ? "" : "restarted: ", restarted.empty() ? "" : (restarted + "; ").c_str(),
+                  dead.empty() ? "none" : dead.c_str(), r.result.delivered, r.result.expired, r.result.dropped,
+                  r.result.lost_with_agent, static_cast<long long>(r.recovered));
     }
   }
   files.write(out);

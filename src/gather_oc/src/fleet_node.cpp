@@ -4,7 +4,9 @@
 // fail, and on shutdown stops those still running and writes
 // `~results_dir/fleet.yaml`. Agents end by themselves (exit 0) when the OC
 // ends the mission; an agent of ~kill (mission.launch's kill:=) that the OC
-// ended with SIGKILL is no failure. Exit status: 0 every agent exited 0
+// ended with SIGKILL is no failure, and one of ~restart (restart:=) that
+// the OC ended with SIGKILL is started again (respawn) with --rejoin: it
+// replays its journal (results_dir/journal) and joins the mission. Exit status: 0 every agent exited 0
 // within 1 s of its stop (or was killed as asked), 1 otherwise, 2 bad input.
 #include <ros/ros.h>
 #include <yaml-cpp/yaml.h>
@@ -46,7 +48,8 @@ void write_fleet_results(const std::string& path, const gather::AgentFleet& flee
     y << YAML::Flow << YAML::BeginMap << YAML::Key << "id" << YAML::Value << a.id << YAML::Key << "exit_status"
       << YAML::Value << a.exit_status << YAML::Key << "ended" << YAML::Value << (a.exited_early ? "by_itself" : "stopped")
       << YAML::Key << "stop_latency_s" << YAML::Value << a.stop_latency_s << YAML::Key << "killed_as_asked"
-      << YAML::Value << killed_as_asked(a, kills) << YAML::EndMap;
+      << YAML::Value << killed_as_asked(a, kills) << YAML::Key << "restarts" << YAML::Value << a.restarts
+      << YAML::EndMap;
   }
   y << YAML::EndSeq << YAML::EndMap;
   std::error_code ec;
@@ -88,13 +91,14 @@ int main(int argc, char** argv) {
   }
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
-  std::string lcm_url, reply_url, agent_bin, results_dir, kill;
+  std::string lcm_url, reply_url, agent_bin, results_dir, kill, restart;
   double plan_timeout = 300.0;
   pnh.param<std::string>("lcm_url", lcm_url, "");
   pnh.param<std::string>("reply_url", reply_url, "");
   pnh.param<std::string>("agent_bin", agent_bin, "");
   pnh.param<std::string>("results_dir", results_dir, "");
   pnh.param<std::string>("kill", kill, "none");
+  pnh.param<std::string>("restart", restart, "none");
   pnh.param("plan_timeout", plan_timeout, 300.0);
   if (lcm_url == "default") lcm_url.clear();    // mission.launch's "not given"
   if (agent_bin == "auto") agent_bin.clear();
@@ -126,15 +130,17 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "fleet: %s\n", e.what());
     return 1;
   }
-  std::vector<gather::agent::Kill> kills;
+  std::vector<gather::agent::Kill> kills, restarts;
   try {
     kills = gather::agent::parse_kills(kill, agents, "~kill");
+    restarts = gather::agent::parse_kills(restart, agents, "~restart");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fleet: %s\n", e.what());
     return 2;
   }
   std::vector<std::string> command{bin, "--id", "{id}", "--plan", plan_dir};
   if (!lcm_url.empty()) command.insert(command.end(), {"--lcm-url", lcm_url});
+  if (!restarts.empty()) command.insert(command.end(), {"--journal", (results_dir.empty() ? "." : results_dir) + "/journal"});
   command.insert(command.end(), {"--reply-url", reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(lcm_url) : reply_url});
   gather::AgentFleet fleet(command, agents);
   try {
@@ -151,7 +157,18 @@ int main(int argc, char** argv) {
     for (int id : fleet.poll()) {
       ++done;
       const int status = fleet.agents()[static_cast<std::size_t>(id)].exit_status;
-      if (killed_as_asked(fleet.agents()[static_cast<std::size_t>(id)], kills)) {
+      const gather::AgentProcess& p = fleet.agents()[static_cast<std::size_t>(id)];
+      if (p.exit_status == 128 + SIGKILL && p.restarts == 0 && killed_as_asked(p, restarts)) {
+        --done;
+        try {
+          fleet.respawn(id, {"--rejoin"});
+          ROS_WARN("fleet: agent %d killed (SIGKILL) and started again from its journal (~restart)", id);
+        } catch (const std::exception& e) {
+          ok = false;
+          ++done;
+          ROS_ERROR("fleet: agent %d: %s", id, e.what());
+        }
+      } else if (killed_as_asked(p, kills)) {
         ROS_WARN("fleet: agent %d killed (SIGKILL) as asked (~kill)", id);
       } else if (status != 0) {
         ok = false;

@@ -66,7 +66,7 @@ bool same_map(const gather::OccupancyGrid& a, const gather::OccupancyGrid& b) {
 
 // Settings users change per run (private parameters; mission.launch's arguments).
 struct Settings {
-  std::string results_dir, lcm_url, reply_url, clock, frame, kill, repair;
+  std::string results_dir, lcm_url, reply_url, clock, frame, kill, restart, repair;
   int cycles = 0, seed = -1, loss_seed = 1;
   double rate = 0.0, tick = 0.1, loss = 0.0, ready_timeout = 60.0, map_timeout = 30.0, view_period = 0.5;
   double silent_intervals = 2.0;
@@ -93,6 +93,7 @@ std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s
   read(typed_param(pnh, "loss", s.loss, 0.0));
   read(typed_param(pnh, "loss_seed", s.loss_seed, 1));
   read(typed_param<std::string>(pnh, "kill", s.kill, "none"));
+  read(typed_param<std::string>(pnh, "restart", s.restart, "none"));
   read(typed_param<std::string>(pnh, "repair", s.repair, "merge"));
   read(typed_param(pnh, "silent_intervals", s.silent_intervals, 2.0));
   read(typed_param(pnh, "ready_timeout", s.ready_timeout, 60.0));
@@ -256,7 +257,12 @@ int main(int argc, char** argv) {
     mo.ready_timeout_s = set.ready_timeout;
     mo.observe = true;
     mo.kills = gather::agent::parse_kills(set.kill, team_ptr->agents(), "~kill");
+    mo.restarts = gather::agent::parse_kills(set.restart, team_ptr->agents(), "~restart");  // fleet_node respawns them
     if (!mo.kills.empty() && set.clock == "wall") throw gather::Error("~kill", "needs the lockstep clock");
+    if (!mo.restarts.empty() && set.clock == "wall") throw gather::Error("~restart", "needs the lockstep clock");
+    for (const gather::agent::Kill& r : mo.restarts)
+      for (const gather::agent::Kill& k : mo.kills)
+        if (r.agent == k.agent) throw gather::Error("~restart", "agent " + std::to_string(r.agent) + " is also in ~kill");
     if (set.clock == "wall") mo.clock = gather::agent::ClockMode::kWall;
     master_ptr = std::make_unique<gather::agent::LockstepMaster>(*team_ptr, *fleet_ptr, gather::agent::plan_digest(*plan), mo);
   } catch (const std::exception& e) {

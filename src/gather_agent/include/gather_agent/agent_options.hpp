@@ -11,6 +11,8 @@ struct AgentOptions {
   std::string reply_url;       // --reply-url URL; empty = the LCM URL's port + 1 (lockstep replies)
   std::string motion = "sim";  // --motion sim|base
   double silence_s = 30.0;     // --silence S: stop when the OC is silent this long
+  std::string journal;         // --journal DIR: keep what it carries in DIR/agent_K.journal (docs/faults.md)
+  bool rejoin = false;         // --rejoin: a restart: replay the journal, join the mission under way
   bool help = false;           // --help: print the usage and exit 0
 };
 

@@ -7,6 +7,8 @@
 // knows (so a receiver with a newer one can pass it on).
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
+#include <new>
 
 #include "gather_core/grid/occupancy_grid.hpp"
 
@@ -115,7 +117,13 @@ struct Message {
     AckBatch ack;
     StateReport state;
   };
-  Message() : state() {}
+  // Every byte of the body zeroed (whichever kind it becomes), then a
+  // default header and state report.
+  Message() {
+    std::memset(static_cast<void*>(this), 0, sizeof(Message));
+    new (&h) Header();
+    new (&state) StateReport();
+  }
 };
 
 }  // namespace agent

@@ -39,6 +39,13 @@ RoleReport CollectorRole::report() const {
   return r;
 }
 
+void CollectorRole::restore(const DataItem* items, std::size_t n, const Progress& p, double now) {
+  for (std::size_t i = 0; i < n; ++i)
+    if (custody_.put(items[i]) == Custody::Put::kFull) ++counters_.refused_full;
+  dead_.assign(p.dead.begin(), p.dead.end());
+  prev_ = now;  // the passes ahead of it, not those behind: it hands requests on from here
+}
+
 CollectorRole::Served* CollectorRole::served(int16_t agent) {
   for (Served& w : workers_)
     if (w.agent == agent) return &w;
@@ -46,7 +53,10 @@ CollectorRole::Served* CollectorRole::served(int16_t agent) {
 }
 
 void CollectorRole::on_request(const RequestPart& part) {
-  learn_dead(part);
+  if (learn_dead(part) && std::find(dead_.begin(), dead_.end(), id_) != dead_.end()) {
+    retired_ = true;  // declared dead: the plan was repaired around it
+    motion_.hold();
+  }
   if (part.request < request_id_ || part.request >= team_.params.cycles) return;
   if (part.parts == 0 || part.parts > kMaxRequestParts || part.part >= part.parts || part.count > kRequestPartGoals) return;
   if (part.parts > parts_.size()) parts_.resize(part.parts);  // a larger request than the scenario's
@@ -70,6 +80,7 @@ void CollectorRole::hand_request(Served& w, double now, Outbox& out) {
 }
 
 void CollectorRole::step(double now, const Message* const* inbox, std::size_t n, Outbox& out) {
+  if (retired_) return;
   for (std::size_t i = 0; i < n; ++i) {
     const Message& m = *inbox[i];
     if (Served* w = served(m.h.sender)) w->heard_at = now;

@@ -20,7 +20,23 @@ Custody::Put Custody::put(const DataItem& item) {
   if (data ? data_full() : notices_full()) return Put::kFull;
   entries_[count_++] = Entry{item, -std::numeric_limits<double>::infinity()};
   if (data) ++data_;
+  log(true, item);
   return Put::kStored;
+}
+
+void Custody::enable_log(std::size_t log_capacity) {
+  logging_ = true;
+  log_.reserve(log_capacity);
+  log_.clear();
+}
+
+void Custody::log(bool put, const DataItem& item) {
+  if (!logging_) return;
+  if (log_.size() >= log_.capacity()) {
+    log_overflow_ = true;
+    return;
+  }
+  log_.push_back(Change{put, item});
 }
 
 std::size_t Custody::acked(const int32_t* keys, std::size_t n) {
@@ -29,6 +45,7 @@ std::size_t Custody::acked(const int32_t* keys, std::size_t n) {
     for (std::size_t i = 0; i < count_; ++i) {
       if (entries_[i].item.key != keys[k]) continue;
       if (entries_[i].item.kind == ItemKind::kMeasured) --data_;
+      log(false, entries_[i].item);
       for (std::size_t j = i + 1; j < count_; ++j) entries_[j - 1] = entries_[j];
       --count_, ++removed;
       break;

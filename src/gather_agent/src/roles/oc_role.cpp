@@ -161,13 +161,11 @@ bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
   mission::GoalRecord& g = goals_[static_cast<std::size_t>(item.key)];
   // Its worker, or the one whose segment its cell is in since a repair (a
   // request issued before the repair, learned after it).
+  bool new_owner = false;
   if (g.worker != item.by) {
     const int32_t now_in = repair_ ? repair_->plan.labels[cell_of_[static_cast<std::size_t>(item.key)]] : 0;
     if (now_in <= 0 || team_.worker_of_segment(now_in) != item.by) return false;
-    // Its deadline is the new worker's (goals.csv keeps the worker it was
-    // issued to; measured_by says who measured it).
-    g.deadline = assigned(item.by).delivers_to < 0 ? std::numeric_limits<double>::infinity()
-                                                   : team_.deadline(item.by, g.cycle);
+    new_owner = true;
   }
   // Times a worker and a collector could have: after the request, not after now.
   const double eps = 1e-6;
@@ -179,6 +177,11 @@ bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
     ++duplicates_;
     return true;
   }
+  // Its deadline is the new worker's (goals.csv keeps the worker it was
+  // issued to; measured_by says who measured it).
+  if (new_owner)
+    g.deadline = assigned(item.by).delivers_to < 0 ? std::numeric_limits<double>::infinity()
+                                                   : team_.deadline(item.by, g.cycle);
   switch (item.kind) {
     case ItemKind::kMeasured:
       // A worker of a collector that brings its own data works for the OC
@@ -276,7 +279,14 @@ void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox
   // An agent unheard for longer than its timeout is declared dead.
   for (int a = 0; a < team_.agents(); ++a) {
     if (declared_at_[static_cast<std::size_t>(a)] >= 0 || dead_.size() >= static_cast<std::size_t>(kMaxDead)) continue;
-    if (now - heard_[static_cast<std::size_t>(a)] > team_.silent_timeout(current_plan(), a) &&
+    // A collector's worker is heard of through its collector: its silence
+    // counts up to the collector's latest report (a silent collector is
+    // declared first, and its workers then get their grace).
+    const plan::AgentAssignment& as = assigned(a);
+    const double news = !as.collector && as.delivers_to >= 0
+                            ? std::min(now, heard_[static_cast<std::size_t>(team_.collector_agent(as.delivers_to))])
+                            : now;
+    if (news - heard_[static_cast<std::size_t>(a)] > team_.silent_timeout(current_plan(), a) &&
         now > grace_until_[static_cast<std::size_t>(a)])
       declare_dead(static_cast<int16_t>(a), now, out);
   }

@@ -52,6 +52,10 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
   const int n = static_cast<int>(pf.agents.size());
   if (n < 1 || n > kMaxTeam) throw Error(where, "a team of " + std::to_string(n) + " agents (1.." + std::to_string(kMaxTeam) + ")");
   mission::check_plan(p, w.scenario.team.agents, w.scenario.grid);
+  for (std::size_t k = 0; k < pf.agents.size(); ++k)  // the plan's loader sorts them; repairs index them so
+    if (pf.agents[k].id != static_cast<int>(k))
+      throw Error(where, "agents must be listed by id (agent " + std::to_string(pf.agents[k].id) + " is entry " +
+                             std::to_string(k) + ")");
   period = pf.cycle_period_s;
   speed = w.scenario.team.speed;
   if (!(period > 0) || !std::isfinite(period)) throw Error(where, "cycle_period_s must be > 0");
@@ -137,7 +141,9 @@ void TeamSetup::keep_labels() {
 double TeamSetup::silent_timeout(const mission::MissionPlan& p, int agent) const {
   const plan::AgentAssignment& a = p.file.agents[static_cast<std::size_t>(agent)];
   if (a.delivers_to < 0) return mission::silent_timeout(mission::Liveness::kOcWorker, period, 0.0, params.silent_intervals);
-  const double loop = routes[static_cast<std::size_t>(a.delivers_to)].period();
+  // An idle collector's route has no period (it stays at the OC): at least
+  // a request period.
+  const double loop = std::max(routes[static_cast<std::size_t>(a.delivers_to)].period(), period);
   return mission::silent_timeout(a.collector ? mission::Liveness::kCollector : mission::Liveness::kCollectorWorker, period,
                                  loop, params.silent_intervals);
 }
@@ -163,6 +169,10 @@ Message* Role::send(Outbox& out, Kind kind, int16_t dest, double now) {
   m->h.request = newest_request();
   m->h.dead = static_cast<uint8_t>(dead_.size());
   return m;
+}
+
+void Role::restore(const DataItem*, std::size_t, const Progress&, double) {
+  throw RuntimeError("restart", std::string(role_kind_name(kind())) + " " + std::to_string(id_) + " cannot restart");
 }
 
 bool Role::learn_dead(const RequestPart& part) {

@@ -61,16 +61,60 @@ WorkerRole::WorkerRole(TeamSetup& team, int agent, MotionBackend& motion)
   const int segment = team.assignment(agent).segment;
   served_cells_ = std::count(team.plan.labels.begin(), team.plan.labels.end(), segment);
   if (policy_->collector() >= 0) {
-    // As long as the OC waits before it declares the collector dead (the
-    // OC answers a worker that comes to it before that all the same).
-    const double loop = team.routes[static_cast<std::size_t>(policy_->collector())].period();
-    suspect_after_ = mission::silent_timeout(mission::Liveness::kCollector, team.period, loop, team.params.silent_intervals);
+    // As long as the OC waits before it declares a worker of that collector
+    // dead: a live worker hears its collector at least once a loop and a
+    // request (it may tour through a pass), so silence for that long means
+    // the collector is gone (the OC, which declares the collector sooner,
+    // answers a worker that comes to it all the same).
+    const double loop = std::max(team.routes[static_cast<std::size_t>(policy_->collector())].period(), team.period);
+    suspect_after_ =
+        mission::silent_timeout(mission::Liveness::kCollectorWorker, team.period, loop, team.params.silent_intervals);
   }
   dead_.reserve(kMaxDead);
 }
 
 double WorkerRole::deadline(int cycle) const {
   return policy_->delivers_to_oc() ? kInf : team_.deadline(id_, cycle);
+}
+
+void WorkerRole::progress(Progress& out) const {
+  out.resolved = resolved_;
+  out.measured = counters_.measured, out.dropped = counters_.dropped;
+  out.expired = counters_.expired, out.skipped = counters_.skipped;
+  out.dead.assign(dead_.begin(), dead_.end());
+  out.learned.clear();
+  for (std::size_t i = 0; i < policy_->goals(); ++i) out.learned.push_back(policy_->goal(i));
+  out.known.clear();
+  for (int local : known_) out.known.push_back(policy_->goal(static_cast<std::size_t>(local)).id);
+}
+
+void WorkerRole::restore(const DataItem* items, std::size_t n, const Progress& p, double now) {
+  for (std::size_t i = 0; i < n; ++i)
+    if (custody_.put(items[i]) == Custody::Put::kFull) ++counters_.refused_full;
+  counters_.measured = p.measured, counters_.dropped = p.dropped;
+  counters_.expired = p.expired, counters_.skipped = p.skipped;
+  dead_.assign(p.dead.begin(), p.dead.end());
+  if (!dead_.empty()) repair(now);
+  if (retired_) return;
+  resolved_ = p.resolved;
+  upstream_heard_ = now;
+  // The request it worked on: its goals again (distances recomputed), those
+  // not measured yet still to do; one its segment no longer holds (a repair
+  // it did not journal) is reported expired, never dropped silently.
+  scratch_.clear();
+  for (const mission::KnownGoal& g : p.learned)
+    if (policy_->in_segment(g.cell)) scratch_.push_back(g);
+  policy_->reserve(scratch_.size());
+  policy_->learn(scratch_.data(), scratch_.size());
+  known_.clear();
+  for (int32_t id : p.known) {
+    bool found = false;
+    for (std::size_t i = 0; i < scratch_.size() && !found; ++i)
+      if (scratch_[i].id == id) known_.push_back(static_cast<int>(i)), found = true;
+    if (!found) notice(ItemKind::kExpired, id, now);
+  }
+  phase_ = resolved_ >= 0 ? Phase::kReady : Phase::kStart;
+  ++progress_version_;
 }
 
 void WorkerRole::repair(double now) {
@@ -161,6 +205,7 @@ const char* WorkerRole::phase_name(int phase) {
 }
 
 void WorkerRole::notice(ItemKind kind, int32_t key, double at) {
+  ++progress_version_;
   DataItem item;
   item.key = key, item.kind = kind, item.by = id_, item.at = at;
   if (custody_.put(item) == Custody::Put::kFull) ++counters_.lost_notices;
@@ -174,6 +219,7 @@ void WorkerRole::measure(int local, double at) {
   const auto it = std::find(known_.begin(), known_.end(), local);
   if (it == known_.end()) return;  // expired meanwhile (within the deadline's tolerance): its notice is out
   known_.erase(it);
+  ++progress_version_;
   if (custody_.data_full()) {
     notice(ItemKind::kDropped, goal, at);  // the measurement has no room: reported, never silently lost
     return;
@@ -248,9 +294,11 @@ void WorkerRole::decide(double now) {
   const bool may_learn = !oc_worker || team_.world.covered(grid.world_to_cell(motion_.pose()));  // OC workers: in the coverage
   if (may_learn && request_.complete() && request_.id > resolved_) {
     // Requests in between never reached this worker; what is left of the
-    // older one is superseded by the newer.
+    // older one is superseded by the newer (its goals expire when a newer
+    // request reaches the worker: now, if that is before the timetable's
+    // deadline, as after a collector's restart that lost a request).
     for (int c = resolved_ + 1; c < request_.id; ++c)
-      notice(ItemKind::kSkipped, skipped_key(c, id_), oc_worker ? now : deadline(c));
+      notice(ItemKind::kSkipped, skipped_key(c, id_), oc_worker ? now : std::min(now, deadline(c)));
     for (int local : known_) notice(ItemKind::kExpired, policy_->goal(static_cast<std::size_t>(local)).id, now);
     known_.clear();
     const double due = oc_worker ? mission::request_deadline(now, kInf, team_.period) : deadline(request_.id);
@@ -260,6 +308,7 @@ void WorkerRole::decide(double now) {
     policy_->learn(scratch_.data(), scratch_.size());
     for (std::size_t i = 0; i < scratch_.size(); ++i) known_.push_back(static_cast<int>(i));
     resolved_ = request_.id;
+    ++progress_version_;
   }
   const bool more = resolved_ + 1 < team_.params.cycles;
   const mission::Spot spot{grid.world_to_cell(motion_.pose()), at_rv_, at_landing_, at_meeting_};
@@ -328,6 +377,18 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
   for (std::size_t i = 0; i < n; ++i) {
     const Message& m = *inbox[i];
     if (m.h.sender == upstream_) upstream_heard_ = now;
+    // The collector it suspected is heard again and the OC has not declared
+    // it dead: it works for its collector again.
+    if (suspected_ >= 0 && m.h.sender == suspected_ &&
+        std::find(dead_.begin(), dead_.end(), suspected_) == dead_.end()) {
+      TRACE("%.1f hears collector %d again\n", now, suspected_);
+      suspected_ = -1;
+      upstream_heard_ = now;
+      ++progress_version_;
+      repair(now);
+      if (retired_) return;
+      oc_worker = policy_->delivers_to_oc();
+    }
     if (oc_worker && m.h.sender == kOc) heard_oc_ = true, oc_newest_ = std::max(oc_newest_, m.h.request);
     if (m.h.dest != id_ && m.h.dest != kBroadcast) continue;
     switch (m.h.kind) {
@@ -337,6 +398,7 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
         // The OC's declarations of dead agents come with them.
         if (m.h.sender == upstream_ || (m.h.sender == kOc && (oc_worker || m.request.request == 0))) {
           if (learn_dead(m.request)) {
+            ++progress_version_;
             repair(now);
             if (retired_) return;
             oc_worker = policy_->delivers_to_oc();

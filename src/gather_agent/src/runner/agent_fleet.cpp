@@ -72,9 +72,31 @@ AgentFleet::AgentFleet(std::vector<std::string> command, int agents) : command_(
 AgentFleet::~AgentFleet() { stop(1.0); }
 
 void AgentFleet::start() {
+  for (AgentProcess& a : agents_) launch(a, {});
+}
+
+void AgentFleet::kill(int id) {
+  AgentProcess& a = agents_.at(static_cast<std::size_t>(id));
+  if (!a.running) return;
+  int status = 0;
+  ::kill(a.pid, SIGKILL);
+  if (waitpid(a.pid, &status, 0) == a.pid) a.exit_status = decode_status(status);
+  a.running = false;
+  a.exited_early = true;
+}
+
+void AgentFleet::respawn(int id, const std::vector<std::string>& extra) {
+  AgentProcess& a = agents_.at(static_cast<std::size_t>(id));
+  kill(id);  // reaped first (SIGKILL ends it at once)
+  ++a.restarts;
+  launch(a, extra);
+}
+
+void AgentFleet::launch(AgentProcess& a, const std::vector<std::string>& extra) {
   const pid_t parent = getpid();
-  for (AgentProcess& a : agents_) {
+  {
     std::vector<std::string> args = command_;
+    args.insert(args.end(), extra.begin(), extra.end());
     for (auto& arg : args) {
       const auto at = arg.find("{id}");
       if (at != std::string::npos) arg.replace(at, 4, std::to_string(a.id));
@@ -99,6 +121,7 @@ void AgentFleet::start() {
     }
     a.pid = pid;
     a.running = true;
+    a.exited_early = false;
   }
 }
 
@@ -133,7 +156,7 @@ void AgentFleet::stop(double grace_s) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   for (AgentProcess& a : agents_)
-    if (a.running) kill(a.pid, SIGTERM);
+    if (a.running) ::kill(a.pid, SIGTERM);
   bool any = true;
   bool killed = false;
   while (any) {
@@ -151,7 +174,7 @@ void AgentFleet::stop(double grace_s) {
         any = true;
         if (t > grace_s && !killed) {
           for (AgentProcess& b : agents_)
-            if (b.running) kill(b.pid, SIGKILL);
+            if (b.running) ::kill(b.pid, SIGKILL);
           killed = true;
         }
       }

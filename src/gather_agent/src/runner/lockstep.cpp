@@ -116,6 +116,11 @@ LockstepAgent::LockstepAgent(LoadedPlan& plan, int id, LcmFleet& fleet)
 
 LockstepAgent::~LockstepAgent() = default;
 
+void LockstepAgent::set_journal(const std::string& dir, bool rejoin) {
+  journal_dir_ = dir;
+  rejoin_ = rejoin && !dir.empty();
+}
+
 bool LockstepAgent::take_plan(std::string* why) {
   const PlanAnnounce& p = fleet_.plans().back();
   char hex[2][17];
@@ -134,6 +139,15 @@ bool LockstepAgent::take_plan(std::string* why) {
     team_ = std::make_unique<TeamSetup>(*world_, plan_.plan, p.params);
     gate_ = std::make_unique<RangeGate>(*team_, p.loss, p.loss_seed);
     unit_ = make_agent(*team_, id_);
+    if (!journal_dir_.empty()) {
+      journal_ = std::make_unique<JournalKeeper>(journal_path(journal_dir_, id_), id_, journal_run_id(team_->params));
+      const JournalState s = journal_->open(rejoin_);
+      if (rejoin_) {  // where it was, what it held, how far it got
+        unit_ = make_agent(*team_, id_, s.have_pose ? &s.pose : nullptr);
+        unit_.role->restore(s.custody.data(), s.custody.size(), s.progress, s.pose_t);
+      }
+      journal_->bind(*unit_.role);
+    }
   } catch (const std::exception& e) {  // its plan cannot be run as the OC asks: refuse it
     *why = e.what();
     team_.reset();
@@ -160,11 +174,20 @@ void LockstepAgent::step(const Tick& tick) {
   const auto s0 = Clock::now();
   Role& role = *unit_.role;
   unit_.motion->advance(tick.t);
-  take_tick(held_, current_, tick.tick, late_);
-  gather_inbox(current_, role.id(), unit_.motion->pose(), *gate_, link_, inbox_);
+  if (rejoin_) {  // a new process heard nothing of the tick before it joined
+    held_.erase(std::remove_if(held_.begin(), held_.end(), [&](const Message& m) { return m.h.tick < tick.tick; }),
+                held_.end());
+    current_.clear();
+    inbox_.clear();
+    rejoin_ = false;
+  } else {
+    take_tick(held_, current_, tick.tick, late_);
+    gather_inbox(current_, role.id(), unit_.motion->pose(), *gate_, link_, inbox_);
+  }
   Outbox& out = *outbox_;
   out.clear();
   role.step(tick.t, inbox_.data(), inbox_.size(), out);
+  if (journal_) journal_->after_step(*unit_.motion, tick.t);  // durable before its messages go out
   for (std::size_t k = 0; k < out.size(); ++k) {
     out[k].h.seq = seq_++;
     out[k].h.tick = tick.tick;
@@ -282,8 +305,8 @@ LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, 
     }
     // A tick runs once every message of the one before is in; if some never
     // come (lost on the host), it runs without them after a while.
-    while (have_tick && (inbox_complete(pending) || seconds_since(tick_since) > 5.0)) {
-      if (!inbox_complete(pending)) ++incomplete_;
+    while (have_tick && (rejoin_ || inbox_complete(pending) || seconds_since(tick_since) > 5.0)) {
+      if (!rejoin_ && !inbox_complete(pending)) ++incomplete_;
       step(pending);
       next_tick_ = pending.tick + 1;
       have_tick = false;
@@ -322,6 +345,10 @@ LockstepMaster::LockstepMaster(TeamSetup& team, LcmFleet& fleet, uint64_t digest
   }
   replied_.assign(static_cast<std::size_t>(team.agents()), 0);
   killed_.assign(static_cast<std::size_t>(team.agents()), 0);
+  restarted_.assign(static_cast<std::size_t>(team.agents()), 0);
+  for (const Kill& k : options_.restarts)
+    if (k.agent < 0 || k.agent >= team.agents())
+      throw Error("--restart", "agent " + std::to_string(k.agent) + " is not in the team of " + std::to_string(team.agents()));
   pid_.assign(static_cast<std::size_t>(team.agents()), 0);
   for (const Kill& k : options_.kills)
     if (k.agent < 0 || k.agent >= team.agents())
@@ -333,6 +360,41 @@ LockstepMaster::LockstepMaster(TeamSetup& team, LcmFleet& fleet, uint64_t digest
 }
 
 LockstepMaster::~LockstepMaster() = default;
+
+// Kills agent `a`'s process, has it started again (--rejoin: from its
+// journal) and waits for its READY, re-announcing the plan meanwhile.
+void LockstepMaster::restart(int a, ShutdownSignal* signal) {
+  const std::size_t i = static_cast<std::size_t>(a);
+  const int32_t old = pid_[i];
+  if (options_.kill_agent) options_.kill_agent(a);
+  else if (old > 0) ::kill(static_cast<pid_t>(old), SIGKILL);
+  restarted_[i] = 1;
+  if (options_.respawn) options_.respawn(a);
+  const auto t0 = Clock::now();
+  auto last_announce = Clock::now() - std::chrono::seconds(1);
+  for (;;) {
+    if (seconds_since(last_announce) > 0.2) {
+      PlanAnnounce p;
+      p.digest = digest_, p.agents = team_.agents(), p.params = team_.params;
+      p.tick = options_.tick, p.loss = options_.loss, p.loss_seed = options_.loss_seed;
+      p.clock = options_.clock, p.rate = 1.0;
+      fleet_.publish(p);
+      last_announce = Clock::now();
+    }
+    fleet_.handle(20);
+    absorb(fleet_, held_, link_);
+    bool ready = false;
+    for (const Reply& r : fleet_.replies())
+      if (r.tick == -1 && r.agent == a && r.status == ReplyStatus::kReady && r.pid > 0 && r.pid != old)
+        ready = true, pid_[i] = r.pid;
+    fleet_.replies().clear();
+    if (ready) return;
+    if (seconds_since(t0) > options_.ready_timeout_s || signalled(signal))
+      throw Error("lockstep", "agent " + std::to_string(a) + " did not come back READY after its restart" +
+                                  (signalled(signal) ? " before the stop" : " within " +
+                                   std::to_string(static_cast<int>(options_.ready_timeout_s)) + " s"));
+  }
+}
 
 bool LockstepMaster::oc_role_dead(int agent) const {
   return static_cast<const OcRole&>(*oc_.role).declared_dead_at(agent) >= 0;
@@ -455,8 +517,13 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   for (const Kill& kill : options_.kills) {
     const std::size_t a = static_cast<std::size_t>(kill.agent);
     if (killed_[a] || t < kill.at - 1e-9) continue;
-    if (pid_[a] > 0) ::kill(static_cast<pid_t>(pid_[a]), SIGKILL);
+    if (options_.kill_agent) options_.kill_agent(kill.agent);
+    else if (pid_[a] > 0) ::kill(static_cast<pid_t>(pid_[a]), SIGKILL);
     killed_[a] = 1;
+  }
+  for (const Kill& r : options_.restarts) {
+    const std::size_t a = static_cast<std::size_t>(r.agent);
+    if (!killed_[a] && !restarted_[a] && t >= r.at - 1e-9) restart(r.agent, signal);
   }
   bool report = false;
   for (int c = next_check_; c < team_.params.cycles && t >= (c + 1) * team_.period; ++c) report = true;
@@ -528,7 +595,7 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   // still holds a copy of something the OC already has).
   bool held = false;
   for (const Reply& r : last_)
-    held = held || ((r.carried > 0 || r.notices > 0) && !gone(r.agent));
+    held = held || (!gone(r.agent) && (r.carried > 0 || r.notices > 0 || still_owes(r.report, oc())));
   return !(oc().done() && !held) && t < limit_;
 }
 
@@ -592,6 +659,7 @@ RunOutcome LockstepMaster::finish() {
   out.duplicate_items = oc().duplicate_items();
   out.recovered = oc().recovered();
   out.kills = options_.kills;
+  out.restarts = options_.restarts;
   for (int16_t a : oc().dead()) out.declared_dead.emplace_back(a, oc().declared_dead_at(a));
   if (!out.completed) {
     out.failure = "mission not finished at t = " + std::to_string(out.end_s) + " s (limit " + std::to_string(limit_) +

@@ -106,13 +106,15 @@ void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const M
     << YAML::Value << run.oc_link.bad << YAML::Key << "invalid_items" << YAML::Value << run.invalid_items << YAML::Key
     << "duplicate_items" << YAML::Value << run.duplicate_items << YAML::EndMap;
   y << YAML::Key << "faults" << YAML::Value << YAML::BeginSeq;
+  std::map<int, std::pair<double, double>> faults;  // agent -> (killed_at, declared_dead_at), -1: not
+  for (const Kill& k : run.kills) faults[k.agent] = {k.at, -1.0};
   for (const auto& [a, at] : run.declared_dead) {
-    double killed = -1.0;
-    for (const Kill& k : run.kills)
-      if (k.agent == a) killed = k.at;
-    y << YAML::Flow << YAML::BeginMap << YAML::Key << "agent" << YAML::Value << a << YAML::Key << "declared_dead_at"
-      << YAML::Value << at << YAML::Key << "killed_at" << YAML::Value << killed << YAML::EndMap;
+    auto it = faults.emplace(a, std::make_pair(-1.0, at)).first;
+    it->second.second = at;
   }
+  for (const auto& [a, t] : faults)
+    y << YAML::Flow << YAML::BeginMap << YAML::Key << "agent" << YAML::Value << a << YAML::Key << "killed_at"
+      << YAML::Value << t.first << YAML::Key << "declared_dead_at" << YAML::Value << t.second << YAML::EndMap;
   y << YAML::EndSeq;
   y << YAML::Key << "agents" << YAML::Value << YAML::BeginSeq;
   for (const AgentSummary& a : run.agents) {
@@ -143,11 +145,12 @@ void RunFiles::add(const plan::PlanFile& plan, const MissionParams& params, cons
   append_fault_rows(faults_, plan, params.seed, run);
 }
 
-const char* const kFaultsCsvHeader = "method,collectors,seed,agent,role,killed_at,declared_at,recovered\n";
+const char* const kFaultsCsvHeader = "method,collectors,seed,agent,role,killed_at,declared_at,restarted,recovered\n";
 
 void append_fault_rows(std::string& out, const plan::PlanFile& plan, unsigned seed, const RunOutcome& run) {
   std::map<int, std::pair<double, double>> rows;  // agent -> (killed_at, declared_at), -1: not
   for (const Kill& k : run.kills) rows.emplace(k.agent, std::make_pair(k.at, -1.0));
+  for (const Kill& k : run.restarts) rows.emplace(k.agent, std::make_pair(k.at, -1.0));
   for (const auto& [a, at] : run.declared_dead) {
     auto it = rows.emplace(a, std::make_pair(-1.0, at)).first;
     it->second.second = at;
@@ -155,9 +158,11 @@ void append_fault_rows(std::string& out, const plan::PlanFile& plan, unsigned se
   char line[256];
   for (const auto& [a, t] : rows) {
     const plan::AgentAssignment& x = plan.agents[static_cast<std::size_t>(a)];
-    std::snprintf(line, sizeof line, "%s,%d,%u,%d,%s,%.3f,%.3f,%lld\n", plan.method.c_str(), plan.collectors, seed, a,
+    bool restarted = false;
+    for (const Kill& k : run.restarts) restarted = restarted || k.agent == a;
+    std::snprintf(line, sizeof line, "%s,%d,%u,%d,%s,%.3f,%.3f,%d,%lld\n", plan.method.c_str(), plan.collectors, seed, a,
                   x.collector ? "collector" : x.delivers_to < 0 ? "oc_worker" : "collector_worker", t.first, t.second,
-                  static_cast<long long>(run.recovered));
+                  restarted ? 1 : 0, static_cast<long long>(run.recovered));
     out += line;
   }
 }

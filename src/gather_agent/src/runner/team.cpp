@@ -12,11 +12,11 @@
 namespace gather {
 namespace agent {
 
-AgentUnit make_agent(TeamSetup& team, int agent) {
+AgentUnit make_agent(TeamSetup& team, int agent, const Point2* at) {
   if (agent < 0 || agent >= team.agents())
     throw Error(team.plan.source.empty() ? "plan" : team.plan.source, "agent " + std::to_string(agent) + " is not in the team of " + std::to_string(team.agents()));
   AgentUnit u;
-  const Point2 start = team.start_pose(agent);
+  const Point2 start = at ? *at : team.start_pose(agent);
   if (team.assignment(agent).collector) {
     u.motion = std::make_unique<RouteFollower>(start);
     u.role = std::make_unique<CollectorRole>(team, agent, *u.motion);

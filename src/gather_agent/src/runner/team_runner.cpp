@@ -77,6 +77,10 @@ void check_lost_goals(const OcRole& oc, const std::vector<const Role*>& roles, c
   }
 }
 
+bool still_owes(const RoleReport& r, const OcRole& oc) {
+  return !oc.dead().empty() && r.role == RoleKind::kWorker && (r.pending > 0 || r.requests < oc.issued() - 1);
+}
+
 double time_limit(const TeamSetup& team) {
   double longest = 0.0;
   for (const mission::RouteTimetable& r : team.routes) longest = std::max(longest, r.period());
@@ -125,6 +129,21 @@ TeamRunner::TeamRunner(TeamSetup& team, const RunOptions& options)
   links_.assign(units_.size(), LinkCounters{});
   seq_.assign(units_.size(), 0);
   killed_.assign(units_.size(), 0);
+  restarted_.assign(units_.size(), 0);
+  fresh_.assign(units_.size(), 0);
+  for (const Kill& k : options_.restarts)
+    if (k.agent < 0 || k.agent >= team.agents())
+      throw Error("--restart", "agent " + std::to_string(k.agent) + " is not in the team of " + std::to_string(team.agents()));
+  if (!options_.restarts.empty() && options_.journal_dir.empty())
+    throw Error("--restart", "needs the agents' journals (a journal directory)");
+  journals_.resize(units_.size());
+  if (!options_.journal_dir.empty())
+    for (std::size_t i = 1; i < units_.size(); ++i) {
+      const int a = static_cast<int>(i) - 1;
+      journals_[i] = std::make_unique<JournalKeeper>(journal_path(options_.journal_dir, a), a, journal_run_id(team.params));
+      journals_[i]->open(false);
+      journals_[i]->bind(*units_[i].role);
+    }
   for (const Kill& k : options_.kills)
     if (k.agent < 0 || k.agent >= team.agents())
       throw Error("--kill", "agent " + std::to_string(k.agent) + " is not in the team of " + std::to_string(team.agents()));
@@ -144,15 +163,24 @@ bool TeamRunner::tick() {
   next_.clear();
   for (const Kill& k : options_.kills)
     if (t >= k.at - 1e-9) killed_[static_cast<std::size_t>(k.agent) + 1] = 1;
+  for (const Kill& k : options_.restarts) {
+    const std::size_t i = static_cast<std::size_t>(k.agent) + 1;
+    if (t >= k.at - 1e-9 && !restarted_[i] && !killed_[i]) restart(i, t);
+  }
   for (std::size_t i = 0; i < units_.size(); ++i) {
     AgentUnit& u = units_[i];
     Outbox& out = outboxes_[i];
     if (killed_[i]) continue;  // dead: no motion, no radio; its memory stays as it was
     if (before_) before_();
     u.motion->advance(t);
-    gather_inbox(sent_, u.role->id(), u.motion->pose(), gate_, links_[i], inbox_);
+    if (fresh_[i]) {
+      inbox_.clear(), fresh_[i] = 0;
+    } else {
+      gather_inbox(sent_, u.role->id(), u.motion->pose(), gate_, links_[i], inbox_);
+    }
     out.clear();
     u.role->step(t, inbox_.data(), inbox_.size(), out);
+    if (journals_[i]) journals_[i]->after_step(*u.motion, t);  // durable before its messages go out
     if (after_) after_();
     for (std::size_t k = 0; k < out.size(); ++k) {
       Message m = out[k];
@@ -172,11 +200,33 @@ bool TeamRunner::tick() {
   // Done when every goal is resolved and every ack has landed (no agent
   // still holds a copy of something the OC already has).
   bool held = false;
-  for (std::size_t i = 0; i < units_.size(); ++i)
-    if (const Custody* c = units_[i].role->custody())
-      held = held || (c->size() > 0 && !killed_[i] && !units_[i].role->retired() &&
-                      !(i > 0 && oc().declared_dead_at(static_cast<int>(i) - 1) >= 0));
+  for (std::size_t i = 1; i < units_.size(); ++i) {
+    const Role& r = *units_[i].role;
+    if (killed_[i] || r.retired() || oc().declared_dead_at(static_cast<int>(i) - 1) >= 0) continue;
+    held = held || (r.custody() && r.custody()->size() > 0) || still_owes(r.report(), oc());
+  }
   return !(oc().done() && !held) && t < limit_;
+}
+
+// The agent's process crashed and was started again: a new role and motion
+// from the journal (where it was, what it held, how far it got), a new
+// process's counters and message sequence, and nothing heard yet.
+void TeamRunner::restart(std::size_t i, double t) {
+  const int a = static_cast<int>(i) - 1;
+  journals_[i].reset();  // the old life's file handle
+  auto keeper = std::make_unique<JournalKeeper>(journal_path(options_.journal_dir, a), a, journal_run_id(team_.params));
+  const JournalState s = keeper->open(true);
+  units_[i] = make_agent(team_, a, s.have_pose ? &s.pose : nullptr);
+  units_[i].role->restore(s.custody.data(), s.custody.size(), s.progress, t);
+  int measured = 0;
+  for (const DataItem& it : s.custody) measured += it.kind == ItemKind::kMeasured;
+  restored_.emplace_back(a, measured);
+  keeper->bind(*units_[i].role);
+  journals_[i] = std::move(keeper);
+  seq_[i] = 0;
+  sent_before_restart_ += links_[i].sent;  // its earlier life's messages still count in the run's total
+  links_[i] = LinkCounters{};
+  restarted_[i] = 1, fresh_[i] = 1;
 }
 
 RunOutcome TeamRunner::run() {
@@ -193,11 +243,14 @@ RunOutcome TeamRunner::run() {
   for (std::size_t i = 1; i < units_.size(); ++i) roles.push_back(units_[i].role.get()), links.push_back(links_[i]);
   out.agents = summarize(oc(), roles, links);
   out.oc_link = links_[0];
+  out.messages = sent_before_restart_;
   for (const LinkCounters& l : links_) out.messages += l.sent;
   out.invalid_items = oc().invalid_items();
   out.duplicate_items = oc().duplicate_items();
   out.recovered = oc().recovered();
   out.kills = options_.kills;
+  out.restarts = options_.restarts;
+  out.restored = restored_;
   for (int16_t a : oc().dead()) out.declared_dead.emplace_back(a, oc().declared_dead_at(a));
   if (!out.completed && std::getenv("GATHER_DEBUG")) {
     for (const mission::GoalRecord& g : oc().goals()) {

@@ -41,43 +41,68 @@ RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, 
   std::vector<int> now_label(static_cast<std::size_t>(segments) + 1);
   for (int s = 0; s <= segments; ++s) now_label[static_cast<std::size_t>(s)] = s;
 
+  // Collectors first; then the dead workers, in passes: one whose segment
+  // touches no live worker's now may touch one after a neighbour merged.
+  std::vector<int> waiting;  // dead workers whose segment is not merged yet
   for (int a = 0; a < n; ++a) {
     if (!out.dead[static_cast<std::size_t>(a)]) continue;
     const plan::AgentAssignment& dying = base.file.agents[static_cast<std::size_t>(a)];
     if (dying.collector) {
       for (plan::AgentAssignment& x : out.plan.file.agents)
         if (!x.collector && x.delivers_to == dying.delivers_to) x.delivers_to = -1;
-      continue;
+    } else if (dying.segment >= 1 && dying.segment <= segments) {
+      waiting.push_back(a);
     }
-    const int32_t s = now_label[static_cast<std::size_t>(dying.segment)];
-    if (s < 1) continue;
-    // The neighbouring segments of live workers, by their cell counts.
-    int32_t into = 0;
-    if (mode == RepairMode::kMerge) {
-      std::vector<uint8_t> touches(static_cast<std::size_t>(segments) + 1, 0);
-      for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-          if (labels[static_cast<std::size_t>(y) * w + x] != s) continue;
-          const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
-          for (int k = 0; k < 4; ++k) {
-            if (nx[k] < 0 || ny[k] < 0 || nx[k] >= w || ny[k] >= h) continue;
-            const int32_t l = labels[static_cast<std::size_t>(ny[k]) * w + nx[k]];
-            if (l >= 1 && l <= segments && l != s) touches[static_cast<std::size_t>(l)] = 1;
-          }
-        }
-      int64_t best = std::numeric_limits<int64_t>::max();
-      for (int l = 1; l <= segments; ++l) {
-        const int o = owner[static_cast<std::size_t>(l)];
-        if (!touches[static_cast<std::size_t>(l)] || o < 0 || out.dead[static_cast<std::size_t>(o)]) continue;
-        if (cells[static_cast<std::size_t>(l)] < best) best = cells[static_cast<std::size_t>(l)], into = l;
-      }
-    }
+  }
+  auto relabel = [&](int32_t s, int32_t into) {
     for (int32_t& l : labels)
       if (l == s) l = into;
     cells[static_cast<std::size_t>(into)] += cells[static_cast<std::size_t>(s)];
     cells[static_cast<std::size_t>(s)] = 0;
     for (int seg = 1; seg <= segments; ++seg)
       if (now_label[static_cast<std::size_t>(seg)] == s) now_label[static_cast<std::size_t>(seg)] = into;
+  };
+  // The live workers' segment with the fewest cells that touches label s (0: none).
+  auto neighbour = [&](int32_t s) {
+    std::vector<uint8_t> touches(static_cast<std::size_t>(segments) + 1, 0);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (labels[static_cast<std::size_t>(y) * w + x] != s) continue;
+        const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
+        for (int k = 0; k < 4; ++k) {
+          if (nx[k] < 0 || ny[k] < 0 || nx[k] >= w || ny[k] >= h) continue;
+          const int32_t l = labels[static_cast<std::size_t>(ny[k]) * w + nx[k]];
+          if (l >= 1 && l <= segments && l != s) touches[static_cast<std::size_t>(l)] = 1;
+        }
+      }
+    int32_t into = 0;
+    int64_t best = std::numeric_limits<int64_t>::max();
+    for (int l = 1; l <= segments; ++l) {
+      const int o = owner[static_cast<std::size_t>(l)];
+      if (!touches[static_cast<std::size_t>(l)] || o < 0 || out.dead[static_cast<std::size_t>(o)]) continue;
+      if (cells[static_cast<std::size_t>(l)] < best) best = cells[static_cast<std::size_t>(l)], into = l;
+    }
+    return into;
+  };
+  if (mode == RepairMode::kMerge) {
+    for (bool merged = true; merged && !waiting.empty();) {
+      merged = false;
+      for (std::size_t k = 0; k < waiting.size();) {
+        const int32_t s = now_label[static_cast<std::size_t>(base.file.agents[static_cast<std::size_t>(waiting[k])].segment)];
+        const int32_t into = neighbour(s);
+        if (into > 0) {
+          relabel(s, into);
+          waiting.erase(waiting.begin() + static_cast<long>(k));
+          merged = true;
+        } else {
+          ++k;
+        }
+      }
+    }
+  }
+  for (int a : waiting) {  // no live neighbour, or kNone: nobody serves it
+    const int32_t s = now_label[static_cast<std::size_t>(base.file.agents[static_cast<std::size_t>(a)].segment)];
+    if (s >= 1) relabel(s, 0);
   }
   out.worker_of_segment.assign(static_cast<std::size_t>(segments) + 1, -1);
   for (int seg = 1; seg <= segments; ++seg) {

@@ -1,5 +1,7 @@
 #include "gather_core/plan/plan_file.hpp"
 
+#include <algorithm>
+
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
@@ -171,6 +173,10 @@ PlanFile read_plan_file(const std::string& path) {
                           std::to_string(p.collectors + p.workers));
   if (static_cast<int>(p.routes.size()) != p.collectors)
     throw Error(path, "lists " + std::to_string(p.routes.size()) + " routes for " + std::to_string(p.collectors) + " collectors");
+  // By id, whatever order the file lists them in (check_plan then makes sure
+  // the ids are 0..N-1: agents[k] is agent k).
+  std::stable_sort(p.agents.begin(), p.agents.end(),
+                   [](const AgentAssignment& a, const AgentAssignment& b) { return a.id < b.id; });
   return p;
 }
 

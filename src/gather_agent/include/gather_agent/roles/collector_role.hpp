@@ -26,6 +26,9 @@ class CollectorRole : public Role {
   const Custody* custody() const override { return &custody_; }
   int32_t newest_request() const override { return complete_ ? request_id_ : -1; }
   int collector() const { return collector_; }
+  void restore(const DataItem* items, std::size_t n, const Progress& progress, double now) override;
+  // Declared dead while alive (its messages were lost): it stops for good.
+  bool retired() const override { return retired_; }
 
  private:
   struct Served {
@@ -54,6 +57,7 @@ class CollectorRole : public Role {
   double next_beacon_ = 0.0;
   RoleReport counters_;
   std::vector<int32_t> acks_;
+  bool retired_ = false;
 };
 
 }  // namespace agent

@@ -38,6 +38,19 @@ class Custody {
   bool notices_full() const { return count_ - data_ >= notice_capacity_; }
   const DataItem& item(std::size_t i) const { return entries_[i].item; }
 
+  // Change log, for a journal (runner/journal): once enabled, every item
+  // stored and every key acked away is logged until clear_changes(); at
+  // most log_capacity changes (more: overflowed(), the journal then writes
+  // the whole custody again). Fixed capacity, allocated here.
+  struct Change {
+    bool put = false;  // stored (item), else acked away (item.key)
+    DataItem item;
+  };
+  void enable_log(std::size_t log_capacity);
+  const std::vector<Change>& changes() const { return log_; }
+  bool overflowed() const { return log_overflow_; }
+  void clear_changes() { log_.clear(), log_overflow_ = false; }
+
  private:
   struct Entry {
     DataItem item;
@@ -46,6 +59,9 @@ class Custody {
   std::vector<Entry> entries_;  // [0, count_) in arrival order
   std::size_t count_ = 0, data_ = 0;
   std::size_t data_capacity_, notice_capacity_;
+  bool logging_ = false, log_overflow_ = false;
+  std::vector<Change> log_;
+  void log(bool put, const DataItem& item);
 };
 
 }  // namespace agent

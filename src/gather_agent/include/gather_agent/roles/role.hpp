@@ -138,6 +138,16 @@ struct RoleReport {
   int64_t dead_known = 0;     // the OC's declarations of dead agents it knows
 };
 
+// What a role keeps across a restart of its process besides its custody
+// (runner/journal; docs/faults.md, "Crash and restart").
+struct Progress {
+  int32_t resolved = -1;  // every request up to this one learned or skipped
+  int64_t measured = 0, dropped = 0, expired = 0, skipped = 0;  // its counters
+  std::vector<int16_t> dead;                 // the OC's declarations it knows
+  std::vector<mission::KnownGoal> learned;   // the request it works on: its goals here, in learning order
+  std::vector<int32_t> known;                // ids of those not yet measured or expired
+};
+
 class Role {
  public:
   Role(int16_t id, MotionBackend& motion) : id_(id), motion_(motion) {}
@@ -153,6 +163,8 @@ class Role {
   virtual RoleReport report() const = 0;
   // Items this role holds in custody (nullptr: none).
   virtual const Custody* custody() const { return nullptr; }
+  // The same, for a journal that reads and clears its change log.
+  Custody* custody_log() { return const_cast<Custody*>(custody()); }
   // Newest request this role knows (-1: none), carried in every header.
   virtual int32_t newest_request() const = 0;
   // A worker the OC declared dead while it was alive (its messages were
@@ -161,6 +173,18 @@ class Role {
   // The agents the OC has declared dead, as far as this role knows, in the
   // order the OC declared them.
   const std::vector<int16_t>& dead() const { return dead_; }
+
+  // Restart support (runner/journal). Changes whenever progress() would.
+  virtual uint64_t progress_version() const { return dead_.size(); }
+  virtual void progress(Progress& out) const {
+    out = Progress{};
+    out.dead = dead_;
+  }
+  // A fresh role takes over what its process's previous life journaled:
+  // the items it held (`items`), its progress, at mission time `now`.
+  // Custody that does not fit is refused and counted (refused_full).
+  // Throws gather::RuntimeError for a role that cannot restart (the OC's).
+  virtual void restore(const DataItem* items, std::size_t n, const Progress& progress, double now);
 
   // Goals this role measured (and stored) in its last step, for views: the
   // OC's picture of which goals are being carried (nullptr: never any).

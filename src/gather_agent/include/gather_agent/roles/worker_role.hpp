@@ -35,6 +35,9 @@ class WorkerRole : public Role {
   const mission::WorkerPolicy& policy() const { return *policy_; }
   bool delivers_to_oc() const { return policy_->delivers_to_oc(); }
   bool retired() const override { return retired_; }
+  uint64_t progress_version() const override { return progress_version_; }
+  void progress(Progress& out) const override;
+  void restore(const DataItem* items, std::size_t n, const Progress& progress, double now) override;
   // Its collector went silent for longer than the OC waits to declare it
   // dead: it works for the OC until told otherwise (docs/faults.md).
   bool suspects_collector() const { return suspected_ >= 0; }
@@ -68,6 +71,7 @@ class WorkerRole : public Role {
   TeamSetup& team_;
   std::unique_ptr<mission::WorkerPolicy> policy_;
   bool retired_ = false;
+  uint64_t progress_version_ = 0;  // bumped whenever progress() changes
   int16_t suspected_ = -1;        // the collector (agent id) it suspects dead, -1 none
   double upstream_heard_ = 0.0;   // [s] the latest message from its collector
   double suspect_after_ = 0.0;    // [s] of silence from its collector before it suspects it

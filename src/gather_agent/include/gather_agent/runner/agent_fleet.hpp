@@ -14,6 +14,7 @@ struct AgentProcess {
   int exit_status = -1;        // exit code, or 128 + signal when killed by a signal
   bool exited_early = false;   // ended before stop() was called
   double stop_latency_s = -1;  // from SIGTERM to exit
+  int restarts = 0;            // times it was started again (respawn)
 };
 
 class AgentFleet {
@@ -27,6 +28,12 @@ class AgentFleet {
 
   // Throws gather::Error if a process cannot be started.
   void start();
+  // SIGKILL to agent `id` (if it runs), reaped.
+  void kill(int id);
+  // Starts agent `id` again with `extra` arguments appended (after reaping
+  // it, with SIGKILL first if it still runs). Throws gather::Error if it
+  // cannot be started.
+  void respawn(int id, const std::vector<std::string>& extra);
   // Reaps children that have exited; returns the ids that ended since last call.
   std::vector<int> poll();
   // Waits up to `seconds` for every agent to end by itself; true if all did.
@@ -37,6 +44,7 @@ class AgentFleet {
   const std::vector<AgentProcess>& agents() const { return agents_; }
 
  private:
+  void launch(AgentProcess& a, const std::vector<std::string>& extra);
   std::vector<std::string> command_;
   std::vector<AgentProcess> agents_;
 };

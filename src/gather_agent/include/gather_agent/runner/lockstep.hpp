@@ -22,10 +22,12 @@
 // arrived meanwhile, mission time = wall time since the start x rate. No
 // ticks, no replies, no per-agent counters at the OC, not reproducible.
 #include <chrono>
+#include <functional>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "gather_agent/runner/journal.hpp"
 #include "gather_agent/runner/run_files.hpp"
 #include "gather_agent/runner/team.hpp"
 #include "gather_agent/runner/team_runner.hpp"
@@ -47,6 +49,10 @@ class LockstepAgent {
   // the plan's label image (only the OC needs it; its role keeps its own
   // segment): 4 B/cell less resident memory.
   LockstepAgent(LoadedPlan& plan, int id, LcmFleet& fleet);
+  // Journals what it carries in `dir` (runner/journal); `rejoin`: this
+  // process restarts a crashed one: it replays the journal and joins the
+  // mission under way (its first tick with nothing heard yet). Before run().
+  void set_journal(const std::string& dir, bool rejoin);
   ~LockstepAgent();
 
   enum class End { kDone, kStopped, kRefused, kSilent };
@@ -86,6 +92,9 @@ class LockstepAgent {
   std::vector<Message> current_;            // the messages of the tick being processed
   std::vector<const Message*> inbox_;
   Reply reply_;
+  std::string journal_dir_;
+  bool rejoin_ = false;
+  std::unique_ptr<JournalKeeper> journal_;
 };
 
 struct MasterOptions {
@@ -100,6 +109,14 @@ struct MasterOptions {
   bool observe = false;          // keep ViewEvents for take_events() (the OC's views)
   // Agents to end (SIGKILL to the pid each said READY with; lockstep only).
   std::vector<Kill> kills;
+  // Agents whose process is killed and started again (lockstep only): the
+  // OC sends SIGKILL, calls `respawn` (which starts it with --rejoin, or
+  // leaves that to fleet_node), waits for its READY and goes on.
+  std::vector<Kill> restarts;
+  std::function<void(int)> respawn;
+  // Ends agent k's process (for kills and restarts); unset: SIGKILL to the
+  // pid it said READY with (an agent on the same host).
+  std::function<void(int)> kill_agent;
 };
 
 // What views of the mission need beyond the agents' last replies (kept only
@@ -187,7 +204,9 @@ class LockstepMaster {
   std::vector<Reply> last_;
   std::vector<uint8_t> replied_;
   std::vector<uint8_t> killed_;
+  std::vector<uint8_t> restarted_;
   std::vector<int32_t> pid_;
+  void restart(int agent, ShutdownSignal* signal);
   std::vector<Message> held_, current_;
   std::vector<const Message*> inbox_;
   std::vector<int32_t> keys_;

@@ -19,9 +19,10 @@ struct AgentUnit {
   std::unique_ptr<Role> role;
 };
 
-// Agent `agent` of team.plan, at its start pose. Throws gather::Error when
-// the plan gives it no workable assignment.
-AgentUnit make_agent(TeamSetup& team, int agent);
+// Agent `agent` of team.plan, at its start pose (or at `at`: a restarted
+// agent where it was). Throws gather::Error when the plan gives it no
+// workable assignment.
+AgentUnit make_agent(TeamSetup& team, int agent, const Point2* at = nullptr);
 // The OC at the scenario's OC position.
 AgentUnit make_oc(TeamSetup& team);
 

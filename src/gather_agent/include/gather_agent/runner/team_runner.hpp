@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "gather_agent/runner/journal.hpp"
 #include "gather_agent/runner/team.hpp"
 #include "gather_core/mission/simulator.hpp"
 
@@ -40,6 +41,10 @@ struct RunOptions {
   std::size_t inbox = 1024; // messages an agent takes per tick (the rest is counted as overflow)
   std::size_t outbox = 64;  // messages a role sends per tick
   std::vector<Kill> kills;  // agents to end during the run
+  // Agents whose process crashes at `at` and is started again at once from
+  // its journal (docs/faults.md, "Crash and restart"); needs journal_dir.
+  std::vector<Kill> restarts;
+  std::string journal_dir;  // every agent journals there ("": no journals)
 };
 
 // Mission time after which an unfinished run stops: the requests, then
@@ -62,7 +67,10 @@ struct RunOutcome {
   // declared lost that a survivor resolved later.
   std::vector<std::pair<int, double>> declared_dead;
   int64_t recovered = 0;
-  std::vector<Kill> kills;  // as asked (RunOptions::kills)
+  std::vector<Kill> kills;     // as asked (RunOptions::kills)
+  std::vector<Kill> restarts;  // as asked (RunOptions::restarts)
+  // In one process: (agent, measured items its journal gave back) per restart.
+  std::vector<std::pair<int, int>> restored;
 };
 
 class TeamRunner {
@@ -95,6 +103,12 @@ class TeamRunner {
   std::vector<Message> sent_, next_;
   std::vector<const Message*> inbox_;
   std::vector<uint8_t> killed_;  // by unit
+  std::vector<uint8_t> restarted_;  // by unit: restarted (once)
+  std::vector<uint8_t> fresh_;      // by unit: restarted this tick (an empty inbox: a new process heard nothing yet)
+  std::vector<std::unique_ptr<JournalKeeper>> journals_;  // by unit ([0], the OC's: none)
+  void restart(std::size_t unit, double t);
+  std::vector<std::pair<int, int>> restored_;
+  int64_t sent_before_restart_ = 0;
   int64_t ticks_ = 0;
   int next_check_ = 0;  // the next cycle end to check conservation at
   double limit_ = 0.0;
@@ -102,6 +116,12 @@ class TeamRunner {
   void (*before_)() = nullptr;
   void (*after_)() = nullptr;
 };
+
+// Once the OC has declared an agent dead, some goals it declared lost may
+// still be resolved by a survivor: a live worker that still has goals to
+// measure, or has not yet learned (or skipped) the last request, still owes
+// the OC news, and the mission is not over.
+bool still_owes(const RoleReport& worker, const OcRole& oc);
 
 // Conservation over a team in one process (custody read from the roles,
 // the dead ones' included).

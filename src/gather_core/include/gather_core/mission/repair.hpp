@@ -25,10 +25,12 @@ RepairMode parse_repair_mode(const std::string& text, const std::string& where);
 // duplicates ignored) are dead:
 // - a dead worker's segment (kMerge) is relabelled as the segment of the
 //   surviving worker whose segment touches it (4-neighbour) and has the
-//   fewest labelled cells (ties: the lower segment); dead workers are taken
-//   in increasing id, so a segment merged before is merged again as a whole.
-//   A segment with no surviving neighbour, or kNone: relabelled 0 (no
-//   segment: its goals expire at the next request);
+//   fewest labelled cells (ties: the lower segment), in passes over the
+//   dead workers (by id) until none merges: a segment whose neighbours are
+//   all dead merges once one of them has merged into a live one; a segment
+//   merged before moves as a whole. A segment with no surviving neighbour
+//   then, or kNone: relabelled 0 (no segment: its goals expire at the next
+//   request);
 // - the workers of a dead collector deliver to the OC;
 // - dead agents keep their entries in plan.file.agents (ids stay 0..N-1);
 //   `dead` flags them.
