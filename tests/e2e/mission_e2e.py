@@ -20,7 +20,8 @@ and `review.launch`), with RViz on a virtual display.
    a scenario without `map:`: the mission runs on the received map (saved
    for the agents), with the same goals as `gather run` on the file's map.
 5. The tools a ROS user reaches for: rostopic echo -p on the mission topics
-   (from the bag), rosbag info, rosrun.
+   (from the bag), rosbag info, rosrun. 5c: faults: kill:= and restart:= on
+   the launch under loss, the same goals as gather run.
 6. Bad input through roslaunch: the OC exits 2 with one line naming the file.
 
 The screenshots stay in results/e2e/ for a person to open. Must run inside a
@@ -488,6 +489,32 @@ def main():
     p = subprocess.run(["rosrun", "gather_core", "gather", "--help"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                        text=True)
     check("rosrun gather_core gather --help", p.returncode == 0 and "usage" in p.stdout.lower(), p.stdout[-600:])
+
+    # 5c. Faults on the launch (issue: faults): 20% loss, worker 9 killed
+    # (kill:=) and worker 8 crashed and started again from its journal
+    # (restart:=; fleet_node respawns it) on office pap:4 with busy
+    # collectors; the same goals as gather run in one process.
+    busy = os.path.join(tmp, "office_pap4_busy")
+    subprocess.run([GATHER, "plan", office, "--config", "pap:4", "--association", "off", "--out", busy], check=True,
+                   stdout=subprocess.DEVNULL, timeout=300)
+    faults_dir = os.path.join(tmp, "faults")
+    flags = ["cycles:=3", "loss:=0.2", "kill:=9@150", "restart:=8@120"]
+    rc, out = roslaunch(["plan:=" + busy, "results_dir:=" + faults_dir] + flags, timeout=300)
+    if check("faults: roslaunch with kill:= and restart:= exits 0", rc == 0, out[-1500:]):
+        r = yaml.safe_load(open(os.path.join(faults_dir, "mission.yaml")))
+        check("faults: status ok, agent 9 declared dead after its kill",
+              r["status"] == "ok" and [(f["agent"], f["declared_dead_at"] > 150) for f in r["faults"]] == [(9, True)],
+              str(r.get("faults")))
+        f = {x["id"]: x for x in yaml.safe_load(open(os.path.join(faults_dir, "fleet.yaml")))["agents"]}
+        check("faults: fleet.yaml: 9 killed as asked, 8 started again once and exited 0",
+              f[9]["killed_as_asked"] and f[8]["restarts"] == 1 and f[8]["exit_status"] == 0, str((f[8], f[9])))
+        same_dir = faults_dir + "_in_process"
+        p = subprocess.run([GATHER, "run", busy, "--out", same_dir, "--cycles", "3", "--loss", "0.2", "--kill", "9@150",
+                            "--restart", "8@120"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=300)
+        if check("faults: gather run in one process with the same faults", p.returncode == 0, p.stdout[-800:]):
+            for name in ("goals.csv", "cycles.csv", "faults.csv"):
+                same = open(os.path.join(faults_dir, name), "rb").read() == open(os.path.join(same_dir, name), "rb").read()
+                check("faults: %s == gather run in one process (byte for byte)" % name, same)
 
     # 6. Bad input through roslaunch: the OC exits 2 with one line.
     bad_dir = os.path.join(tmp, "bad")
