@@ -77,6 +77,7 @@ TEST(Journal, WhatIsSyncedComesBackOnReplay) {
   ASSERT_TRUE(s.have_pose);
   EXPECT_DOUBLE_EQ(s.pose.y, 2.5);
   EXPECT_EQ(s.records, 10u);
+  EXPECT_TRUE(s.matched);
 }
 
 TEST(Journal, ATornOrCorruptTailIsCutAndTheRestKept) {
@@ -89,19 +90,32 @@ TEST(Journal, ATornOrCorruptTailIsCutAndTheRestKept) {
     j.put(item(2));
     j.sync();
     good = file_size(p);
+    // One step's records: an item and the progress that counts it.
+    Progress prog;
+    prog.measured = 3;
     j.put(item(3));
+    j.progress(prog);
     j.sync();
   }
-  // A crash in the middle of the last record's write: half of it is there.
-  std::filesystem::resize_file(p, good + 10);
+  // A crash in the middle of the last step's write: part of it is there,
+  // the item's record whole. The step comes back whole or not at all.
+  std::filesystem::resize_file(p, good + 9 + 9 + 30);
   {
     Journal j(p, 1, 5);
     const JournalState s = j.replay();
     EXPECT_TRUE(s.cut);
     ASSERT_EQ(s.custody.size(), 2u);
+    EXPECT_FALSE(s.have_progress);
     EXPECT_EQ(file_size(p), good);
     j.put(item(4));  // appends after the good part
     j.sync();
+  }
+  {
+    Journal j(p, 1, 5);
+    const JournalState s = j.replay();
+    EXPECT_FALSE(s.cut);
+    ASSERT_EQ(s.custody.size(), 3u);
+    EXPECT_EQ(s.custody[2].key, 4);
   }
   // A flipped bit in the first record: nothing after it is trusted.
   {
@@ -115,18 +129,28 @@ TEST(Journal, ATornOrCorruptTailIsCutAndTheRestKept) {
   EXPECT_TRUE(s.custody.empty());
 }
 
-TEST(Journal, AnotherRunsJournalIsNotReplayed) {
-  const std::string p = temp_dir("run") + "/a.journal";
-  {
+TEST(Journal, AnotherRunsOrAgentsJournalIsNotReplayed) {
+  const std::string d = temp_dir("run");
+  auto write = [&](const std::string& p) {
     Journal j(p, 1, 5);
     j.reset();
     j.put(item(1));
     j.sync();
-  }
-  Journal other(p, 1, 6);
-  EXPECT_TRUE(other.replay().custody.empty());
-  Journal agent2(p, 2, 6);
-  EXPECT_TRUE(agent2.replay().custody.empty());
+  };
+  write(d + "/a.journal");
+  write(d + "/b.journal");
+  Journal other_run(d + "/a.journal", 1, 6);
+  JournalState s = other_run.replay();
+  EXPECT_FALSE(s.matched);
+  EXPECT_TRUE(s.custody.empty());
+  Journal other_agent(d + "/b.journal", 2, 5);
+  s = other_agent.replay();
+  EXPECT_FALSE(s.matched);
+  EXPECT_TRUE(s.custody.empty());
+  Journal same(d + "/b.journal", 2, 5);  // started afresh as agent 2's: nothing in it
+  s = same.replay();
+  EXPECT_TRUE(s.matched);
+  EXPECT_TRUE(s.custody.empty());
 }
 
 TEST(Journal, CompactionKeepsItBoundedAndTheStateWhole) {

@@ -43,6 +43,7 @@ void CollectorRole::restore(const DataItem* items, std::size_t n, const Progress
   for (std::size_t i = 0; i < n; ++i)
     if (custody_.put(items[i]) == Custody::Put::kFull) ++counters_.refused_full;
   dead_.assign(p.dead.begin(), p.dead.end());
+  if (std::find(dead_.begin(), dead_.end(), id_) != dead_.end()) retired_ = true, motion_.hold();
   prev_ = now;  // the passes ahead of it, not those behind: it hands requests on from here
 }
 

@@ -20,7 +20,7 @@ constexpr uint32_t kVersion = 1;
 constexpr std::size_t kHeader = 4 + 4 + 4 + 8;
 constexpr std::size_t kRecordHead = 4 + 4 + 1;
 constexpr uint32_t kMaxPayload = 1u << 20;  // a progress snapshot of 16384 goals fits
-enum Type : uint8_t { kPut = 1, kAck = 2, kProgress = 3, kPose = 4 };
+enum Type : uint8_t { kPut = 1, kAck = 2, kProgress = 3, kPose = 4, kBatch = 5 };
 
 // CRC-32 (IEEE 802.3, reflected), table built once.
 uint32_t crc32(const uint8_t* p, std::size_t n, uint32_t crc = 0) {
@@ -122,6 +122,7 @@ Journal::Journal(std::string path, int agent, uint64_t run) : path_(std::move(pa
   if (fd_ < 0) throw Error(path_, std::string("cannot open the journal: ") + std::strerror(errno));
   pending_.reserve(64 * 1024);
   scratch_.reserve(64 * 1024);
+  batch_.reserve(64 * 1024);
 }
 
 Journal::~Journal() {
@@ -151,8 +152,68 @@ void Journal::reset() {
   scratch_.clear();
   header(scratch_);
   write_all(fd_, scratch_.data(), scratch_.size());
-  ::fdatasync(fd_);
+  if (::fdatasync(fd_) != 0) throw RuntimeError(path_, std::string("cannot sync the journal: ") + std::strerror(errno));
   bytes_ = scratch_.size();
+  compacted_ = 0;
+}
+
+// Applies the record at `at` (a batch: each record in it) to `s`; the end
+// of the record, or nullptr when it is torn, corrupt or unknown.
+static const uint8_t* read_records(const uint8_t* at, const uint8_t* end, JournalState& s, bool top) {
+  uint32_t n = 0, crc = 0;
+  const uint8_t* p = at;
+  if (!get_raw(p, end, n) || !get_raw(p, end, crc) || n > kMaxPayload || static_cast<std::size_t>(end - p) < 1 + n)
+    return nullptr;
+  if (crc32(p, 1 + n) != crc) return nullptr;
+  const uint8_t type = p[0];
+  const uint8_t* body = p + 1;
+  const uint8_t* body_end = body + n;
+  switch (type) {
+    case kBatch: {
+      if (!top) return nullptr;
+      JournalState t = s;  // all of the batch, or none of it
+      for (const uint8_t* q = body; q < body_end;) {
+        q = read_records(q, body_end, t, false);
+        if (!q) return nullptr;
+      }
+      s = std::move(t);
+      return body_end;
+    }
+    case kPut: {
+      DataItem it;
+      if (!decode_item(body, body_end, it)) return nullptr;
+      bool held = false;
+      for (const DataItem& x : s.custody) held = held || x.key == it.key;
+      if (!held) s.custody.push_back(it);
+      break;
+    }
+    case kAck: {
+      int32_t key = 0;
+      if (!get_raw(body, body_end, key)) return nullptr;
+      for (std::size_t i = 0; i < s.custody.size(); ++i)
+        if (s.custody[i].key == key) {
+          s.custody.erase(s.custody.begin() + static_cast<long>(i));
+          break;
+        }
+      break;
+    }
+    case kProgress: {
+      Progress p2;
+      if (!decode_progress(body, body_end, p2)) return nullptr;
+      s.progress = std::move(p2);
+      s.have_progress = true;
+      break;
+    }
+    case kPose:
+      if (!get_raw(body, body_end, s.pose.x) || !get_raw(body, body_end, s.pose.y) || !get_raw(body, body_end, s.pose_t))
+        return nullptr;
+      s.have_pose = true;
+      break;
+    default:
+      return nullptr;
+  }
+  ++s.records;
+  return body_end;
 }
 
 JournalState Journal::replay() {
@@ -168,54 +229,16 @@ JournalState Journal::replay() {
     reset();  // new, or another run's: nothing to replay
     return s;
   }
+  s.matched = true;
   const uint8_t* at = data.data() + kHeader;
   const uint8_t* end = data.data() + data.size();
   const uint8_t* good = at;
+  // A step's records come in one batch record (one CRC): a crash during its
+  // write loses the whole step, never half of it.
   while (at < end) {
-    uint32_t n = 0, crc = 0;
-    const uint8_t* p = at;
-    if (!get_raw(p, end, n) || !get_raw(p, end, crc) || n > kMaxPayload || static_cast<std::size_t>(end - p) < 1 + n) break;
-    if (crc32(p, 1 + n) != crc) break;
-    const uint8_t type = p[0];
-    const uint8_t* body = p + 1;
-    const uint8_t* body_end = body + n;
-    bool ok = true;
-    switch (type) {
-      case kPut: {
-        DataItem it;
-        ok = decode_item(body, body_end, it);
-        if (ok) {
-          bool held = false;
-          for (const DataItem& x : s.custody) held = held || x.key == it.key;
-          if (!held) s.custody.push_back(it);
-        }
-        break;
-      }
-      case kAck: {
-        int32_t key = 0;
-        ok = get_raw(body, body_end, key);
-        for (std::size_t i = 0; ok && i < s.custody.size(); ++i)
-          if (s.custody[i].key == key) {
-            s.custody.erase(s.custody.begin() + static_cast<long>(i));
-            break;
-          }
-        break;
-      }
-      case kProgress:
-        ok = decode_progress(body, body_end, s.progress);
-        s.have_progress = s.have_progress || ok;
-        break;
-      case kPose:
-        ok = get_raw(body, body_end, s.pose.x) && get_raw(body, body_end, s.pose.y) && get_raw(body, body_end, s.pose_t);
-        s.have_pose = s.have_pose || ok;
-        break;
-      default:
-        ok = false;
-    }
-    if (!ok) break;
-    ++s.records;
-    at = body_end;
-    good = at;
+    const uint8_t* next = read_records(at, end, s, true);
+    if (!next) break;
+    at = good = next;
   }
   bytes_ = static_cast<std::size_t>(good - data.data());
   if (good != end) {
@@ -265,10 +288,24 @@ void Journal::pose(Point2 at, double t) {
 
 bool Journal::sync() {
   if (pending_.empty()) return false;
-  write_all(fd_, pending_.data(), pending_.size());
+  // One batch record: the step's records all come back, or none.
+  batch_.clear();
+  put_raw(batch_, static_cast<uint32_t>(pending_.size()));
+  put_raw(batch_, uint32_t{0});
+  batch_.push_back(kBatch);
+  batch_.insert(batch_.end(), pending_.begin(), pending_.end());
+  const uint32_t crc = crc32(batch_.data() + 8, 1 + pending_.size());
+  std::memcpy(batch_.data() + 4, &crc, 4);
+  try {
+    write_all(fd_, batch_.data(), batch_.size());
+  } catch (...) {  // a short write: cut back to the last whole batch
+    if (::ftruncate(fd_, static_cast<off_t>(bytes_)) == 0) ::lseek(fd_, static_cast<off_t>(bytes_), SEEK_SET);
+    pending_.clear();
+    throw;
+  }
   if (durable_ && ::fdatasync(fd_) != 0)
     throw RuntimeError(path_, std::string("cannot sync the journal: ") + std::strerror(errno));
-  bytes_ += pending_.size();
+  bytes_ += batch_.size();
   pending_.clear();
   const bool synced = durable_;
   durable_ = false;
@@ -283,13 +320,24 @@ void Journal::compact(const JournalState& state) {
   if (state.have_pose) pose(state.pose, state.pose_t);
   std::vector<uint8_t> all;
   header(all);
+  put_raw(all, static_cast<uint32_t>(pending_.size()));
+  put_raw(all, uint32_t{0});
+  all.push_back(kBatch);
   all.insert(all.end(), pending_.begin(), pending_.end());
+  const uint32_t crc = crc32(all.data() + kHeader + 8, 1 + pending_.size());
+  std::memcpy(all.data() + kHeader + 4, &crc, 4);
   pending_.clear();
   durable_ = false;
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
   if (fd < 0) throw RuntimeError(tmp, std::string("cannot write the journal: ") + std::strerror(errno));
-  write_all(fd, all.data(), all.size());
-  if (::fsync(fd) != 0 || ::close(fd) != 0) throw RuntimeError(tmp, std::string("cannot sync the journal: ") + std::strerror(errno));
+  try {
+    write_all(fd, all.data(), all.size());
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
+  const bool synced = ::fsync(fd) == 0;
+  if (::close(fd) != 0 || !synced) throw RuntimeError(tmp, std::string("cannot sync the journal: ") + std::strerror(errno));
   if (std::rename(tmp.c_str(), path_.c_str()) != 0)
     throw RuntimeError(path_, std::string("cannot replace the journal: ") + std::strerror(errno));
   const std::string dir = std::filesystem::path(path_).parent_path().string();
@@ -300,6 +348,7 @@ void Journal::compact(const JournalState& state) {
   if (fd_ < 0 || ::lseek(fd_, 0, SEEK_END) < 0)
     throw RuntimeError(path_, std::string("cannot reopen the journal: ") + std::strerror(errno));
   bytes_ = all.size();
+  compacted_ = all.size();
 }
 
 uint64_t journal_run_id(const MissionParams& p) {
@@ -356,7 +405,7 @@ void JournalKeeper::after_step(const MotionBackend& motion, double now) {
     while (next_pose_ <= now) next_pose_ += 1.0;
   }
   if (journal_.sync()) ++syncs_;
-  if (journal_.bytes() > Journal::kCompactBytes) {
+  if (journal_.needs_compaction()) {
     snapshot(motion, now);
     journal_.compact(state_);
   }

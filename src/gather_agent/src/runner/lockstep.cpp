@@ -141,11 +141,11 @@ bool LockstepAgent::take_plan(std::string* why) {
     unit_ = make_agent(*team_, id_);
     if (!journal_dir_.empty()) {
       journal_ = std::make_unique<JournalKeeper>(journal_path(journal_dir_, id_), id_, journal_run_id(team_->params));
-      const JournalState s = journal_->open(rejoin_);
-      if (rejoin_) {  // where it was, what it held, how far it got
-        unit_ = make_agent(*team_, id_, s.have_pose ? &s.pose : nullptr);
-        unit_.role->restore(s.custody.data(), s.custody.size(), s.progress, s.pose_t);
-      }
+      rejoin_state_ = journal_->open(rejoin_);
+      if (rejoin_ && !rejoin_state_.matched)
+        throw Error(journal_path(journal_dir_, id_), "--rejoin: no journal of this agent and mission to replay");
+      // Where it was; what it held and how far it got come back at its first tick.
+      if (rejoin_) unit_ = make_agent(*team_, id_, rejoin_state_.have_pose ? &rejoin_state_.pose : nullptr);
       journal_->bind(*unit_.role);
     }
   } catch (const std::exception& e) {  // its plan cannot be run as the OC asks: refuse it
@@ -180,6 +180,8 @@ void LockstepAgent::step(const Tick& tick) {
     current_.clear();
     inbox_.clear();
     rejoin_ = false;
+    const JournalState& s = rejoin_state_;
+    role.restore(s.custody.data(), s.custody.size(), s.progress, tick.t);
   } else {
     take_tick(held_, current_, tick.tick, late_);
     gather_inbox(current_, role.id(), unit_.motion->pose(), *gate_, link_, inbox_);
@@ -236,12 +238,17 @@ void LockstepAgent::step(const Tick& tick) {
 void LockstepAgent::step_wall(double t) {
   Role& role = *unit_.role;
   unit_.motion->advance(t);
+  if (rejoin_) {  // a restart: what it held and how far it got, now
+    rejoin_ = false;
+    role.restore(rejoin_state_.custody.data(), rejoin_state_.custody.size(), rejoin_state_.progress, t);
+  }
   current_.swap(held_);
   held_.clear();
   gather_inbox(current_, role.id(), unit_.motion->pose(), *gate_, link_, inbox_);
   Outbox& out = *outbox_;
   out.clear();
   role.step(t, inbox_.data(), inbox_.size(), out);
+  if (journal_) journal_->after_step(*unit_.motion, t);  // durable before its messages go out
   for (std::size_t k = 0; k < out.size(); ++k) {
     out[k].h.seq = seq_++;
     out[k].h.tick = -1;

@@ -217,11 +217,11 @@ void TeamRunner::restart(std::size_t i, double t) {
   auto keeper = std::make_unique<JournalKeeper>(journal_path(options_.journal_dir, a), a, journal_run_id(team_.params));
   const JournalState s = keeper->open(true);
   units_[i] = make_agent(team_, a, s.have_pose ? &s.pose : nullptr);
+  keeper->bind(*units_[i].role);  // first: what restore() adds (expiry notices) is journaled too
   units_[i].role->restore(s.custody.data(), s.custody.size(), s.progress, t);
   int measured = 0;
   for (const DataItem& it : s.custody) measured += it.kind == ItemKind::kMeasured;
   restored_.emplace_back(a, measured);
-  keeper->bind(*units_[i].role);
   journals_[i] = std::move(keeper);
   seq_[i] = 0;
   sent_before_restart_ += links_[i].sent;  // its earlier life's messages still count in the run's total

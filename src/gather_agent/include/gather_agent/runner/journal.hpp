@@ -6,9 +6,9 @@
 // One file per agent, append-only: a header (format, agent id, the run it
 // belongs to), then records [u32 payload size][u32 CRC-32 of type and
 // payload][u8 type][payload]: an item stored, a key acked away, a progress
-// snapshot, a pose. Each control step's records are appended with one
-// write() and made durable with fdatasync() before the step's messages go
-// out. Bounded: past kCompactBytes the file is rewritten (to a temporary
+// snapshot, a pose; each control step's records go in one batch record (one
+// CRC: a step comes back whole or not at all), appended with one write()
+// and made durable with fdatasync() before the step's messages go out. Bounded: past kCompactBytes the file is rewritten (to a temporary
 // file, fsync, rename) with the current state only. On start, the records
 // are replayed up to the first one that is torn or fails its CRC (a crash
 // during a write), and the file is cut there.
@@ -34,6 +34,7 @@ struct JournalState {
   double pose_t = 0.0;            // [s] when
   std::size_t records = 0;        // good records read
   bool cut = false;               // a torn or corrupt tail was cut off
+  bool matched = false;           // the file was this agent's of this run (else it was started afresh)
 };
 
 class Journal {
@@ -66,6 +67,9 @@ class Journal {
   // Rewrites the file with `state` only (its custody, progress and pose).
   void compact(const JournalState& state);
   std::size_t bytes() const { return bytes_; }
+  // Past kCompactBytes and twice the size of the last compaction (a state
+  // larger than the bound is not rewritten every step).
+  bool needs_compaction() const { return bytes_ > kCompactBytes && bytes_ > 2 * compacted_; }
   const std::string& path() const { return path_; }
 
  private:
@@ -81,6 +85,8 @@ class Journal {
   std::vector<uint8_t> pending_;  // appended, not yet written
   bool durable_ = false;          // pending_ holds more than poses
   std::vector<uint8_t> scratch_;
+  std::vector<uint8_t> batch_;
+  std::size_t compacted_ = 0;     // bytes right after the last compaction
 };
 
 // Keeps a role's journal up to date after each control step (the runner

@@ -95,6 +95,7 @@ class LockstepAgent {
   std::string journal_dir_;
   bool rejoin_ = false;
   std::unique_ptr<JournalKeeper> journal_;
+  JournalState rejoin_state_;  // restored at the first tick, at that tick's time (as in one process)
 };
 
 struct MasterOptions {
