@@ -121,22 +121,13 @@ const mission::RepairedPlan& TeamSetup::repaired(const int16_t* dead, std::size_
   } else {
     mission::MissionPlan full;
     full.source = plan.source, full.file = plan.file, full.width = plan.width, full.height = plan.height;
-    full.labels.reserve(cells);
-    for (const auto& [label, n] : label_runs_) full.labels.insert(full.labels.end(), n, label);
+    if (reload_labels) full.labels = reload_labels();
     if (full.labels.size() != cells) throw RuntimeError("plan repair (internal error)", "the plan's label image was dropped");
     repaired_.emplace_back(key, std::make_unique<mission::RepairedPlan>(mission::repair_plan(full, key, params.repair)));
   }
   return *repaired_.back().second;
 }
 
-void TeamSetup::keep_labels() {
-  label_runs_.clear();
-  for (int32_t l : plan.labels) {
-    if (label_runs_.empty() || label_runs_.back().first != l) label_runs_.emplace_back(l, 0);
-    ++label_runs_.back().second;
-  }
-  label_runs_.shrink_to_fit();
-}
 
 double TeamSetup::silent_timeout(const mission::MissionPlan& p, int agent) const {
   const plan::AgentAssignment& a = p.file.agents[static_cast<std::size_t>(agent)];

@@ -158,9 +158,9 @@ bool LockstepAgent::take_plan(std::string* why) {
   clock_ = p.clock;
   rate_ = p.rate;
   fleet_.set_team(p.agents);
-  // A worker keeps the label image run-length encoded, for a repair (a
-  // repaired plan merges segments: docs/faults.md).
-  if (!plan_.plan.file.agents[static_cast<std::size_t>(id_)].collector) team_->keep_labels();
+  // A repair (a repaired plan merges segments: docs/faults.md) reads the
+  // label image again from the plan directory.
+  team_->reload_labels = [dir = plan_.dir]() { return mission::load_mission_plan(dir).labels; };
   std::vector<int32_t>().swap(plan_.plan.labels);
   malloc_trim(0);  // give back what loading the map and the plan used and freed
   return true;

@@ -7,6 +7,7 @@
 // (runner/team_runner) and one process per robot (gather_agent).
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -82,12 +83,11 @@ class TeamSetup {
   // The plan the survivors execute once the agents in dead[0..n) are dead
   // (mission::repair_plan with params.repair), computed once per set of
   // dead agents and kept (agents learn the same sets in the same order).
-  // Needs the plan's label image: plan.labels, or the copy keep_labels()
-  // made before the caller dropped it.
+  // Needs the plan's label image: plan.labels, or what reload_labels gives
+  // (an agent process drops the image to save memory and reads it again
+  // from the plan directory when a repair needs it: rarely).
   const mission::RepairedPlan& repaired(const int16_t* dead, std::size_t n);
-  // Keeps the label image run-length encoded (an agent process drops the
-  // plan's full image to save memory; a repair needs it back).
-  void keep_labels();
+  std::function<std::vector<int32_t>()> reload_labels;
   // How long the OC waits without news of `agent` under `plan` (the
   // repaired one) before it declares it dead [s] (mission::silent_timeout).
   double silent_timeout(const mission::MissionPlan& plan, int agent) const;
@@ -100,7 +100,7 @@ class TeamSetup {
   std::vector<Point2> start_;
   double range_ = 0.0;
   std::vector<std::pair<std::vector<int>, std::unique_ptr<mission::RepairedPlan>>> repaired_;
-  std::vector<std::pair<int32_t, uint32_t>> label_runs_;  // (label, cells) in row-major order
+
 };
 
 // Messages a step sends, at most `capacity` (the rest is refused and counted).
