@@ -4,6 +4,8 @@
 // Exit status: 0 mission done or stopped by SIGINT/SIGTERM, 2 bad input (a
 // bad flag, plan or scenario, a plan that differs from the OC's, a motion
 // backend that is not connected), 1 runtime failure (the OC went silent).
+#include <malloc.h>
+
 #include <cstdio>
 #include <exception>
 
@@ -14,6 +16,10 @@
 
 int main(int argc, char** argv) {
   gather::ShutdownSignal shutdown;  // first: block the signals before LCM starts anything
+  // Buffers of 64 KB and more come from mmap and go back to the system when
+  // freed: loading the map and the plan then leaves no freed heap behind,
+  // and the process peaks 0.5-1 MB lower (16 MB budget; docs/runtime.md).
+  mallopt(M_MMAP_THRESHOLD, 64 * 1024);
   gather::AgentOptions opt;
   try {
     opt = gather::parse_agent_options(argc, argv);
