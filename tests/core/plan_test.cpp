@@ -265,5 +265,62 @@ TEST(PlanEstimateTest, ManyGoalsPerRequestAreNotLostToUnderflow) {
   EXPECT_LE(cfg.estimates.goals, 6000.0 + 1e-6);
 }
 
+// The corridor (tests/core/corridor.hpp: 20 m x 0.5 m, coverage x < 2.6 m,
+// 1 m/s) with one worker of the OC owning all of it, one goal a request.
+Scenario corridor_alone(double period, int cycles) {
+  Scenario s = testing_support::corridor();
+  s.team.agents = 1;
+  s.mission.goals_per_request = 1;
+  s.mission.period = period;
+  s.mission.cycles = cycles;
+  return s;
+}
+
+TEST(PlanEstimateTest, AnOcWorkersTourStartsAtItsHomeAndWalksOnTheMap) {
+  const Scenario s = corridor_alone(100.0, 10);
+  const plan::PlanContext ctx(s);
+  const auto cfg = plan::plan_configuration(ctx, partition::Method::kBap, 0);
+  ASSERT_EQ(cfg.graph.segments.size(), 1u);
+  const plan::WorkerSegment& seg = cfg.graph.segments[0];
+  // Home: the first covered cell of the segment (row-major), at x = 0.05;
+  // the goal is uniform over x in [0, 20]: 10 m out on average, and back to
+  // the coverage (x < 2.6) 17.4^2 / 2 / 20 = 7.57 m.
+  EXPECT_NEAR(seg.mean_home_distance, 9.95, 0.3);
+  EXPECT_NEAR(seg.mean_coverage_distance, 7.57, 0.3);
+  // Two uniform points of a 20 m line lie 20 / 3 m apart on average (an
+  // open square of the same area: 0.52 sqrt(10) = 1.65 m).
+  EXPECT_NEAR(seg.mean_pair_distance, 20.0 / 3.0, 0.3);
+  ASSERT_EQ(seg.home_quantiles.size(), 17u);
+  EXPECT_NEAR(seg.home_quantiles[8], 10.0, 0.3);  // the median cell
+  // The simulator's latency by hand: walk out x, back max(0, x - 2.55):
+  // 10 + 7.57 s (the old model, twice the distance to the coverage: 15.1 s).
+  ASSERT_EQ(cfg.estimates.workers.size(), 1u);
+  EXPECT_NEAR(cfg.estimates.workers[0].refresh_s, 17.5, 0.6);
+  EXPECT_NEAR(cfg.estimates.workers[0].delivered_goals, 1.0, 1e-6);
+}
+
+TEST(PlanEstimateTest, AGoalFartherThanAPeriodsWalkIsNeverMeasured) {
+  // A period of 10 s: the goal is measured when it lies within 10 m of the
+  // home, half of the corridor (one cycle, so no lateness carries over).
+  const Scenario s = corridor_alone(10.0, 1);
+  const plan::PlanContext ctx(s);
+  const auto cfg = plan::plan_configuration(ctx, partition::Method::kBap, 0);
+  ASSERT_EQ(cfg.estimates.workers.size(), 1u);
+  EXPECT_NEAR(cfg.estimates.workers[0].delivered_goals, 0.5, 0.03);
+}
+
+TEST(PlanEstimateTest, NearestShareOfAnAreaPart) {
+  plan::AreaDeliveries near, far;
+  for (int b = 0; b < plan::AreaDeliveries::kRankBins / 2; ++b) near.rank_out[static_cast<std::size_t>(b)] = 3.0f;
+  for (int b = plan::AreaDeliveries::kRankBins / 2; b < plan::AreaDeliveries::kRankBins; ++b)
+    far.rank_out[static_cast<std::size_t>(b)] = 3.0f;
+  EXPECT_DOUBLE_EQ(plan::AreaDeliveries::nearest_share(near.rank_out, 0.25), 0.5);
+  EXPECT_DOUBLE_EQ(plan::AreaDeliveries::nearest_share(near.rank_out, 0.5), 1.0);
+  EXPECT_DOUBLE_EQ(plan::AreaDeliveries::nearest_share(far.rank_out, 0.5), 0.0);
+  EXPECT_DOUBLE_EQ(plan::AreaDeliveries::nearest_share(far.rank_out, 0.75), 0.5);
+  EXPECT_DOUBLE_EQ(plan::AreaDeliveries::nearest_share(far.rank_out, 1.0), 1.0);
+  EXPECT_DOUBLE_EQ(plan::AreaDeliveries::nearest_share(near.rank_in, 0.5), 0.0);  // no covered cells
+}
+
 }  // namespace
 }  // namespace gather

@@ -199,13 +199,7 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
     // nearest its segment (where it comes back to from the segment's nearest
     // cell), so that a request learned there can be served within its
     // period (mission::request_deadline), wherever the OC itself stands.
-    double best = kInf;
-    Cell from{-1, -1};
-    for (Cell c : segment_cells_) {
-      const double d = world.covered(c) ? 0.0 : world.coverage_field.time(c);
-      if (d < best) best = d, from = c;
-    }
-    if (best < kInf) home_ = world.covered(from) ? from : way_back(from).first;
+    home_ = world.oc_worker_home(segment_cells_);
   }
 
   tmp_.reserve(segment_cells_.size());

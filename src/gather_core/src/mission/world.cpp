@@ -40,5 +40,18 @@ World::World(const Scenario& s) : scenario(s), coverage_field(s.grid) {
   coverage_field.solve(sources, so);
 }
 
+Cell World::oc_worker_home(const std::vector<Cell>& cells) const {
+  double best = fmm::kUnreached;
+  Cell from{-1, -1};
+  for (Cell c : cells) {
+    const double d = covered(c) ? 0.0 : coverage_field.time(c);
+    if (d < best) best = d, from = c;
+  }
+  if (!(best < fmm::kUnreached)) return Cell{-1, -1};
+  if (covered(from)) return from;
+  const int label = coverage_field.label(from);
+  return label < 0 ? Cell{-1, -1} : coverage_border[static_cast<std::size_t>(label)];
+}
+
 }  // namespace mission
 }  // namespace gather

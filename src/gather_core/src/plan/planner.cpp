@@ -29,43 +29,109 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-// Expected length [m] of a closed tour from a depot through n random goals
-// of a region of area A [m^2] whose cells lie at mean distance r [m] from the
-// depot: L(n) = 2 r + c sqrt(A) (n - 1) / sqrt(n) for n >= 1. One goal costs
-// the round trip 2 r; a second adds the mean distance between two random
-// points (~0.52 sqrt(A) in a square; the formula gives 0.50 sqrt(A)); for
-// many goals it tends to the Beardwood-Halton-Hammersley law c sqrt(n A).
-// (BHH alone assumes a central depot and many goals; with 1-3 goals per
+// Expected length [m] of a tour from a depot through n random goals of a
+// region and back to where the data is delivered, whose cells lie at mean
+// distance `out` [m] from the depot and `back` [m] from the delivery place:
+// L(n) = out + back + c S (n - 1) / sqrt(n) for n >= 1. One goal costs the
+// trip out and back; a second adds about the mean distance between two
+// random points (0.5214 sqrt(A) in an open square of area A; the formula
+// gives 0.50 sqrt(A)); for many goals it tends to the
+// Beardwood-Halton-Hammersley law c sqrt(n A). S is the region's effective
+// side: sqrt(A) for an open square, and in general its measured mean
+// walking distance between two cells over 0.5214, so that walls and doors
+// (rooms of one segment joined through a corridor) lengthen the walks
+// between goals as they do on the map. (BHH alone, with the Euclidean side,
+// assumes a central depot, open space and many goals: with 1-3 goals per
 // segment and the depot at the segment's edge it came out ~40% short of the
-// simulated tours.) Fractional n < 1 scales the round trip.
+// simulated tours; with the Euclidean side and one mean distance for both
+// legs, ~10% short of the simulated latency.) Fractional n < 1 scales the
+// trip out and back.
 struct TourModel {
-  double area = 0.0;   // [m^2]
-  double reach = 0.0;  // [m] mean distance from the depot to the region's cells
+  double area = 0.0;  // [m^2]
+  double side = 0.0;  // [m] effective side S
+  double out = 0.0;   // [m] mean distance from the depot to the region's cells
+  double back = 0.0;  // [m] mean distance from the region's cells to the delivery place
   double c = 0.7124;
+  // Quantiles of the distance from the depot to the region's cells
+  // (WorkerSegment::home_quantiles; empty: unknown).
+  std::vector<double> out_quantiles;
+  double trip() const { return out + back; }
+  // The share of the region's cells within `d` [m] of the depot (without
+  // quantiles: 0 below the mean distance, 1 from it on).
+  double within(double d) const {
+    const std::size_t n = out_quantiles.size();
+    if (n < 2) return d >= out ? 1.0 : 0.0;
+    if (d < out_quantiles.front()) return 0.0;
+    if (d >= out_quantiles.back()) return 1.0;
+    const std::size_t i = static_cast<std::size_t>(
+        std::upper_bound(out_quantiles.begin(), out_quantiles.end(), d) - out_quantiles.begin() - 1);
+    const double lo = out_quantiles[i], hi = out_quantiles[i + 1];
+    return (static_cast<double>(i) + (hi > lo ? (d - lo) / (hi - lo) : 1.0)) / static_cast<double>(n - 1);
+  }
   double length(double n) const {
     if (n <= 0) return 0.0;
-    if (n < 1) return 2.0 * reach * n;
-    return 2.0 * reach + c * std::sqrt(area) * (n - 1.0) / std::sqrt(n);
+    if (n < 1) return trip() * n;
+    return trip() + c * side * (n - 1.0) / std::sqrt(n);
+  }
+  // Of an optimal tour through k goals, the number it measures within
+  // `budget` [m] of leaving the depot: the goals lie c S / sqrt(k) apart
+  // along it, so with many goals and little time the nearest few are
+  // reached sooner than a tour through that few random goals would reach
+  // them; and never more than the k F(budget) goals that lie within the
+  // budget (F: `within`). When the mean goal is out of reach, about one
+  // goal if any lies within reach.
+  double measured(double k, double budget) const {
+    if (k <= 0 || budget <= 0) return 0.0;
+    const double f = out_quantiles.size() >= 2 ? within(budget) : std::min(1.0, budget / std::max(out, 1e-9));
+    if (budget < out) return std::min(k * f, 1.0 - std::pow(1.0 - f, k));
+    if (k <= 1 || side <= 0) return std::min(k, k * f);
+    return std::min(k * f, 1.0 + (budget - out) * std::sqrt(k) / (c * side));
+  }
+  // The trip [m] that measures the first n goals of an optimal tour through
+  // k goals and comes back: length(k) when n = k.
+  double partial_length(double n, double k) const {
+    if (n <= 0) return 0.0;
+    if (n < 1 || k <= 1) return trip() * std::min(n, 1.0);
+    return trip() + c * side * (n - 1.0) / std::sqrt(k);
   }
   // Largest number of goals (<= want) whose tour fits in `budget` [m].
   double goals_within(double budget, double want) const {
     if (budget <= 0) return 0.0;
-    if (budget <= 2.0 * reach) return std::min(want, reach > 0 ? budget / (2.0 * reach) : want);
-    if (area <= 0) return want;
-    const double q = (budget - 2.0 * reach) / (c * std::sqrt(area));
+    if (budget <= trip()) return std::min(want, trip() > 0 ? budget / trip() : want);
+    if (side <= 0) return want;
+    const double q = (budget - trip()) / (c * side);
     const double u = 0.5 * (q + std::sqrt(q * q + 4.0));  // sqrt(n): u^2 - q u - 1 = 0
     return std::clamp(u * u, 0.0, want);
   }
 };
 
-// The tour model of a segment's goals, from where its worker starts them: the
-// OC's coverage (OC workers) or the segment's entry (workers of collectors).
+// The mean distance between two random points of an open square of side 1.
+constexpr double kSquarePairDistance = 0.5214;
+
+// An OC worker's first trip: from the OC's cell, where it starts the
+// mission, instead of its home.
+TourModel first_trip(const WorkerSegment& seg, TourModel m) {
+  m.out = seg.mean_oc_distance;
+  m.out_quantiles = seg.oc_quantiles;
+  return m;
+}
+
+// The tour model of a segment's goals, from where its worker starts them:
+// its home in the OC's coverage, back to the coverage (OC workers), or the
+// segment's entry and back to it (workers of collectors).
 TourModel tour_model(const WorkerSegment& seg, bool from_coverage, double c) {
   TourModel m;
   m.area = seg.area;
+  m.side = seg.mean_pair_distance > 0 ? seg.mean_pair_distance / kSquarePairDistance : std::sqrt(seg.area);
   m.c = c;
   const double approach = seg.touches_coverage ? 0.0 : seg.coverage_distance;
-  m.reach = from_coverage ? seg.mean_coverage_distance : std::max(0.0, seg.mean_coverage_distance - approach);
+  if (from_coverage) {
+    m.out = seg.mean_home_distance;
+    m.out_quantiles = seg.home_quantiles;
+    m.back = seg.mean_coverage_distance;
+  } else {
+    m.out = m.back = std::max(0.0, seg.mean_coverage_distance - approach);
+  }
   return m;
 }
 
@@ -379,18 +445,36 @@ struct WorkerRun {
   void add(double goals, double refresh) { delivered += goals, refresh_sum += goals * refresh; }
 };
 
-// The mean time between an area's consecutive deliveries, as
-// mission::interval_stats measures it: (last - first) / (deliveries - 1),
-// the whole mission (`horizon`) when fewer than two.
-double area_interval(double deliveries, double first, double last, double horizon) {
-  return deliveries >= 2.0 - 1e-9 && last > first ? (last - first) / (deliveries - 1.0) : horizon;
+// The expected time between an area's consecutive deliveries, as
+// mission::interval_stats measures it on one run: (last - first) / (D - 1)
+// for D >= 2 deliveries, the whole mission (`horizon`) when fewer. Here D
+// is random: `events` deliveries may happen between `first` and `last`,
+// `deliveries` of them expected. D is taken binomial (events, p), p =
+// deliveries / events, the D that happen lying anywhere among the events:
+// then E[last - first | D = d] = S (d - 1) / (d + 1) with S = (m + 1)
+// (last - first) / (m - 1) for m events evenly spread, so the interval is
+// S / (d + 1), and
+//   E = horizon P(D <= 1) + S E[1 / (D + 1); D >= 2],
+//   E[1 / (D + 1)] = (1 - (1 - p)^(m + 1)) / ((m + 1) p).
+// When every event happens (p = 1) it is (last - first) / (m - 1). (The
+// interval of the expected count, (last - first) / (E[D] - 1), is the
+// interval of no run, and too long when deliveries are uncertain.)
+double area_interval(double deliveries, double events, double first, double last, double horizon) {
+  const double m = events;
+  if (m < 2.0 - 1e-9 || !(last > first) || deliveries <= 1e-9) return horizon;
+  const double p = std::clamp(deliveries / events, 0.0, 1.0);
+  const double q = 1.0 - p;
+  const double p0 = std::pow(q, m), p1 = m * p * std::pow(q, m - 1.0);
+  const double inv = (1.0 - std::pow(q, m + 1.0)) / ((m + 1.0) * p);  // E[1 / (D + 1)]
+  const double span = (m + 1.0) * (last - first) / (m - 1.0);
+  return horizon * (p0 + p1) + span * std::max(0.0, inv - p0 - 0.5 * p1);
 }
 
 // The mean over a worker's areas of their intervals.
 double mean_interval(const std::vector<AreaDeliveries>& areas, double horizon) {
   if (areas.empty()) return horizon;
   double sum = 0.0;
-  for (const AreaDeliveries& a : areas) sum += area_interval(a.deliveries, a.first, a.last, horizon);
+  for (const AreaDeliveries& a : areas) sum += area_interval(a.deliveries, a.events, a.first, a.last, horizon);
   return sum / static_cast<double>(areas.size());
 }
 
@@ -420,25 +504,37 @@ std::vector<double> goal_count_pmf(int G, double p) {
 // learns the newest request (waiting for the next one if it has served them
 // all), goes into its segment, measures the request's goals it can within a
 // period (the expiry rule), comes back and delivers. Requests issued
-// meanwhile, but the newest, expire.
-// Deliveries of an area (`areas`: the tiles of the segment; G goals a
-// request over the reachable area A): its goals outside the coverage are
+// meanwhile, but the newest, expire. `tour` starts from its home, `first`
+// from the OC's cell, where it starts the mission and learns request 0.
+// Deliveries of an area (`areas`: the tiles of the segment; `pmf`: the
+// segment's goal count a request): its goals outside the coverage are
 // delivered together on the return (one delivery when the request has at
 // least one there), those inside it one by one as they are measured
 // (spread over the loop).
-WorkerRun run_oc_worker(const TourModel& tour, const std::vector<double>& pmf, double v, double T, int cycles,
-                        const std::vector<AreaDeliveries>& areas, double G, double A) {
+WorkerRun run_oc_worker(const TourModel& tour, const TourModel& first, const std::vector<double>& pmf, double v,
+                        double T, int cycles, const std::vector<AreaDeliveries>& areas) {
   WorkerRun run;
   run.areas = areas;
-  // The goals it can measure within a period of learning the request
-  // (mission::request_deadline): those whose tour, but the way back, fits.
-  const double fits = tour.goals_within(v * T + tour.reach, static_cast<double>(pmf.size()));
-  double loop = 0.0, goals = 0.0;  // expected loop [s]; goals
-  for (std::size_t k = 1; k < pmf.size(); ++k) {
-    const double n = std::min(static_cast<double>(k), fits);
-    loop += pmf[k] * tour.length(n) / v;
-    goals += pmf[k] * n;
-  }
+  // Of k goals, it measures those its tour reaches within a period of
+  // learning the request (mission::request_deadline; the way back is not
+  // counted): measured[k], on a trip of trip_s[k] [s]; and the expected
+  // trip (loop [s]) and goals. Index 0: the first request's trip.
+  struct Trips {
+    std::vector<double> measured, trip_s;
+    double loop = 0.0, goals = 0.0;
+  };
+  auto trips_of = [&](const TourModel& m) {
+    Trips t;
+    t.measured.assign(pmf.size(), 0.0), t.trip_s.assign(pmf.size(), 0.0);
+    for (std::size_t k = 1; k < pmf.size(); ++k) {
+      t.measured[k] = m.measured(static_cast<double>(k), v * T);
+      t.trip_s[k] = m.partial_length(t.measured[k], static_cast<double>(k)) / v;
+      t.loop += pmf[k] * t.trip_s[k];
+      t.goals += pmf[k] * t.measured[k];
+    }
+    return t;
+  };
+  const Trips trips[2] = {trips_of(first), trips_of(tour)};
   // Goals and latency: the worker's lateness (when it is back in the
   // coverage after request r's issue) is a random walk, not its mean: a
   // loop longer than T makes it late for the next request, a shorter one
@@ -451,6 +547,7 @@ WorkerRun run_oc_worker(const TourModel& tour, const std::vector<double>& pmf, d
   std::vector<double> late(2 * kBins + 2, 0.0), next_late(late.size());
   late[0] = 1.0;
   for (int r = 0; r < cycles; ++r) {
+    const Trips& trip = trips[r == 0 ? 0 : 1];
     std::fill(next_late.begin(), next_late.end(), 0.0);
     auto put = [&](double lateness, double p) {
       const double b = std::max(0.0, lateness) / bin + 0.5;
@@ -465,26 +562,53 @@ WorkerRun run_oc_worker(const TourModel& tour, const std::vector<double>& pmf, d
       }
       for (std::size_t k = 0; k < pmf.size(); ++k) {
         if (pmf[k] <= 0.0) continue;
-        const double n = std::min(static_cast<double>(k), fits), trip = tour.length(n) / v;
-        if (n > 0.0) run.add(p * pmf[k] * n, lambda + trip);
-        put(lambda + trip - T, p * pmf[k]);
+        if (trip.measured[k] > 0.0) run.add(p * pmf[k] * trip.measured[k], lambda + trip.trip_s[k]);
+        put(lambda + trip.trip_s[k] - T, p * pmf[k]);
       }
     }
     late.swap(next_late);
   }
   // Interval: the deliveries on the mean timeline (a trip delivers the
-  // request it served; skips are in the timeline's own jumps).
+  // request it served; skips are in the timeline's own jumps). A trip
+  // measures n_k = measured[k] of the segment's k goals: the nearest to its
+  // home, so a goal is measured when it lies in the nearest fraction n_k / k
+  // of the segment. A goal falls in an area's part outside the coverage
+  // (share f of the segment) and is measured with probability
+  // f s(n_k / k), s(x) the part's share among the nearest fraction x
+  // (AreaDeliveries::nearest_share), so a trip carries one of the part's
+  // goals with probability sum_k P(k) (1 - (1 - f s)^k); likewise it
+  // measures k f' s'(n_k / k) goals of the covered part, each delivered as
+  // it is measured. (The first trip, from the OC's cell, ranks the cells as
+  // from the home: the OC is in the coverage too.)
+  std::vector<double> carries[2], inside[2];
+  for (int h = 0; h < 2; ++h) {
+    carries[h].assign(run.areas.size(), 0.0), inside[h].assign(run.areas.size(), 0.0);
+    for (std::size_t i = 0; i < run.areas.size(); ++i) {
+      const AreaDeliveries& a = run.areas[i];
+      const double f = tour.area > 0 ? std::clamp((a.area_m2 - a.covered_m2) / tour.area, 0.0, 1.0) : 0.0;
+      const double f_in = tour.area > 0 ? std::clamp(a.covered_m2 / tour.area, 0.0, 1.0) : 0.0;
+      for (std::size_t k = 1; k < pmf.size(); ++k) {
+        const double x = trips[h].measured[k] / static_cast<double>(k);
+        const double out = f * AreaDeliveries::nearest_share(a.rank_out, x);
+        carries[h][i] += pmf[k] * (1.0 - std::pow(1.0 - out, static_cast<double>(k)));
+        inside[h][i] += pmf[k] * static_cast<double>(k) * f_in * AreaDeliveries::nearest_share(a.rank_in, x);
+      }
+    }
+  }
   double t = 0.0;  // the worker is inside the coverage at t
   for (int next = 0; next < cycles;) {
     const int req = std::max(next, std::min(cycles - 1, static_cast<int>(std::floor(t / T + 1e-9))));
     t = std::max(t, req * T);
     next = req + 1;
-    if (goals <= 0.0) continue;
-    for (AreaDeliveries& a : run.areas) {
-      a.delivery(t + loop, 1.0 - std::pow(std::max(0.0, 1.0 - (a.area_m2 - a.covered_m2) / A), G));
-      const double inside = G * a.covered_m2 / A;
-      for (int i = 1; i <= static_cast<int>(std::ceil(inside)); ++i)
-        a.delivery(t + loop * i / (std::ceil(inside) + 1.0), std::min(1.0, inside - (i - 1)));
+    const int h = req == 0 ? 0 : 1;
+    const double loop = trips[h].loop;
+    if (trips[h].goals <= 0.0) continue;
+    for (std::size_t j = 0; j < run.areas.size(); ++j) {
+      AreaDeliveries& a = run.areas[j];
+      a.delivery(t + loop, carries[h][j]);
+      const double in = inside[h][j];
+      for (int i = 1; i <= static_cast<int>(std::ceil(in)); ++i)
+        a.delivery(t + loop * i / (std::ceil(in) + 1.0), std::min(1.0, in - (i - 1)));
     }
     t += loop;
   }
@@ -569,7 +693,7 @@ WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, co
         while (j < at.size() && at[j] - at[i] <= 1e-3) ++j;
         const double goals_in = per_sample * static_cast<double>(j - i);
         for (AreaDeliveries& a : run.areas)
-          a.delivery(at[i], pmf[k] * (1.0 - std::pow(std::max(0.0, 1.0 - a.area_m2 / model.area), goals_in)));
+          a.delivery(at[i], pmf[k] * (1.0 - std::pow(std::max(0.0, 1.0 - a.area_m2 / model.area), goals_in)), pmf[k]);
         i = j;
       }
     }
@@ -595,8 +719,8 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
   if (w.collector < 0) {
     const TourModel model = tour_model(seg, true, c);
     w.tour_s = model.length(w.expected_goals) / v;
-    run = run_oc_worker(model, pmf, v, T, cycles, cfg.area_parts[static_cast<std::size_t>(seg.id - 1)], G,
-                        ctx.reachable_area);
+    run = run_oc_worker(model, first_trip(seg, model), pmf, v, T, cycles,
+                        cfg.area_parts[static_cast<std::size_t>(seg.id - 1)]);
   } else {
     const CollectorRoute& r = cfg.routes[static_cast<std::size_t>(w.collector)];
     const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
@@ -626,20 +750,20 @@ void combine(Estimates& e, const PlanContext& ctx) {
   for (const WorkerEstimate& w : e.workers) e.goals += w.delivered_goals, weighted += w.delivered_goals * w.refresh_s;
   e.refresh_s = e.goals > 0 ? weighted / e.goals : 0.0;
   struct Tile {
-    double area = 0.0, deliveries = 0.0, first = kInf, last = -kInf;
+    double area = 0.0, deliveries = 0.0, events = 0.0, first = kInf, last = -kInf;
   };
   std::map<int64_t, Tile> tiles;
   for (const auto& [id, m2] : ctx.areas.area) tiles[id].area = m2;
   for (const WorkerEstimate& w : e.workers)
     for (const AreaDeliveries& a : w.areas) {
       Tile& t = tiles[a.area];
-      t.deliveries += a.deliveries;
+      t.deliveries += a.deliveries, t.events += a.events;
       t.first = std::min(t.first, a.first), t.last = std::max(t.last, a.last);
     }
   const int cycles = std::max(1, ctx.scenario.mission.cycles);
   const double horizon = cycles * ctx.cycle_period;
   double sum = 0.0, weights = 0.0;
-  for (const auto& [id, t] : tiles) sum += t.area * area_interval(t.deliveries, t.first, t.last, horizon), weights += t.area;
+  for (const auto& [id, t] : tiles) sum += t.area * area_interval(t.deliveries, t.events, t.first, t.last, horizon), weights += t.area;
   e.interval_s = weights > 0 ? sum / weights : horizon;
 }
 
@@ -730,8 +854,9 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
     if (a.known) return a;
     const WorkerSegment& seg = cfg.graph.segment(segment);
     const std::vector<double> pmf = goal_count_pmf(s.mission.goals_per_request, seg.area / ctx.reachable_area);
-    const WorkerRun oc = run_oc_worker(tour_model(seg, true, opt.tsp_constant), pmf, v, T, cycles,
-                                       cfg.area_parts[static_cast<std::size_t>(segment - 1)], G, ctx.reachable_area);
+    const TourModel model = tour_model(seg, true, opt.tsp_constant);
+    const WorkerRun oc = run_oc_worker(model, first_trip(seg, model), pmf, v, T, cycles,
+                                       cfg.area_parts[static_cast<std::size_t>(segment - 1)]);
     a.known = true;
     a.goals = oc.delivered / cycles;
     a.latency = oc.delivered > 0 ? oc.refresh_sum / oc.delivered : 0.0;
@@ -800,6 +925,87 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
   }
 }
 
+// Each segment's walking distances, marched at unit speed on the reachable
+// space (as the workers walk), each march stopped once the segment's cells
+// are reached:
+//  - mean_home_distance and home_quantiles: from the home of its worker as
+//    a worker of the OC;
+//  - mean_oc_distance and oc_quantiles: from the OC's cell (ctx.oc_walk,
+//    no march), where that worker starts the mission;
+//  - mean_pair_distance: between two of its cells, the mean over the cells
+//    of the distances from kPairSources cells spread over the segment (in
+//    row-major order, so the estimate is deterministic).
+// Returns each cell's rank in its segment by distance from that home, in
+// [0, 1) (row-major; -1 off the segments).
+std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<int32_t>& labels, WorkerGraph& graph) {
+  constexpr std::size_t kPairSources = 6, kQuantiles = 16;
+  const OccupancyGrid& grid = ctx.scenario.grid;
+  std::vector<std::vector<Cell>> cells(graph.segments.size());
+  for (std::size_t i = 0; i < labels.size() && i < grid.size(); ++i) {
+    const int k = labels[i];
+    if (k > 0 && static_cast<std::size_t>(k) <= cells.size() && ctx.reachable[i])
+      cells[static_cast<std::size_t>(k - 1)].push_back(grid.cell(i));
+  }
+  std::vector<float> rank(labels.size(), -1.0f);
+  std::vector<std::pair<double, std::size_t>> order;
+  fmm::FastMarching walk = ctx.coverage_field;  // unit speed on the reachable space
+  fmm::SolveOptions so;
+  so.labels = false;
+  // The mean distance from `from` to the segment's cells (those reached).
+  auto mean_from = [&](Cell from, const std::vector<Cell>& to, double& sum, std::size_t& n) {
+    so.targets = to;
+    walk.solve({fmm::Source::at_cell(from)}, so);
+    for (Cell c : to) {
+      const double t = walk.time(c);
+      if (t < kInf) sum += t, ++n;
+    }
+  };
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    WorkerSegment& seg = graph.segments[k];
+    seg.mean_home_distance = seg.mean_coverage_distance;
+    seg.mean_pair_distance = kSquarePairDistance * std::sqrt(seg.area);  // an open square's, until measured
+    if (cells[k].empty()) continue;
+    double sum = 0.0;
+    std::size_t n = 0;
+    const Cell home = ctx.oc_worker_home(cells[k]);
+    if (home.row >= 0) mean_from(home, cells[k], sum, n);
+    if (n > 0) seg.mean_home_distance = sum / static_cast<double>(n);
+    order.clear();
+    for (Cell c : cells[k]) order.emplace_back(home.row >= 0 ? walk.time(c) : 0.0, grid.index(c));
+    std::sort(order.begin(), order.end());
+    for (std::size_t i = 0; i < order.size(); ++i)
+      rank[order[i].second] = static_cast<float>(static_cast<double>(i) / static_cast<double>(order.size()));
+    if (home.row >= 0 && n == order.size()) {
+      seg.home_quantiles.resize(kQuantiles + 1);
+      for (std::size_t i = 0; i <= kQuantiles; ++i)
+        seg.home_quantiles[i] = order[std::min(order.size() - 1, i * order.size() / kQuantiles)].first;
+    }
+    // From the OC's cell (the first request's trip).
+    std::vector<double> from_oc;
+    from_oc.reserve(cells[k].size());
+    for (Cell c : cells[k]) {
+      const double d = ctx.oc_walk[grid.index(c)];
+      if (d < kInf) from_oc.push_back(d);
+    }
+    if (from_oc.size() == cells[k].size()) {
+      std::sort(from_oc.begin(), from_oc.end());
+      double total = 0.0;
+      for (double d : from_oc) total += d;
+      seg.mean_oc_distance = total / static_cast<double>(from_oc.size());
+      seg.oc_quantiles.resize(kQuantiles + 1);
+      for (std::size_t i = 0; i <= kQuantiles; ++i)
+        seg.oc_quantiles[i] = from_oc[std::min(from_oc.size() - 1, i * from_oc.size() / kQuantiles)];
+    } else {
+      seg.mean_oc_distance = seg.mean_home_distance, seg.oc_quantiles = seg.home_quantiles;
+    }
+    sum = 0.0, n = 0;
+    const std::size_t sources = std::min(kPairSources, cells[k].size());
+    for (std::size_t j = 0; j < sources; ++j) mean_from(cells[k][(2 * j + 1) * cells[k].size() / (2 * sources)], cells[k], sum, n);
+    if (n > 0) seg.mean_pair_distance = sum / static_cast<double>(n);
+  }
+  return rank;
+}
+
 }  // namespace
 
 PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_field(s.grid) {
@@ -811,6 +1017,14 @@ PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_fi
   prepared.reachable_cells = reachable_cells;
   prepared.clearance = clearance.values();
   coverage_field.copy_times(coverage_distance);
+  {
+    fmm::FastMarching walk = coverage_field;  // unit speed on the reachable space
+    fmm::SolveOptions so;
+    so.labels = false;
+    walk.solve({fmm::Source::at_cell(oc_cell)}, so);
+    oc_walk.resize(grid.size());
+    for (std::size_t i = 0; i < grid.size(); ++i) oc_walk[i] = static_cast<float>(walk.time(grid.cell(i)));
+  }
   for (std::size_t i = 0; i < coverage_distance.size(); ++i) {
     if (coverage[i]) coverage_distance[i] = 0.0;
     if (!reachable[i]) coverage_distance[i] = kInf;
@@ -861,28 +1075,30 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
 
   t0 = Clock::now();
   cfg.graph = build_worker_graph(s.grid, cfg.partition.labels, cfg.workers, ctx.coverage, ctx.coverage_distance, &ctx.roomy);
+  const std::vector<float> home_rank = segment_distances(ctx, cfg.partition.labels, cfg.graph);
   cfg.times.graph_ms = ms_since(t0);
   // The tiles of each segment (the areas of the refresh interval).
   {
     const std::size_t tiles = ctx.tile_ids.size(), workers = static_cast<std::size_t>(cfg.workers);
-    std::vector<double> area(tiles * workers, 0.0), covered(tiles * workers, 0.0);  // [segment][tile]
+    std::vector<int32_t> part(tiles * workers, -1);  // [segment][tile] -> index in area_parts[segment]
+    cfg.area_parts.assign(workers, {});
     const double cell = s.grid.cell_area();
     for (std::size_t i = 0; i < cfg.partition.labels.size(); ++i) {
       const int k = cfg.partition.labels[i];
       const int32_t t = ctx.tile_of_cell[i];
       if (k <= 0 || k > cfg.workers || t < 0) continue;
-      const std::size_t j = static_cast<std::size_t>(k - 1) * tiles + static_cast<std::size_t>(t);
-      area[j] += cell;
-      if (ctx.coverage[i]) covered[j] += cell;
+      std::vector<AreaDeliveries>& parts = cfg.area_parts[static_cast<std::size_t>(k - 1)];
+      int32_t& j = part[static_cast<std::size_t>(k - 1) * tiles + static_cast<std::size_t>(t)];
+      if (j < 0) j = static_cast<int32_t>(parts.size()), parts.push_back(AreaDeliveries{ctx.tile_ids[static_cast<std::size_t>(t)]});
+      AreaDeliveries& a = parts[static_cast<std::size_t>(j)];
+      a.area_m2 += cell;
+      const int b = std::clamp(static_cast<int>(std::max(0.0f, home_rank[i]) * AreaDeliveries::kRankBins), 0,
+                               AreaDeliveries::kRankBins - 1);
+      if (ctx.coverage[i]) a.covered_m2 += cell, a.rank_in[static_cast<std::size_t>(b)] += 1.0f;
+      else a.rank_out[static_cast<std::size_t>(b)] += 1.0f;
     }
-    cfg.area_parts.assign(workers, {});
-    for (std::size_t k = 0; k < workers; ++k)
-      for (std::size_t t = 0; t < tiles; ++t)
-        if (area[k * tiles + t] > 0) {
-          AreaDeliveries a{ctx.tile_ids[t]};
-          a.area_m2 = area[k * tiles + t], a.covered_m2 = covered[k * tiles + t];
-          cfg.area_parts[k].push_back(a);
-        }
+    for (std::vector<AreaDeliveries>& parts : cfg.area_parts)
+      std::sort(parts.begin(), parts.end(), [](const AreaDeliveries& x, const AreaDeliveries& y) { return x.area < y.area; });
   }
 
   t0 = Clock::now();

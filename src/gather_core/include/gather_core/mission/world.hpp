@@ -33,6 +33,13 @@ struct World {
   fmm::FastMarching coverage_field;
 
   bool covered(Cell c) const { return scenario.grid.contains(c) && coverage[scenario.grid.index(c)] != 0; }
+
+  // Where a worker delivering to the OC waits for requests: the coverage
+  // cell nearest its segment (`cells`, in row-major order), where it comes
+  // back to from the segment's nearest cell (that cell itself when it is
+  // covered). {-1, -1} when no cell of the segment reaches the coverage.
+  // The worker policy and the planner's estimate both use it.
+  Cell oc_worker_home(const std::vector<Cell>& cells) const;
 };
 
 }  // namespace mission

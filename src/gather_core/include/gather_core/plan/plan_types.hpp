@@ -2,6 +2,8 @@
 // The parts of a plan that executing it needs (plan.yaml holds them): where
 // a worker meets its collector, a collector's closed route, the planner's
 // per-worker estimate. Plain data, no planning code.
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -41,11 +43,34 @@ struct AreaDeliveries {
   int64_t area = 0;           // mission::area_of
   double area_m2 = 0.0;       // reachable area of the tile in the segment
   double covered_m2 = 0.0;    // of it inside the OC's coverage
-  double deliveries = 0.0;
+  // Where the part's cells rank among its segment's cells by walking
+  // distance from the home of the segment's worker as a worker of the OC
+  // (a worker that cannot measure all its goals in time measures the
+  // nearest): cells of the part outside (rank_out) and inside (rank_in) the
+  // OC's coverage whose rank lies in [b, b + 1) / kRankBins.
+  static constexpr int kRankBins = 16;
+  std::array<float, kRankBins> rank_out{}, rank_in{};
+  // The share of those cells (rank_out or rank_in) among the nearest
+  // fraction x of the segment (1 at x = 1; linear inside a bin).
+  static double nearest_share(const std::array<float, kRankBins>& ranks, double x) {
+    double total = 0.0, in = 0.0;
+    for (float n : ranks) total += n;
+    if (total <= 0.0) return 0.0;
+    const double b = std::clamp(x, 0.0, 1.0) * kRankBins;
+    for (int i = 0; i < kRankBins; ++i) in += ranks[static_cast<std::size_t>(i)] * std::clamp(b - i, 0.0, 1.0);
+    return in / total;
+  }
+  double deliveries = 0.0;     // expected number of deliveries
+  double events = 0.0;         // deliveries that may happen (each with its probability)
   double first = std::numeric_limits<double>::infinity(), last = -std::numeric_limits<double>::infinity();
-  void delivery(double t, double expected) {
+  // A delivery at t [s] carrying some of the area's goals with probability
+  // `expected`; `slots`: how many chances to deliver it stands for (below 1
+  // when it is one of several exclusive cases, weighted by the case's
+  // probability).
+  void delivery(double t, double expected, double slots = 1.0) {
     if (expected <= 1e-9) return;
     deliveries += expected;
+    events += slots;
     if (t < first) first = t;
     if (t > last) last = t;
   }

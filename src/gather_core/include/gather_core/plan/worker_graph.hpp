@@ -23,6 +23,21 @@ struct WorkerSegment {
   // Mean geodesic distance [m] from the coverage to the segment's cells: the
   // expected one-way trip to a goal of the segment from the OC's coverage.
   double mean_coverage_distance = 0.0;
+  // Mean geodesic distance [m] from the home of the segment's worker when it
+  // delivers to the OC (mission::World::oc_worker_home: where it waits for
+  // requests) to the segment's cells: the outbound leg of its tours. Set by
+  // the planner (plan_configuration); the way back is mean_coverage_distance.
+  double mean_home_distance = 0.0;
+  // The same distances' quantiles: home_quantiles[i] [m] is exceeded by a
+  // fraction 1 - i / 16 of the cells (empty until the planner sets it).
+  std::vector<double> home_quantiles;
+  // The same from the OC's cell, where its worker starts the mission (the
+  // first request's trip): mean [m] and quantiles.
+  double mean_oc_distance = 0.0;
+  std::vector<double> oc_quantiles;
+  // Mean geodesic distance [m] between two cells of the segment (walls and
+  // doors included; 0.52 sqrt(area) in an open square). Set by the planner.
+  double mean_pair_distance = 0.0;
   Cell entry;                   // preferably a cell where the robot fits (see build_worker_graph)
   bool touches_coverage = false;  // some cell of the segment is linked to the OC
 };
