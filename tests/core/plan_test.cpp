@@ -300,13 +300,17 @@ TEST(PlanEstimateTest, AnOcWorkersTourStartsAtItsHomeAndWalksOnTheMap) {
 }
 
 TEST(PlanEstimateTest, AGoalFartherThanAPeriodsWalkIsNeverMeasured) {
-  // A period of 10 s: the goal is measured when it lies within 10 m of the
-  // home, half of the corridor (one cycle, so no lateness carries over).
+  // A period of 10 s and one cycle: the worker learns request 0 at the OC's
+  // cell (x = 0.55), where it starts, and measures the goal when it lies
+  // within 10 m of there: x < 10.55, 52.75% of the corridor (a trip from
+  // its home at x = 0.05 would give 50.25%).
   const Scenario s = corridor_alone(10.0, 1);
   const plan::PlanContext ctx(s);
   const auto cfg = plan::plan_configuration(ctx, partition::Method::kBap, 0);
   ASSERT_EQ(cfg.estimates.workers.size(), 1u);
-  EXPECT_NEAR(cfg.estimates.workers[0].delivered_goals, 0.5, 0.03);
+  // From x = 0.55: (0.55^2 + 19.45^2) / 2 / 20 = 9.47 m on average.
+  EXPECT_NEAR(cfg.graph.segments[0].mean_oc_distance, 9.47, 0.3);
+  EXPECT_NEAR(cfg.estimates.workers[0].delivered_goals, 0.5275, 0.01);
 }
 
 TEST(PlanEstimateTest, NearestShareOfAnAreaPart) {

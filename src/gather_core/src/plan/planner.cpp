@@ -56,11 +56,11 @@ struct TourModel {
   // (WorkerSegment::home_quantiles; empty: unknown).
   std::vector<double> out_quantiles;
   double trip() const { return out + back; }
-  // The share of the region's cells within `d` [m] of the depot (without
-  // quantiles: 0 below the mean distance, 1 from it on).
+  // The share F(d) of the region's cells within `d` [m] of the depot, from
+  // the quantiles (linear between them); without quantiles, d / out up to 1.
   double within(double d) const {
     const std::size_t n = out_quantiles.size();
-    if (n < 2) return d >= out ? 1.0 : 0.0;
+    if (n < 2) return out > 0 ? std::clamp(d / out, 0.0, 1.0) : 1.0;
     if (d < out_quantiles.front()) return 0.0;
     if (d >= out_quantiles.back()) return 1.0;
     const std::size_t i = static_cast<std::size_t>(
@@ -73,19 +73,19 @@ struct TourModel {
     if (n < 1) return trip() * n;
     return trip() + c * side * (n - 1.0) / std::sqrt(n);
   }
-  // Of an optimal tour through k goals, the number it measures within
-  // `budget` [m] of leaving the depot: the goals lie c S / sqrt(k) apart
-  // along it, so with many goals and little time the nearest few are
-  // reached sooner than a tour through that few random goals would reach
-  // them; and never more than the k F(budget) goals that lie within the
-  // budget (F: `within`). When the mean goal is out of reach, about one
-  // goal if any lies within reach.
+  // Of a tour through k goals, the number it measures within `budget` [m]
+  // of leaving the depot: the first, when any of the k lies within reach
+  // (probability 1 - (1 - F)^k, F = within(budget)), then one every
+  // c S / sqrt(k) of the budget left past the mean distance `out` (the
+  // goals lie that far apart along the tour, so with many goals and little
+  // time the first few are reached sooner than a tour through that few
+  // random goals would reach them); never more than the k F goals within
+  // reach. Continuous in the budget.
   double measured(double k, double budget) const {
     if (k <= 0 || budget <= 0) return 0.0;
-    const double f = out_quantiles.size() >= 2 ? within(budget) : std::min(1.0, budget / std::max(out, 1e-9));
-    if (budget < out) return std::min(k * f, 1.0 - std::pow(1.0 - f, k));
-    if (k <= 1 || side <= 0) return std::min(k, k * f);
-    return std::min(k * f, 1.0 + (budget - out) * std::sqrt(k) / (c * side));
+    const double f = within(budget), first = 1.0 - std::pow(1.0 - f, k);
+    if (side <= 0) return k * f;
+    return std::min(k * f, first + std::max(0.0, budget - out) * std::sqrt(k) / (c * side));
   }
   // The trip [m] that measures the first n goals of an optimal tour through
   // k goals and comes back: length(k) when n = k.
