@@ -14,6 +14,7 @@
 #include "gather_core/plan/loop_schedule.hpp"
 #include "gather_core/plan/plan_file.hpp"
 #include "gather_core/plan/planner.hpp"
+#include "gather_core/mission/world.hpp"
 
 namespace gather {
 namespace {
@@ -311,6 +312,52 @@ TEST(PlanEstimateTest, AGoalFartherThanAPeriodsWalkIsNeverMeasured) {
   // From x = 0.55: (0.55^2 + 19.45^2) / 2 / 20 = 9.47 m on average.
   EXPECT_NEAR(cfg.graph.segments[0].mean_oc_distance, 9.47, 0.3);
   EXPECT_NEAR(cfg.estimates.workers[0].delivered_goals, 0.5275, 0.01);
+}
+
+TEST(PlanEstimateTest, AnOcWorkersHomeIsTheCoverageCellNearestItsSegment) {
+  const Scenario s = testing_support::corridor();  // coverage: x < 2.6 m, columns 0-25
+  const mission::World world(s);
+  std::vector<Cell> far, touching;
+  for (int r = 0; r < s.grid.height(); ++r)
+    for (int c = 0; c < s.grid.width(); ++c) {
+      if (c >= 100) far.push_back(Cell{r, c});
+      if (c >= 20 && c < 50) touching.push_back(Cell{r, c});
+    }
+  // Far from the coverage: where the way back from its nearest cell (row 0,
+  // column 100, first of the ties in row-major order) enters the coverage.
+  const Cell home = world.oc_worker_home(far);
+  EXPECT_TRUE(world.covered(home));
+  EXPECT_EQ(home.col, 25);
+  // Overlapping the coverage: its first covered cell in row-major order.
+  const Cell inside = world.oc_worker_home(touching);
+  EXPECT_EQ(inside.row, 0);
+  EXPECT_EQ(inside.col, 20);
+  EXPECT_EQ(world.oc_worker_home({}).row, -1);
+}
+
+TEST(PlanEstimateTest, IntervalOfUncertainDeliveries) {
+  const double horizon = 1000.0;
+  plan::AreaDeliveries sure;
+  for (int i = 0; i < 10; ++i) sure.delivery(100.0 + 50.0 * i, 1.0);
+  EXPECT_NEAR(sure.interval(horizon), 50.0, 1e-9);  // every delivery happens: (last - first) / 9
+  plan::AreaDeliveries one;
+  one.delivery(100.0, 1.0);
+  EXPECT_DOUBLE_EQ(one.interval(horizon), horizon);  // fewer than two: the whole mission
+  // Ten chances of 1/2: D ~ B(10, 1/2); by hand, horizon (P0 + P1) =
+  // 1000 * 11 / 1024 = 10.74, and S = 11 * 450 / 9 = 550 times
+  // E[1 / (D + 1); D >= 2] = (1 - 2^-11) / 5.5 - 1/1024 - 10 / 2048 = 0.175870.
+  plan::AreaDeliveries half;
+  for (int i = 0; i < 10; ++i) half.delivery(100.0 + 50.0 * i, 0.5);
+  EXPECT_NEAR(half.interval(horizon), 10.742 + 550.0 * 0.175870, 0.01);
+  // Rare deliveries are mostly fewer than two: close to the whole mission.
+  plan::AreaDeliveries rare;
+  for (int i = 0; i < 10; ++i) rare.delivery(100.0 + 50.0 * i, 0.01);
+  EXPECT_GT(rare.interval(horizon), 0.99 * horizon);
+  // A tile split between two segments sums its parts.
+  plan::AreaDeliveries tile;
+  tile.merge(sure), tile.merge(one);
+  EXPECT_DOUBLE_EQ(tile.events, 11.0);
+  EXPECT_NEAR(tile.interval(horizon), 45.0, 1e-9);
 }
 
 TEST(PlanEstimateTest, NearestShareOfAnAreaPart) {

@@ -445,36 +445,11 @@ struct WorkerRun {
   void add(double goals, double refresh) { delivered += goals, refresh_sum += goals * refresh; }
 };
 
-// The expected time between an area's consecutive deliveries, as
-// mission::interval_stats measures it on one run: (last - first) / (D - 1)
-// for D >= 2 deliveries, the whole mission (`horizon`) when fewer. Here D
-// is random: `events` deliveries may happen between `first` and `last`,
-// `deliveries` of them expected. D is taken binomial (events, p), p =
-// deliveries / events, the D that happen lying anywhere among the events:
-// then E[last - first | D = d] = S (d - 1) / (d + 1) with S = (m + 1)
-// (last - first) / (m - 1) for m events evenly spread, so the interval is
-// S / (d + 1), and
-//   E = horizon P(D <= 1) + S E[1 / (D + 1); D >= 2],
-//   E[1 / (D + 1)] = (1 - (1 - p)^(m + 1)) / ((m + 1) p).
-// When every event happens (p = 1) it is (last - first) / (m - 1). (The
-// interval of the expected count, (last - first) / (E[D] - 1), is the
-// interval of no run, and too long when deliveries are uncertain.)
-double area_interval(double deliveries, double events, double first, double last, double horizon) {
-  const double m = events;
-  if (m < 2.0 - 1e-9 || !(last > first) || deliveries <= 1e-9) return horizon;
-  const double p = std::clamp(deliveries / events, 0.0, 1.0);
-  const double q = 1.0 - p;
-  const double p0 = std::pow(q, m), p1 = m * p * std::pow(q, m - 1.0);
-  const double inv = (1.0 - std::pow(q, m + 1.0)) / ((m + 1.0) * p);  // E[1 / (D + 1)]
-  const double span = (m + 1.0) * (last - first) / (m - 1.0);
-  return horizon * (p0 + p1) + span * std::max(0.0, inv - p0 - 0.5 * p1);
-}
-
 // The mean over a worker's areas of their intervals.
 double mean_interval(const std::vector<AreaDeliveries>& areas, double horizon) {
   if (areas.empty()) return horizon;
   double sum = 0.0;
-  for (const AreaDeliveries& a : areas) sum += area_interval(a.deliveries, a.events, a.first, a.last, horizon);
+  for (const AreaDeliveries& a : areas) sum += a.interval(horizon);
   return sum / static_cast<double>(areas.size());
 }
 
@@ -749,21 +724,14 @@ void combine(Estimates& e, const PlanContext& ctx) {
   double weighted = 0.0;
   for (const WorkerEstimate& w : e.workers) e.goals += w.delivered_goals, weighted += w.delivered_goals * w.refresh_s;
   e.refresh_s = e.goals > 0 ? weighted / e.goals : 0.0;
-  struct Tile {
-    double area = 0.0, deliveries = 0.0, events = 0.0, first = kInf, last = -kInf;
-  };
-  std::map<int64_t, Tile> tiles;
-  for (const auto& [id, m2] : ctx.areas.area) tiles[id].area = m2;
+  std::map<int64_t, AreaDeliveries> tiles;  // area_m2: the tile's whole reachable area
+  for (const auto& [id, m2] : ctx.areas.area) tiles[id].area_m2 = m2;
   for (const WorkerEstimate& w : e.workers)
-    for (const AreaDeliveries& a : w.areas) {
-      Tile& t = tiles[a.area];
-      t.deliveries += a.deliveries, t.events += a.events;
-      t.first = std::min(t.first, a.first), t.last = std::max(t.last, a.last);
-    }
+    for (const AreaDeliveries& a : w.areas) tiles[a.area].merge(a);
   const int cycles = std::max(1, ctx.scenario.mission.cycles);
   const double horizon = cycles * ctx.cycle_period;
   double sum = 0.0, weights = 0.0;
-  for (const auto& [id, t] : tiles) sum += t.area * area_interval(t.deliveries, t.events, t.first, t.last, horizon), weights += t.area;
+  for (const auto& [id, t] : tiles) sum += t.area_m2 * t.interval(horizon), weights += t.area_m2;
   e.interval_s = weights > 0 ? sum / weights : horizon;
 }
 

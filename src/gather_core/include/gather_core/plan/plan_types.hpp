@@ -4,6 +4,7 @@
 // per-worker estimate. Plain data, no planning code.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -73,6 +74,35 @@ struct AreaDeliveries {
     events += slots;
     if (t < first) first = t;
     if (t > last) last = t;
+  }
+  // Adds another part's deliveries (a tile split between segments sums its
+  // parts; the areas are not added).
+  void merge(const AreaDeliveries& o) {
+    deliveries += o.deliveries, events += o.events;
+    first = std::min(first, o.first), last = std::max(last, o.last);
+  }
+  // The expected time [s] between the area's consecutive deliveries, as
+  // mission::interval_stats measures it on one run: (last - first) / (D - 1)
+  // for D >= 2 deliveries, the whole mission (`horizon`) when fewer. Here D
+  // is random: `events` deliveries may happen between `first` and `last`,
+  // `deliveries` of them expected. D is taken binomial (m = events,
+  // p = deliveries / events), the D that happen lying anywhere among the
+  // events: then E[last - first | D = d] = S (d - 1) / (d + 1) with
+  // S = (m + 1) (last - first) / (m - 1) for m events evenly spread, so the
+  // interval is S / (d + 1), and
+  //   E = horizon P(D <= 1) + S E[1 / (D + 1); D >= 2],
+  //   E[1 / (D + 1)] = (1 - (1 - p)^(m + 1)) / ((m + 1) p).
+  // When every event happens (p = 1) it is (last - first) / (m - 1). (The
+  // interval of the expected count, (last - first) / (E[D] - 1), is the
+  // interval of no run, and too long when deliveries are uncertain.)
+  double interval(double horizon) const {
+    const double m = events;
+    if (m < 2.0 - 1e-9 || !(last > first) || deliveries <= 1e-9) return horizon;
+    const double p = std::clamp(deliveries / events, 0.0, 1.0), q = 1.0 - p;
+    const double p0 = std::pow(q, m), p1 = m * p * std::pow(q, m - 1.0);
+    const double inv = (1.0 - std::pow(q, m + 1.0)) / ((m + 1.0) * p);  // E[1 / (D + 1)]
+    const double span = (m + 1.0) * (last - first) / (m - 1.0);
+    return horizon * (p0 + p1) + span * std::max(0.0, inv - p0 - 0.5 * p1);
   }
 };
 
