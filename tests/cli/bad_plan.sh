@@ -6,8 +6,10 @@
 #        tests/cli/bad_plan.sh build/gather "build/gather_agent --id 0 --lcm-url memq:// --plan"
 #
 # GATHER (the gather binary) makes a valid plan of maps/office (pap, 2
-# collectors); each case breaks a copy of it. The prefix (split into words on
-# spaces) is run with the broken plan directory appended. Each run must exit
+# collectors, the association off so that both serve workers and the plan
+# has meetings and passes to break); each case breaks a copy of it. The
+# prefix (split into words on spaces) is run with the broken plan directory
+# appended. Each run must exit
 # with status exactly 2, print nothing on stdout, print exactly one line on
 # stderr naming the file (or directory) at fault, and finish within 20 s.
 # Prints `ok   <case>` / `FAIL <case>: <why>` and `N passed, M failed`;
@@ -26,7 +28,7 @@ repo=$(cd "$here/../.." && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 good="$tmp/good"
-if ! "$gather" plan "$repo/maps/office.scenario.yaml" --config pap:2 --out "$good" >/dev/null 2>"$tmp/plan.err"; then
+if ! "$gather" plan "$repo/maps/office.scenario.yaml" --config pap:2 --association off --out "$good" >/dev/null 2>"$tmp/plan.err"; then
   echo "$0: cannot make the valid plan: $(head -c 300 "$tmp/plan.err")" >&2
   exit 1
 fi
