@@ -916,6 +916,15 @@ std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<i
   }
   std::vector<float> rank(labels.size(), -1.0f);
   std::vector<std::pair<double, std::size_t>> order;
+  std::vector<double> sorted;  // distances of one segment's cells, ascending
+  // The kQuantiles + 1 quantiles of ascending distances (the i-th: the
+  // value at rank i / kQuantiles).
+  auto quantiles = [](const std::vector<double>& ascending) {
+    std::vector<double> q(kQuantiles + 1);
+    for (std::size_t i = 0; i <= kQuantiles; ++i)
+      q[i] = ascending[std::min(ascending.size() - 1, i * ascending.size() / kQuantiles)];
+    return q;
+  };
   fmm::FastMarching walk = ctx.coverage_field;  // unit speed on the reachable space
   fmm::SolveOptions so;
   so.labels = false;
@@ -944,13 +953,13 @@ std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<i
     for (std::size_t i = 0; i < order.size(); ++i)
       rank[order[i].second] = static_cast<float>(static_cast<double>(i) / static_cast<double>(order.size()));
     if (home.row >= 0 && n == order.size()) {
-      seg.home_quantiles.resize(kQuantiles + 1);
-      for (std::size_t i = 0; i <= kQuantiles; ++i)
-        seg.home_quantiles[i] = order[std::min(order.size() - 1, i * order.size() / kQuantiles)].first;
+      sorted.clear();
+      for (const auto& [d, i] : order) sorted.push_back(d);
+      seg.home_quantiles = quantiles(sorted);
     }
     // From the OC's cell (the first request's trip).
-    std::vector<double> from_oc;
-    from_oc.reserve(cells[k].size());
+    std::vector<double>& from_oc = sorted;
+    from_oc.clear();
     for (Cell c : cells[k]) {
       const double d = ctx.oc_walk[grid.index(c)];
       if (d < kInf) from_oc.push_back(d);
@@ -960,9 +969,7 @@ std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<i
       double total = 0.0;
       for (double d : from_oc) total += d;
       seg.mean_oc_distance = total / static_cast<double>(from_oc.size());
-      seg.oc_quantiles.resize(kQuantiles + 1);
-      for (std::size_t i = 0; i <= kQuantiles; ++i)
-        seg.oc_quantiles[i] = from_oc[std::min(from_oc.size() - 1, i * from_oc.size() / kQuantiles)];
+      seg.oc_quantiles = quantiles(from_oc);
     } else {
       seg.mean_oc_distance = seg.mean_home_distance, seg.oc_quantiles = seg.home_quantiles;
     }
