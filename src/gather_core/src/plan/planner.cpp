@@ -15,6 +15,7 @@
 #include "gather_core/fmm/path.hpp"
 #include "gather_core/grid/reachability.hpp"
 #include "gather_core/mission/simulator.hpp"
+#include "gather_core/mission/worker_policy.hpp"
 #include "gather_core/path/path_polisher.hpp"
 #include "gather_core/plan/collector_groups.hpp"
 #include "gather_core/plan/loop_schedule.hpp"
@@ -992,14 +993,8 @@ PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_fi
   prepared.reachable_cells = reachable_cells;
   prepared.clearance = clearance.values();
   coverage_field.copy_times(coverage_distance);
-  {
-    fmm::FastMarching walk = coverage_field;  // unit speed on the reachable space
-    fmm::SolveOptions so;
-    so.labels = false;
-    walk.solve({fmm::Source::at_cell(oc_cell)}, so);
-    oc_walk.resize(grid.size());
-    for (std::size_t i = 0; i < grid.size(); ++i) oc_walk[i] = static_cast<float>(walk.time(grid.cell(i)));
-  }
+  // The simulator's own table of distances from the OC's cell.
+  oc_walk = mission::SharedDistances(*this).from_oc;
   for (std::size_t i = 0; i < coverage_distance.size(); ++i) {
     if (coverage[i]) coverage_distance[i] = 0.0;
     if (!reachable[i]) coverage_distance[i] = kInf;

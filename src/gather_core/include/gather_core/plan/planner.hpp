@@ -65,7 +65,8 @@ struct PlanContext : mission::World {
   std::vector<uint8_t> roomy;               // 1 where the robot fits (route_speed == 1)
   fmm::FastMarching oc_field;               // solved from the OC on route_speed: legs from/to the OC
   // [m] walking distance (unit speed on the reachable space) from the OC's
-  // cell, where every worker starts the mission; +inf unreachable.
+  // cell, where every worker starts the mission; +inf unreachable
+  // (mission::SharedDistances::from_oc, the simulator's table).
   std::vector<float> oc_walk;
 };
 
