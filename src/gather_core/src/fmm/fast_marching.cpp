@@ -475,12 +475,10 @@ void FastMarching::march_buckets(const SolveOptions& options) {
       break;
     }
     if (!targets_.empty()) {
-      for (std::size_t i = targets_.size(); i-- > 0;) {
-        if (bucket_of(t[targets_[i]]) < cb) {
-          targets_[i] = targets_.back();
-          targets_.pop_back();
-        }
-      }
+      // Drop the final targets from the back, up to the first one that is
+      // not final yet: the march goes on while one is not, and each target is
+      // looked at once plus once per bucket (not all of them per bucket).
+      while (!targets_.empty() && bucket_of(t[targets_.back()]) < cb) targets_.pop_back();
       if (targets_.empty()) {
         stopped = true;
         break;
@@ -580,6 +578,7 @@ void FastMarching::march_heap(const SolveOptions& options) {
   std::make_heap(heap_.begin(), heap_.end(), later);
   std::size_t expanded = 0, pushed = heap_.size();
   std::size_t targets_left = targets_.size();
+  std::sort(targets_.begin(), targets_.end());  // looked up per expanded cell: a binary search, not a scan
   bool stopped = false;
   const float max_time = static_cast<float>(std::min(options.max_time, 3.0e38));
 
@@ -596,7 +595,7 @@ void FastMarching::march_heap(const SolveOptions& options) {
       break;
     }
     ++expanded;
-    if (targets_left > 0 && std::find(targets_.begin(), targets_.end(), x) != targets_.end()) {
+    if (targets_left > 0 && std::binary_search(targets_.begin(), targets_.end(), x)) {
       if (--targets_left == 0) stopped = true;  // expand it anyway: harmless, keeps neighbours consistent
     }
     relax_neighbours<kUnit, kLabels, kSecond>(grid, x, tx, next_up(tx), [&](std::size_t n, float u, bool unreached) {
