@@ -15,7 +15,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kEps = 1e-9;           // [s] time tolerance
-constexpr double kWindowMargin = 1.0;   // [m] around a segment's bounding box for marches between its goals
 constexpr std::size_t kMaxLandings = 16;  // per OC worker: landing tables kept; beyond, march each time
 constexpr double kLinkStep = 0.1;       // [m] of route between two samples of a rendezvous' link window
 
@@ -116,52 +115,8 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
     }
   }
 
-  // The window: the segment's bounding box plus the margin, traversable in
-  // the segment dilated by the margin (a square dilation, one pass along rows
-  // and one along columns): between its goals a worker stays in or next to
-  // its own area, as the planner assumes.
-  if (!segment_cells_.empty()) {
-    const int margin = static_cast<int>(std::ceil(kWindowMargin / grid.resolution()));
-    int r0 = grid.height(), r1 = -1, c0 = grid.width(), c1 = -1;
-    for (Cell c : segment_cells_) r0 = std::min(r0, c.row), r1 = std::max(r1, c.row), c0 = std::min(c0, c.col), c1 = std::max(c1, c.col);
-    r0 = std::max(0, r0 - margin), c0 = std::max(0, c0 - margin);
-    r1 = std::min(grid.height() - 1, r1 + margin), c1 = std::min(grid.width() - 1, c1 + margin);
-    const int ww = c1 - c0 + 1, wh = r1 - r0 + 1;
-    std::vector<int8_t> vals(static_cast<std::size_t>(ww) * wh);
-    std::vector<uint8_t> fr(vals.size());
-    for (int r = 0; r < wh; ++r)
-      for (int c = 0; c < ww; ++c) {
-        const std::size_t src = grid.index(Cell{r0 + r, c0 + c}), dst = static_cast<std::size_t>(r) * ww + c;
-        vals[dst] = grid.values()[src], fr[dst] = grid.free_mask()[src];
-      }
-    std::vector<uint8_t> near(vals.size(), 0), rows(vals.size(), 0);
-    for (Cell c : segment_cells_) near[static_cast<std::size_t>(c.row - r0) * ww + (c.col - c0)] = 1;
-    for (int r = 0; r < wh; ++r)
-      for (int c = 0, last = -1000000; c < ww; ++c) {
-        if (near[static_cast<std::size_t>(r) * ww + c]) last = c;
-        if (c - last <= margin) rows[static_cast<std::size_t>(r) * ww + c] = 1;
-      }
-    for (int r = 0; r < wh; ++r)
-      for (int c = ww - 1, last = 1000000; c >= 0; --c) {
-        if (near[static_cast<std::size_t>(r) * ww + c]) last = c;
-        if (last - c <= margin) rows[static_cast<std::size_t>(r) * ww + c] = 1;
-      }
-    std::fill(near.begin(), near.end(), 0);
-    for (int c = 0; c < ww; ++c) {
-      for (int r = 0, last = -1000000; r < wh; ++r) {
-        if (rows[static_cast<std::size_t>(r) * ww + c]) last = r;
-        if (r - last <= margin) near[static_cast<std::size_t>(r) * ww + c] = 1;
-      }
-      for (int r = wh - 1, last = 1000000; r >= 0; --r) {
-        if (rows[static_cast<std::size_t>(r) * ww + c]) last = r;
-        if (last - r <= margin) near[static_cast<std::size_t>(r) * ww + c] = 1;
-      }
-    }
-    for (std::size_t i = 0; i < fr.size(); ++i) fr[i] = fr[i] && near[i];
-    const Point2 o{grid.origin().x + c0 * grid.resolution(), grid.origin().y + r0 * grid.resolution()};
-    window_ = std::make_unique<fmm::FastMarching>(OccupancyGrid(ww, wh, grid.resolution(), o, vals, fr));
-    window_origin_ = Cell{r0, c0};
-  }
+  // Marches between its goals stay in its window (see SegmentWindow).
+  if (!segment_cells_.empty()) window_ = std::make_unique<SegmentWindow>(grid, segment_cells_);
 
   solve_options_.labels = false;
   source_.resize(1);
@@ -222,18 +177,16 @@ void WorkerPolicy::reserve(std::size_t max_goals) {
   at_.resize(max_goals_, 0.0);
   used_.resize(max_goals_, 0);
   targets_.reserve(m);
-  shifted_.reserve(m);
   tmp_.reserve(m);
   if (solve_options_.targets.capacity() < m) solve_options_.targets.reserve(m);
-  if (grown && window_) window_->reserve_work(m, 0);
+  if (grown && window_) window_->reserve(m);
 }
 
 void WorkerPolicy::reserve_all() {
   const OccupancyGrid& grid = world_.scenario.grid;
   shared_.fm.reserve_work(std::max(segment_cells_.size(), max_goals_ + rendezvous_.size()),
                           static_cast<std::size_t>(8 * (grid.width() + grid.height())));
-  if (window_)
-    window_->reserve_work(max_goals_ + rendezvous_.size(), static_cast<std::size_t>(8 * (window_->width() + window_->height())));
+  if (window_) window_->reserve(max_goals_ + rendezvous_.size());
   if (delivers_to_oc())
     while (landing_to_cell_.size() < kMaxLandings)
       landing_to_cell_.emplace_back(static_cast<std::size_t>(-1), std::vector<float>(segment_cells_.size()));
@@ -272,20 +225,7 @@ void WorkerPolicy::march_one(Cell from, Cell to, double& out) {
 // Distances [m] from `from` to `targets`, all in the worker's window, marched
 // in the window; on the whole map if some target cannot be reached there.
 void WorkerPolicy::march_in_window(Cell from, const std::vector<Cell>& targets, double* out) {
-  if (window_) {
-    auto local = [&](Cell c) { return Cell{c.row - window_origin_.row, c.col - window_origin_.col}; };
-    bool inside = window_->contains(local(from));
-    shifted_.clear();
-    for (Cell c : targets) shifted_.push_back(local(c)), inside = inside && window_->contains(shifted_.back());
-    if (inside) {
-      source_[0] = fmm::Source::at_cell(local(from));
-      solve_options_.targets.assign(shifted_.begin(), shifted_.end());
-      window_->solve(source_, solve_options_);
-      bool all = true;
-      for (std::size_t i = 0; i < shifted_.size(); ++i) out[i] = window_->time(shifted_[i]), all = all && out[i] < kInf;
-      if (all) return;
-    }
-  }
+  if (window_ && window_->march(from, targets, out)) return;
   march(from, targets, out);
 }
 

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -14,6 +15,7 @@
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/fmm/path.hpp"
 #include "gather_core/grid/reachability.hpp"
+#include "gather_core/mission/segment_window.hpp"
 #include "gather_core/mission/simulator.hpp"
 #include "gather_core/mission/worker_policy.hpp"
 #include "gather_core/path/path_polisher.hpp"
@@ -903,11 +905,21 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
 //    no march), where that worker starts the mission;
 //  - mean_pair_distance: between two of its cells, the mean over the cells
 //    of the distances from kPairSources cells spread over the segment (in
-//    row-major order, so the estimate is deterministic).
+//    row-major order, so the estimate is deterministic), marched in the
+//    segment's window as the worker marches between its goals.
 // Returns each cell's rank in its segment by distance from that home, in
 // [0, 1) (row-major; -1 off the segments).
+// The bits of a distance as a float; for d >= 0 (and +inf) they sort like d.
+uint32_t float_bits(double d) {
+  const float f = static_cast<float>(d);
+  uint32_t bits;
+  std::memcpy(&bits, &f, sizeof bits);
+  return bits;
+}
+
 std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<int32_t>& labels, WorkerGraph& graph) {
-  constexpr std::size_t kPairSources = 6, kQuantiles = 16;
+  constexpr std::size_t kPairSources = 3, kQuantiles = 16;
+  constexpr double kHomeBoxMargin = 3.0;  // [m] around the segment and its home, for the walk from the home
   const OccupancyGrid& grid = ctx.scenario.grid;
   std::vector<std::vector<Cell>> cells(graph.segments.size());
   for (std::size_t i = 0; i < labels.size() && i < grid.size(); ++i) {
@@ -916,8 +928,10 @@ std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<i
       cells[static_cast<std::size_t>(k - 1)].push_back(grid.cell(i));
   }
   std::vector<float> rank(labels.size(), -1.0f);
-  std::vector<std::pair<double, std::size_t>> order;
+  std::vector<uint64_t> order;
   std::vector<double> sorted;  // distances of one segment's cells, ascending
+  std::vector<double> pair;    // distances from one cell of a segment to its cells
+  std::vector<double> walk_time;  // from the home to the segment's cells
   // The kQuantiles + 1 quantiles of ascending distances (the i-th: the
   // value at rank i / kQuantiles).
   auto quantiles = [](const std::vector<double>& ascending) {
@@ -943,19 +957,39 @@ std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<i
     seg.mean_home_distance = seg.mean_coverage_distance;
     seg.mean_pair_distance = kSquarePairDistance * std::sqrt(seg.area);  // an open square's, until measured
     if (cells[k].empty()) continue;
+    walk_time.assign(cells[k].size(), kInf);
     double sum = 0.0;
     std::size_t n = 0;
     const Cell home = ctx.oc_worker_home(cells[k]);
-    if (home.row >= 0) mean_from(home, cells[k], sum, n);
+    // From the home: in the segment's window when the home lies in it (a
+    // segment that touches the coverage), else in a box around both, else
+    // on the whole map.
+    mission::SegmentWindow window(grid, cells[k]);
+    pair.resize(cells[k].size());
+    if (home.row >= 0) {
+      if (window.march(home, cells[k], pair.data()) ||
+          mission::SegmentWindow(grid, cells[k], home, kHomeBoxMargin).march(home, cells[k], pair.data())) {
+        for (std::size_t i = 0; i < pair.size(); ++i) walk_time[i] = pair[i];
+        for (double t : pair) sum += t;
+        n = pair.size();
+      } else {
+        mean_from(home, cells[k], sum, n);
+        for (std::size_t i = 0; i < cells[k].size(); ++i) walk_time[i] = walk.time(cells[k][i]);
+      }
+    }
     if (n > 0) seg.mean_home_distance = sum / static_cast<double>(n);
+    // Ascending by distance, ties by row-major order: keys (the distance's
+    // float bits, which sort like distances >= 0) << 32 | index in cells[k].
+    // The marches' times are floats, so nothing is lost.
     order.clear();
-    for (Cell c : cells[k]) order.emplace_back(home.row >= 0 ? walk.time(c) : 0.0, grid.index(c));
+    for (std::size_t i = 0; i < cells[k].size(); ++i)
+      order.push_back(static_cast<uint64_t>(float_bits(home.row >= 0 ? walk_time[i] : 0.0)) << 32 | i);
     std::sort(order.begin(), order.end());
     for (std::size_t i = 0; i < order.size(); ++i)
-      rank[order[i].second] = static_cast<float>(static_cast<double>(i) / static_cast<double>(order.size()));
+      rank[grid.index(cells[k][order[i] & 0xffffffffu])] = static_cast<float>(static_cast<double>(i) / static_cast<double>(order.size()));
     if (home.row >= 0 && n == order.size()) {
       sorted.clear();
-      for (const auto& [d, i] : order) sorted.push_back(d);
+      for (uint64_t key : order) sorted.push_back(walk_time[key & 0xffffffffu]);
       seg.home_quantiles = quantiles(sorted);
     }
     // From the OC's cell (the first request's trip).
@@ -974,9 +1008,19 @@ std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<i
     } else {
       seg.mean_oc_distance = seg.mean_home_distance, seg.oc_quantiles = seg.home_quantiles;
     }
+    // Between its cells, in its window as the worker walks between goals
+    // (on the whole map when the window does not connect them).
     sum = 0.0, n = 0;
     const std::size_t sources = std::min(kPairSources, cells[k].size());
-    for (std::size_t j = 0; j < sources; ++j) mean_from(cells[k][(2 * j + 1) * cells[k].size() / (2 * sources)], cells[k], sum, n);
+    for (std::size_t j = 0; j < sources; ++j) {
+      const Cell from = cells[k][(2 * j + 1) * cells[k].size() / (2 * sources)];
+      if (!window.march(from, cells[k], pair.data())) {
+        mean_from(from, cells[k], sum, n);
+        continue;
+      }
+      for (double t : pair) sum += t;
+      n += pair.size();
+    }
     if (n > 0) seg.mean_pair_distance = sum / static_cast<double>(n);
   }
   return rank;

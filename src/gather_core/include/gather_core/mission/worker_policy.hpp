@@ -20,6 +20,7 @@
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/mission/mission_plan.hpp"
 #include "gather_core/mission/route_timetable.hpp"
+#include "gather_core/mission/segment_window.hpp"
 #include "gather_core/mission/world.hpp"
 
 namespace gather {
@@ -219,11 +220,9 @@ class WorkerPolicy {
   Cell home_{-1, -1};
   std::vector<float> meeting_to_cell_;  // [m] from the meeting point to every cell of the segment
   std::vector<double> meeting_to_rv_;   // [m] from the meeting point to each rendezvous
-  // A workspace on the segment's bounding box plus a margin, traversable only
-  // in the segment and within the margin of it: marches between goals stay
-  // small (a way that leaves the window is re-marched on the whole map).
-  std::unique_ptr<fmm::FastMarching> window_;
-  Cell window_origin_;
+  // Marches between goals stay in the segment's window (a way that leaves
+  // it is re-marched on the whole map).
+  std::unique_ptr<SegmentWindow> window_;
   // OC workers: distances [m] from the coverage cells they came back to, to
   // every cell of the segment (filled on first use, at most kMaxLandings).
   std::vector<std::pair<std::size_t, std::vector<float>>> landing_to_cell_;
@@ -244,7 +243,7 @@ class WorkerPolicy {
   std::vector<double> at_;
   std::vector<char> used_;
   // March scratch.
-  std::vector<Cell> targets_, shifted_;
+  std::vector<Cell> targets_;
   std::vector<double> tmp_;
   std::vector<fmm::Source> source_;
   fmm::SolveOptions solve_options_;

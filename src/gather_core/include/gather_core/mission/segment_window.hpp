@@ -1,0 +1,46 @@
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "gather_core/fmm/fast_marching.hpp"
+#include "gather_core/grid/occupancy_grid.hpp"
+
+namespace gather {
+namespace mission {
+
+// A worker's workspace for walks inside its segment: the segment's bounding
+// box plus a margin, traversable only in the segment dilated by the margin
+// (a square dilation). Between its goals a worker stays in or next to its own
+// area, so marches between them stay small. The worker policy marches its
+// goal-to-goal distances here, and the planner's estimate its distances
+// between a segment's cells: both see the same walks.
+class SegmentWindow {
+ public:
+  static constexpr double kDefaultMargin = 1.0;  // [m]
+
+  // `cells`: the segment's cells (map indices), not empty.
+  SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, double margin = kDefaultMargin);
+  // A box for walks to the segment from `also`: the bounding box of `cells`
+  // and `also` plus `margin` [m], free wherever the map is.
+  SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, Cell also, double margin);
+
+  // Distances [m] from `from` to `targets` (map cells), marched in the window.
+  // False when `from` or a target lies outside the window or is not reached
+  // in it (the caller then marches on the whole map); `out` is then partial.
+  bool march(Cell from, const std::vector<Cell>& targets, double* out);
+
+  // Reserves room for marches to up to `targets` cells, so that march() does
+  // not allocate (for control loops that must not).
+  void reserve(std::size_t targets);
+
+ private:
+  Cell origin_;  // of the window on the map (set while fm_ is built: declared first)
+  fmm::FastMarching fm_;
+  std::vector<Cell> shifted_;
+  std::vector<fmm::Source> source_;
+  fmm::SolveOptions options_;
+};
+
+}  // namespace mission
+}  // namespace gather

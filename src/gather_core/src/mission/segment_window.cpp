@@ -1,0 +1,99 @@
+#include "gather_core/mission/segment_window.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace gather {
+namespace mission {
+
+namespace {
+
+// The window's grid: the bounding box of `cells` (and of `also` if on the
+// map) plus `margin` cells, free where the map is free and, if `near_only`,
+// within `margin` cells (Chebyshev) of `cells`: one pass along rows, then
+// one along columns.
+OccupancyGrid window_grid(const OccupancyGrid& grid, const std::vector<Cell>& cells, Cell also, int margin, bool near_only,
+                          Cell& origin) {
+  int r0 = grid.height(), r1 = -1, c0 = grid.width(), c1 = -1;
+  for (Cell c : cells) r0 = std::min(r0, c.row), r1 = std::max(r1, c.row), c0 = std::min(c0, c.col), c1 = std::max(c1, c.col);
+  if (grid.contains(also))
+    r0 = std::min(r0, also.row), r1 = std::max(r1, also.row), c0 = std::min(c0, also.col), c1 = std::max(c1, also.col);
+  r0 = std::max(0, r0 - margin), c0 = std::max(0, c0 - margin);
+  r1 = std::min(grid.height() - 1, r1 + margin), c1 = std::min(grid.width() - 1, c1 + margin);
+  const int ww = c1 - c0 + 1, wh = r1 - r0 + 1;
+  auto at = [ww](int r, int c) { return static_cast<std::size_t>(r) * static_cast<std::size_t>(ww) + static_cast<std::size_t>(c); };
+  std::vector<int8_t> vals(static_cast<std::size_t>(ww) * static_cast<std::size_t>(wh));
+  std::vector<uint8_t> fr(vals.size());
+  for (int r = 0; r < wh; ++r)
+    for (int c = 0; c < ww; ++c) {
+      const std::size_t src = grid.index(Cell{r0 + r, c0 + c});
+      vals[at(r, c)] = grid.values()[src], fr[at(r, c)] = grid.free_mask()[src];
+    }
+  origin = Cell{r0, c0};
+  const Point2 o{grid.origin().x + c0 * grid.resolution(), grid.origin().y + r0 * grid.resolution()};
+  if (!near_only) return OccupancyGrid(ww, wh, grid.resolution(), o, vals, fr);
+  std::vector<uint8_t> near(vals.size(), 0), rows(vals.size(), 0);
+  for (Cell c : cells) near[at(c.row - r0, c.col - c0)] = 1;
+  for (int r = 0; r < wh; ++r) {
+    for (int c = 0, last = -1000000; c < ww; ++c) {
+      if (near[at(r, c)]) last = c;
+      if (c - last <= margin) rows[at(r, c)] = 1;
+    }
+    for (int c = ww - 1, last = 1000000; c >= 0; --c) {
+      if (near[at(r, c)]) last = c;
+      if (last - c <= margin) rows[at(r, c)] = 1;
+    }
+  }
+  std::fill(near.begin(), near.end(), 0);
+  for (int c = 0; c < ww; ++c) {
+    for (int r = 0, last = -1000000; r < wh; ++r) {
+      if (rows[at(r, c)]) last = r;
+      if (r - last <= margin) near[at(r, c)] = 1;
+    }
+    for (int r = wh - 1, last = 1000000; r >= 0; --r) {
+      if (rows[at(r, c)]) last = r;
+      if (last - r <= margin) near[at(r, c)] = 1;
+    }
+  }
+  for (std::size_t i = 0; i < fr.size(); ++i) fr[i] = fr[i] && near[i];
+  return OccupancyGrid(ww, wh, grid.resolution(), o, vals, fr);
+}
+
+}  // namespace
+
+SegmentWindow::SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, double margin)
+    : fm_(window_grid(grid, cells, Cell{-1, -1}, static_cast<int>(std::ceil(margin / grid.resolution())), true, origin_)),
+      source_(1) {
+  options_.labels = false;
+}
+
+SegmentWindow::SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, Cell also, double margin)
+    : fm_(window_grid(grid, cells, also, static_cast<int>(std::ceil(margin / grid.resolution())), false, origin_)), source_(1) {
+  options_.labels = false;
+}
+
+bool SegmentWindow::march(Cell from, const std::vector<Cell>& targets, double* out) {
+  auto local = [&](Cell c) { return Cell{c.row - origin_.row, c.col - origin_.col}; };
+  if (!fm_.traversable(local(from))) return false;  // off the window, or outside the segment's margin
+  shifted_.clear();
+  for (Cell c : targets) {
+    shifted_.push_back(local(c));
+    if (!fm_.contains(shifted_.back())) return false;
+  }
+  source_[0] = fmm::Source::at_cell(local(from));
+  options_.targets.assign(shifted_.begin(), shifted_.end());
+  fm_.solve(source_, options_);
+  bool all = true;
+  for (std::size_t i = 0; i < shifted_.size(); ++i) out[i] = fm_.time(shifted_[i]), all = all && fm_.reached(shifted_[i]);
+  return all;
+}
+
+void SegmentWindow::reserve(std::size_t targets) {
+  shifted_.reserve(targets);
+  options_.targets.reserve(targets);
+  fm_.reserve_work(targets, static_cast<std::size_t>(8 * (fm_.width() + fm_.height())));
+}
+
+}  // namespace mission
+}  // namespace gather

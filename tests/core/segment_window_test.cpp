@@ -1,0 +1,95 @@
+// SegmentWindow: the marches a worker makes between its goals (and the
+// planner's estimate between a segment's cells) agree with the whole map's
+// where the way stays near the segment, and refuse, without throwing, what
+// they cannot answer.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "gather_core/fmm/fast_marching.hpp"
+#include "gather_core/mission/segment_window.hpp"
+#include "predicate_grid.hpp"
+
+namespace gather {
+namespace {
+
+using testing_support::predicate_grid;
+
+std::vector<Cell> block(int r0, int r1, int c0, int c1) {
+  std::vector<Cell> cells;
+  for (int r = r0; r <= r1; ++r)
+    for (int c = c0; c <= c1; ++c) cells.push_back(Cell{r, c});
+  return cells;
+}
+
+// Whole-map distances from `from` to `targets`.
+std::vector<double> on_the_map(const OccupancyGrid& grid, Cell from, const std::vector<Cell>& targets) {
+  fmm::FastMarching fm(grid);
+  fmm::SolveOptions so;
+  so.labels = false;
+  fm.solve({fmm::Source::at_cell(from)}, so);
+  std::vector<double> t;
+  for (Cell c : targets) t.push_back(fm.time(c));
+  return t;
+}
+
+TEST(SegmentWindowTest, OpenSpaceGivesTheWholeMapsDistancesAwayFromTheOrigin) {
+  // The segment sits away from the map's corner, so a window whose offset
+  // were lost would miss its cells.
+  const OccupancyGrid grid = predicate_grid(60, 50, [](int, int) { return true; }, 0.1);
+  const std::vector<Cell> seg = block(20, 34, 25, 44);
+  mission::SegmentWindow window(grid, seg);
+  std::vector<double> out(seg.size());
+  ASSERT_TRUE(window.march(Cell{22, 27}, seg, out.data()));
+  const std::vector<double> ref = on_the_map(grid, Cell{22, 27}, seg);
+  for (std::size_t i = 0; i < seg.size(); ++i) EXPECT_NEAR(out[i], ref[i], 1e-5) << i;
+  EXPECT_NEAR(out.back(), ref.back(), 1e-5);
+  EXPECT_GT(out.back(), 2.0);  // (34, 44) is about 2.3 m from (22, 27)
+}
+
+TEST(SegmentWindowTest, RefusesASourceOutsideTheSegmentsMarginWithoutThrowing) {
+  const OccupancyGrid grid = predicate_grid(70, 60, [](int, int) { return true; }, 0.1);
+  // An L: the box's far corner lies more than the 1 m margin from the cells.
+  std::vector<Cell> seg = block(20, 22, 20, 55);
+  for (Cell c : block(23, 48, 20, 22)) seg.push_back(c);
+  mission::SegmentWindow window(grid, seg);
+  std::vector<double> out(seg.size());
+  EXPECT_FALSE(window.march(Cell{44, 44}, seg, out.data()));  // in the box, beyond the margin
+  EXPECT_FALSE(window.march(Cell{2, 2}, seg, out.data()));    // off the box
+  EXPECT_TRUE(window.march(Cell{30, 25}, seg, out.data()));   // within the margin
+}
+
+TEST(SegmentWindowTest, RefusesTargetsThatTheMarginDoesNotConnect) {
+  // Two rooms joined only by a corridor far from them: the window (the rooms
+  // plus 1 m) does not connect them, the caller must march the whole map.
+  const OccupancyGrid grid = predicate_grid(80, 60, [](int r, int c) {
+    const bool room_a = r >= 5 && r <= 15 && c >= 5 && c <= 30;
+    const bool room_b = r >= 5 && r <= 15 && c >= 34 && c <= 60;
+    const bool corridor = (r >= 45 && r <= 48 && c >= 10 && c <= 50) || ((c >= 10 && c <= 12) || (c >= 48 && c <= 50));
+    return room_a || room_b || (corridor && r >= 5 && r <= 48);
+  }, 0.1);
+  std::vector<Cell> seg = block(5, 15, 5, 30);
+  for (Cell c : block(5, 15, 34, 60)) seg.push_back(c);
+  mission::SegmentWindow window(grid, seg);
+  std::vector<double> out(seg.size());
+  EXPECT_FALSE(window.march(Cell{10, 20}, seg, out.data()));
+  const std::vector<Cell> room_a = block(5, 15, 5, 30);
+  EXPECT_TRUE(window.march(Cell{10, 20}, room_a, out.data()));
+}
+
+TEST(SegmentWindowTest, TheBoxToAFarHomeMarchesTheWayThere) {
+  const OccupancyGrid grid = predicate_grid(60, 50, [](int, int) { return true; }, 0.1);
+  const std::vector<Cell> seg = block(30, 40, 40, 50);
+  const Cell home{5, 5};
+  mission::SegmentWindow box(grid, seg, home, 0.5);
+  std::vector<double> out(seg.size());
+  ASSERT_TRUE(box.march(home, seg, out.data()));
+  const std::vector<double> ref = on_the_map(grid, home, seg);
+  for (std::size_t i = 0; i < seg.size(); ++i) EXPECT_NEAR(out[i], ref[i], 1e-5) << i;
+  // The segment's own window does not hold that home.
+  mission::SegmentWindow window(grid, seg);
+  EXPECT_FALSE(window.march(home, seg, out.data()));
+}
+
+}  // namespace
+}  // namespace gather
