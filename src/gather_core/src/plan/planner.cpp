@@ -557,7 +557,17 @@ WorkerRun run_oc_worker(const TourModel& tour, const TourModel& first, const std
   // goals with probability sum_k P(k) (1 - (1 - f s)^k); likewise it
   // measures k f' s'(n_k / k) goals of the covered part, each delivered as
   // it is measured. (The first trip, from the OC's cell, ranks the cells as
-  // from the home: the OC is in the coverage too.)
+  // from the home: the OC is in the coverage too.) A worker whose segment
+  // lies partly in the coverage learns a request wherever it is there, not
+  // only at its home, and starts that tour from there: with weight w, the
+  // covered share of the segment, a trip serves every part alike
+  // (s(x) = x), with weight 1 - w nearest-first from the home.
+  double covered = 0.0;
+  for (const AreaDeliveries& a : run.areas) covered += a.covered_m2;
+  const double w = tour.area > 0 ? std::clamp(covered / tour.area, 0.0, 1.0) : 0.0;
+  auto share = [w](const std::array<float, AreaDeliveries::kRankBins>& rank, double x) {
+    return (1.0 - w) * AreaDeliveries::nearest_share(rank, x) + w * std::clamp(x, 0.0, 1.0);
+  };
   std::vector<double> carries[2], inside[2];
   for (int h = 0; h < 2; ++h) {
     carries[h].assign(run.areas.size(), 0.0), inside[h].assign(run.areas.size(), 0.0);
@@ -567,9 +577,9 @@ WorkerRun run_oc_worker(const TourModel& tour, const TourModel& first, const std
       const double f_in = tour.area > 0 ? std::clamp(a.covered_m2 / tour.area, 0.0, 1.0) : 0.0;
       for (std::size_t k = 1; k < pmf.size(); ++k) {
         const double x = trips[h].measured[k] / static_cast<double>(k);
-        const double out = f * AreaDeliveries::nearest_share(a.rank_out, x);
+        const double out = f * share(a.rank_out, x);
         carries[h][i] += pmf[k] * (1.0 - std::pow(1.0 - out, static_cast<double>(k)));
-        inside[h][i] += pmf[k] * static_cast<double>(k) * f_in * AreaDeliveries::nearest_share(a.rank_in, x);
+        inside[h][i] += pmf[k] * static_cast<double>(k) * f_in * share(a.rank_in, x);
       }
     }
   }
