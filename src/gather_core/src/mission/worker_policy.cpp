@@ -15,7 +15,7 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kEps = 1e-9;           // [s] time tolerance
-constexpr std::size_t kMaxLandings = 16;  // per OC worker: landing tables kept; beyond, march each time
+constexpr std::size_t kMaxLandings = 8;   // per OC worker: landing tables kept; beyond, march each time
 constexpr double kLinkStep = 0.1;       // [m] of route between two samples of a rendezvous' link window
 
 // An internal invariant broke (a bug, not bad input): exit status 1.
