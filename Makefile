@@ -13,7 +13,7 @@ CYCLES ?= 0
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build run test test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults partition-report scenario-report regime-report runtime-report clean help
+.PHONY: all deps build run test test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-signing partition-report scenario-report regime-report runtime-report clean help
 
 all: build
 
@@ -71,12 +71,14 @@ test-plain: deps
 # Every bad input gives one line naming the file and exit status 2, from every
 # binary: bad scenarios, and bad plan directories.
 G := $(WS)/devel/lib/gather_core/gather
+TEST_KEY := $(WS)/build/test_fleet.key
 test-cli: build
+	test -f $(TEST_KEY) || $(G) keygen $(TEST_KEY)
 	tests/cli/bad_input.sh "$(G) info"
 	tests/cli/bad_input.sh "$(WS)/devel/lib/gather_oc/oc_node"
 	tests/cli/bad_input.sh "$(WS)/devel/lib/gather_oc/fleet_node"
 	tests/cli/bad_plan.sh $(G) "$(G) run --out $(WS)/build/bad_plan_run"
-	tests/cli/bad_plan.sh $(G) "$(WS)/devel/lib/gather_agent/gather_agent --id 0 --lcm-url memq:// --silence 5 --plan"
+	tests/cli/bad_plan.sh $(G) "$(WS)/devel/lib/gather_agent/gather_agent --id 0 --lcm-url memq:// --silence 5 --key-file $(TEST_KEY) --plan"
 	tests/cli/bad_plan.sh $(G) "$(WS)/devel/lib/gather_oc/oc_node $(abspath maps/office.scenario.yaml)"
 
 # The agent runtime over LCM against one process (gather run --lcm), and
@@ -110,6 +112,11 @@ runtime-report: build
 # docs/faults_bench.md (~5 min; fails when a target is not met).
 bench-faults: build
 	$(PYTHON) tools/fault_bench.py
+
+# The cost of signed fleet traffic: sign/verify per message, and the fleet
+# over LCM signed vs unsigned on maps/office (docs/security.md); ~4 min.
+bench-signing: build
+	tools/netns-run bench/signing_bench.sh $(G)
 
 # Partition metrics of BAP/PAP/RAP on every map -> docs/partitions.md.
 partition-report: build

@@ -51,6 +51,8 @@ def main():
     if os.environ.get("GATHER_NETNS") != "1":
         sys.exit("runtime_bench: run me inside tools/netns-run (LCM multicast must stay in a private namespace)")
     tmp = tempfile.mkdtemp(prefix="gather_runtime_bench_")
+    key = os.path.join(tmp, "fleet.key")  # the runs over LCM sign their traffic (docs/security.md)
+    subprocess.run([a.gather, "keygen", key], check=True, stdout=subprocess.DEVNULL)
     scenario = os.path.join(REPO, "maps", "office.scenario.yaml")
     wrapper = os.path.join(tmp, "agent.sh")
     with open(wrapper, "w") as f:
@@ -73,7 +75,7 @@ def main():
                 if f.startswith("mem."):
                     os.remove(os.path.join(tmp, f))
             out, wall = run([a.gather, "run", plan, "--cycles", str(a.cycles), "--seed", seed, "--out",
-                             os.path.join(tmp, "lcm"), "--lcm", "--agent-bin", wrapper])
+                             os.path.join(tmp, "lcm"), "--lcm", "--key-file", key, "--agent-bin", wrapper])
             m = re.search(r"run (\d+) ms for (\d+) s of mission", out)
             lcm.append(float(m.group(2)) * 1000.0 / float(m.group(1)))
             lcm_wall.append(float(m.group(2)) / wall)

@@ -50,6 +50,8 @@ def main():
     if os.environ.get("GATHER_NETNS") != "1":
         sys.exit("runtime_report: run me inside tools/netns-run (gather run --lcm sends LCM multicast)")
     tmp = tempfile.mkdtemp(prefix="gather_runtime_report_")
+    key = os.path.join(tmp, "fleet.key")  # the runs over LCM sign their traffic (docs/security.md)
+    subprocess.run([a.gather, "keygen", key], check=True, stdout=subprocess.DEVNULL)
     lines = []
     worst_r = worst_g = 0.0
     all_identical = True
@@ -60,7 +62,7 @@ def main():
             run([a.gather, "sim", d + "/plan", "--cycles", "10", "--seeds", str(a.seeds), "--out", d + "/sim"])
             run([a.gather, "run", d + "/plan", "--cycles", "10", "--seeds", str(a.seeds), "--out", d + "/run"])
             run([a.gather, "run", d + "/plan", "--cycles", "10", "--out", d + "/one"])
-            run([a.gather, "run", d + "/plan", "--cycles", "10", "--out", d + "/lcm", "--lcm"])
+            run([a.gather, "run", d + "/plan", "--cycles", "10", "--out", d + "/lcm", "--lcm", "--key-file", key])
             identical = all(open(os.path.join(d, "one", f), "rb").read() == open(os.path.join(d, "lcm", f), "rb").read()
                             for f in ("goals.csv", "cycles.csv"))
             all_identical = all_identical and identical

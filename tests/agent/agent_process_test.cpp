@@ -4,6 +4,7 @@
 // on any network. The plan is maps/office planned once into a temp directory.
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "gather_agent/transport/fleet_auth.hpp"
 #include "gather_core/plan/plan_export.hpp"
 
 namespace {
@@ -31,6 +33,17 @@ const std::string& plan_dir() {
     return d;
   }();
   return dir;
+}
+
+// A fleet key (mode 0600) in a temp directory, made once.
+const std::string& key_file() {
+  static const std::string path = [] {
+    const std::string p = ::testing::TempDir() + "/gather_agent_process_test_" + std::to_string(::getpid()) + ".key";
+    std::filesystem::remove(p);
+    gather::agent::write_fleet_key(p, gather::agent::generate_fleet_key());
+    return p;
+  }();
+  return path;
 }
 
 struct Child {
@@ -81,7 +94,7 @@ int wait_for(pid_t pid, std::chrono::milliseconds limit) {
 }
 
 void expect_clean_stop_on(int sig) {
-  Child c = spawn({GATHER_AGENT_BIN, "--id", "3", "--lcm-url", "memq://", "--plan", plan_dir()});
+  Child c = spawn({GATHER_AGENT_BIN, "--id", "3", "--lcm-url", "memq://", "--key-file", key_file(), "--plan", plan_dir()});
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // loading the plan, waiting for the OC
   ASSERT_EQ(waitpid(c.pid, nullptr, WNOHANG), 0) << "agent exited before the signal: " << read_all(c.err_fd);
   const auto t0 = std::chrono::steady_clock::now();
@@ -112,26 +125,38 @@ void expect_bad_input(const std::vector<std::string>& args, const std::string& n
 }
 
 TEST(AgentProcess, BadInputGivesOneLineAndStatus2) {
-  const std::string bin = GATHER_AGENT_BIN, plan = plan_dir();
+  const std::string bin = GATHER_AGENT_BIN, plan = plan_dir(), key = key_file();
   expect_bad_input({bin, "--plan", plan}, "--id is required");
   expect_bad_input({bin, "--id", "0"}, "--plan is required");
   expect_bad_input({bin, "--id", "x", "--plan", plan}, "--id");
   expect_bad_input({bin, "--id", "0", "--bogus", "--plan", plan}, "unexpected argument '--bogus'");
-  expect_bad_input({bin, "--id", "0", "--plan", "/nonexistent/plan"}, "/nonexistent/plan");
-  expect_bad_input({bin, "--id", "20", "--lcm-url", "memq://", "--plan", plan}, "not in the plan's team of 20");
-  expect_bad_input({bin, "--id", "0", "--lcm-url", "bogus://x", "--plan", plan}, "cannot open LCM URL");
+  expect_bad_input({bin, "--id", "0", "--key-file", key, "--plan", "/nonexistent/plan"}, "/nonexistent/plan");
+  expect_bad_input({bin, "--id", "20", "--lcm-url", "memq://", "--key-file", key, "--plan", plan}, "not in the plan's team of 20");
+  expect_bad_input({bin, "--id", "0", "--lcm-url", "bogus://x", "--key-file", key, "--plan", plan}, "cannot open LCM URL");
   expect_bad_input({bin, "--id", "0", "--motion", "base", "--plan", plan}, "not connected");
   expect_bad_input({bin, "--id", "0", "--motion", "wheels", "--plan", plan}, "--motion must be sim or base");
+  // Signed fleet traffic: a key or an explicit --insecure, never both; a key
+  // others can read is refused.
+  expect_bad_input({bin, "--id", "0", "--plan", plan}, "--key-file");
+  expect_bad_input({bin, "--id", "0", "--key-file", key, "--insecure", "--plan", plan}, "not both");
+  expect_bad_input({bin, "--id", "0", "--key-file", "/nonexistent/fleet.key", "--plan", plan}, "/nonexistent/fleet.key");
+  const std::string open_key = ::testing::TempDir() + "/gather_agent_open_" + std::to_string(::getpid()) + ".key";
+  std::filesystem::remove(open_key);
+  std::filesystem::copy_file(key, open_key);
+  ::chmod(open_key.c_str(), 0644);
+  expect_bad_input({bin, "--id", "0", "--key-file", open_key, "--plan", plan}, "chmod 600");
+  std::filesystem::remove(open_key);
 }
 
 TEST(AgentProcess, ExitsOneWhenTheOcStaysSilent) {
-  Child c = spawn({GATHER_AGENT_BIN, "--id", "2", "--lcm-url", "memq://", "--silence", "1", "--plan", plan_dir()});
+  Child c = spawn({GATHER_AGENT_BIN, "--id", "2", "--lcm-url", "memq://", "--silence", "1", "--insecure", "--plan", plan_dir()});
   const int status = wait_for(c.pid, std::chrono::milliseconds(15000));
   const std::string err = read_all(c.err_fd);
   ASSERT_NE(status, -1) << "hung";
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 1) << err;
   EXPECT_NE(err.find("nothing heard from the OC for 1 s"), std::string::npos) << err;
+  EXPECT_NE(err.find("WARNING: --insecure"), std::string::npos) << err;  // said at start
 }
 
 TEST(AgentProcess, APlanThatDoesNotMatchItsScenarioIsRefused) {
@@ -145,7 +170,7 @@ TEST(AgentProcess, APlanThatDoesNotMatchItsScenarioIsRefused) {
   in.close();
   yaml.replace(yaml.find("routes:"), 7, "  - {id: 20, role: worker, segment: 17, collector: -1}\nroutes:");
   std::ofstream(bad + "/plan.yaml") << yaml;
-  expect_bad_input({GATHER_AGENT_BIN, "--id", "0", "--lcm-url", "memq://", "--plan", bad}, "plan.yaml");
+  expect_bad_input({GATHER_AGENT_BIN, "--id", "0", "--lcm-url", "memq://", "--key-file", key_file(), "--plan", bad}, "plan.yaml");
   fs::remove_all(bad);
 }
 

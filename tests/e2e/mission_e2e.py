@@ -333,6 +333,10 @@ def main():
         check("office: the fleet reports every agent", "fleet: %d agents: all exited 0" % n in out, out[-1500:])
         check("office: RViz's view was fitted to the map", "rviz_view: view of the map on /map" in out, out[-1500:])
         check_results(out1, office, a.cycles, n)
+        k = os.path.join(out1, "fleet.key")
+        check("office: fleet traffic signed with a key made beside the results (mode 0600)",
+              os.path.exists(k) and (os.stat(k).st_mode & 0o777) == 0o600 and "fleet traffic signed with key" in out,
+              out[-1500:])
         same_as_in_process(out1, plan, a.cycles, "office")
         if check("office: bag recorded", os.path.exists(os.path.join(out1, "mission.bag"))):
             check_bag(os.path.join(out1, "mission.bag"), office, n, 4)
@@ -529,6 +533,15 @@ def main():
                         timeout=60)
     check("bad plan: OC names the directory and exits 2",
           ("oc_node: %s: no such plan directory" % os.path.join(tmp, "no_plan")) in out and
+          re.search(r"exit code 2, cmd \S*oc_node", out) is not None, out[-1500:])
+
+    # A key others can read: the OC refuses it (one line, status 2).
+    open_key = os.path.join(tmp, "open.key")
+    subprocess.run([GATHER, "keygen", open_key], check=True, stdout=subprocess.DEVNULL)
+    os.chmod(open_key, 0o644)
+    rc, out = roslaunch(["scenario:=" + office, "plan:=" + plan, "key_file:=" + open_key, "results_dir:=" + bad_dir],
+                        timeout=60)
+    check("bad key file: OC says chmod 600 and exits 2", "chmod 600" in out and
           re.search(r"exit code 2, cmd \S*oc_node", out) is not None, out[-1500:])
 
     print("screenshots: %s" % ", ".join(sorted(os.path.join(SHOTS, f) for f in os.listdir(SHOTS))))

@@ -12,7 +12,9 @@ Must run inside a private network namespace:
   tools/netns-run python3 tests/e2e/runtime_e2e.py
 """
 import argparse
+import csv
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -20,6 +22,8 @@ import tempfile
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 GATHER = os.path.join(REPO, "catkin_ws", "devel", "lib", "gather_core", "gather")
 AGENT = os.path.join(REPO, "catkin_ws", "devel", "lib", "gather_agent", "gather_agent")
+ATTACKER = os.path.join(REPO, "catkin_ws", "devel", "lib", "gather_agent", "gather_attacker")
+REASONS = ("unsigned", "unknown_key", "bad_mac", "replayed", "wrong_sender")
 results = []
 
 
@@ -34,17 +38,73 @@ def run(args, timeout=300):
     return p.returncode, p.stdout, p.stderr
 
 
+def csv_rows(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def attack(a, tmp, key, plan, undisturbed):
+    """An attacker without the key, in this namespace, during the pap:4 run of
+    `undisturbed` (same plan, seed and cycles): forged, replayed, tampered and
+    impersonated messages change nothing (goals.csv byte-identical), and the
+    OC and every agent reject each of them by its reason."""
+    out = os.path.join(tmp, "attacked")
+    report = os.path.join(tmp, "attack.yaml")
+    attacker = subprocess.Popen([a.attacker, "--out", report, "--each", "40", "--wait", "120"],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    rc, stdout, err = run([a.gather, "run", plan, "--cycles", str(a.cycles), "--seed", "3", "--out", out, "--lcm",
+                           "--key-file", key])
+    try:
+        a_out, a_err = attacker.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        attacker.kill()
+        a_out, a_err = attacker.communicate()
+    if not check("attacked run completes", rc == 0, err[-2000:]):
+        return
+    if not check("the attacker attacked (status 0)", attacker.returncode == 0, a_out + a_err):
+        return
+    check("attacked: goals.csv identical to the undisturbed run",
+          open(os.path.join(out, "goals.csv")).read() == open(os.path.join(undisturbed, "goals.csv")).read())
+    sent = {}
+    for line in open(report):
+        m = re.match(r"(oc|agent): \{(.*)\}", line.strip())
+        if m:
+            sent[m.group(1)] = {k.strip(): int(v) for k, v in (kv.split(":") for kv in m.group(2).split(","))}
+    oc = csv_rows(os.path.join(out, "oc_rejected.csv"))[0]
+    got_oc = {r: int(oc["rejected_" + r]) for r in REASONS}
+    check("attacked: the OC rejected every attack message by its reason %s" % sent.get("oc"), got_oc == sent.get("oc"),
+          "OC counted %s" % got_oc)
+    agents = csv_rows(os.path.join(out, "agents.csv"))
+    wrong = [(r["agent"], {k: int(r["rejected_" + k]) for k in REASONS}) for r in agents
+             if {k: int(r["rejected_" + k]) for k in REASONS} != sent.get("agent")]
+    check("attacked: each of the %d agents rejected every attack message it heard by its reason %s" %
+          (len(agents), sent.get("agent")), len(agents) == 20 and not wrong, "agents that differ: %s" % wrong[:4])
+    clean = csv_rows(os.path.join(undisturbed, "oc_rejected.csv"))[0]
+    check("undisturbed: nothing rejected", all(int(clean["rejected_" + r]) == 0 for r in REASONS), str(clean))
+    # Unsigned only when asked, and then with a warning.
+    rc, stdout, err = run([a.gather, "run", plan, "--cycles", "1", "--out", os.path.join(tmp, "insecure"), "--lcm",
+                           "--insecure"])
+    check("--insecure runs, and warns", rc == 0 and "WARNING: --insecure" in err, err[-1500:])
+    rc, stdout, err = run([a.gather, "run", plan, "--cycles", "1", "--out", os.path.join(tmp, "nokey"), "--lcm"])
+    check("--lcm without a key: status 2, one line", rc == 2 and err.count("\n") == 1 and "--key-file" in err, err)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--cycles", type=int, default=3)
     ap.add_argument("--gather", default=GATHER)
     ap.add_argument("--agent", default=AGENT)
+    ap.add_argument("--attacker", default=ATTACKER)
     a = ap.parse_args()
     if os.environ.get("GATHER_NETNS") != "1":
         print("runtime_e2e: run me inside tools/netns-run (LCM multicast must stay in a private namespace)",
               file=sys.stderr)
         return 2
     tmp = tempfile.mkdtemp(prefix="gather_runtime_e2e_")
+    # Every run over LCM signs its traffic with this key (docs/security.md).
+    key = os.path.join(tmp, "fleet.key")
+    rc, out, err = run([a.gather, "keygen", key])
+    check("gather keygen makes a 0600 key", rc == 0 and (os.stat(key).st_mode & 0o777) == 0o600, err)
     scenario = os.path.join(REPO, "maps", "office.scenario.yaml")
     # Agent processes run under a wrapper that records their peak resident memory.
     wrapper = os.path.join(tmp, "agent_with_memory.sh")
@@ -65,7 +125,7 @@ def main():
         for f in os.listdir(tmp):
             if f.startswith("mem."):
                 os.remove(os.path.join(tmp, f))
-        rc, out, err = run([a.gather, "run", d, "--cycles", str(a.cycles), "--seed", "3", "--out", many, "--lcm",
+        rc, out, err = run([a.gather, "run", d, "--cycles", str(a.cycles), "--seed", "3", "--out", many, "--lcm", "--key-file", key,
                             "--agent-bin", wrapper])
         if not check("%s over LCM, 20 agent processes" % config, rc == 0, err[-2000:]):
             continue
@@ -85,7 +145,7 @@ def main():
         lossy_one, lossy_lcm = os.path.join(tmp, "lossy_one"), os.path.join(tmp, "lossy_lcm")
         run([a.gather, "run", plans["pap:4"], "--cycles", "2", "--loss", "0.2", "--loss-seed", "7", "--out", lossy_one])
         rc, out, err = run([a.gather, "run", plans["pap:4"], "--cycles", "2", "--loss", "0.2", "--loss-seed", "7",
-                            "--out", lossy_lcm, "--lcm"])
+                            "--out", lossy_lcm, "--lcm", "--key-file", key])
         if check("loss 0.2 over LCM, 20 agent processes", rc == 0, err[-1500:]):
             goals = list(csv.DictReader(open(os.path.join(lossy_lcm, "goals.csv"))))
             measured = [g for g in goals if float(g["measured_at"]) >= 0]
@@ -108,7 +168,7 @@ def main():
         kill_one, kill_lcm = os.path.join(tmp, "kill_one"), os.path.join(tmp, "kill_lcm")
         args = ["--cycles", "4", "--loss", "0.2", "--loss-seed", "3", "--kill", "1@150,9@200"]
         run([a.gather, "run", plans["pap:4"], "--out", kill_one] + args)
-        rc, out, err = run([a.gather, "run", plans["pap:4"], "--out", kill_lcm, "--lcm"] + args)
+        rc, out, err = run([a.gather, "run", plans["pap:4"], "--out", kill_lcm, "--lcm", "--key-file", key] + args)
         if check("collector 1 and worker 9 killed (SIGKILL) at 150 s and 200 s over LCM, 20% loss", rc == 0, err[-1500:]):
             faults = list(csv.DictReader(open(os.path.join(kill_lcm, "faults.csv"))))
             check("kill: the OC declared agents 1 and 9 (only) dead after they died",
@@ -149,7 +209,7 @@ def main():
             args = ["--cycles", "3", "--loss", "0.2", "--restart", "%d@%d" % (agent, t)]
             one, lcm = os.path.join(tmp, "restart_one"), os.path.join(tmp, "restart_lcm")
             run([a.gather, "run", plans["pap:4"], "--out", one] + args)
-            rc, out, err = run([a.gather, "run", plans["pap:4"], "--out", lcm, "--lcm"] + args)
+            rc, out, err = run([a.gather, "run", plans["pap:4"], "--out", lcm, "--lcm", "--key-file", key] + args)
             if check("restart: agent %d SIGKILLed at %d s carrying %d goals, started again over LCM" % (agent, t, carried),
                      rc == 0, err[-1500:]):
                 goals = list(csv.DictReader(open(os.path.join(lcm, "goals.csv"))))
@@ -170,7 +230,7 @@ def main():
         lock = os.path.join(tmp, "wall_ref")
         wall = os.path.join(tmp, "wall")
         run([a.gather, "run", plans["pap:4"], "--cycles", "1", "--out", lock])
-        rc, out, err = run([a.gather, "run", plans["pap:4"], "--cycles", "1", "--out", wall, "--lcm", "--clock", "wall",
+        rc, out, err = run([a.gather, "run", plans["pap:4"], "--cycles", "1", "--out", wall, "--lcm", "--key-file", key, "--clock", "wall",
                             "--rate", "20"], timeout=120)
         if check("wall clock at 20x real time, 20 agent processes, 1 cycle", rc == 0, err[-1500:]):
             import csv
@@ -195,15 +255,18 @@ def main():
                     "args[$((i+1))]=%s; done\nexec %s \"${args[@]}\"\n" % (plans["bap:0"], a.agent))
         os.chmod(other, 0o755)
         rc, out, err = run([a.gather, "run", plans["pap:4"], "--cycles", "1", "--out", os.path.join(tmp, "refused"),
-                            "--lcm", "--agent-bin", other], timeout=120)
+                            "--lcm", "--key-file", key, "--agent-bin", other], timeout=120)
         lines = [l for l in err.splitlines() if l.startswith("gather run")]
         check("another plan: gather run --lcm fails with status 2", rc == 2, "status %d" % rc)
         check("another plan: one line naming an agent that refused", len(lines) == 1 and "refused the plan" in lines[0],
               err[-1500:])
         check("another plan: the agents say why", "they are not the same plan" in err, err[-1500:])
-        rc, out, err = run([a.agent, "--id", "25", "--plan", plans["pap:4"]])
+        rc, out, err = run([a.agent, "--id", "25", "--key-file", key, "--plan", plans["pap:4"]])
         check("an agent id outside the team: status 2, one line", rc == 2 and err.count("\n") == 1 and
               "not in the plan's team" in err, err)
+
+    if "pap:4" in plans:
+        attack(a, tmp, key, plans["pap:4"], os.path.join(tmp, "lcm_pap4"))
 
     failed = results.count(False)
     print("%d passed, %d failed" % (len(results) - failed, failed))

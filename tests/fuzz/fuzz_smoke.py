@@ -15,8 +15,9 @@ sim / run, gather_agent) under a 20 s timeout. A case fails when the process
 is killed by a signal, a sanitizer reports (AddressSanitizer, LeakSanitizer,
 "runtime error:"), it runs longer than 20 s, its peak RSS exceeds 1 GiB, it
 exits with a status other than 0, 1 or 2, or it exits 2 with anything but
-exactly one line on stderr. LCM payloads are fuzzed by the unit test
-LcmFleet.MutatedMessages... (in the same sanitized build).
+exactly one line on stderr. The fleet key file is mutated too. LCM payloads
+and envelopes are fuzzed by the unit tests LcmFleet.Mutated... and
+LcmFleetAuthTest (in the same sanitized build).
 
 Prints one line per failing case (with the input kept under --keep DIR) and a
 summary; exits 1 if any case failed.
@@ -124,6 +125,9 @@ class Fuzzer:
                             "--association", "off", "--out", out], capture_output=True, timeout=120)
         if r.returncode != 0:
             sys.exit("fuzz_smoke: cannot plan the base world: " + r.stderr.decode(errors="replace")[-400:])
+        r = subprocess.run([a.gather, "keygen", os.path.join(self.base, "fleet.key")], capture_output=True, timeout=60)
+        if r.returncode != 0:
+            sys.exit("fuzz_smoke: cannot make a fleet key: " + r.stderr.decode(errors="replace")[-400:])
         self.failures = 0
         self.kinds = {}
         self.statuses = {}
@@ -188,7 +192,8 @@ class Fuzzer:
         d = self.case_dir(n)
         g, plan = self.a.gather, os.path.join(d, "plan")
         kind = r.choice(["scenario", "map_yaml", "image", "plan_yaml", "labels", "flags", "flags", "plan_yaml",
-                         "scenario"])
+                         "scenario", "key"])
+        key = os.path.join(d, "fleet.key")
         if kind == "scenario":
             # Mutated, then loaded (info), planned, or executed with the plan
             # made from the original (which names this case's scenario).
@@ -220,7 +225,13 @@ class Fuzzer:
             argv = r.choice([[g, "sim", plan, "--cycles", "2", "--out", os.path.join(d, "sim")],
                              [g, "run", plan, "--cycles", "1", "--out", os.path.join(d, "run")],
                              [self.a.agent, "--id", str(r.randrange(4)), "--lcm-url", "memq://", "--silence", "0.5",
-                              "--plan", plan]])
+                              "--key-file", key, "--plan", plan]])
+        elif kind == "key":
+            # A mutated fleet key file (mode 0600), read by the agent.
+            self.write(d, "fleet.key", self.mutate_text(open(key).read()))
+            os.chmod(key, 0o600)
+            argv = [self.a.agent, "--id", "0", "--lcm-url", "memq://", "--silence", "0.5", "--key-file", key,
+                    "--plan", plan]
         else:
             cmd = r.choice(["sim", "run", "plan", "fmm"])
             flags = {"sim": ["--cycles", "--seeds", "--seed", "--threads"],

@@ -256,7 +256,7 @@ TEST(MissionView, GoalsByStateAddUpAndEveryCycleIsReportedOnceResolved) {
 }
 
 TEST(AgentFleet, StartsAndStopsRealAgentsCleanly) {
-  AgentFleet fleet({GATHER_AGENT_BIN, "--id", "{id}", "--lcm-url", "memq://", "--plan", plan_dir()}, 3);
+  AgentFleet fleet({GATHER_AGENT_BIN, "--id", "{id}", "--lcm-url", "memq://", "--insecure", "--plan", plan_dir()}, 3);
   fleet.start();
   std::this_thread::sleep_for(std::chrono::milliseconds(2000));  // waiting for an OC that never comes
   EXPECT_TRUE(fleet.poll().empty()) << "an agent ended early";
@@ -269,7 +269,7 @@ TEST(AgentFleet, StartsAndStopsRealAgentsCleanly) {
 }
 
 TEST(AgentFleet, ReportsAnAgentThatDiesEarly) {
-  AgentFleet fleet({GATHER_AGENT_BIN, "--id", "{id}", "--lcm-url", "memq://", "--plan", "/nonexistent/plan"}, 2);
+  AgentFleet fleet({GATHER_AGENT_BIN, "--id", "{id}", "--lcm-url", "memq://", "--insecure", "--plan", "/nonexistent/plan"}, 2);
   fleet.start();
   std::vector<int> ended;
   for (int i = 0; i < 200 && ended.size() < 2; ++i) {

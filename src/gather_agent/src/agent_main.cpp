@@ -30,10 +30,12 @@ int main(int argc, char** argv) {
     if (opt.motion == "base")
       throw gather::Error("--motion base", "not connected: this build has no driver for a real robot base (a real base "
                                            "implements agent::MotionBackend, see docs/runtime.md)");
+    std::optional<gather::agent::FleetKey> key = gather::agent::fleet_key_from_options(
+        opt.key_file, opt.insecure, "gather_agent " + std::to_string(opt.id));
     gather::agent::LoadedPlan plan = gather::agent::load_plan(opt.plan);
     gather::agent::LcmFleet fleet(opt.lcm_url, opt.reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(opt.lcm_url)
                                                                      : opt.reply_url,
-                                  false);
+                                  false, std::move(key));
     gather::agent::LockstepAgent agent(plan, opt.id, fleet);
     agent.set_journal(opt.journal, opt.rejoin);
     std::printf("gather_agent %d: plan %s (%s, %d collectors), waiting for the OC\n", opt.id, opt.plan.c_str(),
@@ -47,6 +49,9 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "gather_agent %d: %s\n", opt.id, e.what());
       return 1;
     }
+    if (fleet.rejected().total() > 0)
+      std::fprintf(stderr, "gather_agent %d: dropped %lld fleet messages before decoding them: %s\n", opt.id,
+                   static_cast<long long>(fleet.rejected().total()), gather::agent::describe(fleet.rejected()).c_str());
     switch (end) {
       case gather::agent::LockstepAgent::End::kDone:
       case gather::agent::LockstepAgent::End::kStopped:

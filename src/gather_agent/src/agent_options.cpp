@@ -24,7 +24,7 @@ double parse_number(const std::string& flag, const char* s) {
 }  // namespace
 
 const char* agent_usage() {
-  return "usage: gather_agent --id K --plan PLAN_DIR [--lcm-url URL] [--reply-url URL] [--motion sim|base] [--silence S] [--journal DIR [--rejoin]]";
+  return "usage: gather_agent --id K --plan PLAN_DIR (--key-file F | --insecure) [--lcm-url URL] [--reply-url URL] [--motion sim|base] [--silence S] [--journal DIR [--rejoin]]";
 }
 
 AgentOptions parse_agent_options(int argc, char** argv) {
@@ -56,6 +56,11 @@ AgentOptions parse_agent_options(int argc, char** argv) {
     } else if (a == "--journal") {
       o.journal = value(a);
       if (o.journal.empty()) throw Error(kWhere, "--journal needs a directory");
+    } else if (a == "--key-file") {
+      o.key_file = value(a);
+      if (o.key_file.empty()) throw Error(kWhere, "--key-file needs a file");
+    } else if (a == "--insecure") {
+      o.insecure = true;
     } else if (a == "--rejoin") {
       o.rejoin = true;
     } else if (a == "--silence") {

@@ -1,8 +1,8 @@
 // gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT]
 //                     [--loss P] [--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none]
 //                     [--silent-intervals K] [--restart ID@T[,ID@T...]]
-//                     [--lcm [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R]
-//                            [--clock lockstep|wall]]:
+//                     [--lcm (--key-file F | --insecure) [--lcm-url URL] [--reply-url URL]
+//                            [--agent-bin FILE] [--rate R] [--clock lockstep|wall]]:
 // runs the plan with the agent runtime for K seeds: every role in this
 // process over an in-memory bus under the range gate and the lockstep
 // clock, or with --lcm one gather_agent process per agent over LCM (this
@@ -42,9 +42,12 @@ namespace {
 // One run with one gather_agent process per agent; this process is the OC.
 agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& plan, uint64_t digest,
                                const agent::RunOptions& opt, double rate, bool wall, const std::string& url,
-                               const std::string& reply_url, const std::string& agent_bin) {
-  agent::LcmFleet fleet(url, reply_url, true, team.agents());
+                               const std::string& reply_url, const std::string& agent_bin, const std::string& key_file,
+                               const std::optional<agent::FleetKey>& key) {
+  agent::LcmFleet fleet(url, reply_url, true, key, team.agents());
   std::vector<std::string> command{agent_bin, "--id", "{id}", "--plan", plan.dir, "--lcm-url", url, "--reply-url", reply_url};
+  if (key) command.insert(command.end(), {"--key-file", key_file});
+  else command.push_back("--insecure");
   if (!opt.journal_dir.empty()) command.insert(command.end(), {"--journal", opt.journal_dir});
   AgentFleet processes(command, team.agents());
   processes.start();
@@ -101,18 +104,31 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
 
 }  // namespace
 
+int keygen(int argc, char** argv) {
+  cli::Args args(argc, argv, 2, {"--key-id"}, {});
+  if (args.positional().size() != 1) throw cli::UsageError("usage: gather keygen FILE [--key-id N]");
+  const int id = args.get_int("--key-id", 0, 1, 32767);
+  const std::string path = args.positional()[0];
+  const agent::FleetKey key = agent::generate_fleet_key(id);
+  agent::write_fleet_key(path, key);
+  std::printf("fleet key %d -> %s (mode 0600; give it to the OC and every agent: docs/security.md)\n", key.id,
+              path.c_str());
+  return 0;
+}
+
 int run(int argc, char** argv) {
   cli::Args args(argc, argv, 2,
                  {"--cycles", "--seeds", "--seed", "--out", "--tick", "--loss", "--loss-seed", "--lcm-url", "--reply-url",
-                  "--agent-bin", "--rate", "--clock", "--kill", "--repair", "--silent-intervals", "--restart"},
-                 {"--lcm"});
+                  "--agent-bin", "--rate", "--clock", "--kill", "--repair", "--silent-intervals", "--restart", "--key-file"},
+                 {"--lcm", "--insecure"});
   if (args.positional().size() != 1 || !args.has("--out"))
     throw cli::UsageError(
         "usage: gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT] [--loss P] "
-        "[--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none] [--silent-intervals K] [--restart ID@T[,ID@T...]] [--lcm [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R] [--clock lockstep|wall]]");
+        "[--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none] [--silent-intervals K] [--restart ID@T[,ID@T...]] [--lcm (--key-file F | --insecure) [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R] [--clock lockstep|wall]]");
   const bool over_lcm = args.on("--lcm");
-  for (const char* flag : {"--lcm-url", "--reply-url", "--agent-bin", "--rate", "--clock"})
+  for (const char* flag : {"--lcm-url", "--reply-url", "--agent-bin", "--rate", "--clock", "--key-file"})
     if (args.has(flag) && !over_lcm) throw cli::UsageError(std::string(flag) + " needs --lcm");
+  if (args.on("--insecure") && !over_lcm) throw cli::UsageError("--insecure needs --lcm");
   std::string lcm_url = args.get("--lcm-url", "");
   if (over_lcm && lcm_url.empty()) {
     // UDP multicast on the host's own network is not what a simulation wants.
@@ -164,6 +180,7 @@ int run(int argc, char** argv) {
   int64_t messages = 0, ticks = 0;
   std::string agent_bin;
   uint64_t digest = 0;
+  std::optional<agent::FleetKey> key;
   if (over_lcm) {
     agent_bin = find_agent_binary(args.get("--agent-bin", ""));
     if (agent_bin.empty())
@@ -171,14 +188,25 @@ int run(int argc, char** argv) {
                   args.has("--agent-bin") ? "'" + args.get("--agent-bin") + "' is not an executable file"
                                           : "gather_agent not found beside gather, in CMAKE_PREFIX_PATH or PATH");
     digest = agent::plan_digest(loaded);
+    key = agent::fleet_key_from_options(args.get("--key-file", ""), args.on("--insecure"), "gather run");
   }
   for (int k = 0; k < seeds; ++k) {
     team.params.seed = static_cast<unsigned>(seed0) + static_cast<unsigned>(k);
     const agent::RunOutcome r = over_lcm ? run_over_lcm(team, loaded, digest, opt, rate, wall_clock, lcm_url,
                                                         args.get("--reply-url", agent::LcmFleet::reply_url_for(lcm_url)),
-                                                        agent_bin)
+                                                        agent_bin, args.get("--key-file", ""), key)
                                          : agent::TeamRunner(team, opt).run();
     if (!r.completed) throw RuntimeError(args.positional()[0], r.failure);
+    if (over_lcm) {
+      agent::AuthCounters all = r.oc_auth;
+      for (const agent::AgentSummary& a : r.agents) {
+        all.unsigned_msgs += a.auth.unsigned_msgs, all.unknown_key += a.auth.unknown_key, all.bad_mac += a.auth.bad_mac;
+        all.replayed += a.auth.replayed, all.wrong_sender += a.auth.wrong_sender;
+      }
+      if (all.total() > 0)
+        std::printf("seed %u: fleet messages dropped before decoding (the OC and every agent): %s; the OC alone: %s\n",
+                    team.params.seed, agent::describe(all).c_str(), agent::describe(r.oc_auth).c_str());
+    }
     files.add(pf, team.params, r);
     // The wall clock paces the whole run (to the last goal resolved), the
     // lockstep's figure is the requested cycles' time, as gather sim's.

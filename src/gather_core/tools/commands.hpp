@@ -10,6 +10,7 @@ int radio(int argc, char** argv);      // gather radio SCENARIO ... (tools/cmd_r
 int plan(int argc, char** argv);       // gather plan SCENARIO --out DIR ... (tools/cmd_plan.cpp)
 int sim(int argc, char** argv);        // gather sim PLAN_DIR --out DIR ... (tools/cmd_sim.cpp)
 int run(int argc, char** argv);        // gather run PLAN_DIR --out DIR ... (gather_agent/tools/cmd_run.cpp)
+int keygen(int argc, char** argv);     // gather keygen FILE (gather_agent/tools/cmd_run.cpp)
 
 }  // namespace cmd
 }  // namespace gather

@@ -36,9 +36,14 @@ const Subcommand kSubcommands[] = {
 #ifdef GATHER_WITH_RUN
     {"run", gather::cmd::run,
      "run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT] [--loss P] [--loss-seed N]  the agent "
-     "runtime, every role in one process (range gate, lockstep clock): goals.csv, cycles.csv, summary.csv, agents.csv"},
+     "runtime, every role in one process (range gate, lockstep clock), or with --lcm (--key-file F | --insecure) one "
+     "gather_agent process per agent: goals.csv, cycles.csv, summary.csv, agents.csv"},
+    {"keygen", gather::cmd::keygen,
+     "keygen FILE [--key-id N]  a new fleet key (mode 0600) for signed fleet traffic: gather run --lcm --key-file, "
+     "gather_agent --key-file, the OC's key_file (docs/security.md)"},
 #else
     {"run", nullptr, "run PLAN_DIR --out DIR ...  (needs the gather_agent package: build with it)"},
+    {"keygen", nullptr, "keygen FILE  (needs the gather_agent package: build with it)"},
 #endif
 };
 

@@ -138,7 +138,12 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "fleet: %s\n", e.what());
     return 2;
   }
+  // The OC's fleet key (or --insecure), set with the plan's directory.
+  std::string key_file;
+  nh.getParam("/gather/key_file", key_file);
   std::vector<std::string> command{bin, "--id", "{id}", "--plan", plan_dir};
+  if (key_file.empty()) command.push_back("--insecure");
+  else command.insert(command.end(), {"--key-file", key_file});
   if (!lcm_url.empty()) command.insert(command.end(), {"--lcm-url", lcm_url});
   if (!restarts.empty()) command.insert(command.end(), {"--journal", (results_dir.empty() ? "." : results_dir) + "/journal"});
   command.insert(command.end(), {"--reply-url", reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(lcm_url) : reply_url});

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -66,11 +67,11 @@ bool same_map(const gather::OccupancyGrid& a, const gather::OccupancyGrid& b) {
 
 // Settings users change per run (private parameters; mission.launch's arguments).
 struct Settings {
-  std::string results_dir, lcm_url, reply_url, clock, frame, kill, restart, repair;
+  std::string results_dir, lcm_url, reply_url, clock, frame, kill, restart, repair, key_file;
   int cycles = 0, seed = -1, loss_seed = 1;
   double rate = 0.0, tick = 0.1, loss = 0.0, ready_timeout = 60.0, map_timeout = 30.0, view_period = 0.5;
   double silent_intervals = 2.0;
-  bool close_on_end = false, sim_time = false;
+  bool close_on_end = false, sim_time = false, insecure = false;
 };
 
 // Reads and checks them; "" when they are fine, else what is wrong.
@@ -84,6 +85,8 @@ std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s
   read(typed_param<std::string>(pnh, "lcm_url", s.lcm_url, ""));
   if (s.lcm_url == "default") s.lcm_url.clear();  // mission.launch's "not given"
   read(typed_param<std::string>(pnh, "reply_url", s.reply_url, ""));
+  read(typed_param<std::string>(pnh, "key_file", s.key_file, "auto"));
+  read(typed_param(pnh, "insecure", s.insecure, false));
   read(typed_param<std::string>(pnh, "clock", s.clock, "lockstep"));
   read(typed_param<std::string>(pnh, "frame_id", s.frame, "map"));
   read(typed_param(pnh, "cycles", s.cycles, 0));
@@ -116,6 +119,9 @@ std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s
   if (!(s.map_timeout > 0.0 && s.map_timeout <= 86400.0)) return "~map_timeout must be in (0, 86400] s";
   if (!(s.view_period >= s.tick && s.view_period <= 3600.0)) return "~view_period must be in [~tick, 3600] s of mission time";
   if (s.frame.empty()) return "~frame_id must not be empty";
+  if (s.key_file.empty()) return "~key_file must not be empty (auto: results_dir/fleet.key, made if missing)";
+  if (s.insecure && s.key_file != "auto") return "give ~key_file or ~insecure, not both";
+  if (s.key_file != "auto") s.key_file = gather::resolve_launch_path(s.key_file);
   return "";
 }
 
@@ -166,6 +172,7 @@ int main(int argc, char** argv) {
   Settings set;
   if (const std::string bad = read_settings(pnh, nh, set); !bad.empty()) return fail(2, bad);
   nh.deleteParam("/gather/plan_dir");  // a previous run's, on a master that outlived it
+  nh.deleteParam("/gather/key_file");
   nh.deleteParam("/gather/fleet_status");
 
   // The map from a topic (map_server, or any OccupancyGrid publisher): saved
@@ -252,7 +259,21 @@ int main(int argc, char** argv) {
     world_ptr = std::make_unique<gather::mission::World>(plan->scenario);
     team_ptr = std::make_unique<gather::agent::TeamSetup>(*world_ptr, plan->plan, params);
     const std::string replies = set.reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(set.lcm_url) : set.reply_url;
-    fleet_ptr = std::make_unique<gather::agent::LcmFleet>(set.lcm_url, replies, true, team_ptr->agents());
+    // The fleet key (docs/security.md): ~key_file, or with "auto" one kept
+    // beside the results (made on the first run); fleet_node hands the same
+    // file to the agents it starts (/gather/key_file).
+    std::optional<gather::agent::FleetKey> key;
+    if (set.insecure) {
+      key = gather::agent::fleet_key_from_options("", true, "oc", "~key_file", "~insecure");
+    } else {
+      std::filesystem::create_directories(set.results_dir);
+      if (set.key_file == "auto") set.key_file = set.results_dir + "/fleet.key";
+      bool created = false;
+      key = gather::agent::load_or_create_fleet_key(set.key_file, &created);
+      ROS_INFO("oc: fleet traffic signed with key %d from %s%s", key->id, set.key_file.c_str(),
+               created ? " (made now: copy it to every robot)" : "");
+    }
+    fleet_ptr = std::make_unique<gather::agent::LcmFleet>(set.lcm_url, replies, true, key, team_ptr->agents());
     mo.tick = set.tick, mo.rate = set.rate, mo.loss = set.loss, mo.loss_seed = static_cast<uint64_t>(set.loss_seed);
     mo.ready_timeout_s = set.ready_timeout;
     mo.observe = true;
@@ -277,6 +298,7 @@ int main(int argc, char** argv) {
   po.sim_time = set.sim_time;
   po.view_period = set.view_period;
   gather::MissionPublisher pub(nh, team, scenario.grid, po);
+  nh.setParam("/gather/key_file", set.insecure ? std::string() : set.key_file);  // "": --insecure
   nh.setParam("/gather/plan_dir", plan_dir);  // fleet_node starts the agents with it
 
   int status = 0;
@@ -310,6 +332,9 @@ int main(int argc, char** argv) {
     pub.finish(master, out.completed ? "done" : "failed", speed());
     gather::agent::RunSettings settings{set.clock == "wall" ? "lcm, wall clock" : "lcm", set.tick, set.rate, set.loss};
     gather::agent::write_mission_yaml(set.results_dir + "/mission.yaml", *plan, params, settings, out);
+    if (out.oc_auth.total() > 0)
+      std::printf("oc: dropped %lld fleet messages before decoding them: %s (mission.yaml: oc.rejected)\n",
+                  static_cast<long long>(out.oc_auth.total()), gather::agent::describe(out.oc_auth).c_str());
     if (out.completed) {
       gather::agent::RunFiles files;
       files.add(pf, params, out);

@@ -12,6 +12,8 @@ struct AgentOptions {
   std::string motion = "sim";  // --motion sim|base
   double silence_s = 30.0;     // --silence S: stop when the OC is silent this long
   std::string journal;         // --journal DIR: keep what it carries in DIR/agent_K.journal (docs/faults.md)
+  std::string key_file;        // --key-file F: the fleet key (docs/security.md)
+  bool insecure = false;       // --insecure: unsigned fleet traffic (a warning at start)
   bool rejoin = false;         // --rejoin: a restart: replay the journal, join the mission under way
   bool help = false;           // --help: print the usage and exit 0
 };

@@ -196,7 +196,7 @@ void LockstepAgent::step(const Tick& tick) {
     fleet_.publish(out[k]);
   }
   link_.sent += static_cast<int64_t>(out.size());
-  link_.bad = fleet_.refused().total();
+  link_.bad = fleet_.dropped();
   step_us_ += std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - s0).count();
   reply_.step_us = step_us_;
   reply_.tick = tick.tick;
@@ -211,6 +211,7 @@ void LockstepAgent::step(const Tick& tick) {
   reply_.carried = c ? static_cast<int32_t>(c->data()) : 0;
   reply_.notices = c ? static_cast<int32_t>(c->notices()) : 0;
   reply_.link = link_;
+  reply_.auth = fleet_.rejected();
   reply_.late = late_;
   reply_.incomplete = incomplete_;
   reply_.keys.clear();
@@ -655,12 +656,13 @@ RunOutcome LockstepMaster::finish() {
   out.completed = oc().done();
   for (const Reply& r : last_) {
     AgentSummary s;
-    s.id = r.agent, s.role = r.role, s.report = r.report, s.link = r.link, s.carried = r.carried;
+    s.id = r.agent, s.role = r.role, s.report = r.report, s.link = r.link, s.auth = r.auth, s.carried = r.carried;
     s.delivered = oc().delivered_by(r.agent);
     out.agents.push_back(s);
   }
   out.oc_link = link_;
-  out.oc_link.bad = fleet_.refused().total();
+  out.oc_link.bad = fleet_.dropped();
+  out.oc_auth = fleet_.rejected();
   out.messages = messages_;
   out.invalid_items = oc().invalid_items();
   out.duplicate_items = oc().duplicate_items();

@@ -14,7 +14,7 @@ namespace agent {
 
 const char* const kAgentsCsvHeader =
     "method,collectors,seed,agent,role,measured,expired,skipped,dropped,carried,delivered,sent,received,gated,lost,"
-    "bad,overflow\n";
+    "bad,overflow,rejected_unsigned,rejected_unknown_key,rejected_bad_mac,rejected_replayed,rejected_wrong_sender\n";
 
 LoadedPlan load_plan(const std::string& plan_dir) {
   namespace fs = std::filesystem;
@@ -46,17 +46,32 @@ MissionParams mission_params(const Scenario& s) {
 void append_agent_rows(std::string& out, const plan::PlanFile& plan, unsigned seed, const std::vector<AgentSummary>& agents) {
   char line[512];
   for (const AgentSummary& a : agents) {
-    std::snprintf(line, sizeof line, "%s,%d,%u,%d,%s,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld\n",
+    std::snprintf(line, sizeof line, "%s,%d,%u,%d,%s,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld\n",
                   plan.method.c_str(), plan.collectors, seed, a.id, role_kind_name(a.role),
                   static_cast<long long>(a.report.measured), static_cast<long long>(a.report.expired),
                   static_cast<long long>(a.report.skipped), static_cast<long long>(a.report.dropped),
                   static_cast<long long>(a.carried), static_cast<long long>(a.delivered),
                   static_cast<long long>(a.link.sent), static_cast<long long>(a.link.received),
                   static_cast<long long>(a.link.gated), static_cast<long long>(a.link.lost),
-                  static_cast<long long>(a.link.bad), static_cast<long long>(a.link.overflow));
+                  static_cast<long long>(a.link.bad), static_cast<long long>(a.link.overflow),
+                  static_cast<long long>(a.auth.unsigned_msgs), static_cast<long long>(a.auth.unknown_key),
+                  static_cast<long long>(a.auth.bad_mac), static_cast<long long>(a.auth.replayed),
+                  static_cast<long long>(a.auth.wrong_sender));
     out += line;
   }
 }
+
+namespace {
+
+// Messages dropped before decoding, by reason (docs/security.md).
+void emit_rejected(YAML::Emitter& y, const AuthCounters& a) {
+  y << YAML::Flow << YAML::BeginMap << YAML::Key << "unsigned" << YAML::Value << a.unsigned_msgs << YAML::Key
+    << "unknown_key" << YAML::Value << a.unknown_key << YAML::Key << "bad_mac" << YAML::Value << a.bad_mac << YAML::Key
+    << "replayed" << YAML::Value << a.replayed << YAML::Key << "wrong_sender" << YAML::Value << a.wrong_sender
+    << YAML::EndMap;
+}
+
+}  // namespace
 
 void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const MissionParams& params,
                         const RunSettings& settings, const RunOutcome& run) {
@@ -104,7 +119,9 @@ void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const M
     << run.oc_link.sent << YAML::Key << "received" << YAML::Value << run.oc_link.received << YAML::Key << "gated"
     << YAML::Value << run.oc_link.gated << YAML::Key << "lost" << YAML::Value << run.oc_link.lost << YAML::Key << "bad"
     << YAML::Value << run.oc_link.bad << YAML::Key << "invalid_items" << YAML::Value << run.invalid_items << YAML::Key
-    << "duplicate_items" << YAML::Value << run.duplicate_items << YAML::EndMap;
+    << "duplicate_items" << YAML::Value << run.duplicate_items << YAML::Key << "rejected" << YAML::Value;
+  emit_rejected(y, run.oc_auth);
+  y << YAML::EndMap;
   y << YAML::Key << "faults" << YAML::Value << YAML::BeginSeq;
   std::map<int, std::pair<double, double>> faults;  // agent -> (killed_at, declared_dead_at), -1: not
   for (const Kill& k : run.kills) faults[k.agent] = {k.at, -1.0};
@@ -125,7 +142,9 @@ void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const M
       << "dropped" << YAML::Value << a.report.dropped << YAML::Key << "sent" << YAML::Value << a.link.sent << YAML::Key
       << "received" << YAML::Value << a.link.received << YAML::Key << "gated" << YAML::Value << a.link.gated
       << YAML::Key << "lost" << YAML::Value << a.link.lost << YAML::Key << "bad" << YAML::Value << a.link.bad
-      << YAML::EndMap;
+      << YAML::Key << "rejected" << YAML::Value;
+    emit_rejected(y, a.auth);
+    y << YAML::EndMap;
   }
   y << YAML::EndSeq << YAML::EndMap;
   std::error_code ec;
@@ -143,7 +162,18 @@ void RunFiles::add(const plan::PlanFile& plan, const MissionParams& params, cons
   mission::append_summary_row(summary_, label, run.result);
   append_agent_rows(agents_, plan, params.seed, run.agents);
   append_fault_rows(faults_, plan, params.seed, run);
+  char line[256];
+  const AuthCounters& a = run.oc_auth;
+  std::snprintf(line, sizeof line, "%s,%d,%u,%lld,%lld,%lld,%lld,%lld\n", plan.method.c_str(), plan.collectors,
+                params.seed, static_cast<long long>(a.unsigned_msgs), static_cast<long long>(a.unknown_key),
+                static_cast<long long>(a.bad_mac), static_cast<long long>(a.replayed),
+                static_cast<long long>(a.wrong_sender));
+  oc_rejected_ += line;
 }
+
+const char* const kOcRejectedCsvHeader =
+    "method,collectors,seed,rejected_unsigned,rejected_unknown_key,rejected_bad_mac,rejected_replayed,"
+    "rejected_wrong_sender\n";
 
 const char* const kFaultsCsvHeader = "method,collectors,seed,agent,role,killed_at,declared_at,restarted,recovered\n";
 
@@ -180,6 +210,7 @@ void RunFiles::write(const std::string& dir) const {
   put("summary.csv", mission::kSummaryCsvHeader, summary_);
   put("agents.csv", kAgentsCsvHeader, agents_);
   put("faults.csv", kFaultsCsvHeader, faults_);
+  put("oc_rejected.csv", kOcRejectedCsvHeader, oc_rejected_);
 }
 
 }  // namespace agent

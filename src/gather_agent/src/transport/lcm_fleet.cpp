@@ -7,6 +7,7 @@
 #include <gather_lcm/ack_t.hpp>
 #include <gather_lcm/agent_state_t.hpp>
 #include <gather_lcm/data_t.hpp>
+#include <gather_lcm/envelope_t.hpp>
 #include <gather_lcm/plan_t.hpp>
 #include <gather_lcm/request_t.hpp>
 #include <gather_lcm/tick_reply_t.hpp>
@@ -48,8 +49,12 @@ static_assert(kReplyMaxPoints == static_cast<std::size_t>(gather_lcm::tick_reply
                   kReplyMaxPoints == static_cast<std::size_t>(gather_lcm::tick_reply_t::MAX_PATH),
               "Reply's bounds are tick_reply_t's");
 
+static_assert(kBuffer <= static_cast<std::size_t>(gather_lcm::envelope_t::MAX_PAYLOAD), "a message fits an envelope");
+static_assert(kMacBytes == 32, "envelope_t.mac is 32 bytes");
+
 // The wire objects decoded into (kept, so decoding allocates nothing).
 struct Wire {
+  gather_lcm::envelope_t envelope;
   gather_lcm::request_t request;
   gather_lcm::data_t data;
   gather_lcm::ack_t ack;
@@ -100,8 +105,17 @@ std::string LcmFleet::reply_url_for(const std::string& url) {
   return scheme + host + ":" + std::to_string(port + 1) + rest;
 }
 
-LcmFleet::LcmFleet(const std::string& url, const std::string& reply_url, bool listen_replies, int team)
-    : team_(team), listen_replies_(listen_replies), buffer_(kBuffer) {
+LcmFleet::LcmFleet(const std::string& url, const std::string& reply_url, bool listen_replies, std::optional<FleetKey> key,
+                   int team)
+    : team_(team),
+      listen_replies_(listen_replies),
+      buffer_(kBuffer),
+      envelope_(kBuffer + 64),
+      auth_(std::move(key),
+            {kRequestChannel, kDataChannel, kAckChannel, kStateChannel, kPlanChannel, kTickChannel, kReplyChannel},
+            kMaxTeam + 1) {
+  wire().envelope.payload.reserve(kBuffer);
+  if (team < kMaxTeam) auth_.reserve(team);  // an agent learns its team from the plan (set_team)
   std::string error;
   lcm_ = open_lcm_c(url, &error);
   if (!lcm_) throw Error("--lcm-url", error);
@@ -189,7 +203,7 @@ bool LcmFleet::publish(const Message& m) {
       break;
     }
   }
-  if (n < 0 || lcm_publish(lcm_, channel, buffer_.data(), static_cast<unsigned>(n)) != 0) return ++publish_failures_, false;
+  if (n < 0 || !send(lcm_, channel, m.h.sender, n)) return ++publish_failures_, false;
   return true;
 }
 
@@ -213,7 +227,7 @@ bool LcmFleet::publish(const PlanAnnounce& p) {
   w.repair = static_cast<int8_t>(p.params.repair);
   w.silent_intervals = p.params.silent_intervals;
   const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
-  if (n < 0 || lcm_publish(lcm_, kPlanChannel, buffer_.data(), static_cast<unsigned>(n)) != 0) return ++publish_failures_, false;
+  if (n < 0 || !send(lcm_, kPlanChannel, kOc, n)) return ++publish_failures_, false;
   return true;
 }
 
@@ -227,7 +241,7 @@ bool LcmFleet::publish(const Tick& t) {
   w.done = t.done;
   w.start_us = t.start_us;
   const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
-  if (n < 0 || lcm_publish(lcm_, kTickChannel, buffer_.data(), static_cast<unsigned>(n)) != 0) return ++publish_failures_, false;
+  if (n < 0 || !send(lcm_, kTickChannel, kOc, n)) return ++publish_failures_, false;
   return true;
 }
 
@@ -259,6 +273,11 @@ bool LcmFleet::publish(const Reply& r) {
   w.link_lost = r.link.lost;
   w.link_bad = r.link.bad;
   w.link_overflow = r.link.overflow;
+  w.rejected_unsigned = r.auth.unsigned_msgs;
+  w.rejected_unknown_key = r.auth.unknown_key;
+  w.rejected_bad_mac = r.auth.bad_mac;
+  w.rejected_replayed = r.auth.replayed;
+  w.rejected_wrong_sender = r.auth.wrong_sender;
   w.late = r.late;
   w.incomplete = r.incomplete;
   w.step_us = r.step_us;
@@ -278,9 +297,22 @@ bool LcmFleet::publish(const Reply& r) {
     w.path_y[i] = static_cast<float>(r.path[i].y);
   }
   const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
-  if (n < 0 || lcm_publish(reply_lcm_, kReplyChannel, buffer_.data(), static_cast<unsigned>(n)) != 0)
-    return ++publish_failures_, false;
+  if (n < 0 || !send(reply_lcm_, kReplyChannel, r.agent, n)) return ++publish_failures_, false;
   return true;
+}
+
+bool LcmFleet::send(lcm_t* lcm, const char* channel, int16_t sender, int n) {
+  gather_lcm::envelope_t& e = wire().envelope;
+  EnvelopeHead head;
+  e.payload.assign(buffer_.begin(), buffer_.begin() + n);
+  auth_.sign(channel, sender, e.payload.data(), e.payload.size(), head, e.mac);
+  e.version = head.version;
+  e.key_id = head.key_id;
+  e.sender = head.sender;
+  e.counter = head.counter;
+  e.size = n;
+  const int m = e.encode(envelope_.data(), 0, static_cast<int>(envelope_.size()));
+  return m >= 0 && lcm_publish(lcm, channel, envelope_.data(), static_cast<unsigned>(m)) == 0;
 }
 
 bool LcmFleet::handle(int timeout_ms) {
@@ -313,7 +345,41 @@ int safe_decode(T& msg, const void* data, int size) {
   }
 }
 
+const uint8_t* LcmFleet::open(const char* channel, const void* data, int size, int& payload_size, int16_t& sender) {
+  gather_lcm::envelope_t& e = wire().envelope;
+  // The envelope's size field is checked before its payload is read (LCM's
+  // decode allocates what the size says).
+  // LCM's encoding: an 8-byte fingerprint, then version, key_id, sender
+  // (2 bytes each), counter (8), size (4, big endian), payload, mac (32).
+  constexpr int kSizeAt = 8 + 2 + 2 + 2 + 8, kFixed = kSizeAt + 4 + static_cast<int>(kMacBytes);
+  if (size < kFixed || size > static_cast<int>(envelope_.size())) return ++refused_.undecodable, nullptr;
+  const uint8_t* b = static_cast<const uint8_t*>(data) + kSizeAt;
+  const int64_t declared = static_cast<int32_t>(static_cast<uint32_t>(b[0]) << 24 | static_cast<uint32_t>(b[1]) << 16 |
+                                                static_cast<uint32_t>(b[2]) << 8 | static_cast<uint32_t>(b[3]));
+  if (declared != size - kFixed) return ++refused_.undecodable, nullptr;
+  if (safe_decode(e, data, size) != size) return ++refused_.undecodable, nullptr;
+  if (e.size < 0 || e.size > gather_lcm::envelope_t::MAX_PAYLOAD) return ++refused_.out_of_range, nullptr;
+  const EnvelopeHead head{e.version, e.key_id, e.sender, e.counter};
+  if (auth_.verify(channel, head, e.payload.data(), e.payload.size(), e.mac) != Verdict::kAccepted) return nullptr;
+  if (e.version != gather_lcm::envelope_t::VERSION) return ++refused_.wrong_version, nullptr;
+  payload_size = e.size;
+  sender = e.sender;
+  return e.payload.data();
+}
+
 void LcmFleet::on_radio(const char* channel, const void* data, int size) {
+  int n = 0;
+  int16_t sender = 0;
+  if (const uint8_t* p = open(channel, data, size, n, sender)) on_radio_payload(channel, p, n, sender);
+}
+
+void LcmFleet::on_clock(const char* channel, const void* data, int size) {
+  int n = 0;
+  int16_t sender = 0;
+  if (const uint8_t* p = open(channel, data, size, n, sender)) on_clock_payload(channel, p, n, sender);
+}
+
+void LcmFleet::on_radio_payload(const char* channel, const void* data, int size, int16_t sender) {
   Wire& w = wire();
   Message m;
   const gather_lcm::header_t* h = nullptr;
@@ -395,6 +461,7 @@ void LcmFleet::on_radio(const char* channel, const void* data, int size) {
     return;
   }
   if (h->schema_version != gather_lcm::header_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
+  if (h->sender != sender) return auth_.count_wrong_sender();
   if (h->sender < kOc || h->sender >= team_ || (h->dest != kBroadcast && (h->dest < kOc || h->dest >= team_)) ||
       h->seq < 0 || h->request < -1 || h->dead < 0 || h->dead > kMaxDead || !finite(h->t) || !finite(h->x) ||
       !finite(h->y))
@@ -411,8 +478,10 @@ void LcmFleet::on_radio(const char* channel, const void* data, int size) {
   radio_.push_back(m);
 }
 
-void LcmFleet::on_clock(const char* channel, const void* data, int size) {
+void LcmFleet::on_clock_payload(const char* channel, const void* data, int size, int16_t sender) {
   Wire& w = wire();
+  // Ticks and plans come from the OC, a reply from its agent.
+  if (std::strcmp(channel, kReplyChannel) != 0 && sender != kOc) return auth_.count_wrong_sender();
   if (std::strcmp(channel, kTickChannel) == 0) {
     if (safe_decode(w.tick, data, size) != size) return void(++refused_.undecodable);
     if (w.tick.schema_version != gather_lcm::tick_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
@@ -460,6 +529,7 @@ void LcmFleet::on_clock(const char* channel, const void* data, int size) {
         r.n_measured > gather_lcm::tick_reply_t::MAX_MEASURED || r.n_path < 0 ||
         r.n_path > gather_lcm::tick_reply_t::MAX_PATH)
       return void(++refused_.out_of_range);
+    if (r.agent != sender) return auth_.count_wrong_sender();
     for (int i = 0; i < r.n_measured; ++i)
       if (r.measured_goals[static_cast<std::size_t>(i)] < 0) return void(++refused_.out_of_range);
     for (int i = 0; i < r.n_path; ++i)
@@ -482,6 +552,9 @@ void LcmFleet::on_clock(const char* channel, const void* data, int size) {
     o.carried = r.carried, o.notices = r.notices;
     o.link.sent = r.link_sent, o.link.received = r.link_received, o.link.gated = r.link_gated;
     o.link.lost = r.link_lost, o.link.bad = r.link_bad, o.link.overflow = r.link_overflow;
+    o.auth.unsigned_msgs = r.rejected_unsigned, o.auth.unknown_key = r.rejected_unknown_key;
+    o.auth.bad_mac = r.rejected_bad_mac, o.auth.replayed = r.rejected_replayed;
+    o.auth.wrong_sender = r.rejected_wrong_sender;
     o.late = r.late;
     o.incomplete = r.incomplete;
     o.step_us = r.step_us;

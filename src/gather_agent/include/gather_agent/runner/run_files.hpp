@@ -33,12 +33,13 @@ class RunFiles {
  public:
   void add(const plan::PlanFile& plan, const MissionParams& params, const RunOutcome& run);
   // Writes DIR/goals.csv, cycles.csv, summary.csv, agents.csv, faults.csv
-  // (one row per agent killed or declared dead); throws gather::Error naming
-  // DIR when it cannot.
+  // (one row per agent killed or declared dead), oc_rejected.csv (per run,
+  // the fleet messages the OC dropped before decoding, by reason; 0 in one
+  // process); throws gather::Error naming DIR when it cannot.
   void write(const std::string& dir) const;
 
  private:
-  std::string goals_, cycles_, summary_, agents_, faults_;
+  std::string goals_, cycles_, summary_, agents_, faults_, oc_rejected_;
 };
 
 // How a mission was run (for mission.yaml).

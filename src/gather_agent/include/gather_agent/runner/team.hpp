@@ -9,6 +9,7 @@
 #include "gather_agent/motion/motion_backend.hpp"
 #include "gather_agent/roles/oc_role.hpp"
 #include "gather_agent/roles/role.hpp"
+#include "gather_agent/transport/auth_counters.hpp"
 #include "gather_agent/transport/range_gate.hpp"
 
 namespace gather {
@@ -32,6 +33,7 @@ struct AgentSummary {
   RoleKind role = RoleKind::kWorker;
   RoleReport report;
   LinkCounters link;
+  AuthCounters auth;      // over LCM: messages it dropped before decoding, by reason
   int64_t carried = 0;    // measured items in its custody at the end
   int64_t delivered = 0;  // items the OC accepted from it
 };

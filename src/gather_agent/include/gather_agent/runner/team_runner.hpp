@@ -60,6 +60,7 @@ struct RunOutcome {
   mission::MissionResult result;  // when completed: accounting, metrics, per-cycle stats
   std::vector<AgentSummary> agents;  // by agent id
   LinkCounters oc_link;
+  AuthCounters oc_auth;  // over LCM: what the OC dropped before decoding, by reason
   int64_t messages = 0;       // sent by everyone
   int64_t invalid_items = 0;  // items the OC could not place
   int64_t duplicate_items = 0;

@@ -6,13 +6,18 @@
 // LCM types (lcm/*.lcm): it converts them to and from the domain structs at
 // this edge, and counts and drops anything that does not decode, carries
 // another schema version, names an agent outside the team or holds values
-// out of range. Handlers only queue; nothing is decoded twice.
+// out of range. Every message travels in a signed envelope (envelope_t,
+// docs/security.md): a receiver checks its key id, MAC and counter before it
+// decodes anything, and drops (counting the reason) what fails. Handlers
+// only queue; nothing is decoded twice.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "gather_agent/messages.hpp"
 #include "gather_agent/roles/role.hpp"
+#include "gather_agent/transport/fleet_auth.hpp"
 #include "gather_agent/transport/range_gate.hpp"
 
 typedef struct _lcm_t lcm_t;
@@ -70,6 +75,7 @@ struct Reply {
   RoleReport report;
   int32_t carried = 0, notices = 0;
   LinkCounters link;
+  AuthCounters auth;  // what it dropped before decoding, by reason
   int64_t late = 0;
   int64_t incomplete = 0;     // ticks stepped without every message of the tick before
   int64_t step_us = 0;        // [us] in its control steps so far
@@ -94,14 +100,20 @@ class LcmFleet {
  public:
   // Opens `url` (radio, plan, ticks) and `reply_url` (replies). `listen_replies`:
   // the OC's side (subscribes to replies; agents only publish there).
-  // `team`: ids 0..team-1 (kMaxTeam until the plan is known). Throws
+  // `key`: the fleet key every message is signed and checked with; empty:
+  // insecure mode (unsigned, nothing checked; the caller warns). `team`: ids
+  // 0..team-1 (kMaxTeam until the plan is known). Throws
   // gather::Error("--lcm-url", ...) naming the URL when LCM cannot open it.
-  LcmFleet(const std::string& url, const std::string& reply_url, bool listen_replies, int team = kMaxTeam);
+  LcmFleet(const std::string& url, const std::string& reply_url, bool listen_replies, std::optional<FleetKey> key,
+           int team = kMaxTeam);
   ~LcmFleet();
   LcmFleet(const LcmFleet&) = delete;
   LcmFleet& operator=(const LcmFleet&) = delete;
 
-  void set_team(int agents) { team_ = agents; }
+  void set_team(int agents) {
+    team_ = agents;
+    auth_.reserve(agents);
+  }
 
   // Publish; false (and counted) when LCM refuses.
   bool publish(const Message& m);
@@ -119,6 +131,10 @@ class LcmFleet {
   std::vector<Reply>& replies() { return replies_; }
   std::vector<PlanAnnounce>& plans() { return plans_; }
   const TransportCounters& refused() const { return refused_; }
+  const AuthCounters& rejected() const { return auth_.counters(); }
+  // Everything dropped on receipt: refused() and rejected().
+  int64_t dropped() const { return refused_.total() + auth_.counters().total(); }
+  bool secure() const { return auth_.secure(); }
   int64_t publish_failures() const { return publish_failures_; }
 
   // The reply URL for a radio URL: the same multicast group, port + 1
@@ -131,6 +147,14 @@ class LcmFleet {
   void on_clock(const char* channel, const void* data, int size);
 
  private:
+  // Wraps buffer_[0, n) in a signed envelope from `sender` and publishes it.
+  bool send(lcm_t* lcm, const char* channel, int16_t sender, int n);
+  // The payload of a received envelope once its signature and counter are
+  // good (nullptr otherwise, counted), and its signed sender.
+  const uint8_t* open(const char* channel, const void* data, int size, int& payload_size, int16_t& sender);
+  void on_radio_payload(const char* channel, const void* data, int size, int16_t sender);
+  void on_clock_payload(const char* channel, const void* data, int size, int16_t sender);
+
   lcm_t* lcm_ = nullptr;
   lcm_t* reply_lcm_ = nullptr;
   int team_;
@@ -141,7 +165,9 @@ class LcmFleet {
   std::vector<PlanAnnounce> plans_;
   TransportCounters refused_;
   int64_t publish_failures_ = 0;
-  std::vector<uint8_t> buffer_;  // encoding
+  std::vector<uint8_t> buffer_;    // encoding: the payload
+  std::vector<uint8_t> envelope_;  // encoding: the envelope around it
+  FleetAuth auth_;
 };
 
 }  // namespace agent

@@ -1,0 +1,128 @@
+#pragma once
+// Authenticated fleet traffic (docs/security.md): every fleet message is
+// signed with the fleet's shared key, and every receiver checks the
+// signature, the key id and the sender's counter before it decodes anything.
+//
+// The MAC is libsodium's crypto_auth_hmacsha512256 (HMAC-SHA-512-256) over
+// the channel name, the envelope's version, key id, sender and counter, and
+// the payload (the message's own LCM encoding). The counter is per sender
+// and channel and strictly increasing: max(last + 1, wall-clock time in us),
+// so a restarted process continues above what it sent before its restart
+// without keeping any state (as long as its clock does not step back). A
+// receiver accepts a counter only above the last one it accepted from that
+// sender on that channel, and, for the first one it hears, only within
+// kFirstWindowUs of its own clock (so a receiver that restarts is not open
+// to old captures either). No code here sees LCM types: LcmFleet wraps and
+// unwraps the envelope.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gather_agent/transport/auth_counters.hpp"
+
+namespace gather {
+namespace agent {
+
+constexpr std::size_t kKeyBytes = 32;  // crypto_auth_hmacsha512256_KEYBYTES
+constexpr std::size_t kMacBytes = 32;  // crypto_auth_hmacsha512256_BYTES
+
+// The fleet's shared secret and its id (1..32767; 0 marks an unsigned
+// message on the wire).
+struct FleetKey {
+  int16_t id = 0;
+  std::array<uint8_t, kKeyBytes> key{};
+};
+
+// Reads a key file written by write_fleet_key. Throws gather::Error naming
+// the file (and the field) when it cannot be read, is readable by group or
+// others (mode & 077: the exit status is 2, as for every bad input), or is
+// malformed.
+FleetKey load_fleet_key(const std::string& path);
+
+// A new random key (libsodium's randombytes), its id random in 1..32767
+// unless `id` > 0.
+FleetKey generate_fleet_key(int id = 0);
+
+// Writes `key` to `path`, created with mode 0600; refuses (gather::Error) to
+// overwrite an existing file.
+void write_fleet_key(const std::string& path, const FleetKey& key);
+
+// The key a process runs with, from its command line: `key_file` loaded
+// (load_fleet_key), or none with `insecure`, after a warning on stderr
+// naming `who`. Throws gather::Error(flag, ...) when both or neither are
+// given.
+std::optional<FleetKey> fleet_key_from_options(const std::string& key_file, bool insecure, const std::string& who,
+                                               const std::string& key_flag = "--key-file",
+                                               const std::string& insecure_flag = "--insecure");
+
+// The key at `path`, made there first (generate_fleet_key, mode 0600) when
+// no file exists; `created` tells which.
+FleetKey load_or_create_fleet_key(const std::string& path, bool* created = nullptr);
+
+// One line: the counters by reason ("bad MAC 3, replayed 12"), or "none".
+std::string describe(const AuthCounters& a);
+
+// The envelope's fields that are signed (the payload aside).
+struct EnvelopeHead {
+  int16_t version = 0;
+  int16_t key_id = 0;
+  int16_t sender = 0;
+  int64_t counter = 0;
+};
+
+enum class Verdict : uint8_t { kAccepted, kUnsigned, kUnknownKey, kBadMac, kReplayed };
+
+class FleetAuth {
+ public:
+  static constexpr int16_t kVersion = 1;
+  static constexpr int64_t kFirstWindowUs = 60'000'000;  // a sender's first message: at most 60 s old or ahead
+
+  // `key` empty: insecure mode (messages go unsigned, and nothing is checked).
+  // `channels`: the channel names, in a fixed order (counters are kept per
+  // sender and channel); `senders`: ids -1 (the OC) .. senders - 2.
+  FleetAuth(std::optional<FleetKey> key, std::vector<std::string> channels, int senders);
+
+  bool secure() const { return key_.has_value(); }
+
+  // Fills `head` (version, key id, sender, the next counter) and `mac` for a
+  // message from `sender` on `channel`. Unsigned mode: key id 0, zero MAC.
+  void sign(const char* channel, int16_t sender, const uint8_t* payload, std::size_t size, EnvelopeHead& head,
+            uint8_t* mac);
+
+  // Checks a received envelope; on kAccepted the sender's counter moves on.
+  // Counts every refusal in counters(). Insecure mode accepts everything.
+  Verdict verify(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
+                 const uint8_t* mac);
+
+  // A message that passed verify() but whose own sender field differs.
+  void count_wrong_sender() { ++counters_.wrong_sender; }
+
+  const AuthCounters& counters() const { return counters_; }
+
+  // Room for senders -1 .. team - 1 up front (no allocation while running).
+  void reserve(int team);
+
+ private:
+  int channel_index(const char* channel) const;
+  void mac_of(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
+              uint8_t* out) const;
+  int64_t& slot(std::vector<int64_t>& table, int channel, int16_t sender);
+  AuthCounters counters_;
+
+  std::optional<FleetKey> key_;
+  std::vector<std::string> channels_;
+  int senders_;
+  // [sender + 1][channel], grown to the highest sender met (a receiver meets
+  // its team's; a signer its own id): 0 = none yet.
+  std::vector<int64_t> sent_;      // last counter signed
+  std::vector<int64_t> accepted_;  // last counter accepted
+};
+
+// Wall-clock time [us since the epoch].
+int64_t wall_clock_us();
+
+}  // namespace agent
+}  // namespace gather

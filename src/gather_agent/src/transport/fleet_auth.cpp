@@ -1,0 +1,236 @@
+#include "gather_agent/transport/fleet_auth.hpp"
+
+#include <fcntl.h>
+#include <sodium.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "gather_core/error.hpp"
+
+namespace gather {
+namespace agent {
+
+static_assert(kKeyBytes == crypto_auth_hmacsha512256_KEYBYTES, "key size");
+static_assert(kMacBytes == crypto_auth_hmacsha512256_BYTES, "MAC size");
+
+namespace {
+
+void need_sodium() {
+  if (sodium_init() < 0) throw RuntimeError("libsodium", "sodium_init failed");
+}
+
+std::string trim(const std::string& s) {
+  const std::size_t a = s.find_first_not_of(" \t\r");
+  if (a == std::string::npos) return "";
+  return s.substr(a, s.find_last_not_of(" \t\r") - a + 1);
+}
+
+void put_be(uint8_t* p, uint64_t v, int bytes) {
+  for (int i = bytes - 1; i >= 0; --i) p[i] = static_cast<uint8_t>(v & 0xff), v >>= 8;
+}
+
+}  // namespace
+
+int64_t wall_clock_us() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+FleetKey load_fleet_key(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) throw Error(path, std::string("cannot read the key file: ") + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) throw Error(path, "the key file is not a regular file");
+  if ((st.st_mode & 077) != 0) {
+    char mode[8];
+    std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(st.st_mode & 07777));
+    throw Error(path, std::string("the key file is readable by group or others (mode ") + mode + "); chmod 600 " + path);
+  }
+  if (st.st_size > 4096) throw Error(path, "the key file is larger than 4096 bytes: not a gather fleet key");
+  std::ifstream in(path);
+  if (!in) throw Error(path, "cannot read the key file");
+  FleetKey k;
+  bool have_id = false, have_key = false;
+  std::string line;
+  int no = 0;
+  while (std::getline(in, line)) {
+    ++no;
+    line = trim(line);
+    if (line.empty() || line[0] == '#') continue;
+    const std::size_t colon = line.find(':');
+    if (colon == std::string::npos) throw Error(path + ":" + std::to_string(no), "expected 'key_id: N' or 'key: HEX'");
+    const std::string field = trim(line.substr(0, colon)), value = trim(line.substr(colon + 1));
+    if (field == "key_id") {
+      char* end = nullptr;
+      errno = 0;
+      const long v = std::strtol(value.c_str(), &end, 10);
+      if (value.empty() || *end != '\0' || errno != 0 || v < 1 || v > 32767)
+        throw Error(path + ": key_id", "expected an integer in 1..32767");
+      k.id = static_cast<int16_t>(v);
+      have_id = true;
+    } else if (field == "key") {
+      std::size_t bin_len = 0;
+      if (value.size() != 2 * kKeyBytes ||
+          sodium_hex2bin(k.key.data(), k.key.size(), value.c_str(), value.size(), nullptr, &bin_len, nullptr) != 0 ||
+          bin_len != kKeyBytes)
+        throw Error(path + ": key", "expected " + std::to_string(2 * kKeyBytes) + " hexadecimal digits");
+      have_key = true;
+    } else {
+      throw Error(path + ":" + std::to_string(no), "unknown field '" + field.substr(0, 40) + "' (key_id, key)");
+    }
+  }
+  if (!have_id) throw Error(path + ": key_id", "missing");
+  if (!have_key) throw Error(path + ": key", "missing");
+  return k;
+}
+
+FleetKey generate_fleet_key(int id) {
+  need_sodium();
+  FleetKey k;
+  k.id = static_cast<int16_t>(id > 0 ? id : 1 + static_cast<int>(randombytes_uniform(32767)));
+  crypto_auth_hmacsha512256_keygen(k.key.data());
+  return k;
+}
+
+void write_fleet_key(const std::string& path, const FleetKey& key) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0600);
+  if (fd < 0)
+    throw Error(path, errno == EEXIST ? "exists: not overwriting a key (remove it first)"
+                                      : std::string("cannot create the key file: ") + std::strerror(errno));
+  char hex[2 * kKeyBytes + 1];
+  sodium_bin2hex(hex, sizeof hex, key.key.data(), key.key.size());
+  std::ostringstream s;
+  s << "# gather fleet key: the OC and every agent of one fleet use this file (docs/security.md).\n"
+    << "# Keep it secret: mode 0600, copied only over a trusted channel.\n"
+    << "key_id: " << key.id << "\nkey: " << hex << "\n";
+  const std::string text = s.str();
+  sodium_memzero(hex, sizeof hex);
+  const bool ok = ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
+  const bool closed = ::close(fd) == 0;
+  if (!ok || !closed) throw Error(path, "cannot write the key file");
+}
+
+std::optional<FleetKey> fleet_key_from_options(const std::string& key_file, bool insecure, const std::string& who,
+                                               const std::string& key_flag, const std::string& insecure_flag) {
+  if (!key_file.empty() && insecure) throw Error(key_flag, "give " + key_flag + " or " + insecure_flag + ", not both");
+  if (key_file.empty() && !insecure)
+    throw Error(key_flag, "fleet traffic is signed: give the fleet's key file (`gather keygen FILE` makes one), or " +
+                              insecure_flag + " for an unsigned fleet (docs/security.md)");
+  if (insecure) {
+    std::fprintf(stderr,
+                 "%s: WARNING: %s: fleet messages are neither signed nor checked; anyone on the network can forge, "
+                 "change or replay them (docs/security.md)\n",
+                 who.c_str(), insecure_flag.c_str());
+    return std::nullopt;
+  }
+  return load_fleet_key(key_file);
+}
+
+FleetKey load_or_create_fleet_key(const std::string& path, bool* created) {
+  struct stat st {};
+  const bool exists = ::stat(path.c_str(), &st) == 0;
+  if (!exists) write_fleet_key(path, generate_fleet_key());
+  if (created) *created = !exists;
+  return load_fleet_key(path);
+}
+
+std::string describe(const AuthCounters& a) {
+  std::string s;
+  auto add = [&](const char* what, int64_t n) {
+    if (n > 0) s += (s.empty() ? "" : ", ") + std::string(what) + " " + std::to_string(n);
+  };
+  add("unsigned", a.unsigned_msgs);
+  add("unknown key", a.unknown_key);
+  add("bad MAC", a.bad_mac);
+  add("replayed", a.replayed);
+  add("wrong sender", a.wrong_sender);
+  return s.empty() ? "none" : s;
+}
+
+FleetAuth::FleetAuth(std::optional<FleetKey> key, std::vector<std::string> channels, int senders)
+    : key_(std::move(key)), channels_(std::move(channels)), senders_(senders) {
+  need_sodium();
+}
+
+void FleetAuth::reserve(int team) {
+  const std::size_t n = static_cast<std::size_t>(std::clamp(team + 1, 0, senders_)) * channels_.size();
+  if (accepted_.size() < n) accepted_.resize(n, 0);
+}
+
+int FleetAuth::channel_index(const char* channel) const {
+  for (std::size_t i = 0; i < channels_.size(); ++i)
+    if (channels_[i] == channel) return static_cast<int>(i);
+  return -1;
+}
+
+int64_t& FleetAuth::slot(std::vector<int64_t>& table, int channel, int16_t sender) {
+  const std::size_t i = static_cast<std::size_t>(sender + 1) * channels_.size() + static_cast<std::size_t>(channel);
+  if (i >= table.size()) table.resize(i + 1, 0);
+  return table[i];
+}
+
+void FleetAuth::mac_of(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
+                       uint8_t* out) const {
+  // channel NUL | version | key id | sender | counter | payload size (big endian) | payload
+  uint8_t fields[2 + 2 + 2 + 8 + 4];
+  put_be(fields, static_cast<uint16_t>(head.version), 2);
+  put_be(fields + 2, static_cast<uint16_t>(head.key_id), 2);
+  put_be(fields + 4, static_cast<uint16_t>(head.sender), 2);
+  put_be(fields + 6, static_cast<uint64_t>(head.counter), 8);
+  put_be(fields + 14, static_cast<uint32_t>(size), 4);
+  crypto_auth_hmacsha512256_state st;
+  crypto_auth_hmacsha512256_init(&st, key_->key.data(), key_->key.size());
+  crypto_auth_hmacsha512256_update(&st, reinterpret_cast<const unsigned char*>(channel), std::strlen(channel) + 1);
+  crypto_auth_hmacsha512256_update(&st, fields, sizeof fields);
+  crypto_auth_hmacsha512256_update(&st, payload, size);
+  crypto_auth_hmacsha512256_final(&st, out);
+}
+
+void FleetAuth::sign(const char* channel, int16_t sender, const uint8_t* payload, std::size_t size, EnvelopeHead& head,
+                     uint8_t* mac) {
+  head.version = kVersion;
+  head.sender = sender;
+  const int c = channel_index(channel);
+  int64_t fallback = 0;
+  int64_t& last = (c >= 0 && sender >= -1 && sender + 1 < senders_) ? slot(sent_, c, sender) : fallback;
+  last = std::max(last + 1, wall_clock_us());
+  head.counter = last;
+  if (!key_) {
+    head.key_id = 0;
+    std::memset(mac, 0, kMacBytes);
+    return;
+  }
+  head.key_id = key_->id;
+  mac_of(channel, head, payload, size, mac);
+}
+
+Verdict FleetAuth::verify(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
+                          const uint8_t* mac) {
+  if (!key_) return Verdict::kAccepted;
+  if (head.key_id == 0) return ++counters_.unsigned_msgs, Verdict::kUnsigned;
+  if (head.key_id != key_->id || head.version != kVersion) return ++counters_.unknown_key, Verdict::kUnknownKey;
+  const int c = channel_index(channel);
+  if (c < 0 || head.sender < -1 || head.sender + 1 >= senders_) return ++counters_.bad_mac, Verdict::kBadMac;
+  uint8_t expected[kMacBytes];
+  mac_of(channel, head, payload, size, expected);
+  if (crypto_verify_32(expected, mac) != 0) return ++counters_.bad_mac, Verdict::kBadMac;
+  int64_t& last = slot(accepted_, c, head.sender);
+  if (head.counter <= last) return ++counters_.replayed, Verdict::kReplayed;
+  if (last == 0) {
+    const int64_t now = wall_clock_us();
+    if (head.counter < now - kFirstWindowUs || head.counter > now + kFirstWindowUs)
+      return ++counters_.replayed, Verdict::kReplayed;
+  }
+  last = head.counter;
+  return Verdict::kAccepted;
+}
+
+}  // namespace agent
+}  // namespace gather

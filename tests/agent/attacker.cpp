@@ -1,0 +1,234 @@
+// gather_attacker: a hostile process on the fleet's LCM network (tests only;
+// run it inside tools/netns-run, as tests/e2e/runtime_e2e.py does). It has
+// no fleet key. It listens until the mission's clock ticks, keeping the
+// messages it hears, then sends `--each` messages of each attack:
+//   forged        agent states and data deliveries for random agents, signed
+//                 with a key of its own under the fleet's key id -> bad MAC
+//   other_key     requests signed under another key id        -> unknown key
+//   unsigned      data deliveries without a signature           -> unsigned
+//   replayed      captured valid messages sent again later (delivery acks
+//                 among them)                                  -> replayed
+//   tampered      captured valid messages with one bit flipped in the
+//                 payload or the MAC                           -> bad MAC
+//   impersonated  captured valid messages with another agent's id as the
+//                 sender                                       -> bad MAC
+// and writes what it sent to --out (YAML): per reason, what the OC must
+// have rejected (it hears every channel) and what each agent must have
+// rejected (agents do not hear the tick replies' URL).
+#include <lcm/lcm.h>
+#include <unistd.h>
+
+#include <gather_lcm/agent_state_t.hpp>
+#include <gather_lcm/data_t.hpp>
+#include <gather_lcm/envelope_t.hpp>
+#include <gather_lcm/request_t.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "gather_agent/transport/fleet_auth.hpp"
+#include "gather_agent/transport/lcm_fleet.hpp"
+
+namespace {
+
+using gather::agent::EnvelopeHead;
+using gather::agent::FleetAuth;
+using gather::agent::FleetKey;
+
+struct Captured {
+  std::string channel;
+  std::vector<uint8_t> bytes;
+  bool reply = false;  // heard on the replies' URL
+};
+
+struct State {
+  std::vector<Captured> captured;
+  bool ticking = false;
+  bool capturing = true;
+  int16_t key_id = 0;
+};
+
+void on_message(const lcm_recv_buf_t* rbuf, const char* channel, void* user, bool reply) {
+  State& s = *static_cast<State*>(user);
+  if (!s.capturing) return;
+  if (std::strcmp(channel, gather::agent::kTickChannel) == 0) s.ticking = true;
+  gather_lcm::envelope_t e;
+  if (e.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) != static_cast<int>(rbuf->data_size)) return;
+  if (e.key_id != 0) s.key_id = e.key_id;
+  if (s.captured.size() < 20000)
+    s.captured.push_back({channel, std::vector<uint8_t>(static_cast<const uint8_t*>(rbuf->data),
+                                                        static_cast<const uint8_t*>(rbuf->data) + rbuf->data_size),
+                          reply});
+}
+void on_radio(const lcm_recv_buf_t* rbuf, const char* channel, void* user) { on_message(rbuf, channel, user, false); }
+void on_reply(const lcm_recv_buf_t* rbuf, const char* channel, void* user) { on_message(rbuf, channel, user, true); }
+
+template <typename T>
+std::vector<uint8_t> encoded(const T& m) {
+  std::vector<uint8_t> b(static_cast<std::size_t>(m.getEncodedSize()));
+  m.encode(b.data(), 0, static_cast<int>(b.size()));
+  return b;
+}
+
+// `payload` in an envelope signed by `auth` (a key the fleet does not have),
+// its key id then set to `key_id`.
+std::vector<uint8_t> wrap(FleetAuth& auth, const char* channel, int16_t sender, const std::vector<uint8_t>& payload,
+                          int16_t key_id) {
+  gather_lcm::envelope_t e{};
+  EnvelopeHead h;
+  e.payload = payload;
+  auth.sign(channel, sender, e.payload.data(), e.payload.size(), h, e.mac);
+  e.version = h.version, e.key_id = key_id, e.sender = h.sender, e.counter = h.counter;
+  e.size = static_cast<int32_t>(payload.size());
+  return encoded(e);
+}
+
+gather_lcm::header_t header(int16_t sender, int16_t dest, double t) {
+  gather_lcm::header_t h{};
+  h.schema_version = gather_lcm::header_t::SCHEMA_VERSION;
+  h.sender = sender, h.dest = dest, h.seq = 1000000, h.tick = -1, h.t = t, h.request = 0;
+  return h;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string url = "udpm://239.255.76.67:7667?ttl=0", reply_url, out;
+  int each = 40, team = 20;
+  double wait_s = 60.0;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string a = argv[i], v = argv[i + 1];
+    if (a == "--lcm-url") url = v;
+    else if (a == "--reply-url") reply_url = v;
+    else if (a == "--out") out = v;
+    else if (a == "--each") each = std::atoi(v.c_str());
+    else if (a == "--team") team = std::atoi(v.c_str());
+    else if (a == "--wait") wait_s = std::atof(v.c_str());
+    else {
+      std::fprintf(stderr, "gather_attacker: unknown flag %s\n", a.c_str());
+      return 2;
+    }
+  }
+  if (out.empty() || each < 1 || team < 2) {
+    std::fprintf(stderr, "usage: gather_attacker --out FILE [--lcm-url URL] [--reply-url URL] [--each N] [--team N] [--wait S]\n");
+    return 2;
+  }
+  if (reply_url.empty()) reply_url = gather::agent::LcmFleet::reply_url_for(url);
+  lcm_t* radio = lcm_create(url.c_str());
+  lcm_t* replies = lcm_create(reply_url.c_str());
+  if (!radio || !replies) {
+    std::fprintf(stderr, "gather_attacker: cannot open %s or %s\n", url.c_str(), reply_url.c_str());
+    return 2;
+  }
+  State s;
+  lcm_subscription_set_queue_capacity(lcm_subscribe(radio, ".*", on_radio, &s), 100000);
+  lcm_subscription_set_queue_capacity(lcm_subscribe(replies, ".*", on_reply, &s), 100000);
+
+  // Listen until the clock ticks and some traffic (acks among it) is kept.
+  const auto t0 = std::chrono::steady_clock::now();
+  auto acks = [&] {
+    int n = 0;
+    for (const Captured& c : s.captured) n += c.channel == gather::agent::kAckChannel;
+    return n;
+  };
+  while (!(s.ticking && s.captured.size() >= 400 && acks() >= 5)) {
+    if (std::chrono::steady_clock::now() - t0 > std::chrono::duration<double>(wait_s)) {
+      std::fprintf(stderr, "gather_attacker: no fleet traffic to attack within %.0f s (%zu messages, %d acks)\n", wait_s,
+                   s.captured.size(), acks());
+      return 1;
+    }
+    lcm_handle_timeout(radio, 5);
+    lcm_handle_timeout(replies, 0);
+  }
+  // Stop keeping what it hears (its own messages come back to it), and let
+  // every receiver take in the originals before anything is replayed.
+  s.capturing = false;
+  std::vector<Captured> kept = s.captured;
+  ::usleep(300000);
+
+  std::mt19937_64 rng(12345);
+  FleetAuth own(gather::agent::generate_fleet_key(), {gather::agent::kRequestChannel, gather::agent::kDataChannel,
+                                                      gather::agent::kAckChannel, gather::agent::kStateChannel,
+                                                      gather::agent::kPlanChannel, gather::agent::kTickChannel,
+                                                      gather::agent::kReplyChannel},
+                gather::agent::kMaxTeam + 1);
+  // Expected rejections: [reason] for the OC and for each agent.
+  std::map<std::string, long> oc, agent;
+  auto send = [&](const Captured& c, const std::vector<uint8_t>& bytes, const std::string& reason) {
+    lcm_publish(c.reply ? replies : radio, c.channel.c_str(), bytes.data(), static_cast<unsigned>(bytes.size()));
+    ++oc[reason];
+    if (!c.reply) ++agent[reason];
+    ::usleep(2000);  // a gentle rate: nothing is lost to full socket buffers
+  };
+  std::vector<const Captured*> radio_msgs, ack_msgs;
+  for (const Captured& c : kept) {
+    if (!c.reply) radio_msgs.push_back(&c);
+    if (c.channel == gather::agent::kAckChannel) ack_msgs.push_back(&c);
+  }
+  auto pick = [&](const std::vector<const Captured*>& v) -> const Captured& { return *v[rng() % v.size()]; };
+  auto any = [&]() -> const Captured& { return kept[rng() % kept.size()]; };
+  for (int i = 0; i < each; ++i) {
+    const int16_t victim = static_cast<int16_t>(rng() % static_cast<uint64_t>(team));
+    // (a) forged agent states and data deliveries, and requests under another key id, and unsigned data.
+    gather_lcm::agent_state_t st{};
+    st.h = header(victim, gather::agent::kBroadcast, 10.0 + i), st.role = gather_lcm::agent_state_t::ROLE_WORKER;
+    send({gather::agent::kStateChannel, {}, false},
+         wrap(own, gather::agent::kStateChannel, victim, encoded(st), s.key_id), "bad_mac");
+    gather_lcm::data_t d{};
+    d.h = header(victim, gather::agent::kOc, 10.0 + i), d.count = 1;
+    d.items[0].key = 7 + i, d.items[0].kind = 1, d.items[0].by = victim, d.items[0].at = 5.0, d.items[0].picked_up_by = -1;
+    send({gather::agent::kDataChannel, {}, false}, wrap(own, gather::agent::kDataChannel, victim, encoded(d), s.key_id),
+         "bad_mac");
+    gather_lcm::request_t r{};
+    r.h = header(gather::agent::kOc, gather::agent::kBroadcast, 10.0 + i), r.request = 50 + i, r.parts = 1;
+    send({gather::agent::kRequestChannel, {}, false},
+         wrap(own, gather::agent::kRequestChannel, gather::agent::kOc, encoded(r),
+              static_cast<int16_t>(s.key_id % 32767 + 1)),
+         "unknown_key");
+    send({gather::agent::kDataChannel, {}, false}, wrap(own, gather::agent::kDataChannel, victim, encoded(d), 0),
+         "unsigned");
+    // (b) replays, delivery acks half of them.
+    const Captured& old = (i % 2 == 0 && !ack_msgs.empty()) ? pick(ack_msgs) : any();
+    send(old, old.bytes, "replayed");
+    // (c) one bit flipped in the payload or the MAC (after the envelope's
+    // fixed fields: fingerprint 8, version, key id, sender 2 each, counter 8,
+    // size 4).
+    const Captured& valid = any();
+    std::vector<uint8_t> flipped = valid.bytes;
+    const std::size_t from = 8 + 2 + 2 + 2 + 8 + 4;
+    flipped[from + rng() % (flipped.size() - from)] ^= static_cast<uint8_t>(1u << (rng() % 8));
+    send(valid, flipped, "bad_mac");
+    // (d) a valid radio message passed off as another agent's.
+    const Captured& mine = pick(radio_msgs);
+    std::vector<uint8_t> other = mine.bytes;
+    const int16_t was = static_cast<int16_t>(other[8 + 4] << 8 | other[8 + 5]);
+    const int16_t as = static_cast<int16_t>((was + 1 + static_cast<int>(rng() % static_cast<uint64_t>(team - 1))) % team);
+    other[8 + 4] = static_cast<uint8_t>(static_cast<uint16_t>(as) >> 8), other[8 + 5] = static_cast<uint8_t>(as & 0xff);
+    send(mine, other, "bad_mac");
+  }
+  // Its own copies come back to it: drain them.
+  for (int i = 0; i < 100; ++i) lcm_handle_timeout(radio, 1), lcm_handle_timeout(replies, 0);
+  std::ofstream f(out);
+  f << "# gather_attacker: messages sent, by the reason they must be rejected for\n";
+  f << "captured: " << kept.size() << "\n";
+  for (const auto& [name, m] : {std::make_pair("oc", &oc), std::make_pair("agent", &agent)}) {
+    f << name << ": {";
+    bool first = true;
+    for (const char* reason : {"unsigned", "unknown_key", "bad_mac", "replayed", "wrong_sender"}) {
+      f << (first ? "" : ", ") << reason << ": " << (m->count(reason) ? m->at(reason) : 0);
+      first = false;
+    }
+    f << "}\n";
+  }
+  std::printf("gather_attacker: %zu messages captured, %d of each attack sent -> %s\n", kept.size(), each, out.c_str());
+  lcm_destroy(radio);
+  lcm_destroy(replies);
+  return f ? 0 : 1;
+}

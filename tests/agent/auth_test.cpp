@@ -1,0 +1,261 @@
+// Signed fleet traffic (docs/security.md): a message signed with the fleet
+// key passes; a forged, changed, replayed, unsigned or re-addressed one is
+// dropped before it is decoded, and counted by its reason. Key files: made
+// with mode 0600, refused when others can read them, malformed ones named.
+#include <gtest/gtest.h>
+#include <sodium.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <gather_lcm/data_t.hpp>
+#include <gather_lcm/envelope_t.hpp>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "gather_agent/transport/fleet_auth.hpp"
+#include "gather_agent/transport/lcm_fleet.hpp"
+#include "gather_core/error.hpp"
+
+namespace gather {
+namespace agent {
+namespace {
+
+const std::vector<std::string> kChannels{"A", "B"};
+
+FleetKey key_of(int16_t id, uint8_t fill) {
+  FleetKey k;
+  k.id = id;
+  k.key.fill(fill);
+  return k;
+}
+
+struct Signed {
+  EnvelopeHead head;
+  std::vector<uint8_t> payload;
+  uint8_t mac[kMacBytes];
+};
+
+Signed sign(FleetAuth& a, const char* channel, int16_t sender, std::vector<uint8_t> payload) {
+  Signed s;
+  s.payload = std::move(payload);
+  a.sign(channel, sender, s.payload.data(), s.payload.size(), s.head, s.mac);
+  return s;
+}
+
+Verdict check(FleetAuth& a, const char* channel, const Signed& s) {
+  return a.verify(channel, s.head, s.payload.data(), s.payload.size(), s.mac);
+}
+
+TEST(FleetAuthTest, AGoodMessagePassesOnceAndEveryChangeIsCaughtByItsReason) {
+  FleetAuth tx(key_of(7, 1), kChannels, 22), rx(key_of(7, 1), kChannels, 22);
+  const Signed good = sign(tx, "A", 3, {1, 2, 3, 4});
+  EXPECT_EQ(check(rx, "A", good), Verdict::kAccepted);
+  EXPECT_EQ(check(rx, "A", good), Verdict::kReplayed);  // the same message again
+  EXPECT_EQ(rx.counters().replayed, 1);
+
+  const Signed next = sign(tx, "A", 3, {5});
+  EXPECT_GT(next.head.counter, good.head.counter);
+  Signed flipped = next;
+  flipped.payload[0] ^= 0x10;
+  EXPECT_EQ(check(rx, "A", flipped), Verdict::kBadMac);
+  Signed other_sender = next;
+  other_sender.head.sender = 4;  // another agent's id on agent 3's message
+  EXPECT_EQ(check(rx, "A", other_sender), Verdict::kBadMac);
+  Signed later = next;
+  later.head.counter += 1000000;  // a counter pushed forward to get past the replay check
+  EXPECT_EQ(check(rx, "A", later), Verdict::kBadMac);
+  EXPECT_EQ(check(rx, "B", next), Verdict::kBadMac);  // moved to another channel
+  EXPECT_EQ(rx.counters().bad_mac, 4);
+  EXPECT_EQ(check(rx, "A", next), Verdict::kAccepted);  // untouched, it still passes
+
+  FleetAuth forger(key_of(7, 2), kChannels, 22);  // the right id, a wrong key
+  EXPECT_EQ(check(rx, "A", sign(forger, "A", 3, {9})), Verdict::kBadMac);
+  FleetAuth other_fleet(key_of(8, 1), kChannels, 22);
+  EXPECT_EQ(check(rx, "A", sign(other_fleet, "A", 3, {9})), Verdict::kUnknownKey);
+  FleetAuth insecure(std::nullopt, kChannels, 22);
+  const Signed plain = sign(insecure, "A", 3, {9});
+  EXPECT_EQ(plain.head.key_id, 0);
+  EXPECT_EQ(check(rx, "A", plain), Verdict::kUnsigned);
+  EXPECT_EQ(rx.counters().bad_mac, 5);
+  EXPECT_EQ(rx.counters().unknown_key, 1);
+  EXPECT_EQ(rx.counters().unsigned_msgs, 1);
+  EXPECT_EQ(rx.counters().total(), 8);
+  // An insecure receiver checks nothing.
+  EXPECT_EQ(check(insecure, "A", flipped), Verdict::kAccepted);
+}
+
+TEST(FleetAuthTest, CountersArePerSenderAndChannelAndSurviveARestart) {
+  FleetAuth rx(key_of(7, 1), kChannels, 22);
+  {
+    FleetAuth tx(key_of(7, 1), kChannels, 22);
+    for (int i = 0; i < 100; ++i) ASSERT_EQ(check(rx, "A", sign(tx, "A", 3, {1})), Verdict::kAccepted);
+    ASSERT_EQ(check(rx, "B", sign(tx, "B", 3, {1})), Verdict::kAccepted);
+    ASSERT_EQ(check(rx, "A", sign(tx, "A", -1, {1})), Verdict::kAccepted);  // the OC
+  }
+  ::usleep(2000);
+  // The process restarts with no state: its wall-clock counter is above
+  // everything it sent before.
+  FleetAuth again(key_of(7, 1), kChannels, 22);
+  EXPECT_EQ(check(rx, "A", sign(again, "A", 3, {1})), Verdict::kAccepted);
+  EXPECT_EQ(rx.counters().total(), 0);
+}
+
+// The MAC by hand, as docs/security.md specifies it: HMAC-SHA-512-256 over
+// the channel and its NUL, version, key id, sender, counter and payload size
+// (big endian), then the payload.
+void mac_by_hand(const FleetKey& k, const char* channel, const EnvelopeHead& h, const std::vector<uint8_t>& payload,
+                 uint8_t* out) {
+  std::vector<uint8_t> m(channel, channel + std::strlen(channel) + 1);
+  auto be = [&](uint64_t v, int bytes) {
+    for (int i = bytes - 1; i >= 0; --i) m.push_back(static_cast<uint8_t>(v >> (8 * i)));
+  };
+  be(static_cast<uint16_t>(h.version), 2), be(static_cast<uint16_t>(h.key_id), 2), be(static_cast<uint16_t>(h.sender), 2);
+  be(static_cast<uint64_t>(h.counter), 8), be(payload.size(), 4);
+  m.insert(m.end(), payload.begin(), payload.end());
+  crypto_auth_hmacsha512256(out, m.data(), m.size(), k.key.data());
+}
+
+TEST(FleetAuthTest, TheMacIsTheDocumentedHmacAndAFreshReceiverRefusesOldOrFutureCounters) {
+  const FleetKey k = key_of(7, 1);
+  FleetAuth tx(k, kChannels, 22);
+  const Signed s = sign(tx, "B", 5, {10, 20, 30});
+  uint8_t expected[kMacBytes];
+  mac_by_hand(k, "B", s.head, s.payload, expected);
+  EXPECT_EQ(std::memcmp(expected, s.mac, kMacBytes), 0);
+
+  // A capture two minutes old, shown to a receiver that has heard nothing
+  // from that sender yet (it restarted since): refused as a replay.
+  Signed aged = s;
+  aged.head.counter = wall_clock_us() - 120'000'000;
+  mac_by_hand(k, "B", aged.head, aged.payload, aged.mac);
+  FleetAuth fresh(k, kChannels, 22);
+  EXPECT_EQ(check(fresh, "B", aged), Verdict::kReplayed);
+  Signed ahead = s;
+  ahead.head.counter = wall_clock_us() + 120'000'000;  // a clock far ahead would block the sender's real ones
+  mac_by_hand(k, "B", ahead.head, ahead.payload, ahead.mac);
+  EXPECT_EQ(check(fresh, "B", ahead), Verdict::kReplayed);
+  EXPECT_EQ(check(fresh, "B", s), Verdict::kAccepted);  // the current one passes
+  // Once a sender is heard, only its counter matters.
+  EXPECT_EQ(check(fresh, "B", sign(tx, "B", 5, {1})), Verdict::kAccepted);
+}
+
+TEST(FleetKeyTest, KeygenWritesA0600FileThatLoadsBackAndIsNeverOverwritten) {
+  const std::string dir = ::testing::TempDir() + "/gather_key_" + std::to_string(::getpid());
+  std::filesystem::create_directories(dir);
+  const std::string path = dir + "/fleet.key";
+  std::filesystem::remove(path);
+  const FleetKey k = generate_fleet_key(1234);
+  write_fleet_key(path, k);
+  struct stat st {};
+  ASSERT_EQ(::stat(path.c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777, 0600u);
+  const FleetKey back = load_fleet_key(path);
+  EXPECT_EQ(back.id, 1234);
+  EXPECT_EQ(back.key, k.key);
+  EXPECT_THROW(write_fleet_key(path, generate_fleet_key()), Error);
+  EXPECT_EQ(load_fleet_key(path).key, k.key);
+  EXPECT_NE(generate_fleet_key().key, k.key);
+
+  ::chmod(path.c_str(), 0644);
+  try {
+    load_fleet_key(path);
+    ADD_FAILURE() << "a world-readable key was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("chmod 600"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+  ::chmod(path.c_str(), 0640);
+  EXPECT_THROW(load_fleet_key(path), Error);
+
+  auto bad = [&](const std::string& text, const std::string& named) {
+    const std::string p = dir + "/bad.key";
+    std::filesystem::remove(p);
+    std::ofstream(p) << text;
+    ::chmod(p.c_str(), 0600);
+    try {
+      load_fleet_key(p);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
+    }
+  };
+  const std::string hex(64, 'a');
+  bad("key: " + hex + "\n", "key_id");
+  bad("key_id: 3\n", "key");
+  bad("key_id: 0\nkey: " + hex + "\n", "key_id");
+  bad("key_id: 40000\nkey: " + hex + "\n", "key_id");
+  bad("key_id: 3\nkey: " + hex.substr(2) + "\n", "key");
+  bad("key_id: 3\nkey: " + std::string(64, 'g') + "\n", "key");
+  bad("key_id: 3\nkey: " + hex + "\nsalt: 1\n", "salt");
+  bad("just words\n", "bad.key:1");
+  EXPECT_THROW(load_fleet_key(dir + "/missing.key"), Error);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(FleetKeyTest, OptionsNeedAKeyOrAnExplicitInsecure) {
+  EXPECT_THROW(fleet_key_from_options("", false, "test"), Error);
+  EXPECT_THROW(fleet_key_from_options("some.key", true, "test"), Error);
+  EXPECT_FALSE(fleet_key_from_options("", true, "test").has_value());
+}
+
+// The transport: a signed envelope on the wire passes; the same bytes
+// changed anywhere, replayed, or carrying a payload whose sender differs
+// from the signed one are dropped and counted, and nothing reaches the queue.
+TEST(LcmFleetAuthTest, EnvelopesAreCheckedBeforeThePayloadIsDecoded) {
+  const FleetKey key = key_of(7, 1);
+  LcmFleet rx("memq://", "memq://", true, key, 20);
+  FleetAuth tx(key, {kRequestChannel, kDataChannel, kAckChannel, kStateChannel, kPlanChannel, kTickChannel, kReplyChannel},
+               kMaxTeam + 1);
+  auto wire = [&](int16_t payload_sender, int16_t envelope_sender) {
+    gather_lcm::data_t d{};
+    d.h.schema_version = gather_lcm::header_t::SCHEMA_VERSION;
+    d.h.sender = payload_sender, d.h.dest = kOc, d.count = 0;
+    std::vector<uint8_t> p(static_cast<std::size_t>(d.getEncodedSize()));
+    d.encode(p.data(), 0, static_cast<int>(p.size()));
+    gather_lcm::envelope_t e{};
+    EnvelopeHead h;
+    e.payload = p;
+    tx.sign(kDataChannel, envelope_sender, e.payload.data(), e.payload.size(), h, e.mac);
+    e.version = h.version, e.key_id = h.key_id, e.sender = h.sender, e.counter = h.counter;
+    e.size = static_cast<int32_t>(p.size());
+    std::vector<uint8_t> b(static_cast<std::size_t>(e.getEncodedSize()));
+    e.encode(b.data(), 0, static_cast<int>(b.size()));
+    return b;
+  };
+  const std::vector<uint8_t> good = wire(3, 3);
+  rx.on_radio(kDataChannel, good.data(), static_cast<int>(good.size()));
+  ASSERT_EQ(rx.radio().size(), 1u);
+  rx.on_radio(kDataChannel, good.data(), static_cast<int>(good.size()));  // replayed
+  EXPECT_EQ(rx.rejected().replayed, 1);
+  // Every single bit flipped, one at a time: never accepted.
+  const std::vector<uint8_t> fresh = wire(3, 3);
+  for (std::size_t i = 0; i < fresh.size() * 8; ++i) {
+    std::vector<uint8_t> b = fresh;
+    b[i / 8] ^= static_cast<uint8_t>(1u << (i % 8));
+    rx.on_radio(kDataChannel, b.data(), static_cast<int>(b.size()));
+  }
+  EXPECT_EQ(rx.radio().size(), 1u);
+  EXPECT_EQ(rx.dropped(), 1 + static_cast<int64_t>(fresh.size() * 8));
+  // Signed by a keyholder as agent 4 but claiming agent 3 inside.
+  const std::vector<uint8_t> mismatched = wire(3, 4);
+  rx.on_radio(kDataChannel, mismatched.data(), static_cast<int>(mismatched.size()));
+  EXPECT_EQ(rx.rejected().wrong_sender, 1);
+  // The fresh one itself still passes (nothing above moved its counter).
+  rx.on_radio(kDataChannel, fresh.data(), static_cast<int>(fresh.size()));
+  EXPECT_EQ(rx.radio().size(), 2u);
+  // A declared payload size past the bytes that follow is refused before
+  // anything is allocated for it.
+  std::vector<uint8_t> huge = fresh;
+  huge[8 + 14] = 0x7f;
+  rx.on_radio(kDataChannel, huge.data(), static_cast<int>(huge.size()));
+  EXPECT_EQ(rx.radio().size(), 2u);
+}
+
+}  // namespace
+}  // namespace agent
+}  // namespace gather
