@@ -92,6 +92,20 @@ TEST(FleetAuthTest, AGoodMessagePassesOnceAndEveryChangeIsCaughtByItsReason) {
 TEST(FleetAuthTest, CountersArePerSenderAndChannelAndSurviveARestart) {
   FleetAuth rx(key_of(7, 1), kChannels, 22);
   {
+    // Signed on B, then on A; heard on A, then on B: both pass only because
+    // each channel keeps its own counter.
+    FleetAuth tx(key_of(7, 1), kChannels, 22);
+    const Signed on_b = sign(tx, "B", 5, {1});
+    const Signed on_a = sign(tx, "A", 5, {1});
+    EXPECT_EQ(check(rx, "A", on_a), Verdict::kAccepted);
+    EXPECT_EQ(check(rx, "B", on_b), Verdict::kAccepted);
+    // Likewise per sender: agent 6's older message after agent 5's newer one.
+    const Signed six = sign(tx, "A", 6, {1});
+    const Signed five = sign(tx, "A", 5, {2});
+    EXPECT_EQ(check(rx, "A", five), Verdict::kAccepted);
+    EXPECT_EQ(check(rx, "A", six), Verdict::kAccepted);
+  }
+  {
     FleetAuth tx(key_of(7, 1), kChannels, 22);
     for (int i = 0; i < 100; ++i) ASSERT_EQ(check(rx, "A", sign(tx, "A", 3, {1})), Verdict::kAccepted);
     ASSERT_EQ(check(rx, "B", sign(tx, "B", 3, {1})), Verdict::kAccepted);
@@ -128,20 +142,26 @@ TEST(FleetAuthTest, TheMacIsTheDocumentedHmacAndAFreshReceiverRefusesOldOrFuture
   mac_by_hand(k, "B", s.head, s.payload, expected);
   EXPECT_EQ(std::memcmp(expected, s.mac, kMacBytes), 0);
 
-  // A capture two minutes old, shown to a receiver that has heard nothing
-  // from that sender yet (it restarted since): refused as a replay.
-  Signed aged = s;
-  aged.head.counter = wall_clock_us() - 120'000'000;
-  mac_by_hand(k, "B", aged.head, aged.payload, aged.mac);
+  // A receiver that starts (or restarts) after a capture was made has heard
+  // nothing from that sender yet: the capture, 30 s or 2 min old, is refused
+  // all the same, as is a counter far ahead of its clock.
   FleetAuth fresh(k, kChannels, 22);
-  EXPECT_EQ(check(fresh, "B", aged), Verdict::kReplayed);
+  for (const int64_t age_us : {30'000'000LL, 120'000'000LL}) {
+    Signed aged = s;
+    aged.head.counter = wall_clock_us() - age_us;
+    mac_by_hand(k, "B", aged.head, aged.payload, aged.mac);
+    EXPECT_EQ(check(fresh, "B", aged), Verdict::kReplayed) << age_us;
+  }
   Signed ahead = s;
-  ahead.head.counter = wall_clock_us() + 120'000'000;  // a clock far ahead would block the sender's real ones
+  ahead.head.counter = wall_clock_us() + 120'000'000;
   mac_by_hand(k, "B", ahead.head, ahead.payload, ahead.mac);
   EXPECT_EQ(check(fresh, "B", ahead), Verdict::kReplayed);
-  EXPECT_EQ(check(fresh, "B", s), Verdict::kAccepted);  // the current one passes
-  // Once a sender is heard, only its counter matters.
+  // Signed a moment before the receiver started: within the clock skew
+  // allowed (FleetAuth::kClockSkewUs, the window that is left), it passes.
+  EXPECT_EQ(check(fresh, "B", s), Verdict::kAccepted);
+  // Sent after: passes, and from then on only the counter matters.
   EXPECT_EQ(check(fresh, "B", sign(tx, "B", 5, {1})), Verdict::kAccepted);
+  EXPECT_EQ(check(fresh, "B", sign(tx, "B", 5, {2})), Verdict::kAccepted);
 }
 
 TEST(FleetKeyTest, KeygenWritesA0600FileThatLoadsBackAndIsNeverOverwritten) {
@@ -254,6 +274,25 @@ TEST(LcmFleetAuthTest, EnvelopesAreCheckedBeforeThePayloadIsDecoded) {
   huge[8 + 14] = 0x7f;
   rx.on_radio(kDataChannel, huge.data(), static_cast<int>(huge.size()));
   EXPECT_EQ(rx.radio().size(), 2u);
+  // The head and MAC of a good message with its payload cut out (size 0):
+  // the MAC is checked over no bytes, never over the message decoded before.
+  // Two messages with the same payload; the first is heard (the decoder then
+  // holds its payload), the second arrives with its payload cut out. Were the
+  // MAC checked over the bytes left from the first, it would pass.
+  const std::vector<uint8_t> first = wire(3, 3), second = wire(3, 3);
+  rx.on_radio(kDataChannel, first.data(), static_cast<int>(first.size()));
+  ASSERT_EQ(rx.radio().size(), 3u);
+  gather_lcm::envelope_t e;
+  ASSERT_EQ(e.decode(second.data(), 0, static_cast<int>(second.size())), static_cast<int>(second.size()));
+  e.size = 0, e.payload.clear();
+  std::vector<uint8_t> empty(static_cast<std::size_t>(e.getEncodedSize()));
+  e.encode(empty.data(), 0, static_cast<int>(empty.size()));
+  const int64_t bad_mac = rx.rejected().bad_mac, undecodable = rx.refused().undecodable;
+  rx.on_radio(kDataChannel, empty.data(), static_cast<int>(empty.size()));
+  EXPECT_EQ(rx.rejected().bad_mac, bad_mac + 1);
+  EXPECT_EQ(rx.refused().undecodable, undecodable);
+  rx.on_radio(kDataChannel, second.data(), static_cast<int>(second.size()));  // its counter was not used up
+  EXPECT_EQ(rx.radio().size(), 4u);
 }
 
 }  // namespace

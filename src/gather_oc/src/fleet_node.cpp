@@ -140,7 +140,10 @@ int main(int argc, char** argv) {
   }
   // The OC's fleet key (or --insecure), set with the plan's directory.
   std::string key_file;
-  nh.getParam("/gather/key_file", key_file);
+  if (!nh.getParam("/gather/key_file", key_file)) {
+    std::fprintf(stderr, "fleet: the OC did not say which fleet key to use (/gather/key_file): not starting unsigned agents\n");
+    return 1;
+  }
   std::vector<std::string> command{bin, "--id", "{id}", "--plan", plan_dir};
   if (key_file.empty()) command.push_back("--insecure");
   else command.insert(command.end(), {"--key-file", key_file});

@@ -10,7 +10,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 
 #include "gather_core/error.hpp"
@@ -45,17 +44,32 @@ int64_t wall_clock_us() {
 }
 
 FleetKey load_fleet_key(const std::string& path) {
+  // Opened once, its mode checked on that descriptor (no check-then-open
+  // gap), a symbolic link as the last component refused.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0)
+    throw Error(path, errno == ELOOP ? std::string("the key file is a symbolic link: give the file itself")
+                                     : std::string("cannot read the key file: ") + std::strerror(errno));
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) throw Error(path, std::string("cannot read the key file: ") + std::strerror(errno));
+  std::string text;
+  const bool stat_ok = ::fstat(fd, &st) == 0;
+  if (stat_ok && S_ISREG(st.st_mode) && (st.st_mode & 077) == 0 && st.st_size <= 4096) {
+    char buf[4097];
+    ssize_t n = 0, got;
+    while (n < 4097 && (got = ::read(fd, buf + n, static_cast<std::size_t>(4097 - n))) > 0) n += got;
+    text.assign(buf, static_cast<std::size_t>(std::max<ssize_t>(n, 0)));
+    sodium_memzero(buf, sizeof buf);
+  }
+  ::close(fd);
+  if (!stat_ok) throw Error(path, "cannot read the key file");
   if (!S_ISREG(st.st_mode)) throw Error(path, "the key file is not a regular file");
   if ((st.st_mode & 077) != 0) {
     char mode[8];
     std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(st.st_mode & 07777));
     throw Error(path, std::string("the key file is readable by group or others (mode ") + mode + "); chmod 600 " + path);
   }
-  if (st.st_size > 4096) throw Error(path, "the key file is larger than 4096 bytes: not a gather fleet key");
-  std::ifstream in(path);
-  if (!in) throw Error(path, "cannot read the key file");
+  if (st.st_size > 4096 || text.size() > 4096) throw Error(path, "the key file is larger than 4096 bytes: not a gather fleet key");
+  std::istringstream in(text);
   FleetKey k;
   bool have_id = false, have_key = false;
   std::string line;
@@ -155,7 +169,7 @@ std::string describe(const AuthCounters& a) {
 }
 
 FleetAuth::FleetAuth(std::optional<FleetKey> key, std::vector<std::string> channels, int senders)
-    : key_(std::move(key)), channels_(std::move(channels)), senders_(senders) {
+    : key_(std::move(key)), channels_(std::move(channels)), senders_(senders), started_us_(wall_clock_us()) {
   need_sodium();
 }
 
@@ -223,11 +237,8 @@ Verdict FleetAuth::verify(const char* channel, const EnvelopeHead& head, const u
   if (crypto_verify_32(expected, mac) != 0) return ++counters_.bad_mac, Verdict::kBadMac;
   int64_t& last = slot(accepted_, c, head.sender);
   if (head.counter <= last) return ++counters_.replayed, Verdict::kReplayed;
-  if (last == 0) {
-    const int64_t now = wall_clock_us();
-    if (head.counter < now - kFirstWindowUs || head.counter > now + kFirstWindowUs)
-      return ++counters_.replayed, Verdict::kReplayed;
-  }
+  if (last == 0 && (head.counter < started_us_ - kClockSkewUs || head.counter > wall_clock_us() + kClockSkewUs))
+    return ++counters_.replayed, Verdict::kReplayed;  // sent before this receiver started: a capture
   last = head.counter;
   return Verdict::kAccepted;
 }

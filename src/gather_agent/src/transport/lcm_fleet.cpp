@@ -357,8 +357,12 @@ const uint8_t* LcmFleet::open(const char* channel, const void* data, int size, i
   const int64_t declared = static_cast<int32_t>(static_cast<uint32_t>(b[0]) << 24 | static_cast<uint32_t>(b[1]) << 16 |
                                                 static_cast<uint32_t>(b[2]) << 8 | static_cast<uint32_t>(b[3]));
   if (declared != size - kFixed) return ++refused_.undecodable, nullptr;
-  if (safe_decode(e, data, size) != size) return ++refused_.undecodable, nullptr;
-  if (e.size < 0 || e.size > gather_lcm::envelope_t::MAX_PAYLOAD) return ++refused_.out_of_range, nullptr;
+  if (declared > gather_lcm::envelope_t::MAX_PAYLOAD) return ++refused_.out_of_range, nullptr;
+  // The generated decoder leaves the payload as it was for a size of 0: empty
+  // it first, so that a MAC is never checked against an earlier message.
+  e.payload.clear();
+  if (safe_decode(e, data, size) != size || e.payload.size() != static_cast<std::size_t>(e.size))
+    return ++refused_.undecodable, nullptr;
   const EnvelopeHead head{e.version, e.key_id, e.sender, e.counter};
   if (auth_.verify(channel, head, e.payload.data(), e.payload.size(), e.mac) != Verdict::kAccepted) return nullptr;
   if (e.version != gather_lcm::envelope_t::VERSION) return ++refused_.wrong_version, nullptr;

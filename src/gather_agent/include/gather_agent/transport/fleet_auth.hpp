@@ -10,10 +10,11 @@
 // so a restarted process continues above what it sent before its restart
 // without keeping any state (as long as its clock does not step back). A
 // receiver accepts a counter only above the last one it accepted from that
-// sender on that channel, and, for the first one it hears, only within
-// kFirstWindowUs of its own clock (so a receiver that restarts is not open
-// to old captures either). No code here sees LCM types: LcmFleet wraps and
-// unwraps the envelope.
+// sender on that channel, and, for the first one it hears from them, only
+// when it was sent after this receiver started (within kClockSkewUs for
+// clocks that differ), so a receiver that starts or restarts is not open to
+// captures of earlier traffic either. No code here sees LCM types: LcmFleet
+// wraps and unwraps the envelope.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -78,7 +79,10 @@ enum class Verdict : uint8_t { kAccepted, kUnsigned, kUnknownKey, kBadMac, kRepl
 class FleetAuth {
  public:
   static constexpr int16_t kVersion = 1;
-  static constexpr int64_t kFirstWindowUs = 60'000'000;  // a sender's first message: at most 60 s old or ahead
+  // How far the fleet's clocks may differ [us]: a sender's first message must
+  // be stamped after the receiver started minus this, and at most this far
+  // ahead of the receiver's clock.
+  static constexpr int64_t kClockSkewUs = 2'000'000;
 
   // `key` empty: insecure mode (messages go unsigned, and nothing is checked).
   // `channels`: the channel names, in a fixed order (counters are kept per
@@ -115,6 +119,7 @@ class FleetAuth {
   std::optional<FleetKey> key_;
   std::vector<std::string> channels_;
   int senders_;
+  int64_t started_us_;  // wall clock when this receiver started
   // [sender + 1][channel], grown to the highest sender met (a receiver meets
   // its team's; a signer its own id): 0 = none yet.
   std::vector<int64_t> sent_;      // last counter signed
