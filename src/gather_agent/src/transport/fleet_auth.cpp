@@ -171,7 +171,10 @@ std::string describe(const AuthCounters& a) {
 FleetAuth::FleetAuth(std::optional<FleetKey> key, std::vector<std::string> channels, int senders)
     : key_(std::move(key)), channels_(std::move(channels)), senders_(senders), started_us_(wall_clock_us()) {
   need_sodium();
+  if (key_) crypto_auth_hmacsha512256_init(&keyed_, key_->key.data(), key_->key.size());
 }
+
+FleetAuth::~FleetAuth() { sodium_memzero(&keyed_, sizeof keyed_); }
 
 void FleetAuth::reserve(int team) {
   const std::size_t n = static_cast<std::size_t>(std::clamp(team + 1, 0, senders_)) * channels_.size();
@@ -199,8 +202,7 @@ void FleetAuth::mac_of(const char* channel, const EnvelopeHead& head, const uint
   put_be(fields + 4, static_cast<uint16_t>(head.sender), 2);
   put_be(fields + 6, static_cast<uint64_t>(head.counter), 8);
   put_be(fields + 14, static_cast<uint32_t>(size), 4);
-  crypto_auth_hmacsha512256_state st;
-  crypto_auth_hmacsha512256_init(&st, key_->key.data(), key_->key.size());
+  crypto_auth_hmacsha512256_state st = keyed_;
   crypto_auth_hmacsha512256_update(&st, reinterpret_cast<const unsigned char*>(channel), std::strlen(channel) + 1);
   crypto_auth_hmacsha512256_update(&st, fields, sizeof fields);
   crypto_auth_hmacsha512256_update(&st, payload, size);

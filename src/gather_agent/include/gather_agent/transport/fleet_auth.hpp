@@ -15,6 +15,8 @@
 // clocks that differ), so a receiver that starts or restarts is not open to
 // captures of earlier traffic either. No code here sees LCM types: LcmFleet
 // wraps and unwraps the envelope.
+#include <sodium/crypto_auth_hmacsha512256.h>
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -88,6 +90,9 @@ class FleetAuth {
   // `channels`: the channel names, in a fixed order (counters are kept per
   // sender and channel); `senders`: ids -1 (the OC) .. senders - 2.
   FleetAuth(std::optional<FleetKey> key, std::vector<std::string> channels, int senders);
+  ~FleetAuth();
+  FleetAuth(const FleetAuth&) = delete;
+  FleetAuth& operator=(const FleetAuth&) = delete;
 
   bool secure() const { return key_.has_value(); }
 
@@ -120,6 +125,9 @@ class FleetAuth {
   std::vector<std::string> channels_;
   int senders_;
   int64_t started_us_;  // wall clock when this receiver started
+  // HMAC's state once the key is absorbed (its inner and outer pads hashed):
+  // each message starts from a copy instead of hashing the key twice again.
+  crypto_auth_hmacsha512256_state keyed_{};
   // [sender + 1][channel], grown to the highest sender met (a receiver meets
   // its team's; a signer its own id): 0 = none yet.
   std::vector<int64_t> sent_;      // last counter signed
