@@ -13,7 +13,7 @@ CYCLES ?= 0
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build run test test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-signing partition-report scenario-report regime-report runtime-report clean help
+.PHONY: all deps build run test test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-signing identity-check partition-report scenario-report regime-report runtime-report clean help
 
 all: build
 
@@ -117,6 +117,16 @@ bench-faults: build
 # over LCM signed vs unsigned on maps/office (docs/security.md); ~4 min.
 bench-signing: build
 	tools/netns-run bench/signing_bench.sh $(G)
+
+# A refactor changes no result: plan.yaml, report.csv (timings aside) and
+# goals.csv of office and office_a from REF's gather and from this tree's.
+identity-check: build
+	@test -n "$(REF)" || { echo "usage: make identity-check REF=<commit>" >&2; exit 2; }
+	rm -rf build/identity_ref && git worktree prune && git worktree add -f --detach build/identity_ref/src $(REF) > /dev/null
+	cmake -S build/identity_ref/src/src/gather_agent -B build/identity_ref/build -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF > /dev/null
+	cmake --build build/identity_ref/build -j$(JOBS) --target gather > /dev/null
+	$(PYTHON) tools/identity_check.py --before build/identity_ref/build/gather_core/gather --after $(G); \
+	  status=$$?; git worktree remove --force build/identity_ref/src; exit $$status
 
 # Partition metrics of BAP/PAP/RAP on every map -> docs/partitions.md.
 partition-report: build

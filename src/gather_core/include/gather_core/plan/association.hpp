@@ -1,0 +1,22 @@
+#pragma once
+// Association as a decision (seed sec. 3.1): per worker, deliver to its
+// collector or to the OC, and collector routes no longer than the request
+// period (docs/planner.md, "Association").
+#include <vector>
+
+#include "gather_core/fmm/fast_marching.hpp"
+#include "gather_core/plan/planner.hpp"
+
+namespace gather {
+namespace plan {
+
+// The segments collector c serves, ascending.
+std::vector<int> segments_of(const ConfigurationPlan& cfg, int c);
+
+// Balances the routes and moves workers to the OC while that raises the
+// score J (see association.cpp); rebuilds the routes it changes (with `fm`,
+// a march workspace on the route speed map) and cfg.estimates.
+void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan& cfg, const PlannerOptions& opt);
+
+}  // namespace plan
+}  // namespace gather

@@ -1,0 +1,152 @@
+#include "gather_core/plan/association.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "gather_core/plan/estimate.hpp"
+#include "gather_core/plan/route_builder.hpp"
+#include "gather_core/radio/radio_model.hpp"
+
+namespace gather {
+namespace plan {
+
+static constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::vector<int> segments_of(const ConfigurationPlan& cfg, int c) {
+  std::vector<int> segs;
+  for (const WorkerSegment& seg : cfg.graph.segments)
+    if (cfg.collector_of_segment[static_cast<std::size_t>(seg.id - 1)] == c) segs.push_back(seg.id);
+  return segs;
+}
+
+// Association as a decision (seed sec. 3.1: the planner decides "with whom
+// the workers must communicate, a collector or the OC", balancing "the time
+// of the collectors and of the workers' estimated trajectories").
+// The groups grown by group_segments are the starting point; then
+//  1. balance: while a collector's route is longer than the request period
+//     (its loop would carry out only the newest of the requests issued
+//     meanwhile, and skip the others), one of its segments goes to the OC:
+//     the one whose move leaves the best score J. A route that cannot be
+//     trimmed under T leaves the collector idle.
+//  2. decide: a worker of a collector moves to the OC when that raises J
+//     (the move also shortens its collector's route, which the re-estimate
+//     sees); the most promising moves by the worker's own estimate are tried
+//     first, the best of them is kept, until none raises J.
+// Each trial rebuilds one route and re-runs the estimate (a few ms).
+void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan& cfg, const PlannerOptions& opt) {
+  const Scenario& s = ctx.scenario;
+  const double T = ctx.cycle_period, v = s.team.speed;
+  const double G = std::max(1, s.mission.goals_per_request);
+  const int cycles = std::max(1, s.mission.cycles);
+  const RadioModel radio(s.grid, s.radio);
+  // Moves segment k to the OC, rebuilds its collector's route, re-estimates
+  // the workers that changes (that collector's and k's), returns J;
+  // undo() restores the state before the move.
+  CollectorRoute saved_route;
+  Estimates saved_estimates;
+  int saved_k = 0, saved_c = -1;
+  auto try_move = [&](int k) {
+    saved_k = k;
+    saved_c = cfg.collector_of_segment[static_cast<std::size_t>(k - 1)];
+    saved_route = cfg.routes[static_cast<std::size_t>(saved_c)];
+    saved_estimates = cfg.estimates;
+    cfg.collector_of_segment[static_cast<std::size_t>(k - 1)] = -1;
+    cfg.routes[static_cast<std::size_t>(saved_c)] =
+        build_route(ctx, fm, cfg.graph, cfg.partition.labels, segments_of(cfg, saved_c), saved_c, opt);
+    for (WorkerEstimate& w : cfg.estimates.workers)
+      if (w.segment == k || w.collector == saved_c)
+        w = estimate_worker(ctx, cfg, cfg.graph.segment(w.segment), radio, opt);
+    combine(cfg.estimates, ctx);
+    return score(cfg.estimates, ctx);
+  };
+  auto undo = [&]() {
+    cfg.collector_of_segment[static_cast<std::size_t>(saved_k - 1)] = saved_c;
+    cfg.routes[static_cast<std::size_t>(saved_c)] = saved_route;
+    cfg.estimates = saved_estimates;
+  };
+  // A segment's worker delivering to the OC: its estimate depends on no
+  // route, so it is run once per segment, on first need.
+  struct OcAlternative {
+    bool known = false;
+    double goals = 0.0, latency = 0.0, interval = 0.0;  // per cycle; [s]; [s]
+  };
+  std::vector<OcAlternative> alternatives(cfg.graph.segments.size());
+  auto oc_alternative = [&](int segment) -> const OcAlternative& {
+    OcAlternative& a = alternatives[static_cast<std::size_t>(segment - 1)];
+    if (a.known) return a;
+    const WorkerSegment& seg = cfg.graph.segment(segment);
+    const std::vector<double> pmf = goal_count_pmf(s.mission.goals_per_request, seg.area / ctx.reachable_area);
+    const TourModel model = tour_model(seg, true, opt.tsp_constant);
+    const WorkerRun oc = run_oc_worker(model, first_trip(seg, model), pmf, v, T, cycles,
+                                       cfg.area_parts[static_cast<std::size_t>(segment - 1)]);
+    a.known = true;
+    a.goals = oc.delivered / cycles;
+    a.latency = oc.delivered > 0 ? oc.refresh_sum / oc.delivered : 0.0;
+    a.interval = mean_interval(oc.areas, cycles * T);
+    return a;
+  };
+  // The most promising moves first: by how much a worker's own share of J
+  // would grow if it delivered to the OC. Only workers of collector `only`
+  // (-1: of any collector).
+  auto ranked = [&](int only) {
+    const double goals = std::max(1e-9, cfg.estimates.goals);
+    // Latency: the worker's goal-weighted part of the mean; interval: its
+    // part of the mean over segments.
+    const double n_workers = static_cast<double>(cfg.estimates.workers.size());
+    auto share = [&](double delivered, double latency, double interval) {
+      const double t = s.planner.refresh == RefreshMetric::kInterval ? interval / n_workers : delivered * latency / goals;
+      return s.planner.beta * delivered / G - s.planner.alpha * t / T;
+    };
+    std::vector<std::pair<double, int>> gain;
+    for (const WorkerEstimate& w : cfg.estimates.workers) {
+      if (w.collector < 0 || (only >= 0 && w.collector != only)) continue;
+      const OcAlternative& oc = oc_alternative(w.segment);
+      gain.emplace_back(share(oc.goals, oc.latency, oc.interval) - share(w.delivered_goals, w.refresh_s, w.interval_s),
+                        w.segment);
+    }
+    std::sort(gain.begin(), gain.end(), std::greater<>());
+    return gain;
+  };
+  constexpr std::size_t kTrials = 4;  // moves fully re-estimated per step
+  // 1. Balance: the best of the promising moves and of the one farthest
+  // from the coverage (it usually shortens the route most).
+  for (int c = 0; c < cfg.collectors; ++c) {
+    while (cfg.routes[static_cast<std::size_t>(c)].period > T * (1.0 + 1e-9)) {
+      const std::vector<std::pair<double, int>> gain = ranked(c);
+      if (gain.empty()) break;
+      std::vector<int> trials;
+      for (std::size_t i = 0; i < gain.size() && i < kTrials; ++i) trials.push_back(gain[i].second);
+      int farthest = gain.front().second;
+      for (const auto& [g, k] : gain)
+        if (cfg.graph.segment(k).coverage_distance > cfg.graph.segment(farthest).coverage_distance) farthest = k;
+      if (std::find(trials.begin(), trials.end(), farthest) == trials.end()) trials.push_back(farthest);
+      int best_k = trials.front();
+      double best = -kInf;
+      for (int k : trials) {
+        const double j = try_move(k);
+        undo();
+        if (j > best) best = j, best_k = k;
+      }
+      try_move(best_k);
+      ++cfg.moved_to_oc;
+    }
+  }
+  // 2. Decide, worker by worker, while a move raises J.
+  for (double current = score(cfg.estimates, ctx);;) {
+    const std::vector<std::pair<double, int>> gain = ranked(-1);
+    int best_k = -1;
+    double best = current;
+    for (std::size_t i = 0; i < gain.size() && i < kTrials; ++i) {
+      const double j = try_move(gain[i].second);
+      undo();
+      if (j > best + 1e-12) best = j, best_k = gain[i].second;
+    }
+    if (best_k < 0) break;
+    current = try_move(best_k);
+    ++cfg.moved_to_oc;
+  }
+}
+
+}  // namespace plan
+}  // namespace gather

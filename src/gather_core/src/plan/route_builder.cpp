@@ -1,0 +1,280 @@
+#include "gather_core/plan/route_builder.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <queue>
+
+#include "gather_core/error.hpp"
+#include "gather_core/fmm/path.hpp"
+#include "gather_core/path/path_polisher.hpp"
+#include "gather_core/radio/radio_model.hpp"
+
+namespace gather {
+namespace plan {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double dist(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+// Order of the meeting points (indices into `d`, 0 = the OC) of a closed tour
+// from the OC: exact by dynamic programming up to 12 points, else nearest
+// neighbour followed by 2-opt. `d` is a symmetric matrix of geodesic lengths.
+std::vector<int> tour_order(const std::vector<std::vector<double>>& d) {
+  const int n = static_cast<int>(d.size()) - 1;  // meeting points
+  std::vector<int> order;
+  if (n <= 0) return order;
+  if (n <= 12) {
+    const int full = 1 << n;
+    std::vector<double> best(static_cast<std::size_t>(full) * n, kInf);
+    std::vector<int> prev(best.size(), -1);
+    for (int j = 0; j < n; ++j) best[(1u << j) * n + j] = d[0][j + 1];
+    for (int mask = 1; mask < full; ++mask)
+      for (int j = 0; j < n; ++j) {
+        const double b = best[static_cast<std::size_t>(mask) * n + j];
+        if (!(mask & (1 << j)) || b == kInf) continue;
+        for (int k = 0; k < n; ++k) {
+          if (mask & (1 << k)) continue;
+          const std::size_t to = static_cast<std::size_t>(mask | (1 << k)) * n + k;
+          if (b + d[j + 1][k + 1] < best[to]) best[to] = b + d[j + 1][k + 1], prev[to] = j;
+        }
+      }
+    int last = 0;
+    double total = kInf;
+    for (int j = 0; j < n; ++j) {
+      const double t = best[static_cast<std::size_t>(full - 1) * n + j] + d[j + 1][0];
+      if (t < total) total = t, last = j;
+    }
+    int mask = full - 1;
+    while (last >= 0) {
+      order.push_back(last + 1);
+      const int p = prev[static_cast<std::size_t>(mask) * n + last];
+      mask &= ~(1 << last);
+      last = p;
+    }
+    std::reverse(order.begin(), order.end());
+    return order;
+  }
+  std::vector<uint8_t> used(static_cast<std::size_t>(n) + 1, 0);
+  int at = 0;
+  for (int step = 0; step < n; ++step) {
+    int next = -1;
+    for (int k = 1; k <= n; ++k)
+      if (!used[k] && (next < 0 || d[at][k] < d[at][next])) next = k;
+    used[next] = 1;
+    order.push_back(next);
+    at = next;
+  }
+  auto at_pos = [&](int i) { return i < 0 || i >= n ? 0 : order[i]; };
+  for (bool improved = true; improved;) {
+    improved = false;
+    for (int i = 0; i < n - 1; ++i)
+      for (int j = i + 1; j < n; ++j) {
+        const double before = d[at_pos(i - 1)][at_pos(i)] + d[at_pos(j)][at_pos(j + 1)];
+        const double after = d[at_pos(i - 1)][at_pos(j)] + d[at_pos(i)][at_pos(j + 1)];
+        if (after + 1e-9 < before) {
+          std::reverse(order.begin() + i, order.begin() + j + 1);
+          improved = true;
+        }
+      }
+  }
+  return order;
+}
+
+// Shortest 8-connected path a -> b [m] on the route speed map by A* (octile
+// heuristic; no diagonal step past a blocked corner). A leg between two
+// meeting areas is short, and A* explores only around it, where an FMM march
+// without a heuristic would flood a disc of the leg's length. Returns cell
+// centres from a's cell to b's cell; empty if b cannot be reached.
+std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
+  const OccupancyGrid& grid = ctx.scenario.grid;
+  const int w = grid.width();
+  const Cell ca = grid.world_to_cell(a), cb = grid.world_to_cell(b);
+  const std::size_t start = grid.index(ca), goal = grid.index(cb);
+  std::vector<float> g(grid.size(), std::numeric_limits<float>::infinity());
+  std::vector<uint32_t> parent(grid.size(), 0);
+  using Entry = std::pair<float, uint32_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
+  const auto& speed = ctx.route_speed;
+  auto h = [&](std::size_t i) {
+    const double dx = std::abs(static_cast<int>(i % w) - cb.col), dy = std::abs(static_cast<int>(i / w) - cb.row);
+    return static_cast<float>(std::max(dx, dy) + (std::sqrt(2.0) - 1.0) * std::min(dx, dy));  // at speed 1
+  };
+  g[start] = 0.0f;
+  open.emplace(h(start), static_cast<uint32_t>(start));
+  static const int dr[8] = {0, 0, 1, -1, 1, 1, -1, -1}, dc[8] = {1, -1, 0, 0, 1, -1, 1, -1};
+  while (!open.empty()) {
+    const auto [f, i] = open.top();
+    open.pop();
+    if (i == goal) break;
+    if (f > g[i] + h(i) + 1e-4f) continue;  // stale entry
+    const Cell c = grid.cell(i);
+    for (int k = 0; k < 8; ++k) {
+      const Cell n{c.row + dr[k], c.col + dc[k]};
+      if (!grid.contains(n)) continue;
+      const std::size_t j = grid.index(n);
+      if (speed[j] <= 0) continue;
+      const bool diagonal = k >= 4;
+      if (diagonal && (speed[grid.index(Cell{c.row + dr[k], c.col})] <= 0 || speed[grid.index(Cell{c.row, c.col + dc[k]})] <= 0))
+        continue;
+      const float step = static_cast<float>((diagonal ? std::sqrt(2.0) : 1.0) * 0.5 * (1.0 / speed[i] + 1.0 / speed[j]));
+      if (g[i] + step < g[j]) {
+        g[j] = g[i] + step;
+        parent[j] = i;
+        open.emplace(g[j] + h(j), static_cast<uint32_t>(j));
+      }
+    }
+  }
+  std::vector<Point2> path;
+  if (!std::isfinite(g[goal])) return path;
+  for (std::size_t i = goal;; i = parent[i]) {
+    path.push_back(grid.cell_center(grid.cell(i)));
+    if (i == start) break;
+  }
+  std::reverse(path.begin(), path.end());
+  path.front() = a;
+  path.back() = b;
+  return path;
+}
+
+}  // namespace
+
+// Builds the closed route of one collector through the entry cells of its
+// segments: geodesic legs from FMM, visiting order by exact/2-opt tour,
+// polished with OMPL.
+CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const WorkerGraph& graph,
+                           const std::vector<int32_t>& labels, const std::vector<int>& segments, int collector,
+                           const PlannerOptions& opt) {
+  const Scenario& s = ctx.scenario;
+  const OccupancyGrid& grid = s.grid;
+  CollectorRoute route;
+  route.collector = collector;
+  if (segments.empty()) {  // more collectors than segments to serve: this one stays at the OC
+    route.waypoints = {s.oc};
+    return route;
+  }
+  std::vector<Point2> pts{s.oc};
+  for (int k : segments) pts.push_back(grid.cell_center(graph.segment(k).entry));
+  const std::size_t n = pts.size();
+  // Visiting order on straight-line distances (cheap, and the legs between
+  // consecutive stops are short, so each leg's march stops early).
+  std::vector<std::vector<double>> d(n, std::vector<double>(n, 0.0));
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) d[i][j] = dist(pts[i], pts[j]);
+  const std::vector<int> order = tour_order(d);
+  std::vector<int> stops{0};
+  stops.insert(stops.end(), order.begin(), order.end());
+  stops.push_back(0);
+  PolishOptions po;
+  po.robot_radius = s.team.radius;
+  po.smoothing_passes = static_cast<unsigned>(std::max(0, opt.smoothing_passes));
+  route.waypoints = {pts[0]};
+  route.min_clearance = kInf;
+  fmm::SolveOptions so;
+  so.labels = false;
+  for (std::size_t t = 0; t + 1 < stops.size(); ++t) {
+    const Point2 a = pts[static_cast<std::size_t>(stops[t])], b = pts[static_cast<std::size_t>(stops[t + 1])];
+    std::vector<Point2> leg;
+    if (stops[t + 1] == 0) {  // back to the OC: down the OC's own field
+      leg = fmm::descend(ctx.oc_field, a);
+    } else if (stops[t] == 0) {  // out of the OC: the same, reversed
+      leg = fmm::descend(ctx.oc_field, b);
+      std::reverse(leg.begin(), leg.end());
+    } else {  // between two meeting areas: A* (a march from b as the fallback)
+      leg = astar_leg(ctx, a, b);
+      if (leg.empty()) {
+        so.targets.assign(1, grid.world_to_cell(a));
+        fm.solve({fmm::Source::at_point(b)}, so);
+        leg = fmm::descend(fm, a);
+      }
+    }
+    // Each leg is polished on its own, so the route goes through every
+    // meeting area exactly (and shortcuts never jump across the loop).
+    const PolishedPath polished = polish_path(leg, ctx.clearance, po);
+    route.waypoints.insert(route.waypoints.end(), polished.points.begin() + 1, polished.points.end());
+    route.length += polished.length;
+    route.min_clearance = std::min(route.min_clearance, polished.min_clearance);
+  }
+  route.period = route.length / s.team.speed;
+
+  // Arc length of every waypoint, then each meeting area at the route point
+  // nearest to its segment's entry cell, in visiting order.
+  const std::vector<double> arc = fmm::path_arcs(route.waypoints);
+  double from_s = 0.0;
+  for (int stop : order) {
+    const int seg = segments[static_cast<std::size_t>(stop - 1)];
+    const Point2 target = pts[static_cast<std::size_t>(stop)];
+    MeetingArea m;
+    m.segment = seg;
+    double best = kInf;
+    for (std::size_t i = 0; i + 1 < route.waypoints.size(); ++i) {
+      if (arc[i + 1] < from_s) continue;
+      // Nearest point on segment i..i+1.
+      const Point2 a = route.waypoints[i], b = route.waypoints[i + 1];
+      const double len2 = (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y);
+      const double t = len2 > 0 ? std::clamp(((target.x - a.x) * (b.x - a.x) + (target.y - a.y) * (b.y - a.y)) / len2, 0.0, 1.0) : 0.0;
+      const Point2 p{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+      const double e = dist(p, target);
+      if (e < best - 1e-9) best = e, m.point = p, m.route_s = arc[i] + t * std::sqrt(len2);
+    }
+    from_s = m.route_s;
+    route.meetings.push_back(m);
+    route.segments.push_back(seg);
+  }
+  // Passes: stretches of the route within kPassRadius of a served segment's
+  // cells, sampled every half metre; each stretch counts once, at its middle.
+  {
+    constexpr double kPassRadius = 1.0;  // [m] a worker this close hands data over on the move
+    const int rc = std::max(1, static_cast<int>(std::ceil(kPassRadius / grid.resolution())));
+    // The disc is probed every ~0.2 m, not every cell: 1 m +- 0.2 m is close
+    // enough for "next to", at a twentieth of the lookups on 5 cm maps.
+    const int stride = std::max(1, static_cast<int>(std::lround(0.2 / grid.resolution())));
+    const double step = 0.5;
+    std::vector<double> open_since(segments.size(), -1.0);
+    std::vector<int> index_of(static_cast<std::size_t>(graph.segments.size()) + 1, -1);  // label -> position in `segments`
+    for (std::size_t i = 0; i < segments.size(); ++i) index_of[static_cast<std::size_t>(segments[i])] = static_cast<int>(i);
+    auto seg_index = [&](int32_t label) { return label > 0 ? index_of[static_cast<std::size_t>(label)] : -1; };
+    std::vector<uint8_t> near(segments.size());
+    const double total = arc.back();
+    for (double at = 0.0;; at = std::min(total, at + step)) {
+      const Point2 p = fmm::point_at_arc(route.waypoints, arc, at);
+      std::fill(near.begin(), near.end(), 0);
+      const Cell c = grid.world_to_cell(p);
+      for (int dr = -rc; dr <= rc; dr += stride)
+        for (int dc = -rc; dc <= rc; dc += stride) {
+          const Cell q{c.row + dr, c.col + dc};
+          if (!grid.contains(q) || dr * dr + dc * dc > rc * rc) continue;
+          const int k = seg_index(labels[grid.index(q)]);
+          if (k >= 0) near[static_cast<std::size_t>(k)] = 1;
+        }
+      for (std::size_t k = 0; k < segments.size(); ++k) {
+        if (near[k] && open_since[k] < 0) open_since[k] = at;
+        if ((!near[k] || at >= total) && open_since[k] >= 0) {
+          route.meetings[static_cast<std::size_t>(std::find(route.segments.begin(), route.segments.end(), segments[k]) -
+                                                  route.segments.begin())]
+              .passes.push_back(0.5 * (open_since[k] + at));
+          open_since[k] = -1.0;
+        }
+      }
+      if (at >= total) break;
+    }
+    for (MeetingArea& m : route.meetings)
+      if (m.passes.empty()) m.passes.push_back(m.route_s);  // the entry point itself
+  }
+  // Uploads: every point where the route comes (back) into the OC's coverage.
+  bool inside = true;  // it starts at the OC
+  for (std::size_t i = 0; i < route.waypoints.size(); ++i) {
+    const Cell c = grid.world_to_cell(route.waypoints[i]);
+    const bool in = grid.contains(c) && ctx.coverage[grid.index(c)];
+    if (in && !inside) route.coverage_entries.push_back(arc[i]);
+    inside = in;
+  }
+  if (route.coverage_entries.empty() || route.coverage_entries.back() < route.length)
+    route.coverage_entries.push_back(route.length);
+  return route;
+}
+
+}  // namespace plan
+}  // namespace gather

@@ -1,0 +1,150 @@
+#include "gather_core/plan/walking_distances.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "gather_core/mission/segment_window.hpp"
+#include "gather_core/plan/tour_model.hpp"
+
+namespace gather {
+namespace plan {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The bits of a distance as a float; for d >= 0 (and +inf) they sort like d.
+uint32_t float_bits(double d) {
+  const float f = static_cast<float>(d);
+  uint32_t bits;
+  std::memcpy(&bits, &f, sizeof bits);
+  return bits;
+}
+
+}  // namespace
+
+// Each segment's walking distances, marched at unit speed on the reachable
+// space (as the workers walk), each march stopped once the segment's cells
+// are reached:
+//  - mean_home_distance and home_quantiles: from the home of its worker as
+//    a worker of the OC;
+//  - mean_oc_distance and oc_quantiles: from the OC's cell (ctx.oc_walk,
+//    no march), where that worker starts the mission;
+//  - mean_pair_distance: between two of its cells, the mean over the cells
+//    of the distances from kPairSources cells spread over the segment (in
+//    row-major order, so the estimate is deterministic), marched in the
+//    segment's window as the worker marches between its goals.
+// Returns each cell's rank in its segment by distance from that home, in
+// [0, 1) (row-major; -1 off the segments).
+std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<int32_t>& labels, WorkerGraph& graph) {
+  constexpr std::size_t kPairSources = 3, kQuantiles = 16;
+  constexpr double kHomeBoxMargin = 3.0;  // [m] around the segment and its home, for the walk from the home
+  const OccupancyGrid& grid = ctx.scenario.grid;
+  std::vector<std::vector<Cell>> cells(graph.segments.size());
+  for (std::size_t i = 0; i < labels.size() && i < grid.size(); ++i) {
+    const int k = labels[i];
+    if (k > 0 && static_cast<std::size_t>(k) <= cells.size() && ctx.reachable[i])
+      cells[static_cast<std::size_t>(k - 1)].push_back(grid.cell(i));
+  }
+  std::vector<float> rank(labels.size(), -1.0f);
+  std::vector<uint64_t> order;
+  std::vector<double> sorted;  // distances of one segment's cells, ascending
+  std::vector<double> pair;    // distances from one cell of a segment to its cells
+  std::vector<double> walk_time;  // from the home to the segment's cells
+  // The kQuantiles + 1 quantiles of ascending distances (the i-th: the
+  // value at rank i / kQuantiles).
+  auto quantiles = [](const std::vector<double>& ascending) {
+    std::vector<double> q(kQuantiles + 1);
+    for (std::size_t i = 0; i <= kQuantiles; ++i)
+      q[i] = ascending[std::min(ascending.size() - 1, i * ascending.size() / kQuantiles)];
+    return q;
+  };
+  fmm::FastMarching walk = ctx.coverage_field;  // unit speed on the reachable space
+  fmm::SolveOptions so;
+  so.labels = false;
+  // The mean distance from `from` to the segment's cells (those reached).
+  auto mean_from = [&](Cell from, const std::vector<Cell>& to, double& sum, std::size_t& n) {
+    so.targets = to;
+    walk.solve({fmm::Source::at_cell(from)}, so);
+    for (Cell c : to) {
+      const double t = walk.time(c);
+      if (t < kInf) sum += t, ++n;
+    }
+  };
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    WorkerSegment& seg = graph.segments[k];
+    seg.mean_home_distance = seg.mean_coverage_distance;
+    seg.mean_pair_distance = kSquarePairDistance * std::sqrt(seg.area);  // an open square's, until measured
+    if (cells[k].empty()) continue;
+    walk_time.assign(cells[k].size(), kInf);
+    double sum = 0.0;
+    std::size_t n = 0;
+    const Cell home = ctx.oc_worker_home(cells[k]);
+    // From the home: in the segment's window when the home lies in it (a
+    // segment that touches the coverage), else in a box around both, else
+    // on the whole map.
+    mission::SegmentWindow window(grid, cells[k]);
+    pair.resize(cells[k].size());
+    if (home.row >= 0) {
+      if (window.march(home, cells[k], pair.data()) ||
+          mission::SegmentWindow(grid, cells[k], home, kHomeBoxMargin).march(home, cells[k], pair.data())) {
+        for (std::size_t i = 0; i < pair.size(); ++i) walk_time[i] = pair[i];
+        for (double t : pair) sum += t;
+        n = pair.size();
+      } else {
+        mean_from(home, cells[k], sum, n);
+        for (std::size_t i = 0; i < cells[k].size(); ++i) walk_time[i] = walk.time(cells[k][i]);
+      }
+    }
+    if (n > 0) seg.mean_home_distance = sum / static_cast<double>(n);
+    // Ascending by distance, ties by row-major order: keys (the distance's
+    // float bits, which sort like distances >= 0) << 32 | index in cells[k].
+    // The marches' times are floats, so nothing is lost.
+    order.clear();
+    for (std::size_t i = 0; i < cells[k].size(); ++i)
+      order.push_back(static_cast<uint64_t>(float_bits(home.row >= 0 ? walk_time[i] : 0.0)) << 32 | i);
+    std::sort(order.begin(), order.end());
+    for (std::size_t i = 0; i < order.size(); ++i)
+      rank[grid.index(cells[k][order[i] & 0xffffffffu])] = static_cast<float>(static_cast<double>(i) / static_cast<double>(order.size()));
+    if (home.row >= 0 && n == order.size()) {
+      sorted.clear();
+      for (uint64_t key : order) sorted.push_back(walk_time[key & 0xffffffffu]);
+      seg.home_quantiles = quantiles(sorted);
+    }
+    // From the OC's cell (the first request's trip).
+    std::vector<double>& from_oc = sorted;
+    from_oc.clear();
+    for (Cell c : cells[k]) {
+      const double d = ctx.oc_walk[grid.index(c)];
+      if (d < kInf) from_oc.push_back(d);
+    }
+    if (from_oc.size() == cells[k].size()) {
+      std::sort(from_oc.begin(), from_oc.end());
+      double total = 0.0;
+      for (double d : from_oc) total += d;
+      seg.mean_oc_distance = total / static_cast<double>(from_oc.size());
+      seg.oc_quantiles = quantiles(from_oc);
+    } else {
+      seg.mean_oc_distance = seg.mean_home_distance, seg.oc_quantiles = seg.home_quantiles;
+    }
+    // Between its cells, in its window as the worker walks between goals
+    // (on the whole map when the window does not connect them).
+    sum = 0.0, n = 0;
+    const std::size_t sources = std::min(kPairSources, cells[k].size());
+    for (std::size_t j = 0; j < sources; ++j) {
+      const Cell from = cells[k][(2 * j + 1) * cells[k].size() / (2 * sources)];
+      if (!window.march(from, cells[k], pair.data())) {
+        mean_from(from, cells[k], sum, n);
+        continue;
+      }
+      for (double t : pair) sum += t;
+      n += pair.size();
+    }
+    if (n > 0) seg.mean_pair_distance = sum / static_cast<double>(n);
+  }
+  return rank;
+}
+
+}  // namespace plan
+}  // namespace gather
