@@ -66,7 +66,9 @@ TEST(RepairPlan, ADeadWorkersSegmentGoesToItsSmallestLiveNeighbour) {
   for (int32_t t : touching) EXPECT_GE(cells_of(base, t), cells_of(base, into)) << "segment " << t;
   // Other segments and every assignment are unchanged.
   for (std::size_t i = 0; i < base.labels.size(); ++i)
-    if (base.labels[i] != s) EXPECT_EQ(r.plan.labels[i], base.labels[i]);
+    if (base.labels[i] != s) {
+      EXPECT_EQ(r.plan.labels[i], base.labels[i]);
+    }
   for (std::size_t a = 0; a < base.file.agents.size(); ++a)
     EXPECT_EQ(r.plan.file.agents[a].delivers_to, base.file.agents[a].delivers_to);
 }
@@ -83,7 +85,9 @@ TEST(RepairPlan, NoneLeavesTheSegmentToNobodyAndTheSetOrderDoesNotMatter) {
   EXPECT_EQ(ab.worker_of_segment, ba.worker_of_segment);
   for (int seg = 1; seg <= base.file.workers; ++seg) {
     const int o = ab.worker_of_segment[static_cast<std::size_t>(seg)];
-    if (o >= 0) EXPECT_FALSE(ab.dead[static_cast<std::size_t>(o)]);
+    if (o >= 0) {
+      EXPECT_FALSE(ab.dead[static_cast<std::size_t>(o)]);
+    }
   }
 }
 
@@ -201,7 +205,9 @@ TEST(Faults, ADeadWorkerIsDeclaredItsSegmentMergedItsGoalsLostWithItOnly) {
   const RunOutcome none = run(plan, 10, 1, {{victim, kill_at}}, 0.0, mission::RepairMode::kNone);
   ASSERT_TRUE(none.completed) << none.failure;
   for (const mission::GoalRecord& g : none.result.goals)
-    if (g.requested_at > declared && in_s(g)) EXPECT_EQ(g.state, mission::GoalState::kExpired) << "goal " << g.id;
+    if (g.requested_at > declared && in_s(g)) {
+      EXPECT_EQ(g.state, mission::GoalState::kExpired) << "goal " << g.id;
+    }
 }
 
 TEST(Faults, ADeadCollectorsWorkersComeToTheOcAndOnlyItsCargoIsLost) {

@@ -219,10 +219,10 @@ int run(int argc, char** argv) {
       for (const auto& [a, at] : r.declared_dead)
         dead += (dead.empty() ? "" : ", ") + std::to_string(a) + " at " + std::to_string(static_cast<int>(at)) + " s";
       std::string restarted;
-      for (const agent::Kill& k : opt.restarts) {
-        restarted += (restarted.empty() ? "" : ", ") + std::to_string(k.agent) + " at " + std::to_string(static_cast<int>(k.at)) + " s";
+      for (const agent::Kill& rs : opt.restarts) {
+        restarted += (restarted.empty() ? "" : ", ") + std::to_string(rs.agent) + " at " + std::to_string(static_cast<int>(rs.at)) + " s";
         for (const auto& [a, n] : r.restored)
-          if (a == k.agent) restarted += " (" + std::to_string(n) + " measured goals carried, from its journal)";
+          if (a == rs.agent) restarted += " (" + std::to_string(n) + " measured goals carried, from its journal)";
       }
       std::printf("seed %u: %s%sdeclared dead: %s; goals delivered %d, expired %d, dropped %d, lost with an agent %d "
                   "(%lld declared lost and recovered later)\n",

@@ -31,8 +31,9 @@ if(GATHER_SANITIZE)
   add_link_options(-fsanitize=address,undefined)
 endif()
 
+# Our targets build without warnings: any warning fails the build.
 function(gather_warnings target)
-  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Werror)
 endfunction()
 
 # gather_add_gtest(NAME SOURCES... LIBS libs...)

@@ -93,7 +93,7 @@ struct AckBatch {
   int32_t keys[kMaxBatch];
 };
 
-enum class RoleKind : uint8_t { kWorker = 1, kCollector = 2, kOc = 3 };
+enum class RoleKind : uint8_t { kWorker = 1, kCollector = 2, kOcRole = 3 };
 const char* role_kind_name(RoleKind r);
 
 struct StateReport {

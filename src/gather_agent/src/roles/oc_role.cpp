@@ -59,7 +59,7 @@ std::size_t OcRole::requested() const { return first_[static_cast<std::size_t>(i
 
 RoleReport OcRole::report() const {
   RoleReport r;
-  r.role = RoleKind::kOc;
+  r.role = RoleKind::kOcRole;
   r.id = kOc;
   r.requests = newest_request();
   r.pending = static_cast<int64_t>(requested() - resolved_count_);

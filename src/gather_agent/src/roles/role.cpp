@@ -35,7 +35,7 @@ const char* role_kind_name(RoleKind r) {
   switch (r) {
     case RoleKind::kWorker: return "worker";
     case RoleKind::kCollector: return "collector";
-    case RoleKind::kOc: return "oc";
+    case RoleKind::kOcRole: return "oc";
   }
   return "?";
 }
@@ -113,8 +113,8 @@ const mission::RepairedPlan& TeamSetup::repaired(const int16_t* dead, std::size_
   std::vector<int> key(dead, dead + n);
   std::sort(key.begin(), key.end());
   key.erase(std::unique(key.begin(), key.end()), key.end());
-  for (const auto& [set, plan] : repaired_)
-    if (set == key) return *plan;
+  for (const auto& [set, repaired] : repaired_)
+    if (set == key) return *repaired;
   const std::size_t cells = static_cast<std::size_t>(plan.width) * static_cast<std::size_t>(plan.height);
   if (plan.labels.size() == cells) {
     repaired_.emplace_back(key, std::make_unique<mission::RepairedPlan>(mission::repair_plan(plan, key, params.repair)));

@@ -170,12 +170,12 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
   double no_meeting_before = 0.0;  // [s] after a failed hand-over: the next try is a later pass
   // Everything carried goes to the collector at t; it drops it at its next
   // time inside the OC's coverage.
-  auto hand_over = [&](double t) {
-    const double drop = route.next_coverage_time(t);
+  auto hand_over = [&](double at) {
+    const double drop = route.next_coverage_time(at);
     for (int id : carried) {
       GoalRecord& g = run.goals[static_cast<std::size_t>(id)];
       if (g.picked_up_at >= 0 || g.delivered_at >= 0) bug("goal " + std::to_string(id) + " handed over twice");
-      g.picked_up_at = t, g.picked_up_by = w.collector();
+      g.picked_up_at = at, g.picked_up_by = w.collector();
       g.delivered_at = drop, g.delivered_by = w.collector();
     }
     carried.clear();
@@ -198,10 +198,10 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
       link_since = -1.0;
       return -1.0;
     }
-    auto linked_at = [&](double t) {
-      const double f = t1 > t0 ? (t - t0) / (t1 - t0) : 0.0;
+    auto linked_at = [&](double when) {
+      const double f = t1 > t0 ? (when - t0) / (t1 - t0) : 0.0;
       const Point2 p{from.x + f * (to.x - from.x), from.y + f * (to.y - from.y)};
-      const Point2 c = route.position(t);
+      const Point2 c = route.position(when);
       return std::hypot(p.x - c.x, p.y - c.y) <= link_range && radio_.linked(p, c);
     };
     const double need = transfer_s(ctx_.scenario, carried.size());

@@ -75,13 +75,13 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
     const RadioModel radio(grid, world.scenario.radio);
     const double range = radio.free_space_range();
     double longest = 0.0;
-    for (std::size_t r = 0; r < rendezvous_.size(); ++r) {
-      const Point2 w = grid.cell_center(rendezvous_[r]);
+    for (std::size_t k = 0; k < rendezvous_.size(); ++k) {
+      const Point2 w = grid.cell_center(rendezvous_[k]);
       auto linked = [&](double s) {
         const Point2 c = route_->position_at_arc(s);
         return std::hypot(c.x - w.x, c.y - w.y) <= range && radio.linked(w, c);
       };
-      const double s0 = rendezvous_arc_[r];
+      const double s0 = rendezvous_arc_[k];
       double lo = s0, hi = s0;
       if (linked(s0)) {
         while (lo > 0.0 && linked(std::max(0.0, lo - kLinkStep))) lo = std::max(0.0, lo - kLinkStep);

@@ -20,7 +20,7 @@ class OcRole : public Role {
   OcRole(TeamSetup& team, MotionBackend& station);
 
   void step(double now, const Message* const* inbox, std::size_t n, Outbox& out) override;
-  RoleKind kind() const override { return RoleKind::kOc; }
+  RoleKind kind() const override { return RoleKind::kOcRole; }
   RoleReport report() const override;
   int32_t newest_request() const override { return issued_ - 1; }
 
