@@ -9,6 +9,19 @@ namespace mission {
 
 namespace {
 
+// Marks in `out` every cell of a line (n cells, `stride` apart) within
+// `margin` cells of one marked in `in`: a pass each way.
+void spread_line(const uint8_t* in, uint8_t* out, int n, std::size_t stride, int margin) {
+  for (int i = 0, last = -1000000; i < n; ++i) {
+    if (in[static_cast<std::size_t>(i) * stride]) last = i;
+    if (i - last <= margin) out[static_cast<std::size_t>(i) * stride] = 1;
+  }
+  for (int i = n - 1, last = 1000000; i >= 0; --i) {
+    if (in[static_cast<std::size_t>(i) * stride]) last = i;
+    if (last - i <= margin) out[static_cast<std::size_t>(i) * stride] = 1;
+  }
+}
+
 // The window's grid: the bounding box of `cells` (and of `also` if on the
 // map) plus `margin` cells, free where the map is free and, if `near_only`,
 // within `margin` cells (Chebyshev) of `cells`: one pass along rows, then
@@ -35,27 +48,9 @@ OccupancyGrid window_grid(const OccupancyGrid& grid, const std::vector<Cell>& ce
   if (!near_only) return OccupancyGrid(ww, wh, grid.resolution(), o, vals, fr);
   std::vector<uint8_t> near(vals.size(), 0), rows(vals.size(), 0);
   for (Cell c : cells) near[at(c.row - r0, c.col - c0)] = 1;
-  for (int r = 0; r < wh; ++r) {
-    for (int c = 0, last = -1000000; c < ww; ++c) {
-      if (near[at(r, c)]) last = c;
-      if (c - last <= margin) rows[at(r, c)] = 1;
-    }
-    for (int c = ww - 1, last = 1000000; c >= 0; --c) {
-      if (near[at(r, c)]) last = c;
-      if (last - c <= margin) rows[at(r, c)] = 1;
-    }
-  }
+  for (int r = 0; r < wh; ++r) spread_line(&near[at(r, 0)], &rows[at(r, 0)], ww, 1, margin);
   std::fill(near.begin(), near.end(), 0);
-  for (int c = 0; c < ww; ++c) {
-    for (int r = 0, last = -1000000; r < wh; ++r) {
-      if (rows[at(r, c)]) last = r;
-      if (r - last <= margin) near[at(r, c)] = 1;
-    }
-    for (int r = wh - 1, last = 1000000; r >= 0; --r) {
-      if (rows[at(r, c)]) last = r;
-      if (last - r <= margin) near[at(r, c)] = 1;
-    }
-  }
+  for (int c = 0; c < ww; ++c) spread_line(&rows[at(0, c)], &near[at(0, c)], wh, static_cast<std::size_t>(ww), margin);
   for (std::size_t i = 0; i < fr.size(); ++i) fr[i] = fr[i] && near[i];
   return OccupancyGrid(ww, wh, grid.resolution(), o, vals, fr);
 }

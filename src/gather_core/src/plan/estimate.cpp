@@ -13,8 +13,6 @@ namespace plan {
 
 static constexpr double kInf = std::numeric_limits<double>::infinity();
 
-static double dist(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
-
 // Distance [m] along the route from arc position `s` to where it next enters
 // the OC's coverage (the route ends at the OC, inside it).
 static double upload_after(const CollectorRoute& r, double s) {
@@ -43,7 +41,7 @@ static Stretches contact_stretches(const CollectorRoute& r, const MeetingArea& m
   for (double s = 0.0;; s = std::min(r.length, s + kStep)) {
     const Point2 p = fmm::point_at_arc(r.waypoints, arc, s);
     bool linked = false;
-    for (const Point2& f : from) linked = linked || (dist(f, p) <= range && radio.linked(f, p));
+    for (const Point2& f : from) linked = linked || (distance(f, p) <= range && radio.linked(f, p));
     if (linked && open < 0) open = s;
     if ((!linked || s >= r.length) && open >= 0) stretches.emplace_back(open, s), open = -1.0;
     if (s >= r.length) break;

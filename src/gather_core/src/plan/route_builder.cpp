@@ -17,8 +17,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-double dist(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
-
 // Order of the meeting points (indices into `d`, 0 = the OC) of a closed tour
 // from the OC: exact by dynamic programming up to 12 points, else nearest
 // neighbour followed by 2-opt. `d` is a symmetric matrix of geodesic lengths.
@@ -162,7 +160,7 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
   // consecutive stops are short, so each leg's march stops early).
   std::vector<std::vector<double>> d(n, std::vector<double>(n, 0.0));
   for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = 0; j < n; ++j) d[i][j] = dist(pts[i], pts[j]);
+    for (std::size_t j = 0; j < n; ++j) d[i][j] = distance(pts[i], pts[j]);
   const std::vector<int> order = tour_order(d);
   std::vector<int> stops{0};
   stops.insert(stops.end(), order.begin(), order.end());
@@ -216,7 +214,7 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
       const double len2 = (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y);
       const double t = len2 > 0 ? std::clamp(((target.x - a.x) * (b.x - a.x) + (target.y - a.y) * (b.y - a.y)) / len2, 0.0, 1.0) : 0.0;
       const Point2 p{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
-      const double e = dist(p, target);
+      const double e = distance(p, target);
       if (e < best - 1e-9) best = e, m.point = p, m.route_s = arc[i] + t * std::sqrt(len2);
     }
     from_s = m.route_s;

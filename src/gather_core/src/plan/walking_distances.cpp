@@ -49,8 +49,8 @@ std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<i
   }
   std::vector<float> rank(labels.size(), -1.0f);
   std::vector<uint64_t> order;
-  std::vector<double> sorted;  // distances of one segment's cells, ascending
-  std::vector<double> pair;    // distances from one cell of a segment to its cells
+  std::vector<double> sorted;     // distances of one segment's cells, ascending
+  std::vector<double> pair;       // from one cell of a segment to its cells
   std::vector<double> walk_time;  // from the home to the segment's cells
   // The kQuantiles + 1 quantiles of ascending distances (the i-th: the
   // value at rank i / kQuantiles).
@@ -63,40 +63,34 @@ std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<i
   fmm::FastMarching walk = ctx.coverage_field;  // unit speed on the reachable space
   fmm::SolveOptions so;
   so.labels = false;
-  // The mean distance from `from` to the segment's cells (those reached).
-  auto mean_from = [&](Cell from, const std::vector<Cell>& to, double& sum, std::size_t& n) {
-    so.targets = to;
-    walk.solve({fmm::Source::at_cell(from)}, so);
-    for (Cell c : to) {
-      const double t = walk.time(c);
-      if (t < kInf) sum += t, ++n;
+  // Distances [m] from `from` to the segment's cells `to` into `out` (+inf
+  // where not reached): in the segment's window, else (when `box_with` is on
+  // the map) in a box around the segment and that cell, else on the whole
+  // map. Adds the reached ones to `sum`, counted in `n`.
+  auto distances = [&](Cell from, const std::vector<Cell>& to, mission::SegmentWindow& window, Cell box_with,
+                       std::vector<double>& out, double& sum, std::size_t& n) {
+    out.resize(to.size());
+    if (!window.march(from, to, out.data()) &&
+        !(grid.contains(box_with) && mission::SegmentWindow(grid, to, box_with, kHomeBoxMargin).march(from, to, out.data()))) {
+      so.targets = to;
+      walk.solve({fmm::Source::at_cell(from)}, so);
+      for (std::size_t i = 0; i < to.size(); ++i) out[i] = walk.time(to[i]);
     }
+    for (double t : out)
+      if (t < kInf) sum += t, ++n;
   };
   for (std::size_t k = 0; k < cells.size(); ++k) {
     WorkerSegment& seg = graph.segments[k];
     seg.mean_home_distance = seg.mean_coverage_distance;
     seg.mean_pair_distance = kSquarePairDistance * std::sqrt(seg.area);  // an open square's, until measured
     if (cells[k].empty()) continue;
-    walk_time.assign(cells[k].size(), kInf);
     double sum = 0.0;
     std::size_t n = 0;
     const Cell home = ctx.oc_worker_home(cells[k]);
     // From the home: in the segment's window when the home lies in it (a
-    // segment that touches the coverage), else in a box around both, else
-    // on the whole map.
+    // segment that touches the coverage), else in a box around both.
     mission::SegmentWindow window(grid, cells[k]);
-    pair.resize(cells[k].size());
-    if (home.row >= 0) {
-      if (window.march(home, cells[k], pair.data()) ||
-          mission::SegmentWindow(grid, cells[k], home, kHomeBoxMargin).march(home, cells[k], pair.data())) {
-        for (std::size_t i = 0; i < pair.size(); ++i) walk_time[i] = pair[i];
-        for (double t : pair) sum += t;
-        n = pair.size();
-      } else {
-        mean_from(home, cells[k], sum, n);
-        for (std::size_t i = 0; i < cells[k].size(); ++i) walk_time[i] = walk.time(cells[k][i]);
-      }
-    }
+    if (home.row >= 0) distances(home, cells[k], window, home, walk_time, sum, n);
     if (n > 0) seg.mean_home_distance = sum / static_cast<double>(n);
     // Ascending by distance, ties by row-major order: keys (the distance's
     // float bits, which sort like distances >= 0) << 32 | index in cells[k].
@@ -132,15 +126,8 @@ std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<i
     // (on the whole map when the window does not connect them).
     sum = 0.0, n = 0;
     const std::size_t sources = std::min(kPairSources, cells[k].size());
-    for (std::size_t j = 0; j < sources; ++j) {
-      const Cell from = cells[k][(2 * j + 1) * cells[k].size() / (2 * sources)];
-      if (!window.march(from, cells[k], pair.data())) {
-        mean_from(from, cells[k], sum, n);
-        continue;
-      }
-      for (double t : pair) sum += t;
-      n += pair.size();
-    }
+    for (std::size_t j = 0; j < sources; ++j)
+      distances(cells[k][(2 * j + 1) * cells[k].size() / (2 * sources)], cells[k], window, Cell{-1, -1}, pair, sum, n);
     if (n > 0) seg.mean_pair_distance = sum / static_cast<double>(n);
   }
   return rank;

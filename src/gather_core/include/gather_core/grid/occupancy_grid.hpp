@@ -2,6 +2,7 @@
 // A 2-D occupancy grid in the ROS map convention: cells row-major, row 0 at the
 // lowest y (the bottom of the image), origin = lower-left corner of cell (0,0).
 #include <cstddef>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -20,6 +21,9 @@ struct Point2 {
   double x = 0.0;
   double y = 0.0;
 };
+
+// Straight-line distance [m].
+inline double distance(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
 class OccupancyGrid {
  public:
