@@ -199,10 +199,7 @@ int run(int argc, char** argv) {
     if (!r.completed) throw RuntimeError(args.positional()[0], r.failure);
     if (over_lcm) {
       agent::AuthCounters all = r.oc_auth;
-      for (const agent::AgentSummary& a : r.agents) {
-        all.unsigned_msgs += a.auth.unsigned_msgs, all.unknown_key += a.auth.unknown_key, all.bad_mac += a.auth.bad_mac;
-        all.replayed += a.auth.replayed, all.wrong_sender += a.auth.wrong_sender;
-      }
+      for (const agent::AgentSummary& a : r.agents) all += a.auth;
       if (all.total() > 0)
         std::printf("seed %u: fleet messages dropped before decoding (the OC and every agent): %s; the OC alone: %s\n",
                     team.params.seed, agent::describe(all).c_str(), agent::describe(r.oc_auth).c_str());

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "gather_core/error.hpp"
+#include "gather_core/input_file.hpp"
 
 namespace gather {
 namespace agent {
@@ -97,7 +98,7 @@ FleetKey load_fleet_key(const std::string& path) {
         throw Error(path + ": key", "expected " + std::to_string(2 * kKeyBytes) + " hexadecimal digits");
       have_key = true;
     } else {
-      throw Error(path + ":" + std::to_string(no), "unknown field '" + field.substr(0, 40) + "' (key_id, key)");
+      throw Error(path + ":" + std::to_string(no), "unknown field '" + quote_input(field, 40) + "' (key_id, key)");
     }
   }
   if (!have_id) throw Error(path + ": key_id", "missing");

@@ -14,6 +14,11 @@ struct AuthCounters {
   int64_t replayed = 0;       // counter not above the last accepted one from that sender and channel, or too old
   int64_t wrong_sender = 0;   // the message's own sender differs from the signed one
   int64_t total() const { return unsigned_msgs + unknown_key + bad_mac + replayed + wrong_sender; }
+  AuthCounters& operator+=(const AuthCounters& o) {
+    unsigned_msgs += o.unsigned_msgs, unknown_key += o.unknown_key, bad_mac += o.bad_mac;
+    replayed += o.replayed, wrong_sender += o.wrong_sender;
+    return *this;
+  }
 };
 
 }  // namespace agent
