@@ -63,6 +63,7 @@ test-plain: deps
 	  echo "gather_core/gather_agent must not include ROS headers" >&2; exit 1; fi
 	cmake -S src/gather_agent -B $(PLAIN) -DCMAKE_BUILD_TYPE=Release -DGATHER_SANITIZE=ON > /dev/null
 	cmake --build $(PLAIN) -j$(JOBS)
+	@if ldd $(PLAIN)/gather_agent | grep -q libopencv; then echo "gather_agent must not link OpenCV (figures live in gather_figures)" >&2; exit 1; fi
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --test-dir $(PLAIN) --output-on-failure -j$(JOBS) --timeout 600
 	$(PYTHON) tests/fuzz/fuzz_smoke.py --gather $(PLAIN)/gather_core/gather --agent $(PLAIN)/gather_agent \
@@ -73,6 +74,8 @@ test-plain: deps
 G := $(WS)/devel/lib/gather_core/gather
 TEST_KEY := $(WS)/build/test_fleet.key
 test-cli: build
+	@for b in $(WS)/devel/lib/gather_oc/fleet_node $(WS)/devel/lib/gather_agent/gather_agent; do \
+	  if ldd $$b | grep -q libopencv; then echo "$$b must not link OpenCV (figures live in gather_figures)" >&2; exit 1; fi; done
 	test -f $(TEST_KEY) || $(G) keygen $(TEST_KEY)
 	tests/cli/bad_input.sh "$(G) info"
 	tests/cli/bad_input.sh "$(WS)/devel/lib/gather_oc/oc_node"

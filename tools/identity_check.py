@@ -7,7 +7,8 @@ from two builds of `gather`.
 
 On maps/office and ../shared/maps/ipa/office_a: `gather plan` (the whole
 sweep) must give the same plan.yaml and the same report.csv apart from its
-timing columns (*_ms), and `gather sim` of that plan (3 seeds x 10 cycles)
+timing columns (*_ms) and the same labels.png pixels (the PNG encoder may
+differ), and `gather sim` of that plan (3 seeds x 10 cycles)
 and `gather run` (in one process, 1 seed x 3 cycles) the same goals.csv.
 Prints one line per file and exits 1 on any difference.
 """
@@ -18,6 +19,8 @@ import os
 import subprocess
 import sys
 import tempfile
+
+from PIL import Image
 
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 SCENARIOS = [os.path.join(REPO, "maps", "office.scenario.yaml"),
@@ -38,12 +41,18 @@ def report_without_times(path):
     return out.getvalue()
 
 
+def label_pixels(path):
+    img = Image.open(path)
+    return "%s %s %s" % (img.mode, img.size, bytes(img.tobytes()).hex())
+
+
 def outputs(gather, scenario, d):
     plan = os.path.join(d, "plan")
     run([gather, "plan", scenario, "--out", plan])
     run([gather, "sim", plan, "--cycles", "10", "--seeds", "3", "--out", os.path.join(d, "sim")])
     run([gather, "run", plan, "--cycles", "3", "--out", os.path.join(d, "run")])
     return {"plan.yaml": open(os.path.join(plan, "plan.yaml")).read(),
+            "labels.png (pixels)": label_pixels(os.path.join(plan, "labels.png")),
             "report.csv (without *_ms)": report_without_times(os.path.join(plan, "report.csv")),
             "sim goals.csv": open(os.path.join(d, "sim", "goals.csv")).read(),
             "run goals.csv": open(os.path.join(d, "run", "goals.csv")).read()}

@@ -219,5 +219,37 @@ TEST(MapYaml, UnknownModeIsRejected) {
   EXPECT_THROW(read_map_metadata(t.file("m.yaml", yaml_text(kDir + "gray8.png", "mode: ternary\n"))), Error);
 }
 
+// --- 16-bit label images -----------------------------------------------------
+
+TEST(Gray16Png, WriteThenReadIsTheSameImage) {
+  TempDir t;
+  Gray16Image img;
+  img.width = 5;
+  img.height = 3;
+  img.pixels = {0, 1, 2, 255, 256, 65535, 7, 300, 4000, 9, 1, 1, 0, 65534, 12};
+  const std::string path = t.path() + "/labels.png";
+  write_gray16_png(path, img);
+  const Gray16Image back = read_gray16_png(path);
+  EXPECT_EQ(back.width, 5);
+  EXPECT_EQ(back.height, 3);
+  EXPECT_EQ(back.pixels, img.pixels);
+}
+
+TEST(Gray16Png, BadSizeOrPathNamesTheFile) {
+  TempDir t;
+  Gray16Image img;
+  img.width = 2;
+  img.height = 2;
+  img.pixels = {1, 2, 3};  // one short
+  try {
+    write_gray16_png(t.path() + "/short.png", img);
+    FAIL() << "a 2x2 image of 3 pixels was written";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("short.png"), std::string::npos) << e.what();
+  }
+  img.pixels.push_back(4);
+  EXPECT_THROW(write_gray16_png(t.path() + "/no/such/dir/labels.png", img), Error);
+}
+
 }  // namespace
 }  // namespace gather

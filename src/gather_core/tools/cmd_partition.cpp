@@ -195,7 +195,7 @@ int partition(int argc, char** argv) {
     std::printf("\n");
     captions.push_back(caption(p, met));
     if (!args.on("--compare")) {
-      figures::write_label_png(dir + "/labels.png", p);
+      partition::write_label_png(dir + "/labels.png", p);
       figures::write_partition_png(dir + "/partition.png", sc.grid, p, sc.oc, captions.back());
       if (!p.initial_seeds.empty())
         figures::write_seeds_png(dir + "/seeds.png", sc.grid, p, sc.oc,

@@ -90,7 +90,7 @@ int plan(int argc, char** argv) {
   }
   const plan::ConfigurationPlan& best = sweep.configs[static_cast<std::size_t>(sweep.best)];
 
-  plan::write_plan_directory(out, ctx, best, opt.seed);
+  plan::write_plan_directory(out, ctx, best, opt.seed, figures::write_plan_figures);
   plan::write_sweep_report(out + "/report.csv", sweep);
   if (sweep.configs.size() > 1) figures::write_estimates_figure(out + "/fig3_estimated.png", sweep, s.planner.methods);
 

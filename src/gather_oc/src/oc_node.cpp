@@ -24,6 +24,7 @@
 #include "gather_agent/runner/run_files.hpp"
 #include "gather_agent/shutdown_signal.hpp"
 #include "gather_core/error.hpp"
+#include "gather_core/figures/plan_figures.hpp"
 #include "gather_core/grid/map_saver.hpp"
 #include "gather_core/plan/plan_export.hpp"
 #include "gather_core/scenario/scenario.hpp"
@@ -234,7 +235,7 @@ int main(int argc, char** argv) {
   if (!plan) {
     plan_dir = set.results_dir + "/plan";
     try {
-      const std::string best = gather::plan::plan_scenario(scenario_path, plan_dir);
+      const std::string best = gather::plan::plan_scenario(scenario_path, plan_dir, 2, gather::figures::write_plan_figures);
       ROS_INFO("oc: planned %s: %s -> %s", scenario_path.c_str(), best.c_str(), plan_dir.c_str());
       plan = load_matching_plan(plan_dir, scenario_path);
     } catch (const std::exception& e) {

@@ -5,7 +5,7 @@
 #include <cstring>
 #include <map>
 
-#include "gather_core/figures/partition_figure.hpp"
+#include "gather_core/figures/palette.hpp"
 
 namespace gather {
 namespace view {

@@ -1,5 +1,8 @@
 #include "gather_core/figures/palette.hpp"
 
+#include <algorithm>
+#include <set>
+
 namespace gather {
 namespace figures {
 
@@ -16,6 +19,39 @@ const std::vector<Rgb>& collector_palette() {
       {30, 100, 200}, {240, 130, 20}, {40, 150, 40},  {150, 50, 150}, {150, 80, 40},
       {0, 150, 150},  {220, 40, 180}, {140, 140, 0},  {40, 40, 130},  {200, 60, 60}};
   return p;
+}
+
+
+std::vector<int> colour_segments(const std::vector<int32_t>& labels, int width, int height, int segments,
+                                 int palette) {
+  std::vector<std::set<int>> adj(static_cast<std::size_t>(segments));
+  for (int r = 0; r < height; ++r)
+    for (int c = 0; c < width; ++c) {
+      const std::size_t i = static_cast<std::size_t>(r) * width + c;
+      const int32_t l = labels[i];
+      if (l <= 0) continue;
+      const int32_t right = c + 1 < width ? labels[i + 1] : 0;
+      const int32_t up = r + 1 < height ? labels[i + width] : 0;
+      for (int32_t m : {right, up})
+        if (m > 0 && m != l) adj[l - 1].insert(m - 1), adj[m - 1].insert(l - 1);
+    }
+  std::vector<int> order(static_cast<std::size_t>(segments));
+  for (int k = 0; k < segments; ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return adj[a].size() > adj[b].size(); });
+  std::vector<int> colour(static_cast<std::size_t>(segments), -1);
+  std::vector<int> used(static_cast<std::size_t>(palette), 0);
+  for (int k : order) {
+    std::vector<int> clash(static_cast<std::size_t>(palette), 0);
+    for (int m : adj[k])
+      if (colour[m] >= 0) ++clash[colour[m]];
+    // Fewest clashes first, then the least used colour (spreads the palette).
+    int best = 0;
+    for (int c = 1; c < palette; ++c)
+      if (clash[c] < clash[best] || (clash[c] == clash[best] && used[c] < used[best])) best = c;
+    colour[k] = best;
+    ++used[best];
+  }
+  return colour;
 }
 
 }  // namespace figures

@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <set>
 
 #include "gather_core/error.hpp"
 #include "map_canvas.hpp"
@@ -146,48 +145,6 @@ cv::Mat pad_to(const cv::Mat& img, int w, int h) {
 }
 
 }  // namespace
-
-std::vector<int> colour_segments(const std::vector<int32_t>& labels, int width, int height, int segments,
-                                 int palette) {
-  std::vector<std::set<int>> adj(static_cast<std::size_t>(segments));
-  for (int r = 0; r < height; ++r)
-    for (int c = 0; c < width; ++c) {
-      const std::size_t i = static_cast<std::size_t>(r) * width + c;
-      const int32_t l = labels[i];
-      if (l <= 0) continue;
-      const int32_t right = c + 1 < width ? labels[i + 1] : 0;
-      const int32_t up = r + 1 < height ? labels[i + width] : 0;
-      for (int32_t m : {right, up})
-        if (m > 0 && m != l) adj[l - 1].insert(m - 1), adj[m - 1].insert(l - 1);
-    }
-  std::vector<int> order(static_cast<std::size_t>(segments));
-  for (int k = 0; k < segments; ++k) order[k] = k;
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return adj[a].size() > adj[b].size(); });
-  std::vector<int> colour(static_cast<std::size_t>(segments), -1);
-  std::vector<int> used(static_cast<std::size_t>(palette), 0);
-  for (int k : order) {
-    std::vector<int> clash(static_cast<std::size_t>(palette), 0);
-    for (int m : adj[k])
-      if (colour[m] >= 0) ++clash[colour[m]];
-    // Fewest clashes first, then the least used colour (spreads the palette).
-    int best = 0;
-    for (int c = 1; c < palette; ++c)
-      if (clash[c] < clash[best] || (clash[c] == clash[best] && used[c] < used[best])) best = c;
-    colour[k] = best;
-    ++used[best];
-  }
-  return colour;
-}
-
-void write_label_png(const std::string& path, const PartitionResult& part) {
-  if (part.workers > 65535) throw Error(path, "more than 65535 segments do not fit a 16-bit PNG");
-  cv::Mat img(part.height, part.width, CV_16UC1);
-  for (int r = 0; r < part.height; ++r)
-    for (int c = 0; c < part.width; ++c)
-      img.at<uint16_t>(r, c) =
-          static_cast<uint16_t>(part.labels[static_cast<std::size_t>(part.height - 1 - r) * part.width + c]);
-  write_png(path, img);
-}
 
 void write_partition_png(const std::string& path, const OccupancyGrid& grid, const PartitionResult& part, Point2 oc,
                          const std::string& caption) {

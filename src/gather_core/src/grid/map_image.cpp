@@ -286,3 +286,56 @@ Gray16Image read_gray16_png(const std::string& path) {
 }
 
 }  // namespace gather
+
+namespace gather {
+namespace {
+
+void png_write_to_vector(png_structp png, png_bytep in, png_size_t len) {
+  auto* out = static_cast<std::vector<uint8_t>*>(png_get_io_ptr(png));
+  out->insert(out->end(), in, in + len);
+}
+void png_flush_nothing(png_structp) {}
+
+}  // namespace
+
+void write_gray16_png(const std::string& path, const Gray16Image& img) {
+  if (img.width <= 0 || img.height <= 0 || img.pixels.size() != static_cast<std::size_t>(img.width) * img.height)
+    throw Error(path, "label image of " + std::to_string(img.width) + "x" + std::to_string(img.height) + " has " +
+                          std::to_string(img.pixels.size()) + " pixels");
+  // PNG stores 16-bit samples big-endian.
+  std::vector<uint8_t> be(img.pixels.size() * 2);
+  for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+    be[2 * i] = static_cast<uint8_t>(img.pixels[i] >> 8);
+    be[2 * i + 1] = static_cast<uint8_t>(img.pixels[i] & 0xff);
+  }
+  std::vector<png_bytep> rows(static_cast<std::size_t>(img.height));
+  for (int r = 0; r < img.height; ++r) rows[r] = be.data() + static_cast<std::size_t>(img.width) * 2 * r;
+  std::string err;
+  std::vector<uint8_t> encoded;
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &err, png_on_error, png_on_warning);
+  if (!png) throw Error(path, "libpng: out of memory");
+  png_infop info = png_create_info_struct(png);
+  if (!info) {
+    png_destroy_write_struct(&png, nullptr);
+    throw Error(path, "libpng: out of memory");
+  }
+  // libpng reports errors by longjmp; every object with a destructor above
+  // outlives this frame, none is created below.
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw Error(path, "cannot encode the PNG: " + err);
+  }
+  png_set_write_fn(png, &encoded, png_write_to_vector, png_flush_nothing);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(img.width), static_cast<png_uint_32>(img.height), 16,
+               PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  png_write_image(png, rows.data());
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(encoded.data()), static_cast<std::streamsize>(encoded.size()));
+  out.close();
+  if (!out) throw Error(path, "cannot write the PNG");
+}
+
+}  // namespace gather

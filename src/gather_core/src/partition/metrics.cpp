@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <opencv2/imgcodecs.hpp>
 
 #include "gather_core/error.hpp"
+#include "gather_core/grid/map_image.hpp"
 #include "gather_core/partition/front_growth.hpp"
 
 namespace gather {
@@ -74,18 +74,23 @@ PartitionMetrics compute_metrics(const OccupancyGrid& grid, const PartitionResul
 }
 
 std::vector<int32_t> load_gt_rooms(const std::string& gt_png, const OccupancyGrid& grid, int* rooms, int min_cells) {
-  const cv::Mat img = cv::imread(gt_png, cv::IMREAD_COLOR);
-  if (img.empty()) throw Error(gt_png, "cannot read the ground-truth image");
-  if (img.cols != grid.width() || img.rows != grid.height())
-    throw Error(gt_png, "ground truth is " + std::to_string(img.cols) + "x" + std::to_string(img.rows) +
+  const MapImage img = read_map_image(gt_png);
+  if (img.palette_indices && !img.palette_is_gray_ramp)
+    throw Error(gt_png, "a palette PNG is not supported as ground truth; save it as RGB");
+  if (img.width != grid.width() || img.height != grid.height())
+    throw Error(gt_png, "ground truth is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
                             ", the map is " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()));
   const std::size_t n = grid.size();
   const int w = grid.width(), h = grid.height();
+  // Colour channels: gray (1, or 2 with alpha) or RGB (3, or 4 with alpha); alpha is ignored.
+  const int colours = img.channels >= 3 ? 3 : 1;
   std::vector<uint8_t> white(n, 0);
   for (int r = 0; r < h; ++r)
     for (int c = 0; c < w; ++c) {
-      const cv::Vec3b px = img.at<cv::Vec3b>(r, c);
-      white[static_cast<std::size_t>(h - 1 - r) * w + c] = px[0] >= 250 && px[1] >= 250 && px[2] >= 250;
+      const uint8_t* px = &img.pixels[(static_cast<std::size_t>(r) * w + c) * img.channels];
+      bool all = true;
+      for (int k = 0; k < colours; ++k) all = all && px[k] >= 250;
+      white[static_cast<std::size_t>(h - 1 - r) * w + c] = all;
     }
   std::vector<int32_t> comp(n, 0), out(n, 0);
   std::vector<std::size_t> stack, members;

@@ -5,6 +5,7 @@
 
 #include "gather_core/error.hpp"
 #include "gather_core/grid/clearance.hpp"
+#include "gather_core/grid/map_image.hpp"
 #include "gather_core/grid/reachability.hpp"
 #include "methods.hpp"
 
@@ -123,6 +124,19 @@ PartitionResult partition_area(const OccupancyGrid& grid, const PreparedArea& ar
       run(grid, area.oc, area.reachable, area.reachable_cells, area.clearance, method, workers, seed, params);
   out.runtime_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+void write_label_png(const std::string& path, const PartitionResult& part) {
+  if (part.workers > 65535) throw Error(path, "more than 65535 segments do not fit a 16-bit PNG");
+  Gray16Image img;
+  img.width = part.width;
+  img.height = part.height;
+  img.pixels.resize(part.labels.size());
+  for (int r = 0; r < part.height; ++r)
+    for (int c = 0; c < part.width; ++c)
+      img.pixels[static_cast<std::size_t>(r) * part.width + c] =
+          static_cast<uint16_t>(part.labels[static_cast<std::size_t>(part.height - 1 - r) * part.width + c]);
+  write_gray16_png(path, img);
 }
 
 }  // namespace partition

@@ -7,8 +7,7 @@
 #include <fstream>
 
 #include "gather_core/error.hpp"
-#include "gather_core/figures/partition_figure.hpp"
-#include "gather_core/figures/plan_figures.hpp"
+#include "gather_core/partition/partition.hpp"
 
 namespace gather {
 namespace plan {
@@ -57,7 +56,8 @@ void write_sweep_report(const std::string& path, const SweepResult& sweep) {
 }
 
 
-std::string plan_scenario(const std::string& scenario_path, const std::string& dir, int threads) {
+std::string plan_scenario(const std::string& scenario_path, const std::string& dir, int threads,
+                          const PlanFigureWriter& figures) {
   const Scenario map_scenario = load_scenario(scenario_path);
   const Scenario s = on_planning_grid(map_scenario, planning_factor(map_scenario));
   const PlanContext ctx(s);
@@ -66,7 +66,7 @@ std::string plan_scenario(const std::string& scenario_path, const std::string& d
   opt.threads = threads;
   const SweepResult sweep = plan::sweep(ctx, opt);
   const ConfigurationPlan& best = sweep.configs[static_cast<std::size_t>(sweep.best)];
-  write_plan_directory(dir, ctx, best, opt.seed);
+  write_plan_directory(dir, ctx, best, opt.seed, figures);
   write_sweep_report(dir + "/report.csv", sweep);
   char line[256];
   std::snprintf(line, sizeof line, "%s with %d collectors and %d workers (U = %.3f, est. refresh %.1f s, %.2f goals per cycle of %.1f s)",
@@ -75,13 +75,14 @@ std::string plan_scenario(const std::string& scenario_path, const std::string& d
   return line;
 }
 
-void write_plan_directory(const std::string& dir, const PlanContext& ctx, const ConfigurationPlan& cfg, unsigned seed) {
+void write_plan_directory(const std::string& dir, const PlanContext& ctx, const ConfigurationPlan& cfg, unsigned seed,
+                          const PlanFigureWriter& figures) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw Error(dir, "cannot create the plan directory (" + ec.message() + ")");
-  figures::write_label_png(dir + "/labels.png", cfg.partition);
+  partition::write_label_png(dir + "/labels.png", cfg.partition);
   write_plan_file(dir + "/plan.yaml", make_plan_file(ctx, cfg, "labels.png", seed));
-  figures::write_plan_figures(dir, ctx, cfg);
+  if (figures) figures(dir, ctx, cfg);
 }
 
 }  // namespace plan

@@ -8,13 +8,11 @@
 #include <vector>
 
 #include "gather_core/grid/occupancy_grid.hpp"
+#include "gather_core/figures/palette.hpp"
 #include "gather_core/partition/partition.hpp"
 
 namespace gather {
 namespace figures {
-
-// 16-bit grey PNG of the map size: 0 = no segment, k = segment k.
-void write_label_png(const std::string& path, const partition::PartitionResult& part);
 
 // One panel: the partition with its seeds, the OC and `caption` above it.
 void write_partition_png(const std::string& path, const OccupancyGrid& grid, const partition::PartitionResult& part,
@@ -31,12 +29,6 @@ void write_seeds_png(const std::string& path, const OccupancyGrid& grid, const p
 void write_compare_png(const std::string& path, const OccupancyGrid& grid,
                        const std::vector<partition::PartitionResult>& parts, const std::vector<std::string>& captions,
                        Point2 oc);
-
-// Colour index per segment (index k-1 for segment k) such that segments that
-// share an edge get different colours when `palette` colours suffice (greedy
-// colouring, most-connected segments first).
-std::vector<int> colour_segments(const std::vector<int32_t>& labels, int width, int height, int segments,
-                                 int palette);
 
 }  // namespace figures
 }  // namespace gather

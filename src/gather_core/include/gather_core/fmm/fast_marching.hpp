@@ -22,6 +22,9 @@
 
 namespace gather {
 namespace fmm {
+namespace detail {
+struct MarchGrid;  // src/fmm/stencil.hpp
+}  // namespace detail
 
 constexpr double kUnreached = std::numeric_limits<double>::infinity();
 
@@ -167,10 +170,18 @@ class FastMarching {
   static constexpr float kInfCost = std::numeric_limits<float>::infinity();
 
  private:
+  // The marches (bucket_march.cpp, heap_march.cpp), one instantiation per
+  // combination of flags; solve() picks one from their tables.
+  using March = void (FastMarching::*)(const SolveOptions&);
   template <bool kUnit, bool kLabels, bool kSecond, bool kExact>
   void march_buckets(const SolveOptions& options);
   template <bool kUnit, bool kLabels, bool kSecond>
   void march_heap(const SolveOptions& options);
+  struct BucketMarches;
+  struct HeapMarches;
+  static March bucket_march(bool unit, bool labels, bool second, bool exact);
+  static March heap_march(bool unit, bool labels, bool second);
+  detail::MarchGrid march_grid(bool labels, int look_back);
   void reset_times();
   void seed(const std::vector<Source>& sources, bool labels);
   void note_touched(uint32_t p) {

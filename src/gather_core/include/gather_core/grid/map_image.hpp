@@ -33,5 +33,8 @@ struct Gray16Image {
   std::vector<uint16_t> pixels;  // row-major
 };
 Gray16Image read_gray16_png(const std::string& path);
+// Writes `img` as a 16-bit gray PNG (what read_gray16_png reads back).
+// Throws gather::Error("<path>: ...") when it cannot be written.
+void write_gray16_png(const std::string& path, const Gray16Image& img);
 
 }  // namespace gather

@@ -93,5 +93,10 @@ PartitionResult partition_area(const OccupancyGrid& grid, const PreparedArea& ar
 // Euclidean distance transform, where the map's edge counts as a wall.
 std::vector<float> clearance_map(const OccupancyGrid& grid);
 
+// The label image as a 16-bit gray PNG of the map size (image row 0 = top):
+// 0 = no segment, k = segment k; what a plan's labels.png holds. Throws
+// gather::Error naming `path` when it cannot be written or N_w > 65535.
+void write_label_png(const std::string& path, const PartitionResult& part);
+
 }  // namespace partition
 }  // namespace gather

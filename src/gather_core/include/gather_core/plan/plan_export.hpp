@@ -1,6 +1,7 @@
 #pragma once
 // A planned configuration as what executes it: the plan file (plan.yaml) and
 // the mission plan the simulator and the agents run.
+#include <functional>
 #include <string>
 
 #include "gather_core/mission/mission_plan.hpp"
@@ -17,15 +18,21 @@ PlanFile make_plan_file(const PlanContext& ctx, const ConfigurationPlan& cfg, co
 // report.csv of a sweep: one row per configuration (estimates, utility, stage times).
 void write_sweep_report(const std::string& path, const SweepResult& sweep);
 
+// Draws a configuration's pictures into its plan directory. Planning links no
+// OpenCV: the callers that draw pass gather_figures' figures::write_plan_figures.
+using PlanFigureWriter = std::function<void(const std::string& dir, const PlanContext&, const ConfigurationPlan&)>;
+
 // Plans the scenario (on its planning grid) and writes the best
 // configuration into `dir` as `gather plan` does; returns one line saying
 // which configuration it is. Throws gather::Error naming the file on bad input.
-std::string plan_scenario(const std::string& scenario_path, const std::string& dir, int threads = 2);
+std::string plan_scenario(const std::string& scenario_path, const std::string& dir, int threads = 2,
+                          const PlanFigureWriter& figures = {});
 
-// Writes what executes `cfg` into `dir` (created): plan.yaml, labels.png
-// (16-bit segment labels) and the Fig. 2 panels of the configuration.
-// Throws gather::Error naming a file it cannot write.
-void write_plan_directory(const std::string& dir, const PlanContext& ctx, const ConfigurationPlan& cfg, unsigned seed);
+// Writes what executes `cfg` into `dir` (created): plan.yaml and labels.png
+// (16-bit segment labels), then, when `figures` is given, the configuration's
+// Fig. 2 panels. Throws gather::Error naming a file it cannot write.
+void write_plan_directory(const std::string& dir, const PlanContext& ctx, const ConfigurationPlan& cfg, unsigned seed,
+                          const PlanFigureWriter& figures = {});
 
 }  // namespace plan
 
