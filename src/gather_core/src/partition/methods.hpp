@@ -5,6 +5,7 @@
 
 #include "gather_core/grid/occupancy_grid.hpp"
 #include "gather_core/partition/partition.hpp"
+#include "gather_core/partition/rebalance.hpp"
 
 namespace gather {
 namespace partition {
@@ -25,14 +26,6 @@ struct MethodInput {
 void run_bap(const MethodInput& in, PartitionResult& out);
 void run_pap(const MethodInput& in, PartitionResult& out);
 void run_rap(const MethodInput& in, PartitionResult& out);
-
-// Moves boundary cells between adjacent segments of `labels` (row-major
-// width*height, 0 = no segment, segments 1..workers each 4-connected) until
-// every segment's area is within tolerance * mean of the mean, or after
-// max_passes passes. Every segment stays 4-connected and non-empty; the
-// cells labelled 0 stay 0. Deterministic. In rebalance.cpp.
-void rebalance_areas(int width, int height, int workers, std::vector<int32_t>& labels, double tolerance,
-                     int max_passes);
 
 }  // namespace partition
 }  // namespace gather

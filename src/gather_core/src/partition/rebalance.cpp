@@ -1,5 +1,5 @@
 // Area rebalancing of a connected partition by moving boundary cells between
-// adjacent segments (see methods.hpp).
+// adjacent segments (see gather_core/partition/rebalance.hpp).
 //
 // Each pass: segment areas and the segment adjacency graph (shared boundary
 // lengths); a maximum spanning tree of that graph (long shared boundaries
@@ -18,7 +18,7 @@
 #include <numeric>
 #include <vector>
 
-#include "methods.hpp"
+#include "gather_core/partition/rebalance.hpp"
 
 namespace gather {
 namespace partition {

@@ -8,6 +8,7 @@
 
 #include "gather_core/error.hpp"
 #include "gather_core/fmm/path.hpp"
+#include "gather_core/mission/tour.hpp"
 #include "gather_core/path/path_polisher.hpp"
 #include "gather_core/radio/radio_model.hpp"
 
@@ -16,70 +17,6 @@ namespace plan {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// Order of the meeting points (indices into `d`, 0 = the OC) of a closed tour
-// from the OC: exact by dynamic programming up to 12 points, else nearest
-// neighbour followed by 2-opt. `d` is a symmetric matrix of geodesic lengths.
-std::vector<int> tour_order(const std::vector<std::vector<double>>& d) {
-  const int n = static_cast<int>(d.size()) - 1;  // meeting points
-  std::vector<int> order;
-  if (n <= 0) return order;
-  if (n <= 12) {
-    const int full = 1 << n;
-    std::vector<double> best(static_cast<std::size_t>(full) * n, kInf);
-    std::vector<int> prev(best.size(), -1);
-    for (int j = 0; j < n; ++j) best[(1u << j) * n + j] = d[0][j + 1];
-    for (int mask = 1; mask < full; ++mask)
-      for (int j = 0; j < n; ++j) {
-        const double b = best[static_cast<std::size_t>(mask) * n + j];
-        if (!(mask & (1 << j)) || b == kInf) continue;
-        for (int k = 0; k < n; ++k) {
-          if (mask & (1 << k)) continue;
-          const std::size_t to = static_cast<std::size_t>(mask | (1 << k)) * n + k;
-          if (b + d[j + 1][k + 1] < best[to]) best[to] = b + d[j + 1][k + 1], prev[to] = j;
-        }
-      }
-    int last = 0;
-    double total = kInf;
-    for (int j = 0; j < n; ++j) {
-      const double t = best[static_cast<std::size_t>(full - 1) * n + j] + d[j + 1][0];
-      if (t < total) total = t, last = j;
-    }
-    int mask = full - 1;
-    while (last >= 0) {
-      order.push_back(last + 1);
-      const int p = prev[static_cast<std::size_t>(mask) * n + last];
-      mask &= ~(1 << last);
-      last = p;
-    }
-    std::reverse(order.begin(), order.end());
-    return order;
-  }
-  std::vector<uint8_t> used(static_cast<std::size_t>(n) + 1, 0);
-  int at = 0;
-  for (int step = 0; step < n; ++step) {
-    int next = -1;
-    for (int k = 1; k <= n; ++k)
-      if (!used[k] && (next < 0 || d[at][k] < d[at][next])) next = k;
-    used[next] = 1;
-    order.push_back(next);
-    at = next;
-  }
-  auto at_pos = [&](int i) { return i < 0 || i >= n ? 0 : order[i]; };
-  for (bool improved = true; improved;) {
-    improved = false;
-    for (int i = 0; i < n - 1; ++i)
-      for (int j = i + 1; j < n; ++j) {
-        const double before = d[at_pos(i - 1)][at_pos(i)] + d[at_pos(j)][at_pos(j + 1)];
-        const double after = d[at_pos(i - 1)][at_pos(j)] + d[at_pos(i)][at_pos(j + 1)];
-        if (after + 1e-9 < before) {
-          std::reverse(order.begin() + i, order.begin() + j + 1);
-          improved = true;
-        }
-      }
-  }
-  return order;
-}
 
 // Shortest 8-connected path a -> b [m] on the route speed map by A* (octile
 // heuristic; no diagonal step past a blocked corner). A leg between two
@@ -140,7 +77,7 @@ std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
 }  // namespace
 
 // Builds the closed route of one collector through the entry cells of its
-// segments: geodesic legs from FMM, visiting order by exact/2-opt tour,
+// segments: geodesic legs from FMM, visiting order by mission::order_closed_tour,
 // polished with OMPL.
 CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const WorkerGraph& graph,
                            const std::vector<int32_t>& labels, const std::vector<int>& segments, int collector,
@@ -158,10 +95,11 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
   const std::size_t n = pts.size();
   // Visiting order on straight-line distances (cheap, and the legs between
   // consecutive stops are short, so each leg's march stops early).
-  std::vector<std::vector<double>> d(n, std::vector<double>(n, 0.0));
+  std::vector<double> d(n * n, 0.0);  // row-major, point 0 = the OC
   for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = 0; j < n; ++j) d[i][j] = distance(pts[i], pts[j]);
-  const std::vector<int> order = tour_order(d);
+    for (std::size_t j = 0; j < n; ++j) d[i * n + j] = distance(pts[i], pts[j]);
+  const std::vector<int> order =
+      mission::order_closed_tour(mission::TourDistances{d.data(), d.data(), n}, static_cast<int>(n) - 1);
   std::vector<int> stops{0};
   stops.insert(stops.end(), order.begin(), order.end());
   stops.push_back(0);

@@ -1,0 +1,95 @@
+// partition/rebalance: boundary cells move until the areas agree, and every
+// segment stays connected.
+#include "gather_core/partition/rebalance.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace gather {
+namespace partition {
+namespace {
+
+std::vector<int> areas(const std::vector<int32_t>& labels, int workers) {
+  std::vector<int> a(static_cast<std::size_t>(workers) + 1, 0);
+  for (int32_t l : labels)
+    if (l > 0) ++a[static_cast<std::size_t>(l)];
+  return a;
+}
+
+// Every segment 1..workers is one 4-connected component.
+bool connected(const std::vector<int32_t>& labels, int w, int h, int workers) {
+  for (int k = 1; k <= workers; ++k) {
+    std::vector<uint8_t> seen(labels.size(), 0);
+    std::vector<std::size_t> stack;
+    const auto first = std::find(labels.begin(), labels.end(), k);
+    if (first == labels.end()) return false;
+    stack.push_back(static_cast<std::size_t>(first - labels.begin()));
+    seen[stack.back()] = 1;
+    std::size_t reached = 0;
+    while (!stack.empty()) {
+      const std::size_t i = stack.back();
+      stack.pop_back();
+      ++reached;
+      const int r = static_cast<int>(i) / w, c = static_cast<int>(i) % w;
+      const int nr[4] = {r - 1, r + 1, r, r}, nc[4] = {c, c, c - 1, c + 1};
+      for (int q = 0; q < 4; ++q) {
+        if (nr[q] < 0 || nc[q] < 0 || nr[q] >= h || nc[q] >= w) continue;
+        const std::size_t j = static_cast<std::size_t>(nr[q]) * w + nc[q];
+        if (labels[j] == k && !seen[j]) seen[j] = 1, stack.push_back(j);
+      }
+    }
+    if (reached != static_cast<std::size_t>(std::count(labels.begin(), labels.end(), k))) return false;
+  }
+  return true;
+}
+
+TEST(RebalanceTest, AStripOfTwoSegmentsEndsWithinTheTolerance) {
+  // 40 x 4: segment 1 holds columns 0-29 (120 cells), segment 2 columns 30-39 (40).
+  const int w = 40, h = 4;
+  std::vector<int32_t> labels(static_cast<std::size_t>(w * h));
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c) labels[static_cast<std::size_t>(r * w + c)] = c < 30 ? 1 : 2;
+  rebalance_areas(w, h, 2, labels, 0.05, 20);
+  const std::vector<int> a = areas(labels, 2);
+  EXPECT_NEAR(a[1], 80, 4);  // within 5% of the mean
+  EXPECT_NEAR(a[2], 80, 4);
+  EXPECT_EQ(a[1] + a[2], 160);
+  EXPECT_TRUE(connected(labels, w, h, 2));
+}
+
+TEST(RebalanceTest, CellsOutsideEverySegmentStayOutAndTheResultIsDeterministic) {
+  // 30 x 30 with a wall (label 0) down column 15 except a door at rows 14-15;
+  // three uneven segments: 1 left of the wall, 2 and 3 split the right at row 5.
+  const int w = 30, h = 30;
+  std::vector<int32_t> labels(static_cast<std::size_t>(w * h));
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c) {
+      int32_t l = c < 15 ? 1 : (r < 5 ? 2 : 3);
+      if (c == 15) l = (r == 14 || r == 15) ? 3 : 0;
+      labels[static_cast<std::size_t>(r * w + c)] = l;
+    }
+  std::vector<int32_t> again = labels;
+  const std::vector<int32_t> before = labels;
+  rebalance_areas(w, h, 3, labels, 0.05, 30);
+  rebalance_areas(w, h, 3, again, 0.05, 30);
+  EXPECT_EQ(labels, again);
+  for (std::size_t i = 0; i < labels.size(); ++i) EXPECT_EQ(labels[i] == 0, before[i] == 0) << "cell " << i;
+  EXPECT_TRUE(connected(labels, w, h, 3));
+  const std::vector<int> a = areas(labels, 3);
+  const double mean = (a[1] + a[2] + a[3]) / 3.0;
+  for (int k = 1; k <= 3; ++k) EXPECT_LE(std::abs(a[k] - mean), 0.05 * mean + 1) << "segment " << k;
+  EXPECT_LT(areas(before, 3)[2], 0.5 * mean) << "the test starts unbalanced";
+}
+
+TEST(RebalanceTest, ZeroPassesChangeNothing) {
+  std::vector<int32_t> labels = {1, 1, 1, 2};
+  rebalance_areas(4, 1, 2, labels, 0.0, 0);
+  EXPECT_EQ(labels, (std::vector<int32_t>{1, 1, 1, 2}));
+}
+
+}  // namespace
+}  // namespace partition
+}  // namespace gather
