@@ -13,7 +13,7 @@ CYCLES ?= 0
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build run test test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-signing identity-check partition-report scenario-report regime-report runtime-report clean help
+.PHONY: all deps build run test format format-check tidy test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-signing identity-check partition-report scenario-report regime-report runtime-report clean help
 
 all: build
 
@@ -38,8 +38,23 @@ run: build
 	  scenario:=$(abspath $(SCENARIO)) cycles:=$(CYCLES) results_dir:=$(abspath $(RESULTS)) record:=true'
 	$(PYTHON) tools/mission_summary.py $(RESULTS)
 
-test: build test-plain test-ros test-cli test-e2e
+test: build format-check tidy test-plain test-ros test-cli test-e2e
 	@echo "make test: all tests passed"
+
+# The committed .clang-format on every C++ file of the repository: `make
+# format` applies it, `make format-check` (part of make test) fails on a file
+# it would change.
+CXX_SOURCES = git ls-files '*.cpp' '*.hpp'
+format: deps
+	$(CXX_SOURCES) | xargs clang-format-14 -i --style=file
+format-check: deps
+	@bad=$$($(CXX_SOURCES) | xargs clang-format-14 --style=file --dry-run 2>&1 | grep -oE '^[^:]+:[0-9]+:[0-9]+: (warning|error)' | cut -d: -f1 | sort -u); \
+	  if [ -n "$$bad" ]; then echo "format-check: not formatted (make format fixes it):" >&2; echo "$$bad" >&2; exit 1; fi
+	@echo "format-check: every C++ file follows .clang-format"
+
+# clang-tidy (.clang-tidy) over gather_core; any finding fails.
+tidy: deps
+	tools/run-tidy $(JOBS)
 
 # GoogleTest suites of gather_oc through catkin (those of gather_core and
 # gather_agent run in test-plain, under the sanitizers: no need to build and

@@ -11,7 +11,8 @@
 namespace gather {
 namespace cli {
 
-Args::Args(int argc, char** argv, int first, std::vector<std::string> value_flags, std::vector<std::string> switches) {
+Args::Args(int argc, char** argv, int first, const std::vector<std::string>& value_flags,
+           const std::vector<std::string>& switches) {
   auto known = [](const std::vector<std::string>& v, const std::string& s) {
     return std::find(v.begin(), v.end(), s) != v.end();
   };

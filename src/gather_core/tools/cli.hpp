@@ -18,7 +18,8 @@ struct UsageError : Error {
 class Args {
  public:
   // `value_flags` take a value (--out DIR or --out=DIR), `switches` do not.
-  Args(int argc, char** argv, int first, std::vector<std::string> value_flags, std::vector<std::string> switches);
+  Args(int argc, char** argv, int first, const std::vector<std::string>& value_flags,
+       const std::vector<std::string>& switches);
 
   const std::vector<std::string>& positional() const { return positional_; }
   bool has(const std::string& flag) const { return values_.count(flag) != 0; }

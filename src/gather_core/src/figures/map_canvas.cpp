@@ -42,7 +42,7 @@ void write_png(const std::string& path, const cv::Mat& img) {
   if (!ok) throw Error(path, "cannot write PNG");
 }
 
-MapCanvas::MapCanvas(const OccupancyGrid& g, cv::Vec3b free_colour) : grid_(g) {
+MapCanvas::MapCanvas(const OccupancyGrid& g, const cv::Vec3b& free_colour) : grid_(g) {
   const int big = std::max(g.width(), g.height());
   // Small (or coarse planning) grids are magnified to about 1200 px.
   scale_ = big < 800 ? std::floor(1200.0 / big) : (big > 1600 ? 1600.0 / big : 1.0);
@@ -55,7 +55,7 @@ MapCanvas::MapCanvas(const OccupancyGrid& g, cv::Vec3b free_colour) : grid_(g) {
     }
 }
 
-void MapCanvas::paint(Cell c, cv::Vec3b colour) { cells_.at<cv::Vec3b>(grid_.height() - 1 - c.row, c.col) = colour; }
+void MapCanvas::paint(Cell c, const cv::Vec3b& colour) { cells_.at<cv::Vec3b>(grid_.height() - 1 - c.row, c.col) = colour; }
 
 cv::Mat& MapCanvas::image() {
   if (img_.empty()) {
@@ -82,12 +82,12 @@ void MapCanvas::oc(Point2 p) {
   cv::rectangle(image(), o - cv::Point(half, half), o + cv::Point(half, half), cv::Scalar(0, 0, 0), 1);
 }
 
-void MapCanvas::dot(Point2 p, cv::Scalar fill, int radius) {
+void MapCanvas::dot(Point2 p, const cv::Scalar& fill, int radius) {
   cv::circle(image(), px(p), radius, fill, cv::FILLED, cv::LINE_AA);
   cv::circle(image(), px(p), radius, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
 }
 
-void MapCanvas::polyline(const std::vector<Point2>& pts, cv::Scalar colour, int thickness, bool dashed) {
+void MapCanvas::polyline(const std::vector<Point2>& pts, const cv::Scalar& colour, int thickness, bool dashed) {
   for (std::size_t i = 1; i < pts.size(); ++i) {
     const cv::Point a = px(pts[i - 1]), b = px(pts[i]);
     if (!dashed) {

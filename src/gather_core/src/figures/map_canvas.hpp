@@ -26,10 +26,10 @@ struct LegendItem {
 class MapCanvas {
  public:
   // Obstacles dark, unknown grey, free cells `free_colour`.
-  explicit MapCanvas(const OccupancyGrid& grid, cv::Vec3b free_colour = cv::Vec3b(235, 235, 235));
+  explicit MapCanvas(const OccupancyGrid& grid, const cv::Vec3b& free_colour = cv::Vec3b(235, 235, 235));
 
   // Cell colours at map resolution (call before the first mark).
-  void paint(Cell c, cv::Vec3b colour);
+  void paint(Cell c, const cv::Vec3b& colour);
   // Scaled image with marks; the first call freezes the painted cells.
   cv::Mat& image();
   double scale() const { return scale_; }  // [px per cell]
@@ -38,8 +38,8 @@ class MapCanvas {
   int px_len(double meters) const;          // a length [m] in pixels
 
   void oc(Point2 p);                                    // red square
-  void dot(Point2 p, cv::Scalar fill, int radius_px);   // black-edged disc
-  void polyline(const std::vector<Point2>& pts, cv::Scalar colour, int thickness, bool dashed = false);
+  void dot(Point2 p, const cv::Scalar& fill, int radius_px);   // black-edged disc
+  void polyline(const std::vector<Point2>& pts, const cv::Scalar& colour, int thickness, bool dashed = false);
   void label(Point2 p, const std::string& text, double font = 0.4);
 
   // Caption above, scale bar and legend below; writes the PNG. Throws

@@ -61,7 +61,7 @@ void paint_segments(MapCanvas& canvas, const plan::PlanContext& ctx, const missi
     const int k = plan.labels[i];
     if (k <= 0) continue;
     // Pale tints: the agents, goals and routes drawn on top must stand out.
-    const cv::Vec3b full = pal[static_cast<std::size_t>(k - 1) % pal.size()];
+    const cv::Vec3b& full = pal[static_cast<std::size_t>(k - 1) % pal.size()];
     cv::Vec3b c(static_cast<uchar>(full[0] * 0.4 + 255 * 0.6), static_cast<uchar>(full[1] * 0.4 + 255 * 0.6),
                 static_cast<uchar>(full[2] * 0.4 + 255 * 0.6));
     if (ctx.coverage[i]) c = cv::Vec3b(static_cast<uchar>(c[0] * 0.8), static_cast<uchar>(c[1] * 0.8), static_cast<uchar>(c[2] * 0.8));

@@ -122,7 +122,7 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
         if (m.segment == s.id) canvas.polyline({s.centroid_m, m.point}, lines[static_cast<std::size_t>(c) % lines.size()], 1, true);
     }
     for (const auto& r : cfg.routes) {
-      const cv::Scalar col = lines[static_cast<std::size_t>(r.collector) % lines.size()];
+      const cv::Scalar& col = lines[static_cast<std::size_t>(r.collector) % lines.size()];
       canvas.polyline(r.waypoints, col, 3);
       for (const auto& m : r.meetings) canvas.dot(m.point, col, dot);
     }

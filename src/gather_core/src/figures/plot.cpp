@@ -34,7 +34,7 @@ void text(cv::Mat& img, const std::string& s, cv::Point at, double font = 0.42, 
   cv::putText(img, s, at, cv::FONT_HERSHEY_SIMPLEX, font, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
 }
 
-void marker(cv::Mat& img, cv::Point p, int kind, cv::Scalar c) {
+void marker(cv::Mat& img, cv::Point p, int kind, const cv::Scalar& c) {
   if (kind == 1) {
     cv::rectangle(img, p - cv::Point(4, 4), p + cv::Point(4, 4), c, cv::FILLED);
   } else if (kind == 2) {

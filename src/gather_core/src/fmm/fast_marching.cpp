@@ -287,7 +287,7 @@ std::size_t FastMarching::working_bytes() const {
                   labels_.capacity() * sizeof(int32_t) + touched_.capacity() * sizeof(uint32_t) +
                   heap_.capacity() * sizeof(HeapEntry) + (sorted_.capacity() + bheap_.capacity()) * sizeof(uint64_t) + inv_front_speed_.capacity() * sizeof(float) + late_.capacity() * sizeof(uint32_t) + targets_.capacity() * sizeof(uint32_t) +
                   seeds_.capacity() * sizeof(Seed) + sources_.capacity() * sizeof(Source);
-  for (const auto& v : buckets_) b += v.capacity() * sizeof(uint32_t) + sizeof(v);
+  for (const auto& v : buckets_) b += v.capacity() * sizeof(uint32_t) + sizeof(std::vector<uint32_t>);
   return b;
 }
 

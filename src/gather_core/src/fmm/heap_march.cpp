@@ -16,7 +16,6 @@ namespace fmm {
 using detail::kInf;
 using detail::MarchGrid;
 using detail::next_up;
-using detail::order_key;
 using detail::relax_neighbours;
 
 // Classical FMM: a binary min-heap with lazy deletion (an improved cell is

@@ -141,10 +141,12 @@ inline void look_back_label(const float* t, int32_t* lab, const uint8_t* mask, s
   const float g = std::sqrt(gx * gx + gy * gy);
   if (!(g > 0.0f)) return;
   const float dx = -gx / g, dy = -gy / g;
-  const float px = static_cast<float>(x % stride), py = static_cast<float>(x / stride);
+  const std::size_t col = x % stride, row = x / stride;
+  const float px = static_cast<float>(col), py = static_cast<float>(row);
   std::size_t m = x;
   for (int k = 1; k <= steps; ++k) {
     // Padded coordinates stay >= 0 (the walk stops at the border), so +0.5 and truncation round.
+    // NOLINTNEXTLINE(bugprone-incorrect-roundings): that is the rounding meant, without a call in the hot loop.
     const auto cx = static_cast<std::size_t>(px + k * dx + 0.5f), cy = static_cast<std::size_t>(py + k * dy + 0.5f);
     m = cy * stride + cx;
     if (!mask[m] || !(t[m] < tx)) return;  // blocked or not upwind: keep the neighbour's label

@@ -12,7 +12,8 @@
 namespace gather {
 
 std::string save_map(const OccupancyGrid& grid, const std::string& base) {
-  const std::string pgm = base + ".pgm", yaml = base + ".yaml";
+  const std::string pgm = base + ".pgm";
+  std::string yaml = base + ".yaml";
   std::error_code ec;
   const std::filesystem::path dir = std::filesystem::path(base).parent_path();
   if (!dir.empty()) std::filesystem::create_directories(dir, ec);

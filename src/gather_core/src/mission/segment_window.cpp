@@ -87,7 +87,7 @@ bool SegmentWindow::march(Cell from, const std::vector<Cell>& targets, double* o
 void SegmentWindow::reserve(std::size_t targets) {
   shifted_.reserve(targets);
   options_.targets.reserve(targets);
-  fm_.reserve_work(targets, static_cast<std::size_t>(8 * (fm_.width() + fm_.height())));
+  fm_.reserve_work(targets, 8 * (static_cast<std::size_t>(fm_.width()) + static_cast<std::size_t>(fm_.height())));
 }
 
 }  // namespace mission

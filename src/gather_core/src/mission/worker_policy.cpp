@@ -185,7 +185,7 @@ void WorkerPolicy::reserve(std::size_t max_goals) {
 void WorkerPolicy::reserve_all() {
   const OccupancyGrid& grid = world_.scenario.grid;
   shared_.fm.reserve_work(std::max(segment_cells_.size(), max_goals_ + rendezvous_.size()),
-                          static_cast<std::size_t>(8 * (grid.width() + grid.height())));
+                          8 * (static_cast<std::size_t>(grid.width()) + static_cast<std::size_t>(grid.height())));
   if (window_) window_->reserve(max_goals_ + rendezvous_.size());
   if (delivers_to_oc())
     while (landing_to_cell_.size() < kMaxLandings)

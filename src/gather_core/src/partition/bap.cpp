@@ -83,7 +83,8 @@ void sequential_fronts(FrontGrowth& growth, const std::vector<uint32_t>& order, 
     // starts again from the next farthest uncovered cell.
     std::size_t got = 0, seed = order[next];
     for (;;) {
-      const std::size_t fronts_left = static_cast<std::size_t>(workers - k + 1);
+      const int fronts = workers - k + 1;
+      const std::size_t fronts_left = static_cast<std::size_t>(fronts);
       const std::size_t quota = std::max<std::size_t>(1, remaining / fronts_left);
       seed = order[next];
       got = growth.grow_quota(seed, quota, k, labels, &taken);

@@ -193,8 +193,9 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
       if (labels[b] <= 0) continue;
       const std::size_t k = static_cast<std::size_t>(labels[b] - 1);
       const double w = rooms ? std::max(1e-3, static_cast<double>(c.clearance[b])) : 1.0;
-      sx[k] += w * static_cast<double>(b % c.width);
-      sy[k] += w * static_cast<double>(b / c.width);
+      const std::size_t col = b % c.width, row = b / c.width;
+      sx[k] += w * static_cast<double>(col);
+      sy[k] += w * static_cast<double>(row);
       sw[k] += w;
       cnt[k] += 1.0;
     }
@@ -203,8 +204,9 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
     for (std::size_t b = 0; b < cn; ++b) {
       if (labels[b] <= 0) continue;
       const std::size_t k = static_cast<std::size_t>(labels[b] - 1);
-      const double dx = static_cast<double>(b % c.width) - sx[k] / sw[k];
-      const double dy = static_cast<double>(b / c.width) - sy[k] / sw[k];
+      const std::size_t col = b % c.width, row = b / c.width;
+      const double dx = static_cast<double>(col) - sx[k] / sw[k];
+      const double dy = static_cast<double>(row) - sy[k] / sw[k];
       const double d = dx * dx + dy * dy;
       if (d < best_d[k]) best_d[k] = d, moved[k] = b;
     }

@@ -24,8 +24,9 @@ PartitionMetrics compute_metrics(const OccupancyGrid& grid, const PartitionResul
     if (l <= 0) continue;
     region[i] = 1;
     cnt[l - 1] += 1.0;
-    sx[l - 1] += static_cast<double>(i % grid.width());
-    sy[l - 1] += static_cast<double>(i / grid.width());
+    const std::size_t col = i % grid.width(), row = i / grid.width();
+    sx[l - 1] += static_cast<double>(col);
+    sy[l - 1] += static_cast<double>(row);
   }
   m.areas.resize(nw);
   double sum = 0.0, lo = 1e300, hi = 0.0;
@@ -48,8 +49,9 @@ PartitionMetrics compute_metrics(const OccupancyGrid& grid, const PartitionResul
   for (std::size_t i = 0; i < n; ++i) {
     const int32_t l = part.labels[i];
     if (l <= 0) continue;
-    const double dx = static_cast<double>(i % grid.width()) - sx[l - 1] / cnt[l - 1];
-    const double dy = static_cast<double>(i / grid.width()) - sy[l - 1] / cnt[l - 1];
+    const std::size_t col = i % grid.width(), row = i / grid.width();
+    const double dx = static_cast<double>(col) - sx[l - 1] / cnt[l - 1];
+    const double dy = static_cast<double>(row) - sy[l - 1] / cnt[l - 1];
     if (dx * dx + dy * dy < best[l - 1]) best[l - 1] = dx * dx + dy * dy, fronts[l - 1].cell = i;
   }
   FrontGrowth growth(grid.width(), grid.height(), grid.resolution(), region);
