@@ -39,7 +39,8 @@ void BM_Verify(benchmark::State& state) {
   std::vector<uint8_t> payload(static_cast<std::size_t>(state.range(0)), 0x42);
   std::vector<EnvelopeHead> heads(kBatch);
   std::vector<std::array<uint8_t, kMacBytes>> macs(kBatch);
-  for (std::size_t i = 0; i < kBatch; ++i) tx.sign("GATHER_STATE", 3, payload.data(), payload.size(), heads[i], macs[i].data());
+  for (std::size_t i = 0; i < kBatch; ++i)
+    tx.sign("GATHER_STATE", 3, payload.data(), payload.size(), heads[i], macs[i].data());
   auto rx = std::make_unique<FleetAuth>(k, kChannels, kMaxTeam + 1);
   std::size_t i = 0;
   for (auto _ : state) {

@@ -55,8 +55,8 @@ void BM_Solve(benchmark::State& state) {
     fm.solve(src, o);
     benchmark::DoNotOptimize(fm.padded_times());
   }
-  state.counters["cells/s"] = benchmark::Counter(static_cast<double>(reached) * state.iterations(),
-                                                 benchmark::Counter::kIsRate);
+  state.counters["cells/s"] =
+      benchmark::Counter(static_cast<double>(reached) * state.iterations(), benchmark::Counter::kIsRate);
   state.counters["work_B/cell"] = static_cast<double>(fm.working_bytes()) / (static_cast<double>(n) * n);
 }
 
@@ -77,8 +77,8 @@ void BM_MultiSourceLabels(benchmark::State& state) {
     fm.solve(src, o);
     benchmark::DoNotOptimize(fm.padded_times());
   }
-  state.counters["cells/s"] = benchmark::Counter(static_cast<double>(fm.count_reached()) * state.iterations(),
-                                                 benchmark::Counter::kIsRate);
+  state.counters["cells/s"] =
+      benchmark::Counter(static_cast<double>(fm.count_reached()) * state.iterations(), benchmark::Counter::kIsRate);
 }
 
 void BM_EarlyStopQuery(benchmark::State& state) {

@@ -29,7 +29,9 @@ const std::string& plan_dir() {
     const gather::Scenario map = gather::load_scenario(kScenario);
     const gather::Scenario s = gather::on_planning_grid(map, gather::planning_factor(map));
     const gather::plan::PlanContext ctx(s);
-    gather::plan::write_plan_directory(d, ctx, gather::plan::plan_configuration(ctx, gather::partition::Method::kPap, 4, gather::plan::grown_groups()), 1);
+    gather::plan::write_plan_directory(
+        d, ctx, gather::plan::plan_configuration(ctx, gather::partition::Method::kPap, 4, gather::plan::grown_groups()),
+        1);
     return d;
   }();
   return dir;
@@ -94,7 +96,8 @@ int wait_for(pid_t pid, std::chrono::milliseconds limit) {
 }
 
 void expect_clean_stop_on(int sig) {
-  Child c = spawn({GATHER_AGENT_BIN, "--id", "3", "--lcm-url", "memq://", "--key-file", key_file(), "--plan", plan_dir()});
+  Child c =
+      spawn({GATHER_AGENT_BIN, "--id", "3", "--lcm-url", "memq://", "--key-file", key_file(), "--plan", plan_dir()});
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // loading the plan, waiting for the OC
   ASSERT_EQ(waitpid(c.pid, nullptr, WNOHANG), 0) << "agent exited before the signal: " << read_all(c.err_fd);
   const auto t0 = std::chrono::steady_clock::now();
@@ -131,15 +134,18 @@ TEST(AgentProcess, BadInputGivesOneLineAndStatus2) {
   expect_bad_input({bin, "--id", "x", "--plan", plan}, "--id");
   expect_bad_input({bin, "--id", "0", "--bogus", "--plan", plan}, "unexpected argument '--bogus'");
   expect_bad_input({bin, "--id", "0", "--key-file", key, "--plan", "/nonexistent/plan"}, "/nonexistent/plan");
-  expect_bad_input({bin, "--id", "20", "--lcm-url", "memq://", "--key-file", key, "--plan", plan}, "not in the plan's team of 20");
-  expect_bad_input({bin, "--id", "0", "--lcm-url", "bogus://x", "--key-file", key, "--plan", plan}, "cannot open LCM URL");
+  expect_bad_input({bin, "--id", "20", "--lcm-url", "memq://", "--key-file", key, "--plan", plan},
+                   "not in the plan's team of 20");
+  expect_bad_input({bin, "--id", "0", "--lcm-url", "bogus://x", "--key-file", key, "--plan", plan},
+                   "cannot open LCM URL");
   expect_bad_input({bin, "--id", "0", "--motion", "base", "--plan", plan}, "not connected");
   expect_bad_input({bin, "--id", "0", "--motion", "wheels", "--plan", plan}, "--motion must be sim or base");
   // Signed fleet traffic: a key or an explicit --insecure, never both; a key
   // others can read is refused.
   expect_bad_input({bin, "--id", "0", "--plan", plan}, "--key-file");
   expect_bad_input({bin, "--id", "0", "--key-file", key, "--insecure", "--plan", plan}, "not both");
-  expect_bad_input({bin, "--id", "0", "--key-file", "/nonexistent/fleet.key", "--plan", plan}, "/nonexistent/fleet.key");
+  expect_bad_input({bin, "--id", "0", "--key-file", "/nonexistent/fleet.key", "--plan", plan},
+                   "/nonexistent/fleet.key");
   const std::string open_key = ::testing::TempDir() + "/gather_agent_open_" + std::to_string(::getpid()) + ".key";
   std::filesystem::remove(open_key);
   std::filesystem::copy_file(key, open_key);
@@ -149,7 +155,8 @@ TEST(AgentProcess, BadInputGivesOneLineAndStatus2) {
 }
 
 TEST(AgentProcess, ExitsOneWhenTheOcStaysSilent) {
-  Child c = spawn({GATHER_AGENT_BIN, "--id", "2", "--lcm-url", "memq://", "--silence", "1", "--insecure", "--plan", plan_dir()});
+  Child c = spawn(
+      {GATHER_AGENT_BIN, "--id", "2", "--lcm-url", "memq://", "--silence", "1", "--insecure", "--plan", plan_dir()});
   const int status = wait_for(c.pid, std::chrono::milliseconds(15000));
   const std::string err = read_all(c.err_fd);
   ASSERT_NE(status, -1) << "hung";
@@ -170,7 +177,8 @@ TEST(AgentProcess, APlanThatDoesNotMatchItsScenarioIsRefused) {
   in.close();
   yaml.replace(yaml.find("routes:"), 7, "  - {id: 20, role: worker, segment: 17, collector: -1}\nroutes:");
   std::ofstream(bad + "/plan.yaml") << yaml;
-  expect_bad_input({GATHER_AGENT_BIN, "--id", "0", "--lcm-url", "memq://", "--key-file", key_file(), "--plan", bad}, "plan.yaml");
+  expect_bad_input({GATHER_AGENT_BIN, "--id", "0", "--lcm-url", "memq://", "--key-file", key_file(), "--plan", bad},
+                   "plan.yaml");
   fs::remove_all(bad);
 }
 

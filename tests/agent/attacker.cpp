@@ -63,8 +63,9 @@ void on_message(const lcm_recv_buf_t* rbuf, const char* channel, void* user, boo
   if (e.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) != static_cast<int>(rbuf->data_size)) return;
   if (e.key_id != 0) s.key_id = e.key_id;
   if (s.captured.size() < 20000)
-    s.captured.push_back({channel, std::vector<uint8_t>(static_cast<const uint8_t*>(rbuf->data),
-                                                        static_cast<const uint8_t*>(rbuf->data) + rbuf->data_size),
+    s.captured.push_back({channel,
+                          std::vector<uint8_t>(static_cast<const uint8_t*>(rbuf->data),
+                                               static_cast<const uint8_t*>(rbuf->data) + rbuf->data_size),
                           reply});
 }
 void on_radio(const lcm_recv_buf_t* rbuf, const char* channel, void* user) { on_message(rbuf, channel, user, false); }
@@ -105,19 +106,27 @@ int main(int argc, char** argv) {
   double wait_s = 60.0;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
-    if (a == "--lcm-url") url = v;
-    else if (a == "--reply-url") reply_url = v;
-    else if (a == "--out") out = v;
-    else if (a == "--each") each = std::atoi(v.c_str());
-    else if (a == "--team") team = std::atoi(v.c_str());
-    else if (a == "--wait") wait_s = std::atof(v.c_str());
+    if (a == "--lcm-url")
+      url = v;
+    else if (a == "--reply-url")
+      reply_url = v;
+    else if (a == "--out")
+      out = v;
+    else if (a == "--each")
+      each = std::atoi(v.c_str());
+    else if (a == "--team")
+      team = std::atoi(v.c_str());
+    else if (a == "--wait")
+      wait_s = std::atof(v.c_str());
     else {
       std::fprintf(stderr, "gather_attacker: unknown flag %s\n", a.c_str());
       return 2;
     }
   }
   if (out.empty() || each < 1 || team < 2) {
-    std::fprintf(stderr, "usage: gather_attacker --out FILE [--lcm-url URL] [--reply-url URL] [--each N] [--team N] [--wait S]\n");
+    std::fprintf(
+        stderr,
+        "usage: gather_attacker --out FILE [--lcm-url URL] [--reply-url URL] [--each N] [--team N] [--wait S]\n");
     return 2;
   }
   if (reply_url.empty()) reply_url = gather::agent::LcmFleet::reply_url_for(url);
@@ -140,8 +149,8 @@ int main(int argc, char** argv) {
   };
   while (!(s.ticking && s.captured.size() >= 400 && acks() >= 5)) {
     if (std::chrono::steady_clock::now() - t0 > std::chrono::duration<double>(wait_s)) {
-      std::fprintf(stderr, "gather_attacker: no fleet traffic to attack within %.0f s (%zu messages, %d acks)\n", wait_s,
-                   s.captured.size(), acks());
+      std::fprintf(stderr, "gather_attacker: no fleet traffic to attack within %.0f s (%zu messages, %d acks)\n",
+                   wait_s, s.captured.size(), acks());
       return 1;
     }
     lcm_handle_timeout(radio, 5);
@@ -154,10 +163,10 @@ int main(int argc, char** argv) {
   ::usleep(300000);
 
   std::mt19937_64 rng(12345);
-  FleetAuth own(gather::agent::generate_fleet_key(), {gather::agent::kRequestChannel, gather::agent::kDataChannel,
-                                                      gather::agent::kAckChannel, gather::agent::kStateChannel,
-                                                      gather::agent::kPlanChannel, gather::agent::kTickChannel,
-                                                      gather::agent::kReplyChannel},
+  FleetAuth own(gather::agent::generate_fleet_key(),
+                {gather::agent::kRequestChannel, gather::agent::kDataChannel, gather::agent::kAckChannel,
+                 gather::agent::kStateChannel, gather::agent::kPlanChannel, gather::agent::kTickChannel,
+                 gather::agent::kReplyChannel},
                 gather::agent::kMaxTeam + 1);
   // Expected rejections: [reason] for the OC and for each agent.
   std::map<std::string, long> oc, agent;
@@ -183,7 +192,8 @@ int main(int argc, char** argv) {
          wrap(own, gather::agent::kStateChannel, victim, encoded(st), s.key_id), "bad_mac");
     gather_lcm::data_t d{};
     d.h = header(victim, gather::agent::kOc, 10.0 + i), d.count = 1;
-    d.items[0].key = 7 + i, d.items[0].kind = 1, d.items[0].by = victim, d.items[0].at = 5.0, d.items[0].picked_up_by = -1;
+    d.items[0].key = 7 + i, d.items[0].kind = 1, d.items[0].by = victim, d.items[0].at = 5.0,
+    d.items[0].picked_up_by = -1;
     send({gather::agent::kDataChannel, {}, false}, wrap(own, gather::agent::kDataChannel, victim, encoded(d), s.key_id),
          "bad_mac");
     gather_lcm::request_t r{};
@@ -209,7 +219,8 @@ int main(int argc, char** argv) {
     const Captured& mine = pick(radio_msgs);
     std::vector<uint8_t> other = mine.bytes;
     const int16_t was = static_cast<int16_t>(other[8 + 4] << 8 | other[8 + 5]);
-    const int16_t as = static_cast<int16_t>((was + 1 + static_cast<int>(rng() % static_cast<uint64_t>(team - 1))) % team);
+    const int16_t as =
+        static_cast<int16_t>((was + 1 + static_cast<int>(rng() % static_cast<uint64_t>(team - 1))) % team);
     other[8 + 4] = static_cast<uint8_t>(static_cast<uint16_t>(as) >> 8), other[8 + 5] = static_cast<uint8_t>(as & 0xff);
     send(mine, other, "bad_mac");
   }

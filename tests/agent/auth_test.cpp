@@ -128,7 +128,8 @@ void mac_by_hand(const FleetKey& k, const char* channel, const EnvelopeHead& h, 
   auto be = [&](uint64_t v, int bytes) {
     for (int i = bytes - 1; i >= 0; --i) m.push_back(static_cast<uint8_t>(v >> (8 * i)));
   };
-  be(static_cast<uint16_t>(h.version), 2), be(static_cast<uint16_t>(h.key_id), 2), be(static_cast<uint16_t>(h.sender), 2);
+  be(static_cast<uint16_t>(h.version), 2), be(static_cast<uint16_t>(h.key_id), 2),
+      be(static_cast<uint16_t>(h.sender), 2);
   be(static_cast<uint64_t>(h.counter), 8), be(payload.size(), 4);
   m.insert(m.end(), payload.begin(), payload.end());
   crypto_auth_hmacsha512256(out, m.data(), m.size(), k.key.data());
@@ -229,7 +230,8 @@ TEST(FleetKeyTest, OptionsNeedAKeyOrAnExplicitInsecure) {
 TEST(LcmFleetAuthTest, EnvelopesAreCheckedBeforeThePayloadIsDecoded) {
   const FleetKey key = key_of(7, 1);
   LcmFleet rx("memq://", "memq://", true, key, 20);
-  FleetAuth tx(key, {kRequestChannel, kDataChannel, kAckChannel, kStateChannel, kPlanChannel, kTickChannel, kReplyChannel},
+  FleetAuth tx(key,
+               {kRequestChannel, kDataChannel, kAckChannel, kStateChannel, kPlanChannel, kTickChannel, kReplyChannel},
                kMaxTeam + 1);
   auto wire = [&](int16_t payload_sender, int16_t envelope_sender) {
     gather_lcm::data_t d{};

@@ -10,11 +10,11 @@
 #include <set>
 
 #include "gather_agent/roles/worker_role.hpp"
-#include "office_team.hpp"
 #include "gather_agent/runner/team_runner.hpp"
 #include "gather_core/error.hpp"
 #include "gather_core/mission/repair.hpp"
 #include "gather_core/plan/plan_export.hpp"
+#include "office_team.hpp"
 
 namespace gather {
 namespace agent {
@@ -52,13 +52,15 @@ TEST(RepairPlan, ADeadWorkersSegmentGoesToItsSmallestLiveNeighbour) {
   std::set<int32_t> touching;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x + 1 < w; ++x) {
-      const int32_t a = base.labels[static_cast<std::size_t>(y) * w + x], b = base.labels[static_cast<std::size_t>(y) * w + x + 1];
+      const int32_t a = base.labels[static_cast<std::size_t>(y) * w + x],
+                    b = base.labels[static_cast<std::size_t>(y) * w + x + 1];
       if (a == s && b > 0 && b != s) touching.insert(b);
       if (b == s && a > 0 && a != s) touching.insert(a);
     }
   for (int y = 0; y + 1 < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const int32_t a = base.labels[static_cast<std::size_t>(y) * w + x], b = base.labels[static_cast<std::size_t>(y + 1) * w + x];
+      const int32_t a = base.labels[static_cast<std::size_t>(y) * w + x],
+                    b = base.labels[static_cast<std::size_t>(y + 1) * w + x];
       if (a == s && b > 0 && b != s) touching.insert(b);
       if (b == s && a > 0 && a != s) touching.insert(a);
     }

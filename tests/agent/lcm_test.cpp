@@ -130,7 +130,8 @@ TEST(LcmFleet, EveryRadioMessageSurvivesTheRoundTrip) {
   EXPECT_EQ(got.ack.keys[1], -9);
 
   Message s = base(Kind::kState, 5, kBroadcast);
-  s.state.role = RoleKind::kWorker, s.state.carried = 3, s.state.notices = 1, s.state.pending = 2, s.state.measured = 44;
+  s.state.role = RoleKind::kWorker, s.state.carried = 3, s.state.notices = 1, s.state.pending = 2,
+  s.state.measured = 44;
   got = roundtrip(f, s);
   EXPECT_EQ(got.state.measured, 44);
   EXPECT_EQ(got.state.pending, 2u);
@@ -140,7 +141,8 @@ TEST(LcmFleet, EveryRadioMessageSurvivesTheRoundTrip) {
 TEST(LcmFleet, ClockAndPlanSurviveTheRoundTrip) {
   LcmFleet f("memq://", "memq://", true, test_key(), 20);
   PlanAnnounce p;
-  p.digest = 0xfedcba9876543210ull, p.agents = 20, p.params.cycles = 7, p.params.seed = 9, p.params.goals_per_request = 40;
+  p.digest = 0xfedcba9876543210ull, p.agents = 20, p.params.cycles = 7, p.params.seed = 9,
+  p.params.goals_per_request = 40;
   p.params.data_capacity = 160, p.params.notice_capacity = 160, p.tick = 0.05, p.loss = 0.25, p.loss_seed = 3;
   f.publish(p);
   f.publish(Tick{12, 1.2, 33, true, false});
@@ -226,7 +228,7 @@ TEST(LcmFleet, GarbageTruncatedOversizedWrongVersionOutOfRangeAreCountedAndDropp
   d.items[0].kind = 1, d.items[0].by = 3, d.items[0].picked_up_by = -1;
   const std::vector<uint8_t> buf = encoded(d);
   feed(f, kDataChannel, buf, 3);
-  ASSERT_EQ(f.radio().size(), 1u);  // the valid one
+  ASSERT_EQ(f.radio().size(), 1u);                                             // the valid one
   feed(f, kDataChannel, std::vector<uint8_t>(buf.begin(), buf.end() - 5), 3);  // truncated
   std::vector<uint8_t> longer(buf);
   longer.resize(buf.size() + 4096, 0);  // oversized: trailing bytes
@@ -297,7 +299,8 @@ TEST(LcmFleet, MutatedPayloadsOfEveryChannelAreAcceptedWithinBoundsOrCounted) {
   h.sender = 3, h.dest = kOc;
   gather_lcm::data_t d{};
   d.h = h, d.count = 2;
-  for (int i = 0; i < 2; ++i) d.items[i].kind = 1, d.items[i].by = 3, d.items[i].picked_up_by = -1, d.items[i].key = 7 + i;
+  for (int i = 0; i < 2; ++i)
+    d.items[i].kind = 1, d.items[i].by = 3, d.items[i].picked_up_by = -1, d.items[i].key = 7 + i;
   gather_lcm::ack_t a{};
   a.h = h, a.h.sender = kOc, a.h.dest = 3, a.count = 3;
   gather_lcm::agent_state_t st{};
@@ -312,7 +315,7 @@ TEST(LcmFleet, MutatedPayloadsOfEveryChannelAreAcceptedWithinBoundsOrCounted) {
   gather_lcm::tick_reply_t rp{};
   rp.schema_version = gather_lcm::tick_reply_t::SCHEMA_VERSION, rp.agent = 3, rp.status = 1;
   const std::vector<std::pair<const char*, std::vector<uint8_t>>> bases{
-      {kDataChannel, encoded(d)}, {kAckChannel, encoded(a)},   {kStateChannel, encoded(st)},
+      {kDataChannel, encoded(d)},     {kAckChannel, encoded(a)},   {kStateChannel, encoded(st)},
       {kRequestChannel, encoded(rq)}, {kTickChannel, encoded(tk)}, {kPlanChannel, encoded(pl)},
       {kReplyChannel, encoded(rp)}};
   std::mt19937_64 rng(17);
@@ -338,8 +341,11 @@ TEST(LcmFleet, MutatedPayloadsOfEveryChannelAreAcceptedWithinBoundsOrCounted) {
         break;
     }
     const int64_t before = f.dropped();
-    feed(f, channel, b, clock_channel(channel) ? (channel == kReplyChannel ? 3 : kOc) : (channel == kAckChannel || channel == kRequestChannel ? kOc : 3));
-    const int64_t got = static_cast<int64_t>(f.radio().size() + f.ticks().size() + f.plans().size() + f.replies().size());
+    feed(f, channel, b,
+         clock_channel(channel) ? (channel == kReplyChannel ? 3 : kOc)
+                                : (channel == kAckChannel || channel == kRequestChannel ? kOc : 3));
+    const int64_t got =
+        static_cast<int64_t>(f.radio().size() + f.ticks().size() + f.plans().size() + f.replies().size());
     EXPECT_EQ(got + f.dropped() - before, 1) << channel << " case " << i;
     accepted += got;
     for (const Message& m : f.radio()) {

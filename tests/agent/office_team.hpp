@@ -20,7 +20,8 @@ struct Office {
   Scenario map = load_scenario(std::string(GATHER_REPO_DIR) + "/maps/office.scenario.yaml");
   Scenario scenario = on_planning_grid(map, planning_factor(map));
   plan::PlanContext ctx{scenario};
-  mission::MissionPlan pap4 = mission::mission_plan(ctx, plan::plan_configuration(ctx, partition::Method::kPap, 4, plan::grown_groups()));
+  mission::MissionPlan pap4 =
+      mission::mission_plan(ctx, plan::plan_configuration(ctx, partition::Method::kPap, 4, plan::grown_groups()));
   mission::MissionPlan bap0 = mission::mission_plan(ctx, plan::plan_configuration(ctx, partition::Method::kBap, 0));
 };
 

@@ -11,7 +11,6 @@
 #include <set>
 
 #include "../core/corridor.hpp"
-#include "office_team.hpp"
 #include "gather_agent/roles/collector_role.hpp"
 #include "gather_agent/roles/oc_role.hpp"
 #include "gather_agent/roles/worker_role.hpp"
@@ -20,6 +19,7 @@
 #include "gather_core/mission/simulator.hpp"
 #include "gather_core/plan/plan_export.hpp"
 #include "gather_core/radio/radio_model.hpp"
+#include "office_team.hpp"
 
 namespace gather {
 namespace agent {
@@ -101,7 +101,8 @@ TEST(RangeGate, AWallInBetweenCutsALinkThatWouldHoldInTheOpen) {
   Scenario s = corridor();
   std::vector<int8_t> v(s.grid.values());
   std::vector<uint8_t> f(s.grid.free_mask());
-  for (int r = 1; r < 5; ++r) v[static_cast<std::size_t>(r) * 200 + 20] = 100, f[static_cast<std::size_t>(r) * 200 + 20] = 0;
+  for (int r = 1; r < 5; ++r)
+    v[static_cast<std::size_t>(r) * 200 + 20] = 100, f[static_cast<std::size_t>(r) * 200 + 20] = 0;
   s.grid = OccupancyGrid(200, 5, 0.1, Point2{0, 0}, v, f);
   const mission::World world(s);
   MissionParams prm;
@@ -136,8 +137,8 @@ TEST(Inbox, AddressedInRangeInSenderSeqOrderOwnSkippedOverflowCounted) {
   std::vector<Message> sent = {
       message(Kind::kState, 0, kBroadcast, 3, {1, 0.25}), message(Kind::kAck, kOc, 1, 9, {0.55, 0.25}),
       message(Kind::kState, 0, kBroadcast, 2, {1, 0.25}), message(Kind::kAck, kOc, 0, 8, {0.55, 0.25}),  // for agent 0
-      message(Kind::kState, 1, kBroadcast, 4, {1, 0.25}),                                                 // its own
-      message(Kind::kState, 0, kBroadcast, 1, {9, 0.25}),                                                 // out of range
+      message(Kind::kState, 1, kBroadcast, 4, {1, 0.25}),                                                // its own
+      message(Kind::kState, 0, kBroadcast, 1, {9, 0.25}),                                                // out of range
   };
   LinkCounters link;
   std::vector<const Message*> inbox;
@@ -179,12 +180,14 @@ struct Stepper {
   }
 };
 
-Message request(int32_t id, int32_t first, std::vector<Point2> goals, const OccupancyGrid& grid, int16_t from, int16_t to) {
+Message request(int32_t id, int32_t first, std::vector<Point2> goals, const OccupancyGrid& grid, int16_t from,
+                int16_t to) {
   Message m = message(Kind::kRequest, from, to, 0, Point2{0.55, 0.25}, id);
   m.request = RequestPart{};
   m.request.request = id, m.request.first_goal = first, m.request.total = static_cast<int32_t>(goals.size());
   m.request.part = 0, m.request.parts = 1, m.request.count = static_cast<uint16_t>(goals.size());
-  for (std::size_t i = 0; i < goals.size(); ++i) m.request.cells[i] = static_cast<uint32_t>(grid.index(grid.world_to_cell(goals[i])));
+  for (std::size_t i = 0; i < goals.size(); ++i)
+    m.request.cells[i] = static_cast<uint32_t>(grid.index(grid.world_to_cell(goals[i])));
   return m;
 }
 
@@ -456,22 +459,22 @@ TEST(TeamRunner, LossyRadioLosesNoDataAndResends) {
   // whose broadcast they lost; the OC answers their beacons too).
   Office& o = Office::get();
   for (const mission::MissionPlan* plan : {&o.pap4, &o.bap0}) {
-  SCOPED_TRACE(plan->file.method);
-  TeamSetup team(o.ctx, *plan, office_params(4, 2));
-  RunOptions opt;
-  opt.loss = 0.3, opt.loss_seed = 5;
-  const RunOutcome out = TeamRunner(team, opt).run();  // checks conservation at every cycle's end
-  ASSERT_TRUE(out.completed) << out.failure;
-  int64_t measured = 0, lost = 0, delivered = 0, dropped = 0;
-  for (const AgentSummary& a : out.agents) measured += a.report.measured, lost += a.link.lost;
-  for (const auto& g : out.result.goals) {
-    delivered += g.state == mission::GoalState::kDelivered;
-    dropped += g.state == mission::GoalState::kDropped;
-  }
-  EXPECT_GT(lost, 100);
-  EXPECT_EQ(measured, delivered);  // every measured goal reached the OC
-  EXPECT_EQ(dropped, 0);
-  EXPECT_GT(out.duplicate_items, 0);  // lost acks: resent, counted once
+    SCOPED_TRACE(plan->file.method);
+    TeamSetup team(o.ctx, *plan, office_params(4, 2));
+    RunOptions opt;
+    opt.loss = 0.3, opt.loss_seed = 5;
+    const RunOutcome out = TeamRunner(team, opt).run();  // checks conservation at every cycle's end
+    ASSERT_TRUE(out.completed) << out.failure;
+    int64_t measured = 0, lost = 0, delivered = 0, dropped = 0;
+    for (const AgentSummary& a : out.agents) measured += a.report.measured, lost += a.link.lost;
+    for (const auto& g : out.result.goals) {
+      delivered += g.state == mission::GoalState::kDelivered;
+      dropped += g.state == mission::GoalState::kDropped;
+    }
+    EXPECT_GT(lost, 100);
+    EXPECT_EQ(measured, delivered);  // every measured goal reached the OC
+    EXPECT_EQ(dropped, 0);
+    EXPECT_GT(out.duplicate_items, 0);  // lost acks: resent, counted once
   }
 }
 

@@ -60,11 +60,12 @@ TEST(BadInput, EveryCaseThrowsErrorNamingFileAndProblem) {
 
 // The cases that fail inside the map are also rejected by load_map directly.
 TEST(BadInput, MapLoaderRejectsBrokenMaps) {
-  const char* maps[] = {"missing_image.yaml", "unknown_format.yaml", "empty_image.yaml",    "truncated_p5.yaml",
-                        "truncated_p2.yaml",  "truncated_png.yaml",  "pgm16.yaml",          "missing_key.yaml",
-                        "unknown_key.yaml",   "resolution_zero.yaml", "resolution_negative.yaml",
-                        "thresholds_order.yaml", "malformed.yaml",   "wrong_type.yaml",     "bad_mode.yaml",
-                        "rotated.yaml",       "nonexistent.yaml"};
+  const char* maps[] = {"missing_image.yaml",   "unknown_format.yaml",      "empty_image.yaml",
+                        "truncated_p5.yaml",    "truncated_p2.yaml",        "truncated_png.yaml",
+                        "pgm16.yaml",           "missing_key.yaml",         "unknown_key.yaml",
+                        "resolution_zero.yaml", "resolution_negative.yaml", "thresholds_order.yaml",
+                        "malformed.yaml",       "wrong_type.yaml",          "bad_mode.yaml",
+                        "rotated.yaml",         "nonexistent.yaml"};
   for (const char* m : maps) {
     SCOPED_TRACE(m);
     EXPECT_THROW(load_map(kBad + "maps/" + m), Error);

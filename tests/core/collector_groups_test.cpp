@@ -58,7 +58,7 @@ TEST(CollectorGroupsTest, TheLeastLoadedGroupGrowsFirst) {
   // Segment 6 (far, x = 0 behind the OC) borders both seeds 2 and 4.
   WorkerGraph g;
   g.segments = {segment(1, 0, 0.0, {2, 4}), segment(2, -2, 1.0, {1, 6}), segment(3, -9, 9.0, {}),
-                segment(4, 2, 1.5, {1, 6}), segment(5, 9, 9.0, {}), segment(6, 0, 8.0, {2, 4})};
+                segment(4, 2, 1.5, {1, 6}), segment(5, 9, 9.0, {}),      segment(6, 0, 8.0, {2, 4})};
   // Segments 3 and 5 border nothing: each joins the group of the nearest centroid.
   const std::vector<int> west_heavy = group_segments(g, 2, {1, 10, 1, 1, 1, 1});
   EXPECT_EQ(west_heavy[5], 1) << "the east group (lighter) takes segment 6";

@@ -24,16 +24,19 @@ OccupancyGrid grid_from(int w, int h, const std::function<bool(int, int)>& free,
 
 // Rooms 50 cells apart, walls 3 cells thick, one 8-cell door per wall segment.
 OccupancyGrid office(int n, double res) {
-  return grid_from(n, n, [=](int r, int c) {
-    auto wall = [](int v) { return v % 50 < 3; };
-    auto door = [](int v) { return v % 50 >= 21 && v % 50 < 29; };
-    if (r >= n - 3 || c >= n - 3) return false;
-    const bool wr = wall(r), wc = wall(c);
-    if (!wr && !wc) return true;
-    if (wr && wc) return false;
-    if (r < 3 || c < 3) return false;
-    return wr ? door(c) : door(r);
-  }, res);
+  return grid_from(
+      n, n,
+      [=](int r, int c) {
+        auto wall = [](int v) { return v % 50 < 3; };
+        auto door = [](int v) { return v % 50 >= 21 && v % 50 < 29; };
+        if (r >= n - 3 || c >= n - 3) return false;
+        const bool wr = wall(r), wc = wall(c);
+        if (!wr && !wc) return true;
+        if (wr && wc) return false;
+        if (r < 3 || c < 3) return false;
+        return wr ? door(c) : door(r);
+      },
+      res);
 }
 
 // Checks the path's promises: starts at `from`, every point in a traversable
@@ -60,7 +63,8 @@ void check_path(const FastMarching& fm, const OccupancyGrid& g, const std::vecto
       // Sample the segment: never in an obstacle.
       for (int k = 1; k < 20; ++k) {
         const double s = k / 20.0;
-        const Point2 q{path[i - 1].x + s * (path[i].x - path[i - 1].x), path[i - 1].y + s * (path[i].y - path[i - 1].y)};
+        const Point2 q{path[i - 1].x + s * (path[i].x - path[i - 1].x),
+                       path[i - 1].y + s * (path[i].y - path[i - 1].y)};
         ASSERT_TRUE(g.is_free(g.world_to_cell(q))) << "segment " << i << " crosses an obstacle";
       }
       const double t = interpolated_time(fm, path[i]);
@@ -72,7 +76,8 @@ void check_path(const FastMarching& fm, const OccupancyGrid& g, const std::vecto
 
 TEST(FmmPath, StraightOnFreeGrid) {
   const double res = 0.25;
-  const OccupancyGrid g = grid_from(160, 120, [](int, int) { return true; }, res);
+  const OccupancyGrid g = grid_from(
+      160, 120, [](int, int) { return true; }, res);
   FastMarching fm(g);
   const Point2 src{11.13, 12.87};
   for (Order order : {Order::kFirst, Order::kSecond}) {
@@ -139,15 +144,18 @@ TEST(FmmPath, AroundWallsNeverEntersObstacles) {
 TEST(FmmPath, ErrorsAndGeodesic) {
   const double res = 0.5;
   // A closed room on the right: unreachable from the left.
-  const OccupancyGrid g = grid_from(60, 40, [](int r, int c) {
-    if (c == 40) return false;
-    return !(r == 20 && c > 10 && c < 30);
-  }, res);
+  const OccupancyGrid g = grid_from(
+      60, 40,
+      [](int r, int c) {
+        if (c == 40) return false;
+        return !(r == 20 && c > 10 && c < 30);
+      },
+      res);
   FastMarching fm(g);
   fm.solve({Source::at_cell({5, 5})});
-  EXPECT_THROW(descend(fm, g.cell_center({5, 50})), Error);     // unreached
-  EXPECT_THROW(descend(fm, g.cell_center({20, 20})), Error);    // obstacle
-  EXPECT_THROW(descend(fm, Point2{-100.0, 0.0}), Error);        // off the map
+  EXPECT_THROW(descend(fm, g.cell_center({5, 50})), Error);   // unreached
+  EXPECT_THROW(descend(fm, g.cell_center({20, 20})), Error);  // obstacle
+  EXPECT_THROW(descend(fm, Point2{-100.0, 0.0}), Error);      // off the map
   EXPECT_TRUE(std::isinf(geodesic_time(fm, g.cell_center({5, 5}), g.cell_center({5, 50}))));
   // In open space the geodesic is the straight line; around the wall it is longer.
   const Point2 a = g.cell_center({5, 5}), b{a.x + 6.2, a.y + 3.3};

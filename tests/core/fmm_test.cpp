@@ -26,7 +26,8 @@ OccupancyGrid make_grid(int w, int h, const std::function<bool(int, int)>& free,
 }
 
 OccupancyGrid free_grid(int w, int h, double res = 1.0) {
-  return make_grid(w, h, [](int, int) { return true; }, res);
+  return make_grid(
+      w, h, [](int, int) { return true; }, res);
 }
 
 // Rooms on a pitch with walls `wall` cells thick and a door gap in each wall segment.
@@ -118,7 +119,8 @@ TEST(FastMarching, QueuesAgree) {
 TEST(FastMarching, ExactQueuesExpandEveryCellOnce) {
   // Fine resolution, point and cell sources: the seeds spread over more
   // buckets than one crossing; every reached cell must still be expanded.
-  const OccupancyGrid g = make_grid(300, 200, [](int r, int c) { return !(c == 150 && r > 20); }, 0.05);
+  const OccupancyGrid g = make_grid(
+      300, 200, [](int r, int c) { return !(c == 150 && r > 20); }, 0.05);
   FastMarching fm(g);
   const std::vector<Source> src{Source::at_point({2.013, 3.377}), Source::at_cell({150, 250})};
   for (QueueKind q : {QueueKind::kSortedBuckets, QueueKind::kHeap}) {
@@ -154,8 +156,7 @@ TEST(FastMarching, ExactQueuesExpandEveryCellOnce) {
 
 // Shortest path length around axis-aligned rectangular obstacles: Dijkstra on
 // the visibility graph of the obstacle corners (exact in the continuum).
-double exact_shortest(Point2 a, Point2 b, const std::vector<std::array<double, 4>>& rects, double map_w,
-                      double map_h) {
+double exact_shortest(Point2 a, Point2 b, const std::vector<std::array<double, 4>>& rects, double map_w, double map_h) {
   auto blocked = [&](Point2 p, Point2 q) {
     for (const auto& R : rects) {  // segment strictly through the open rectangle?
       const int steps = 400;
@@ -192,12 +193,15 @@ TEST(FastMarching, GeodesicAroundObstaclesMatchesExactShortestPath) {
   // Obstacles in meters [x0, y0, x1, y1] on a 12 m x 8 m map.
   // Walls touching the map border extend past it, so no path slips around them.
   const std::vector<std::array<double, 4>> rects{{3.0, -1.0, 3.5, 6.0}, {7.0, 2.0, 7.5, 9.0}, {9.0, 3.0, 11.0, 4.0}};
-  const OccupancyGrid g = make_grid(120, 80, [&](int r, int c) {
-    const double x = (c + 0.5) * res, y = (r + 0.5) * res;
-    for (const auto& R : rects)
-      if (x > R[0] && x < R[2] && y > R[1] && y < R[3]) return false;
-    return true;
-  }, res);
+  const OccupancyGrid g = make_grid(
+      120, 80,
+      [&](int r, int c) {
+        const double x = (c + 0.5) * res, y = (r + 0.5) * res;
+        for (const auto& R : rects)
+          if (x > R[0] && x < R[2] && y > R[1] && y < R[3]) return false;
+        return true;
+      },
+      res);
   FastMarching fm(g);
   const std::vector<std::pair<Point2, Point2>> pairs{
       {{1.02, 1.03}, {5.11, 1.27}}, {{1.02, 1.03}, {11.5, 1.0}}, {{5.0, 7.5}, {10.0, 5.5}}, {{0.5, 7.5}, {11.7, 0.3}}};
@@ -218,60 +222,60 @@ TEST(FastMarching, LabelsAreArgminOfSingleSourceRuns) {
                                 Source::at_cell({160, 160}), Source::at_point({45.5, 110.25})};
   FastMarching fm(g);
   for (Order order : {Order::kFirst, Order::kSecond}) {
-   for (int look_back : {6, 0}) {
-    SolveOptions o;
-    o.order = order;
-    o.label_look_back = look_back;
-    std::vector<std::vector<double>> single(src.size());
-    for (std::size_t i = 0; i < src.size(); ++i) {
-      fm.solve({src[i]}, o);
-      fm.copy_times(single[i]);
-    }
-    fm.solve(src, o);
-    std::vector<double> multi;
-    std::vector<int32_t> labels;
-    fm.copy_times(multi);
-    fm.copy_labels(labels);
-    std::size_t checked = 0, wrong = 0;
-    double worst_margin = 0.0;
-    for (std::size_t p = 0; p < multi.size(); ++p) {
-      double best = kInf, second = kInf;
-      int arg = -1;
+    for (int look_back : {6, 0}) {
+      SolveOptions o;
+      o.order = order;
+      o.label_look_back = look_back;
+      std::vector<std::vector<double>> single(src.size());
       for (std::size_t i = 0; i < src.size(); ++i) {
-        if (single[i][p] < best) {
-          second = best;
-          best = single[i][p];
-          arg = static_cast<int>(i);
-        } else {
-          second = std::min(second, single[i][p]);
+        fm.solve({src[i]}, o);
+        fm.copy_times(single[i]);
+      }
+      fm.solve(src, o);
+      std::vector<double> multi;
+      std::vector<int32_t> labels;
+      fm.copy_times(multi);
+      fm.copy_labels(labels);
+      std::size_t checked = 0, wrong = 0;
+      double worst_margin = 0.0;
+      for (std::size_t p = 0; p < multi.size(); ++p) {
+        double best = kInf, second = kInf;
+        int arg = -1;
+        for (std::size_t i = 0; i < src.size(); ++i) {
+          if (single[i][p] < best) {
+            second = best;
+            best = single[i][p];
+            arg = static_cast<int>(i);
+          } else {
+            second = std::min(second, single[i][p]);
+          }
+        }
+        if (std::isinf(best)) {
+          EXPECT_EQ(labels[p], -1);
+          EXPECT_TRUE(std::isinf(multi[p]));
+          continue;
+        }
+        EXPECT_LE(multi[p], best + 0.1);
+        if (second - best > 1.0) {           // ties aside
+          EXPECT_NEAR(multi[p], best, 0.1);  // fronts that merge upwind shift times slightly
+          ++checked;
+          if (labels[p] != arg) {
+            ++wrong;
+            worst_margin = std::max(worst_margin, second - best);
+          }
         }
       }
-      if (std::isinf(best)) {
-        EXPECT_EQ(labels[p], -1);
-        EXPECT_TRUE(std::isinf(multi[p]));
-        continue;
-      }
-      EXPECT_LE(multi[p], best + 0.1);
-      if (second - best > 1.0) {  // ties aside
-        EXPECT_NEAR(multi[p], best, 0.1);  // fronts that merge upwind shift times slightly
-        ++checked;
-        if (labels[p] != arg) {
-          ++wrong;
-          worst_margin = std::max(worst_margin, second - best);
-        }
+      EXPECT_GT(checked, multi.size() / 2);
+      // With look-back (the default) labels match; copying the earliest
+      // neighbour's label alone drifts near collisions (see docs/fmm.md).
+      std::printf("order %d look_back %d: %zu of %zu labels differ from the argmin (margin up to %.2f)\n", int(order),
+                  look_back, wrong, checked, worst_margin);
+      if (look_back > 0) {
+        EXPECT_EQ(wrong, 0u);
+      } else {
+        EXPECT_LE(wrong, checked / 50);
       }
     }
-    EXPECT_GT(checked, multi.size() / 2);
-    // With look-back (the default) labels match; copying the earliest
-    // neighbour's label alone drifts near collisions (see docs/fmm.md).
-    std::printf("order %d look_back %d: %zu of %zu labels differ from the argmin (margin up to %.2f)\n", int(order),
-                look_back, wrong, checked, worst_margin);
-    if (look_back > 0) {
-      EXPECT_EQ(wrong, 0u);
-    } else {
-      EXPECT_LE(wrong, checked / 50);
-    }
-   }
   }
 }
 
@@ -337,7 +341,9 @@ TEST(FastMarching, BadInputGivesClearErrors) {
   o.max_time = -1.0;
   EXPECT_NE(error_of([&] { fm.solve({Source::at_cell({0, 0})}, o); }).find("max_time"), std::string::npos);
   // Messages name the source; a failed solve leaves nothing reached.
-  EXPECT_NE(error_of([&] { fm.solve({Source::at_cell({0, 0}), Source::at_cell({3, 4})}); }).find("source 1"),
+  EXPECT_NE(error_of([&] {
+              fm.solve({Source::at_cell({0, 0}), Source::at_cell({3, 4})});
+            }).find("source 1"),
             std::string::npos);
   EXPECT_FALSE(fm.reached({0, 0}));
   EXPECT_EQ(fm.count_reached(), 0u);
@@ -420,7 +426,8 @@ TEST(FastMarching, EarlyStopAtTargetsAndMaxTime) {
 
 TEST(FastMarching, SubCellPointSource) {
   const double res = 0.5;
-  const OccupancyGrid g = make_grid(200, 160, [](int, int) { return true; }, res, Point2{-3.0, 2.0});
+  const OccupancyGrid g = make_grid(
+      200, 160, [](int, int) { return true; }, res, Point2{-3.0, 2.0});
   FastMarching fm(g);
   const Point2 p{20.37, 41.81};  // [m]
   for (Order order : {Order::kFirst, Order::kSecond}) {

@@ -73,13 +73,8 @@ namespace {
 
 TEST(PlanningGrid, CoarseningKeepsThinWallsAndUnknownSpace) {
   // A one-cell wall between two rooms, a door two cells wide, unknown corner.
-  const OccupancyGrid g = make_grid({"....#...",
-                                     "....#...",
-                                     "........",
-                                     "........",
-                                     "....#...",
-                                     "....#.??"},
-                                    0.5, {0.0, 0.0});
+  const OccupancyGrid g =
+      make_grid({"....#...", "....#...", "........", "........", "....#...", "....#.??"}, 0.5, {0.0, 0.0});
   const OccupancyGrid c = coarsen(g, 2);
   ASSERT_EQ(c.width(), 4);
   ASSERT_EQ(c.height(), 3);

@@ -101,11 +101,19 @@ TEST(MapServerFidelity, DecodedLayouts) {
     int channels;
     bool alpha;
   };
-  const L layouts[] = {{"p2.pgm", 1, false},          {"p5_max100.pgm", 1, false},    {"gray16.png", 1, false},
-                       {"gray1.png", 1, false},       {"gray8_trns.png", 2, false},   {"gray_alpha.png", 4, true},
-                       {"rgb.png", 3, false},         {"rgb16.png", 3, false},        {"rgba.png", 4, true},
-                       {"palette_color.png", 1, false}, {"palette_colorkey.png", 1, false},
-                       {"palette_opaque_trns.png", 1, false}, {"palette_alpha.png", 4, true},
+  const L layouts[] = {{"p2.pgm", 1, false},
+                       {"p5_max100.pgm", 1, false},
+                       {"gray16.png", 1, false},
+                       {"gray1.png", 1, false},
+                       {"gray8_trns.png", 2, false},
+                       {"gray_alpha.png", 4, true},
+                       {"rgb.png", 3, false},
+                       {"rgb16.png", 3, false},
+                       {"rgba.png", 4, true},
+                       {"palette_color.png", 1, false},
+                       {"palette_colorkey.png", 1, false},
+                       {"palette_opaque_trns.png", 1, false},
+                       {"palette_alpha.png", 4, true},
                        {"palette_two_keys.png", 4, true}};
   for (const L& l : layouts) {
     SCOPED_TRACE(l.file);
@@ -149,7 +157,8 @@ class TempDir {
   fs::path path_;
 };
 
-std::string yaml_text(const std::string& image, const std::string& extra = "", const std::string& origin = "[1.0, 2.0, 0.0]") {
+std::string yaml_text(const std::string& image, const std::string& extra = "",
+                      const std::string& origin = "[1.0, 2.0, 0.0]") {
   return "image: " + image + "\nresolution: 0.5\norigin: " + origin +
          "\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n" + extra;
 }

@@ -1,24 +1,24 @@
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/videoio.hpp>
-#include <unistd.h>
 
 #include <filesystem>
 #include <set>
 
 #include "corridor.hpp"
-#include "small_office.hpp"
 #include "gather_core/error.hpp"
-#include "gather_core/plan/plan_export.hpp"
 #include "gather_core/figures/mission_figures.hpp"
 #include "gather_core/figures/partition_figure.hpp"
 #include "gather_core/mission/mission_plan.hpp"
 #include "gather_core/mission/simulator.hpp"
+#include "gather_core/plan/plan_export.hpp"
 #include "gather_core/plan/plan_file.hpp"
 #include "gather_core/plan/planner.hpp"
 #include "gather_core/radio/radio_model.hpp"
+#include "small_office.hpp"
 
 namespace gather {
 namespace {
@@ -29,7 +29,6 @@ using mission::MissionResult;
 using mission::MissionSimulator;
 using testing_support::corridor;
 using testing_support::corridor_plan;
-
 
 // Writes a configuration as a plan directory (labels.png + plan.yaml, as
 // `gather plan` does) and loads it back as the simulator would.
@@ -159,7 +158,7 @@ TEST(MissionMetricsTest, IntervalPerAreaByHand) {
   areas.tile = 10.0;
   for (const auto& [x, m2] : {std::pair{5.0, 100.0}, {15.0, 50.0}, {25.0, 50.0}, {35.0, 20.0}})
     areas.area[mission::area_of(Point2{x, 1.0}, 10.0)] = m2;
-  const std::vector<GoalRecord> goals{goal(1, 1.0, 10.0), goal(1, 2.0, 10.0004), goal(2, 9.0, 40.0),
+  const std::vector<GoalRecord> goals{goal(1, 1.0, 10.0),  goal(1, 2.0, 10.0004), goal(2, 9.0, 40.0),
                                       goal(1, 5.0, 100.0), goal(3, 15.0, 70.0),   goal(4, 25.0, 20.0),
                                       goal(4, 26.0, 30.0), goal(4, 27.0, -1.0),   goal(0, 45.0, 5.0)};
   const auto [mean, max] = mission::interval_stats(goals, 3, 50.0, areas);
@@ -301,8 +300,10 @@ TEST(HandoverTest, TheSimulatorHandsOverAfterTheTransferTime) {
     EXPECT_NEAR(a.picked_up_at, bitrate > 0 ? 14.5 : 4.5, 1e-3);
     const GoalRecord& b = goal_at(r, 7.05, 0);
     EXPECT_EQ(b.state, mission::GoalState::kDelivered);
-    if (bitrate > 0) EXPECT_GT(b.measured_at, a.picked_up_at);
-    else EXPECT_NEAR(b.measured_at, 6.5, 1e-3);
+    if (bitrate > 0)
+      EXPECT_GT(b.measured_at, a.picked_up_at);
+    else
+      EXPECT_NEAR(b.measured_at, 6.5, 1e-3);
   }
 }
 
@@ -319,7 +320,8 @@ TEST_F(MissionOfficeTest, ConservationAndNoDuplicatesOverManySeeds) {
       opt.cycles = 6;
       opt.seed = seed;
       const MissionResult r = sim.run(opt);
-      SCOPED_TRACE(std::string(partition::method_name(method)) + " Nc=" + std::to_string(nc) + " seed " + std::to_string(seed));
+      SCOPED_TRACE(std::string(partition::method_name(method)) + " Nc=" + std::to_string(nc) + " seed " +
+                   std::to_string(seed));
       check_invariants(r, 6, nc);
       EXPECT_EQ(r.goals.size(), 6u * 20u);
       EXPECT_GT(r.goals_per_cycle, 0.0);
@@ -374,7 +376,8 @@ TEST_F(MissionOfficeTest, PlanDirectoryGivesTheSameMissionAsTheInMemoryPlan) {
   MissionSimulator a(*ctx_, mission::mission_plan(*ctx_, cfg)), b(*ctx_, loaded);
   const MissionResult ra = a.run(opt), rb = b.run(opt);
   ASSERT_EQ(ra.goals.size(), rb.goals.size());
-  for (std::size_t i = 0; i < ra.goals.size(); ++i) EXPECT_NEAR(ra.goals[i].delivered_at, rb.goals[i].delivered_at, 1e-3);
+  for (std::size_t i = 0; i < ra.goals.size(); ++i)
+    EXPECT_NEAR(ra.goals[i].delivered_at, rb.goals[i].delivered_at, 1e-3);
 }
 
 // The office planned on a 2x coarser grid (as planner.max_cells does for big

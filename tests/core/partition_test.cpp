@@ -150,7 +150,9 @@ OccupancyGrid two_rooms() {
   const int w = 170, h = 60;
   std::vector<int8_t> v(static_cast<std::size_t>(w) * h, 0);
   std::vector<uint8_t> f(v.size(), 1);
-  auto wall = [&](int r, int c) { v[static_cast<std::size_t>(r) * w + c] = 100, f[static_cast<std::size_t>(r) * w + c] = 0; };
+  auto wall = [&](int r, int c) {
+    v[static_cast<std::size_t>(r) * w + c] = 100, f[static_cast<std::size_t>(r) * w + c] = 0;
+  };
   for (int r = 0; r < h; ++r) {
     wall(r, 0), wall(r, w - 1);
     for (int c = 80; c < 90; ++c)
@@ -191,9 +193,9 @@ TEST(Partition, GroundTruthRoomsOfOfficeA) {
 
 TEST(Partition, BadInputIsAClearError) {
   const OccupancyGrid g = two_rooms();
-  EXPECT_THROW(partition_area(g, Cell{0, 0}, Method::kBap, 2), Error);      // OC in a wall
-  EXPECT_THROW(partition_area(g, Cell{-1, 5}, Method::kPap, 2), Error);     // off the map
-  EXPECT_THROW(partition_area(g, Cell{30, 20}, Method::kRap, 0), Error);    // N_w < 1
+  EXPECT_THROW(partition_area(g, Cell{0, 0}, Method::kBap, 2), Error);         // OC in a wall
+  EXPECT_THROW(partition_area(g, Cell{-1, 5}, Method::kPap, 2), Error);        // off the map
+  EXPECT_THROW(partition_area(g, Cell{30, 20}, Method::kRap, 0), Error);       // N_w < 1
   EXPECT_THROW(partition_area(g, Cell{30, 20}, Method::kBap, 100000), Error);  // more than the free cells
   EXPECT_THROW(parse_method("voronoi"), Error);
   try {

@@ -4,8 +4,8 @@
 #include <limits>
 #include <random>
 
-#include "gather_core/grid/clearance.hpp"
 #include "gather_core/fmm/path.hpp"
+#include "gather_core/grid/clearance.hpp"
 #include "gather_core/path/path_polisher.hpp"
 
 namespace gather {
@@ -71,7 +71,8 @@ OccupancyGrid l_corridor() {
   std::vector<uint8_t> f(v.size(), 0);
   auto open = [&](int r0, int r1, int c0, int c1) {
     for (int r = r0; r < r1; ++r)
-      for (int c = c0; c < c1; ++c) v[static_cast<std::size_t>(r) * w + c] = 0, f[static_cast<std::size_t>(r) * w + c] = 1;
+      for (int c = c0; c < c1; ++c)
+        v[static_cast<std::size_t>(r) * w + c] = 0, f[static_cast<std::size_t>(r) * w + c] = 1;
   };
   open(10, 22, 10, 90);  // horizontal leg
   open(10, 90, 78, 90);  // vertical leg

@@ -8,13 +8,13 @@
 #include <sstream>
 
 #include "corridor.hpp"
-#include "small_office.hpp"
 #include "gather_core/error.hpp"
-#include "gather_core/plan/plan_export.hpp"
+#include "gather_core/mission/world.hpp"
 #include "gather_core/plan/loop_schedule.hpp"
+#include "gather_core/plan/plan_export.hpp"
 #include "gather_core/plan/plan_file.hpp"
 #include "gather_core/plan/planner.hpp"
-#include "gather_core/mission/world.hpp"
+#include "small_office.hpp"
 
 namespace gather {
 namespace {
@@ -76,9 +76,9 @@ TEST_F(PlanTest, NoRouteIsLongerThanTheRequestPeriodAndTheDecisionNeverLowersThe
       for (int nc = 1; nc <= 3; ++nc) {
         const auto before = plan::plan_configuration(*ctx, m, nc, plan::grown_groups());
         const auto after = plan::plan_configuration(*ctx, m, nc);
-        const bool long_before = std::any_of(before.routes.begin(), before.routes.end(), [&](const plan::CollectorRoute& r) {
-          return r.period > ctx->cycle_period * (1 + 1e-9);
-        });
+        const bool long_before =
+            std::any_of(before.routes.begin(), before.routes.end(),
+                        [&](const plan::CollectorRoute& r) { return r.period > ctx->cycle_period * (1 + 1e-9); });
         longer_before += long_before;
         for (const auto& r : after.routes)
           EXPECT_LE(r.period, ctx->cycle_period * (1 + 1e-9)) << partition::method_name(m) << " " << nc;
@@ -187,7 +187,7 @@ TEST_F(PlanTest, SameSeedSamePlanAndFileRoundTrip) {
 }
 
 TEST_F(PlanTest, BadRequestsAreClearErrors) {
-  EXPECT_THROW(plan::plan_configuration(*ctx_, partition::Method::kBap, 8), Error);   // no worker left
+  EXPECT_THROW(plan::plan_configuration(*ctx_, partition::Method::kBap, 8), Error);  // no worker left
   EXPECT_THROW(plan::plan_configuration(*ctx_, partition::Method::kBap, -1), Error);
   Scenario boxed = testing_support::small_office();
   // Wall the OC into a single cell: nothing else is reachable.

@@ -14,7 +14,8 @@ OccupancyGrid corridor(const std::vector<int>& wall_cols, int width = 200) {
   std::vector<int8_t> v(static_cast<std::size_t>(width) * h, 0);
   std::vector<uint8_t> f(v.size(), 1);
   for (int c : wall_cols)
-    for (int r = 0; r < h; ++r) v[static_cast<std::size_t>(r) * width + c] = 100, f[static_cast<std::size_t>(r) * width + c] = 0;
+    for (int r = 0; r < h; ++r)
+      v[static_cast<std::size_t>(r) * width + c] = 100, f[static_cast<std::size_t>(r) * width + c] = 0;
   return OccupancyGrid(width, h, 0.1, Point2{0, 0}, v, f);
 }
 
@@ -107,7 +108,8 @@ TEST(RadioModel, LinksAreSymmetricEvenThroughCellCorners) {
   std::vector<uint8_t> f(v.size(), 1);
   for (int r = 0; r < h; ++r)
     for (int c = 0; c < w; ++c)
-      if ((r / 3 + c / 3) % 2 == 0 && r % 3 == 1 && c % 3 == 1) v[static_cast<std::size_t>(r) * w + c] = 100, f[static_cast<std::size_t>(r) * w + c] = 0;
+      if ((r / 3 + c / 3) % 2 == 0 && r % 3 == 1 && c % 3 == 1)
+        v[static_cast<std::size_t>(r) * w + c] = 100, f[static_cast<std::size_t>(r) * w + c] = 0;
   const OccupancyGrid grid(w, h, 0.1, Point2{0, 0}, v, f);
   RadioParams p;
   p.sensitivity_dbm = -52.0;  // ~2.5 m in the open, one wall costs 5 dB

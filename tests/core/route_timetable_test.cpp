@@ -41,10 +41,10 @@ TEST(RouteTimetableTest, PositionAlongTheLoopsOfARequestPeriod) {
   EXPECT_NEAR(rt.position(0.0).x, 0.55, 1e-9);
   EXPECT_NEAR(rt.position(10.0).x, 10.55, 1e-9);
   EXPECT_NEAR(rt.position(14.5).x, 15.05, 1e-9);
-  EXPECT_NEAR(rt.position(20.0).x, 9.55, 1e-9);   // on the way back
-  EXPECT_NEAR(rt.position(39.0).x, 10.55, 1e-9);  // second loop
-  EXPECT_NEAR(rt.position(90.0).x, 0.55, 1e-9);   // waiting at the OC after 3 loops (87 s)
-  EXPECT_NEAR(rt.position(110.0).x, 10.55, 1e-9); // the next request's first loop
+  EXPECT_NEAR(rt.position(20.0).x, 9.55, 1e-9);    // on the way back
+  EXPECT_NEAR(rt.position(39.0).x, 10.55, 1e-9);   // second loop
+  EXPECT_NEAR(rt.position(90.0).x, 0.55, 1e-9);    // waiting at the OC after 3 loops (87 s)
+  EXPECT_NEAR(rt.position(110.0).x, 10.55, 1e-9);  // the next request's first loop
   EXPECT_NEAR(rt.position(20.0).y, 0.25, 1e-12);
 }
 

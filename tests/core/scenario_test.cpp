@@ -67,7 +67,7 @@ TEST(Scenario, SettingsWithoutAMapAndTheMapAttachedLater) {
     std::ofstream f(dir + "/s.yaml");
     f << "oc: [1.0, 1.0]\nteam: {agents: 3}\n";
   }
-  EXPECT_THROW(load_scenario(dir + "/s.yaml"), Error);               // the map is required here
+  EXPECT_THROW(load_scenario(dir + "/s.yaml"), Error);  // the map is required here
   EXPECT_THROW(load_scenario_settings(dir + "/s.yaml", true), Error);
   Scenario s = load_scenario_settings(dir + "/s.yaml", false);
   EXPECT_TRUE(s.map_path.empty());

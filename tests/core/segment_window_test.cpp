@@ -36,7 +36,8 @@ std::vector<double> on_the_map(const OccupancyGrid& grid, Cell from, const std::
 TEST(SegmentWindowTest, OpenSpaceGivesTheWholeMapsDistancesAwayFromTheOrigin) {
   // The segment sits away from the map's corner, so a window whose offset
   // were lost would miss its cells.
-  const OccupancyGrid grid = predicate_grid(60, 50, [](int, int) { return true; }, 0.1);
+  const OccupancyGrid grid = predicate_grid(
+      60, 50, [](int, int) { return true; }, 0.1);
   const std::vector<Cell> seg = block(20, 34, 25, 44);
   mission::SegmentWindow window(grid, seg);
   std::vector<double> out(seg.size());
@@ -48,7 +49,8 @@ TEST(SegmentWindowTest, OpenSpaceGivesTheWholeMapsDistancesAwayFromTheOrigin) {
 }
 
 TEST(SegmentWindowTest, RefusesASourceOutsideTheSegmentsMarginWithoutThrowing) {
-  const OccupancyGrid grid = predicate_grid(70, 60, [](int, int) { return true; }, 0.1);
+  const OccupancyGrid grid = predicate_grid(
+      70, 60, [](int, int) { return true; }, 0.1);
   // An L: the box's far corner lies more than the 1 m margin from the cells.
   std::vector<Cell> seg = block(20, 22, 20, 55);
   for (Cell c : block(23, 48, 20, 22)) seg.push_back(c);
@@ -62,12 +64,16 @@ TEST(SegmentWindowTest, RefusesASourceOutsideTheSegmentsMarginWithoutThrowing) {
 TEST(SegmentWindowTest, RefusesTargetsThatTheMarginDoesNotConnect) {
   // Two rooms joined only by a corridor far from them: the window (the rooms
   // plus 1 m) does not connect them, the caller must march the whole map.
-  const OccupancyGrid grid = predicate_grid(80, 60, [](int r, int c) {
-    const bool room_a = r >= 5 && r <= 15 && c >= 5 && c <= 30;
-    const bool room_b = r >= 5 && r <= 15 && c >= 34 && c <= 60;
-    const bool corridor = (r >= 45 && r <= 48 && c >= 10 && c <= 50) || ((c >= 10 && c <= 12) || (c >= 48 && c <= 50));
-    return room_a || room_b || (corridor && r >= 5 && r <= 48);
-  }, 0.1);
+  const OccupancyGrid grid = predicate_grid(
+      80, 60,
+      [](int r, int c) {
+        const bool room_a = r >= 5 && r <= 15 && c >= 5 && c <= 30;
+        const bool room_b = r >= 5 && r <= 15 && c >= 34 && c <= 60;
+        const bool corridor =
+            (r >= 45 && r <= 48 && c >= 10 && c <= 50) || ((c >= 10 && c <= 12) || (c >= 48 && c <= 50));
+        return room_a || room_b || (corridor && r >= 5 && r <= 48);
+      },
+      0.1);
   std::vector<Cell> seg = block(5, 15, 5, 30);
   for (Cell c : block(5, 15, 34, 60)) seg.push_back(c);
   mission::SegmentWindow window(grid, seg);
@@ -78,7 +84,8 @@ TEST(SegmentWindowTest, RefusesTargetsThatTheMarginDoesNotConnect) {
 }
 
 TEST(SegmentWindowTest, TheBoxToAFarHomeMarchesTheWayThere) {
-  const OccupancyGrid grid = predicate_grid(60, 50, [](int, int) { return true; }, 0.1);
+  const OccupancyGrid grid = predicate_grid(
+      60, 50, [](int, int) { return true; }, 0.1);
   const std::vector<Cell> seg = block(30, 40, 40, 50);
   const Cell home{5, 5};
   mission::SegmentWindow box(grid, seg, home, 0.5);

@@ -25,9 +25,9 @@ inline Scenario small_office() {
       }
   };
   set(0, 2, 0, w, true), set(h - 2, h, 0, w, true), set(0, h, 0, 2, true), set(0, h, w - 2, w, true);
-  set(69, 71, 0, w, true), set(89, 91, 0, w, true);  // corridor walls
+  set(69, 71, 0, w, true), set(89, 91, 0, w, true);                // corridor walls
   for (int c = 60; c < w - 2; c += 60) set(0, h, c, c + 2, true);  // room walls
-  set(70, 90, 2, w - 2, false);                                      // the corridor stays open
+  set(70, 90, 2, w - 2, false);                                    // the corridor stays open
   for (int c = 30; c < w; c += 60) set(69, 71, c - 6, c + 6, false), set(89, 91, c - 6, c + 6, false);  // doors
   Scenario s;
   s.path = "small_office";

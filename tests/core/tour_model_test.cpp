@@ -35,7 +35,7 @@ TEST(TourModelTest, LengthByHandAndItsInverse) {
 TEST(TourModelTest, ShareWithinReachFromQuantilesAndGoalsMeasured) {
   TourModel m = square(10.0, 0.0, 20.0);
   EXPECT_DOUBLE_EQ(m.within(5.0), 0.5);  // no quantiles: d / out
-  m.out_quantiles = {0.0, 10.0, 20.0};  // half the cells within 10 m, all within 20 m
+  m.out_quantiles = {0.0, 10.0, 20.0};   // half the cells within 10 m, all within 20 m
   EXPECT_DOUBLE_EQ(m.within(-1.0), 0.0);
   EXPECT_DOUBLE_EQ(m.within(5.0), 0.25);
   EXPECT_DOUBLE_EQ(m.within(10.0), 0.5);
@@ -45,7 +45,7 @@ TEST(TourModelTest, ShareWithinReachFromQuantilesAndGoalsMeasured) {
   // Four goals: the first with 1 - 0.5^4, never more than 4 F = 2 within reach.
   EXPECT_DOUBLE_EQ(m.measured(4.0, 10.0), 1.0 - std::pow(0.5, 4));
   EXPECT_DOUBLE_EQ(m.measured(4.0, 19.0), std::min(4.0 * m.within(19.0), 1.0 - std::pow(1.0 - m.within(19.0), 4) +
-                                                                              9.0 * 2.0 / (0.7124 * 20.0)));
+                                                                             9.0 * 2.0 / (0.7124 * 20.0)));
   EXPECT_DOUBLE_EQ(m.measured(0.0, 10.0), 0.0);
   // Continuous in the budget.
   EXPECT_NEAR(m.measured(4.0, 10.0 - 1e-9), m.measured(4.0, 10.0 + 1e-9), 1e-6);

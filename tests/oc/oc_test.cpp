@@ -10,14 +10,14 @@
 
 #include <filesystem>
 
-#include "gather_agent/runner/agent_fleet.hpp"
-#include "gather_agent/runner/run_files.hpp"
-#include "gather_core/plan/plan_export.hpp"
 #include "gather_agent/motion/motion_backend.hpp"
 #include "gather_agent/roles/oc_role.hpp"
+#include "gather_agent/runner/agent_fleet.hpp"
+#include "gather_agent/runner/run_files.hpp"
 #include "gather_agent/runner/team_runner.hpp"
 #include "gather_core/error.hpp"
 #include "gather_core/mission/simulator.hpp"
+#include "gather_core/plan/plan_export.hpp"
 #include "gather_oc/mission_view.hpp"
 #include "gather_oc/plan_markers.hpp"
 #include "gather_oc/ros_conversions.hpp"
@@ -94,7 +94,8 @@ struct Pap4 {
       const Scenario map = load_scenario(std::string(GATHER_REPO_DIR) + "/maps/office.scenario.yaml");
       const Scenario sc = on_planning_grid(map, planning_factor(map));
       const plan::PlanContext ctx(sc);
-      plan::write_plan_directory(d, ctx, plan::plan_configuration(ctx, partition::Method::kPap, 4, plan::grown_groups()), 1);
+      plan::write_plan_directory(d, ctx,
+                                 plan::plan_configuration(ctx, partition::Method::kPap, 4, plan::grown_groups()), 1);
       return d;
     }();
     plan = agent::load_plan(dir);
@@ -269,7 +270,8 @@ TEST(AgentFleet, StartsAndStopsRealAgentsCleanly) {
 }
 
 TEST(AgentFleet, ReportsAnAgentThatDiesEarly) {
-  AgentFleet fleet({GATHER_AGENT_BIN, "--id", "{id}", "--lcm-url", "memq://", "--insecure", "--plan", "/nonexistent/plan"}, 2);
+  AgentFleet fleet(
+      {GATHER_AGENT_BIN, "--id", "{id}", "--lcm-url", "memq://", "--insecure", "--plan", "/nonexistent/plan"}, 2);
   fleet.start();
   std::vector<int> ended;
   for (int i = 0; i < 200 && ended.size() < 2; ++i) {

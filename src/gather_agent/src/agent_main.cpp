@@ -28,14 +28,15 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (opt.motion == "base")
-      throw gather::Error("--motion base", "not connected: this build has no driver for a real robot base (a real base "
-                                           "implements agent::MotionBackend, see docs/runtime.md)");
-    std::optional<gather::agent::FleetKey> key = gather::agent::fleet_key_from_options(
-        opt.key_file, opt.insecure, "gather_agent " + std::to_string(opt.id));
+      throw gather::Error("--motion base",
+                          "not connected: this build has no driver for a real robot base (a real base "
+                          "implements agent::MotionBackend, see docs/runtime.md)");
+    std::optional<gather::agent::FleetKey> key =
+        gather::agent::fleet_key_from_options(opt.key_file, opt.insecure, "gather_agent " + std::to_string(opt.id));
     gather::agent::LoadedPlan plan = gather::agent::load_plan(opt.plan);
-    gather::agent::LcmFleet fleet(opt.lcm_url, opt.reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(opt.lcm_url)
-                                                                     : opt.reply_url,
-                                  false, std::move(key));
+    gather::agent::LcmFleet fleet(
+        opt.lcm_url, opt.reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(opt.lcm_url) : opt.reply_url, false,
+        std::move(key));
     gather::agent::LockstepAgent agent(plan, opt.id, fleet);
     agent.set_journal(opt.journal, opt.rejoin);
     std::printf("gather_agent %d: plan %s (%s, %d collectors), waiting for the OC\n", opt.id, opt.plan.c_str(),

@@ -24,7 +24,8 @@ double parse_number(const std::string& flag, const char* s) {
 }  // namespace
 
 const char* agent_usage() {
-  return "usage: gather_agent --id K --plan PLAN_DIR (--key-file F | --insecure) [--lcm-url URL] [--reply-url URL] [--motion sim|base] [--silence S] [--journal DIR [--rejoin]]";
+  return "usage: gather_agent --id K --plan PLAN_DIR (--key-file F | --insecure) [--lcm-url URL] [--reply-url URL] "
+         "[--motion sim|base] [--silence S] [--journal DIR [--rejoin]]";
 }
 
 AgentOptions parse_agent_options(int argc, char** argv) {
@@ -52,7 +53,8 @@ AgentOptions parse_agent_options(int argc, char** argv) {
       o.reply_url = value(a);
     } else if (a == "--motion") {
       o.motion = value(a);
-      if (o.motion != "sim" && o.motion != "base") throw Error(kWhere, "--motion must be sim or base, got '" + o.motion.substr(0, 40) + "'");
+      if (o.motion != "sim" && o.motion != "base")
+        throw Error(kWhere, "--motion must be sim or base, got '" + o.motion.substr(0, 40) + "'");
     } else if (a == "--journal") {
       o.journal = value(a);
       if (o.journal.empty()) throw Error(kWhere, "--journal needs a directory");

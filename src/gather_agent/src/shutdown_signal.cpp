@@ -30,7 +30,8 @@ bool ShutdownSignal::wait_until(std::chrono::steady_clock::time_point deadline) 
       if (requested_()) return last_signal_ = SIGINT, true;
       const auto now = std::chrono::steady_clock::now();
       if (now >= deadline) return false;
-      std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(deadline - now, std::chrono::milliseconds(20)));
+      std::this_thread::sleep_for(
+          std::min<std::chrono::steady_clock::duration>(deadline - now, std::chrono::milliseconds(20)));
     }
   }
   const sigset_t set = shutdown_set();

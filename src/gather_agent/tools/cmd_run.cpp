@@ -18,8 +18,8 @@
 // declares silent agents dead and the survivors run the repaired plan
 // (docs/faults.md).
 #include <chrono>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -45,9 +45,12 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
                                const std::string& reply_url, const std::string& agent_bin, const std::string& key_file,
                                const std::optional<agent::FleetKey>& key) {
   agent::LcmFleet fleet(url, reply_url, true, key, team.agents());
-  std::vector<std::string> command{agent_bin, "--id", "{id}", "--plan", plan.dir, "--lcm-url", url, "--reply-url", reply_url};
-  if (key) command.insert(command.end(), {"--key-file", key_file});
-  else command.push_back("--insecure");
+  std::vector<std::string> command{agent_bin,   "--id", "{id}",        "--plan", plan.dir,
+                                   "--lcm-url", url,    "--reply-url", reply_url};
+  if (key)
+    command.insert(command.end(), {"--key-file", key_file});
+  else
+    command.push_back("--insecure");
   if (!opt.journal_dir.empty()) command.insert(command.end(), {"--journal", opt.journal_dir});
   AgentFleet processes(command, team.agents());
   processes.start();
@@ -75,14 +78,15 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
       processes.stop(2.0);
       return out;
     }
-    std::printf("over LCM: %lld ticks, %lld radio messages = %.0f messages/s; agents ready after %.2f s; per tick %.3f ms "
-                "of wall: publishing the tick %.3f ms, the OC's inbox %.3f ms, its role %.3f ms, waiting for the agents' "
-                "replies %.3f ms (their control steps: %.3f ms of CPU summed over %d processes), the rest %.3f ms\n",
-                static_cast<long long>(out.ticks), static_cast<long long>(out.messages),
-                wall_s > 0 ? static_cast<double>(out.messages) / wall_s : 0.0, ready_s, out.wall_ms / ticks,
-                master.publish_ms() / ticks, master.inbox_ms() / ticks, master.oc_ms() / ticks, master.wait_ms() / ticks,
-                master.agents_step_ms() / ticks, team.agents(),
-                (out.wall_ms - master.publish_ms() - master.inbox_ms() - master.oc_ms() - master.wait_ms()) / ticks);
+    std::printf(
+        "over LCM: %lld ticks, %lld radio messages = %.0f messages/s; agents ready after %.2f s; per tick %.3f ms "
+        "of wall: publishing the tick %.3f ms, the OC's inbox %.3f ms, its role %.3f ms, waiting for the agents' "
+        "replies %.3f ms (their control steps: %.3f ms of CPU summed over %d processes), the rest %.3f ms\n",
+        static_cast<long long>(out.ticks), static_cast<long long>(out.messages),
+        wall_s > 0 ? static_cast<double>(out.messages) / wall_s : 0.0, ready_s, out.wall_ms / ticks,
+        master.publish_ms() / ticks, master.inbox_ms() / ticks, master.oc_ms() / ticks, master.wait_ms() / ticks,
+        master.agents_step_ms() / ticks, team.agents(),
+        (out.wall_ms - master.publish_ms() - master.inbox_ms() - master.oc_ms() - master.wait_ms()) / ticks);
     processes.wait(5.0);  // they end by themselves on the last tick
     processes.stop(2.0);
     for (const AgentProcess& p : processes.agents()) {
@@ -117,14 +121,17 @@ int keygen(int argc, char** argv) {
 }
 
 int run(int argc, char** argv) {
-  cli::Args args(argc, argv, 2,
-                 {"--cycles", "--seeds", "--seed", "--out", "--tick", "--loss", "--loss-seed", "--lcm-url", "--reply-url",
-                  "--agent-bin", "--rate", "--clock", "--kill", "--repair", "--silent-intervals", "--restart", "--key-file"},
-                 {"--lcm", "--insecure"});
+  cli::Args args(
+      argc, argv, 2,
+      {"--cycles", "--seeds", "--seed", "--out", "--tick", "--loss", "--loss-seed", "--lcm-url", "--reply-url",
+       "--agent-bin", "--rate", "--clock", "--kill", "--repair", "--silent-intervals", "--restart", "--key-file"},
+      {"--lcm", "--insecure"});
   if (args.positional().size() != 1 || !args.has("--out"))
     throw cli::UsageError(
         "usage: gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT] [--loss P] "
-        "[--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none] [--silent-intervals K] [--restart ID@T[,ID@T...]] [--lcm (--key-file F | --insecure) [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R] [--clock lockstep|wall]]");
+        "[--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none] [--silent-intervals K] [--restart "
+        "ID@T[,ID@T...]] [--lcm (--key-file F | --insecure) [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] "
+        "[--rate R] [--clock lockstep|wall]]");
   const bool over_lcm = args.on("--lcm");
   for (const char* flag : {"--lcm-url", "--reply-url", "--agent-bin", "--rate", "--clock", "--key-file"})
     if (args.has(flag) && !over_lcm) throw cli::UsageError(std::string(flag) + " needs --lcm");
@@ -138,11 +145,13 @@ int run(int argc, char** argv) {
     lcm_url = "udpm://239.255.76.67:7667?ttl=0";
   }
   const std::string clock = args.get("--clock", "lockstep");
-  if (clock != "lockstep" && clock != "wall") throw cli::UsageError("--clock must be lockstep or wall, got '" + clock.substr(0, 40) + "'");
+  if (clock != "lockstep" && clock != "wall")
+    throw cli::UsageError("--clock must be lockstep or wall, got '" + clock.substr(0, 40) + "'");
   const bool wall_clock = clock == "wall";
   const double rate = args.get_double("--rate", wall_clock ? 1.0 : 0.0, 0.0, 1e6);
   if (!(rate >= 0.0) || rate > 1e6) throw cli::UsageError("--rate must be >= 0 (0: as fast as the lockstep allows)");
-  if (wall_clock && !(rate > 0.0)) throw cli::UsageError("--rate must be > 0 with --clock wall (mission seconds per wall second)");
+  if (wall_clock && !(rate > 0.0))
+    throw cli::UsageError("--rate must be > 0 with --clock wall (mission seconds per wall second)");
   const auto t_start = std::chrono::steady_clock::now();
   const agent::LoadedPlan loaded = agent::load_plan(args.positional()[0]);
   agent::MissionParams params = agent::mission_params(loaded.scenario);
@@ -160,7 +169,8 @@ int run(int argc, char** argv) {
       agent::parse_kills(args.get("--restart", ""), static_cast<int>(loaded.plan.file.agents.size()), "--restart");
   for (const agent::Kill& r : opt.restarts)
     for (const agent::Kill& k : opt.kills)
-      if (r.agent == k.agent) throw cli::UsageError("--restart: agent " + std::to_string(r.agent) + " is also killed (--kill)");
+      if (r.agent == k.agent)
+        throw cli::UsageError("--restart: agent " + std::to_string(r.agent) + " is also killed (--kill)");
   if (!opt.restarts.empty() && wall_clock) throw cli::UsageError("--restart needs the lockstep clock");
   if (!opt.kills.empty() && wall_clock) throw cli::UsageError("--kill needs the lockstep clock");
   if (params.cycles < 1 || params.cycles > 100000) throw cli::UsageError("--cycles must be in 1..100000");
@@ -192,10 +202,11 @@ int run(int argc, char** argv) {
   }
   for (int k = 0; k < seeds; ++k) {
     team.params.seed = static_cast<unsigned>(seed0) + static_cast<unsigned>(k);
-    const agent::RunOutcome r = over_lcm ? run_over_lcm(team, loaded, digest, opt, rate, wall_clock, lcm_url,
-                                                        args.get("--reply-url", agent::LcmFleet::reply_url_for(lcm_url)),
-                                                        agent_bin, args.get("--key-file", ""), key)
-                                         : agent::TeamRunner(team, opt).run();
+    const agent::RunOutcome r = over_lcm
+                                    ? run_over_lcm(team, loaded, digest, opt, rate, wall_clock, lcm_url,
+                                                   args.get("--reply-url", agent::LcmFleet::reply_url_for(lcm_url)),
+                                                   agent_bin, args.get("--key-file", ""), key)
+                                    : agent::TeamRunner(team, opt).run();
     if (!r.completed) throw RuntimeError(args.positional()[0], r.failure);
     if (over_lcm) {
       agent::AuthCounters all = r.oc_auth;
@@ -217,27 +228,30 @@ int run(int argc, char** argv) {
         dead += (dead.empty() ? "" : ", ") + std::to_string(a) + " at " + std::to_string(static_cast<int>(at)) + " s";
       std::string restarted;
       for (const agent::Kill& rs : opt.restarts) {
-        restarted += (restarted.empty() ? "" : ", ") + std::to_string(rs.agent) + " at " + std::to_string(static_cast<int>(rs.at)) + " s";
+        restarted += (restarted.empty() ? "" : ", ") + std::to_string(rs.agent) + " at " +
+                     std::to_string(static_cast<int>(rs.at)) + " s";
         for (const auto& [a, n] : r.restored)
           if (a == rs.agent) restarted += " (" + std::to_string(n) + " measured goals carried, from its journal)";
       }
-      std::printf("seed %u: %s%sdeclared dead: %s; goals delivered %d, expired %d, dropped %d, lost with an agent %d "
-                  "(%lld declared lost and recovered later)\n",
-                  team.params.seed, restarted.empty() ? "" : "restarted: ", restarted.empty() ? "" : (restarted + "; ").c_str(),
-                  dead.empty() ? "none" : dead.c_str(), r.result.delivered, r.result.expired, r.result.dropped,
-                  r.result.lost_with_agent, static_cast<long long>(r.recovered));
+      std::printf(
+          "seed %u: %s%sdeclared dead: %s; goals delivered %d, expired %d, dropped %d, lost with an agent %d "
+          "(%lld declared lost and recovered later)\n",
+          team.params.seed, restarted.empty() ? "" : "restarted: ", restarted.empty() ? "" : (restarted + "; ").c_str(),
+          dead.empty() ? "none" : dead.c_str(), r.result.delivered, r.result.expired, r.result.dropped,
+          r.result.lost_with_agent, static_cast<long long>(r.recovered));
     }
   }
   files.write(out);
   const double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
-  std::printf("%s Nc=%d Nw=%d: %d seeds x %d cycles of %.1f s, agent runtime %s (tick %.3f s%s); refresh "
-              "%.1f s (est. %.1f), goals per cycle %.2f (est. %.2f); %lld ticks, %lld messages; run %.0f ms for %.0f s "
-              "of mission = %.0fx real time (slowest seed %.0fx); total %.0f ms -> %s\n",
-              pf.method.c_str(), pf.collectors, pf.workers, seeds, params.cycles, pf.cycle_period_s,
-              over_lcm ? ("over LCM, " + std::to_string(pf.agents.size()) + " agent processes").c_str() : "in one process", opt.tick,
-              opt.loss > 0 ? (", loss " + std::to_string(opt.loss)).c_str() : "", refresh / seeds, pf.est_refresh_s,
-              per_cycle / seeds, pf.est_goals, static_cast<long long>(ticks), static_cast<long long>(messages), wall,
-              mission_s, wall > 0 ? mission_s * 1000.0 / wall : 0.0, slowest, total_ms, out.c_str());
+  std::printf(
+      "%s Nc=%d Nw=%d: %d seeds x %d cycles of %.1f s, agent runtime %s (tick %.3f s%s); refresh "
+      "%.1f s (est. %.1f), goals per cycle %.2f (est. %.2f); %lld ticks, %lld messages; run %.0f ms for %.0f s "
+      "of mission = %.0fx real time (slowest seed %.0fx); total %.0f ms -> %s\n",
+      pf.method.c_str(), pf.collectors, pf.workers, seeds, params.cycles, pf.cycle_period_s,
+      over_lcm ? ("over LCM, " + std::to_string(pf.agents.size()) + " agent processes").c_str() : "in one process",
+      opt.tick, opt.loss > 0 ? (", loss " + std::to_string(opt.loss)).c_str() : "", refresh / seeds, pf.est_refresh_s,
+      per_cycle / seeds, pf.est_goals, static_cast<long long>(ticks), static_cast<long long>(messages), wall, mission_s,
+      wall > 0 ? mission_s * 1000.0 / wall : 0.0, slowest, total_ms, out.c_str());
   return 0;
 }
 

@@ -11,7 +11,8 @@ std::uintmax_t check_input_file(const std::string& path, std::uintmax_t max_byte
   std::error_code ec;
   const std::filesystem::file_status st = std::filesystem::status(path, ec);
   if (ec || !std::filesystem::exists(st)) throw Error(path, "cannot open file");
-  if (std::filesystem::is_directory(st)) throw Error(path, std::string("is a directory; the ") + what + " must be a regular file");
+  if (std::filesystem::is_directory(st))
+    throw Error(path, std::string("is a directory; the ") + what + " must be a regular file");
   if (!std::filesystem::is_regular_file(st))
     throw Error(path, std::string("is not a regular file (a device, FIFO or socket); the ") + what + " must be one");
   const std::uintmax_t size = std::filesystem::file_size(path, ec);

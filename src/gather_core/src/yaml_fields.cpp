@@ -26,8 +26,7 @@ std::string resolve_path(const std::string& file, const std::string& relative) {
 
 Fields::Fields(const YAML::Node& node, std::string file, std::string prefix)
     : node_(node), file_(std::move(file)), prefix_(std::move(prefix)) {
-  if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap())
-    throw Error(file_, "'" + prefix_ + "' must be a mapping");
+  if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap()) throw Error(file_, "'" + prefix_ + "' must be a mapping");
 }
 
 void Fields::allow(std::initializer_list<const char*> keys) const {

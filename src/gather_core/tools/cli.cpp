@@ -83,7 +83,8 @@ double Args::get_double(const std::string& flag, double fallback, double lo, dou
   const double v = std::strtod(s.c_str(), &end);
   if (s.empty() || *end != '\0') throw UsageError(flag + " expects a number, got '" + quote_input(s, 40) + "'");
   if (!std::isfinite(v) || v < lo || v > hi)
-    throw UsageError(flag + " must be a finite value in [" + num(lo) + ", " + num(hi) + "], got '" + quote_input(s, 40) + "'");
+    throw UsageError(flag + " must be a finite value in [" + num(lo) + ", " + num(hi) + "], got '" +
+                     quote_input(s, 40) + "'");
   return v;
 }
 

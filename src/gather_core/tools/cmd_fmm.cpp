@@ -13,12 +13,12 @@
 #include <vector>
 
 #include "cli.hpp"
-#include "gather_core/input_file.hpp"
 #include "commands.hpp"
 #include "gather_core/error.hpp"
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/grid/map_image.hpp"
 #include "gather_core/grid/map_loader.hpp"
+#include "gather_core/input_file.hpp"
 
 namespace gather {
 namespace cmd {
@@ -72,8 +72,8 @@ std::string image_cell_text(Cell grid_cell, int height) {
 // NumPy .npy v1.0: magic, version, little-endian header length, a dict padded
 // with spaces to a 64-byte boundary, then the row-major data.
 void write_npy_header(std::ofstream& out, const char* descr, int h, int w) {
-  std::string dict = std::string("{'descr': '") + descr + "', 'fortran_order': False, 'shape': (" +
-                     std::to_string(h) + ", " + std::to_string(w) + "), }";
+  std::string dict = std::string("{'descr': '") + descr + "', 'fortran_order': False, 'shape': (" + std::to_string(h) +
+                     ", " + std::to_string(w) + "), }";
   const std::size_t preamble = 10;
   std::size_t total = preamble + dict.size() + 1;
   dict.append((64 - total % 64) % 64, ' ');

@@ -22,9 +22,8 @@ int info(int argc, char** argv) {
               g.width() * g.resolution(), g.height() * g.resolution());
   std::printf("origin      [%.3f, %.3f] m\n", g.origin().x, g.origin().y);
   std::printf("free area   %.2f m^2 (%zu cells)\n", fs.free_cells * a, fs.free_cells);
-  std::printf("reachable   %.2f m^2 (%zu cells, %.1f%% of free) from the OC at [%.2f, %.2f]\n",
-              fs.reachable_cells * a, fs.reachable_cells,
-              fs.free_cells ? 100.0 * fs.reachable_cells / fs.free_cells : 0.0, s.oc.x, s.oc.y);
+  std::printf("reachable   %.2f m^2 (%zu cells, %.1f%% of free) from the OC at [%.2f, %.2f]\n", fs.reachable_cells * a,
+              fs.reachable_cells, fs.free_cells ? 100.0 * fs.reachable_cells / fs.free_cells : 0.0, s.oc.x, s.oc.y);
   std::printf("team        %d agents at %.2f m/s; collectors swept %d..%d\n", s.team.agents, s.team.speed,
               s.planner.collectors_min, s.planner.collectors_max);
   if (fs.other_components > 0) {

@@ -45,9 +45,9 @@ std::string upper(const char* s) {
 }
 
 std::string caption(const PartitionResult& p, const partition::PartitionMetrics& m) {
-  return upper(partition::method_name(p.method)) + "  N_w=" + std::to_string(p.workers) +
-         "  area CV " + fmt("%.1f%%", 100.0 * m.area_cv) + "  max/min " + fmt("%.2f", m.area_ratio) +
-         "  compactness " + fmt("%.2f", m.compactness_mean) + "  " + fmt("%.0f ms", p.runtime_ms);
+  return upper(partition::method_name(p.method)) + "  N_w=" + std::to_string(p.workers) + "  area CV " +
+         fmt("%.1f%%", 100.0 * m.area_cv) + "  max/min " + fmt("%.2f", m.area_ratio) + "  compactness " +
+         fmt("%.2f", m.compactness_mean) + "  " + fmt("%.0f ms", p.runtime_ms);
 }
 
 std::string metrics_json(const Scenario& sc, const PartitionResult& p, const partition::PartitionMetrics& m,
@@ -144,9 +144,10 @@ int report(const cli::Args& args) {
   std::printf("### Balance, compactness and runtime at N_w = %d (seed %u, runtime = median of %d runs)\n\n%s\n",
               workers, seed, repeat, balance.str().c_str());
   if (any_rooms)
-    std::printf("### Agreement with ground-truth rooms at N_w = number of rooms (P = precision, R = recall, "
-                "area-weighted)\n\n%s",
-                rooms.str().c_str());
+    std::printf(
+        "### Agreement with ground-truth rooms at N_w = number of rooms (P = precision, R = recall, "
+        "area-weighted)\n\n%s",
+        rooms.str().c_str());
   return 0;
 }
 
@@ -161,8 +162,10 @@ int partition(int argc, char** argv) {
   if (!args.has("--out")) throw cli::UsageError("--out DIR is required");
   if (!args.on("--compare") && !args.has("--method")) throw cli::UsageError("--method bap|pap|rap is required");
   std::vector<Method> methods;
-  if (args.on("--compare")) methods = partition::all_methods();
-  else methods.push_back(partition::parse_method(args.get("--method")));
+  if (args.on("--compare"))
+    methods = partition::all_methods();
+  else
+    methods.push_back(partition::parse_method(args.get("--method")));
   const int workers = args.get_int("--workers", 0, 0, 1000);
   const int seed_arg = args.get_int("--seed", 1, 0, 2147483647);
   if (seed_arg < 0) throw cli::UsageError("--seed must be >= 0");
@@ -172,7 +175,8 @@ int partition(int argc, char** argv) {
   const Cell oc = sc.grid.world_to_cell(sc.oc);
   const std::string gt = args.has("--gt") ? args.get("--gt") : find_gt(sc);
   int n_rooms = 0;
-  const std::vector<int32_t> gt_rooms = gt.empty() ? std::vector<int32_t>{} : partition::load_gt_rooms(gt, sc.grid, &n_rooms);
+  const std::vector<int32_t> gt_rooms =
+      gt.empty() ? std::vector<int32_t>{} : partition::load_gt_rooms(gt, sc.grid, &n_rooms);
 
   const std::string dir = args.get("--out");
   std::error_code ec;
@@ -191,16 +195,17 @@ int partition(int argc, char** argv) {
     json += methods.size() > 1 && m != methods.back() ? ",\n" : "\n";
     std::printf("%s: %s N_w=%d area_cv=%.4f max/min=%.3f compactness=%.3f runtime_ms=%.1f", sc.path.c_str(),
                 partition::method_name(m), workers, met.area_cv, met.area_ratio, met.compactness_mean, p.runtime_ms);
-    if (!gt_rooms.empty()) std::printf(" rooms=%d P=%.3f R=%.3f F1=%.3f", n_rooms, agree.precision, agree.recall, agree.f1);
+    if (!gt_rooms.empty())
+      std::printf(" rooms=%d P=%.3f R=%.3f F1=%.3f", n_rooms, agree.precision, agree.recall, agree.f1);
     std::printf("\n");
     captions.push_back(caption(p, met));
     if (!args.on("--compare")) {
       partition::write_label_png(dir + "/labels.png", p);
       figures::write_partition_png(dir + "/partition.png", sc.grid, p, sc.oc, captions.back());
       if (!p.initial_seeds.empty())
-        figures::write_seeds_png(dir + "/seeds.png", sc.grid, p, sc.oc,
-                                 upper(partition::method_name(m)) + " centroid initialisation (Fig. 1b), N_w=" +
-                                     std::to_string(workers));
+        figures::write_seeds_png(
+            dir + "/seeds.png", sc.grid, p, sc.oc,
+            upper(partition::method_name(m)) + " centroid initialisation (Fig. 1b), N_w=" + std::to_string(workers));
     }
     parts.push_back(std::move(p));
   }

@@ -4,8 +4,8 @@
 // report.csv with one row per configuration, labels.png and the figures.
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -13,10 +13,10 @@
 #include "cli.hpp"
 #include "commands.hpp"
 #include "gather_core/error.hpp"
-#include "gather_core/input_file.hpp"
-#include "gather_core/plan/plan_export.hpp"
 #include "gather_core/figures/partition_figure.hpp"
 #include "gather_core/figures/plan_figures.hpp"
+#include "gather_core/input_file.hpp"
+#include "gather_core/plan/plan_export.hpp"
 #include "gather_core/plan/plan_file.hpp"
 #include "gather_core/plan/planner.hpp"
 #include "gather_core/scenario/scenario.hpp"
@@ -56,7 +56,8 @@ int plan(int argc, char** argv) {
     try {
       config_method = partition::parse_method(spec.substr(0, colon));
     } catch (const Error&) {
-      throw cli::UsageError("--config: the method must be bap, pap or rap, got '" + quote_input(spec.substr(0, colon), 40) + "'");
+      throw cli::UsageError("--config: the method must be bap, pap or rap, got '" +
+                            quote_input(spec.substr(0, colon), 40) + "'");
     }
     char* end = nullptr;
     config_nc = std::strtol(spec.c_str() + colon + 1, &end, 10);
@@ -74,9 +75,10 @@ int plan(int argc, char** argv) {
   const plan::PlanContext ctx(s);
   const double ctx_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_ctx).count();
   const std::size_t covered = static_cast<std::size_t>(std::count(ctx.coverage.begin(), ctx.coverage.end(), 1));
-  std::printf("coverage: %.1f%% of the reachable space; farthest reachable cell %.1f m from it; request period %.1f s%s\n",
-              ctx.reachable_cells > 0 ? 100.0 * static_cast<double>(covered) / static_cast<double>(ctx.reachable_cells) : 0.0,
-              ctx.farthest, ctx.cycle_period, s.mission.period > 0 ? " (mission.period)" : " (farthest / speed)");
+  std::printf(
+      "coverage: %.1f%% of the reachable space; farthest reachable cell %.1f m from it; request period %.1f s%s\n",
+      ctx.reachable_cells > 0 ? 100.0 * static_cast<double>(covered) / static_cast<double>(ctx.reachable_cells) : 0.0,
+      ctx.farthest, ctx.cycle_period, s.mission.period > 0 ? " (mission.period)" : " (farthest / speed)");
 
   plan::SweepResult sweep;
   if (args.has("--config")) {
@@ -99,7 +101,8 @@ int plan(int argc, char** argv) {
   for (std::size_t i = 0; i < sweep.configs.size(); ++i) {
     const auto& c = sweep.configs[i];
     std::printf("%-6s %3d %3d %3d %12.1f %13.1f %8.2f %8.3f %9.0f%s\n", partition::method_name(c.method), c.collectors,
-                c.workers, static_cast<int>(std::count(c.collector_of_segment.begin(), c.collector_of_segment.end(), -1)),
+                c.workers,
+                static_cast<int>(std::count(c.collector_of_segment.begin(), c.collector_of_segment.end(), -1)),
                 c.estimates.refresh_s, c.estimates.interval_s, c.estimates.goals, c.utility, c.times.total(),
                 static_cast<int>(i) == sweep.best ? "  <- best" : "");
   }
@@ -109,15 +112,17 @@ int plan(int argc, char** argv) {
     sum.routes_ms += c.times.routes_ms, sum.estimate_ms += c.times.estimate_ms;
     sum.associate_ms += c.times.associate_ms;
   }
-  std::printf("stages [ms, summed over configurations]: context %.0f, partition %.0f, graph %.0f, groups %.0f, "
-              "routes %.0f, estimates %.0f, association %.0f; sweep wall %.0f ms on %d threads; total %.0f ms\n",
-              ctx_ms, sum.partition_ms, sum.graph_ms, sum.groups_ms, sum.routes_ms, sum.estimate_ms, sum.associate_ms, sweep.wall_ms,
-              opt.threads, std::chrono::duration<double, std::milli>(Clock::now() - t_start).count());
-  std::printf("best by U on the %s refresh: %s with %d collectors and %d workers (U = %.3f, est. latency %.1f s, "
-              "interval %.1f s, %.2f goals per cycle of %.1f s) -> %s/plan.yaml\n",
-              refresh_metric_name(s.planner.refresh), partition::method_name(best.method), best.collectors,
-              best.workers, best.utility, best.estimates.refresh_s, best.estimates.interval_s, best.estimates.goals,
-              ctx.cycle_period, out.c_str());
+  std::printf(
+      "stages [ms, summed over configurations]: context %.0f, partition %.0f, graph %.0f, groups %.0f, "
+      "routes %.0f, estimates %.0f, association %.0f; sweep wall %.0f ms on %d threads; total %.0f ms\n",
+      ctx_ms, sum.partition_ms, sum.graph_ms, sum.groups_ms, sum.routes_ms, sum.estimate_ms, sum.associate_ms,
+      sweep.wall_ms, opt.threads, std::chrono::duration<double, std::milli>(Clock::now() - t_start).count());
+  std::printf(
+      "best by U on the %s refresh: %s with %d collectors and %d workers (U = %.3f, est. latency %.1f s, "
+      "interval %.1f s, %.2f goals per cycle of %.1f s) -> %s/plan.yaml\n",
+      refresh_metric_name(s.planner.refresh), partition::method_name(best.method), best.collectors, best.workers,
+      best.utility, best.estimates.refresh_s, best.estimates.interval_s, best.estimates.goals, ctx.cycle_period,
+      out.c_str());
   return 0;
 }
 

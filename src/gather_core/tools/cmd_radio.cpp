@@ -29,7 +29,8 @@ int radio(int argc, char** argv) {
     const std::string at = args.get("--at");
     double x = 0, y = 0;
     char extra = 0;
-    if (std::sscanf(at.c_str(), "%lf,%lf%c", &x, &y, &extra) != 2) throw cli::UsageError("--at expects X,Y in meters, got '" + at + "'");
+    if (std::sscanf(at.c_str(), "%lf,%lf%c", &x, &y, &extra) != 2)
+      throw cli::UsageError("--at expects X,Y in meters, got '" + at + "'");
     tx = Point2{x, y};
     if (!s.grid.contains(s.grid.world_to_cell(tx))) throw Error("--at", "point [" + at + "] is outside the map");
   }

@@ -23,11 +23,11 @@
 #include "cli.hpp"
 #include "commands.hpp"
 #include "gather_core/error.hpp"
-#include "gather_core/plan/plan_export.hpp"
 #include "gather_core/figures/mission_figures.hpp"
 #include "gather_core/mission/mission_csv.hpp"
 #include "gather_core/mission/mission_plan.hpp"
 #include "gather_core/mission/simulator.hpp"
+#include "gather_core/plan/plan_export.hpp"
 #include "gather_core/plan/planner.hpp"
 #include "gather_core/scenario/scenario.hpp"
 
@@ -47,7 +47,8 @@ struct ConfigOutput {
 ConfigOutput simulate(mission::MissionSimulator& sim, int cycles, int seed0, int seeds) {
   const plan::PlanFile& pf = sim.plan().file;
   ConfigOutput out;
-  mission::RunLabel label{pf.method, pf.collectors, pf.workers, 0, cycles, pf.est_refresh_s, pf.est_goals, pf.est_interval_s};
+  mission::RunLabel label{pf.method, pf.collectors,    pf.workers,   0,
+                          cycles,    pf.est_refresh_s, pf.est_goals, pf.est_interval_s};
   for (int k = 0; k < seeds; ++k) {
     mission::MissionOptions opt;
     opt.cycles = cycles;
@@ -71,7 +72,8 @@ ConfigOutput simulate(mission::MissionSimulator& sim, int cycles, int seed0, int
   }
   out.runs.method = partition::parse_method(pf.method);
   out.runs.collectors = pf.collectors;
-  out.runs.est_refresh_s = pf.est_refresh_s, out.runs.est_interval_s = pf.est_interval_s, out.runs.est_goals = pf.est_goals, out.runs.est_utility = pf.utility;
+  out.runs.est_refresh_s = pf.est_refresh_s, out.runs.est_interval_s = pf.est_interval_s,
+  out.runs.est_goals = pf.est_goals, out.runs.est_utility = pf.utility;
   return out;
 }
 
@@ -114,7 +116,8 @@ int sim(int argc, char** argv) {
   if (args.has("--video")) {
     std::string ext = std::filesystem::path(args.get("--video")).extension().string();
     for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-    if (ext != ".mp4" && ext != ".avi") throw cli::UsageError("--video must name a .mp4 or .avi file, got '" + args.get("--video") + "'");
+    if (ext != ".mp4" && ext != ".avi")
+      throw cli::UsageError("--video must name a .mp4 or .avi file, got '" + args.get("--video") + "'");
   }
   const std::string out = args.get("--out");
   std::filesystem::create_directories(out);
@@ -168,7 +171,8 @@ int sim(int argc, char** argv) {
     runs.push_back(o.runs);
   }
   if (!goals || !cyc || !summary || !roles) throw Error(out, "cannot write the CSV files");
-  if (args.on("--all-configs")) figures::write_fig3(out, runs, s.planner.methods, s.planner.alpha, s.planner.beta, s.planner.refresh);
+  if (args.on("--all-configs"))
+    figures::write_fig3(out, runs, s.planner.methods, s.planner.alpha, s.planner.beta, s.planner.refresh);
   write_fig4(out, ctx, own, cycles, seed0, args.get("--video", ""));
 
   const double total_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_start).count();
@@ -176,25 +180,28 @@ int sim(int argc, char** argv) {
     const figures::ConfigRuns& r = outputs[0].runs;
     double refresh = 0.0, per_cycle = 0.0;
     for (std::size_t k = 0; k < r.refresh_s.size(); ++k) refresh += r.refresh_s[k], per_cycle += r.goals[k];
-    std::printf("%s Nc=%d Nw=%d: %d seeds x %d cycles of %.1f s; simulated refresh %.1f s (est. %.1f), goals per "
-                "cycle %.2f (est. %.2f); sim %.0f ms for %.0f s of mission = %.0fx real time (slowest seed %.0fx); "
-                "total %.0f ms -> %s\n",
-                mp.file.method.c_str(), mp.file.collectors, mp.file.workers, seeds, cycles, mp.file.cycle_period_s,
-                refresh / seeds, mp.file.est_refresh_s, per_cycle / seeds, mp.file.est_goals, wall, mission_s,
-                wall > 0 ? mission_s * 1000.0 / wall : 0.0, min_speedup, total_ms, out.c_str());
+    std::printf(
+        "%s Nc=%d Nw=%d: %d seeds x %d cycles of %.1f s; simulated refresh %.1f s (est. %.1f), goals per "
+        "cycle %.2f (est. %.2f); sim %.0f ms for %.0f s of mission = %.0fx real time (slowest seed %.0fx); "
+        "total %.0f ms -> %s\n",
+        mp.file.method.c_str(), mp.file.collectors, mp.file.workers, seeds, cycles, mp.file.cycle_period_s,
+        refresh / seeds, mp.file.est_refresh_s, per_cycle / seeds, mp.file.est_goals, wall, mission_s,
+        wall > 0 ? mission_s * 1000.0 / wall : 0.0, min_speedup, total_ms, out.c_str());
   } else {
     std::printf("%-6s %3s %12s %12s %10s %10s\n", "method", "Nc", "est refresh", "sim refresh", "est goals",
                 "sim goals");
     for (const ConfigOutput& o : outputs) {
       double refresh = 0.0, per_cycle = 0.0;
-      for (std::size_t k = 0; k < o.runs.refresh_s.size(); ++k) refresh += o.runs.refresh_s[k], per_cycle += o.runs.goals[k];
+      for (std::size_t k = 0; k < o.runs.refresh_s.size(); ++k)
+        refresh += o.runs.refresh_s[k], per_cycle += o.runs.goals[k];
       std::printf("%-6s %3d %12.1f %12.1f %10.2f %10.2f\n", partition::method_name(o.runs.method), o.runs.collectors,
                   o.runs.est_refresh_s, refresh / seeds, o.runs.est_goals, per_cycle / seeds);
     }
-    std::printf("%zu configurations x %d seeds x %d cycles: sweep re-planned in %.0f ms, simulation %.0f ms of CPU "
-                "for %.0f s of missions = %.0fx real time (slowest run %.0fx); total %.0f ms wall on %d threads -> %s\n",
-                outputs.size(), seeds, cycles, plan_ms, wall, mission_s, wall > 0 ? mission_s * 1000.0 / wall : 0.0,
-                min_speedup, total_ms, threads, out.c_str());
+    std::printf(
+        "%zu configurations x %d seeds x %d cycles: sweep re-planned in %.0f ms, simulation %.0f ms of CPU "
+        "for %.0f s of missions = %.0fx real time (slowest run %.0fx); total %.0f ms wall on %d threads -> %s\n",
+        outputs.size(), seeds, cycles, plan_ms, wall, mission_s, wall > 0 ? mission_s * 1000.0 / wall : 0.0,
+        min_speedup, total_ms, threads, out.c_str());
   }
   return 0;
 }

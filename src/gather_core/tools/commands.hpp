@@ -3,8 +3,8 @@
 namespace gather {
 namespace cmd {
 
-int info(int argc, char** argv);  // gather info SCENARIO
-int fmm(int argc, char** argv);   // gather fmm --map FILE --source ROW,COL ... (tools/cmd_fmm.cpp)
+int info(int argc, char** argv);       // gather info SCENARIO
+int fmm(int argc, char** argv);        // gather fmm --map FILE --source ROW,COL ... (tools/cmd_fmm.cpp)
 int partition(int argc, char** argv);  // gather partition SCENARIO --method M --workers N ... (tools/cmd_partition.cpp)
 int radio(int argc, char** argv);      // gather radio SCENARIO ... (tools/cmd_radio.cpp)
 int plan(int argc, char** argv);       // gather plan SCENARIO --out DIR ... (tools/cmd_plan.cpp)

@@ -27,7 +27,8 @@ const Subcommand kSubcommands[] = {
     {"radio", gather::cmd::radio,
      "radio SCENARIO [--at X,Y] [--repeat K] [--out coverage.png]  radio coverage of the OC, median time"},
     {"plan", gather::cmd::plan,
-     "plan SCENARIO --out DIR [--config METHOD:NC] [--seed K] [--threads T] [--association on|off]  deployment plan: utility sweep over "
+     "plan SCENARIO --out DIR [--config METHOD:NC] [--seed K] [--threads T] [--association on|off]  deployment plan: "
+     "utility sweep over "
      "(method, N_c), plan.yaml, report.csv, Fig. 2 and Fig. 3 (estimated)"},
     {"sim", gather::cmd::sim,
      "sim PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--all-configs] [--threads T] [--video F.mp4|.avi]  "

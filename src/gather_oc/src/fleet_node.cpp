@@ -46,10 +46,10 @@ void write_fleet_results(const std::string& path, const gather::AgentFleet& flee
     // exited_early: ended by itself (at the mission's end, or on an error:
     // see exit_status); otherwise stopped with SIGTERM after stop_latency_s.
     y << YAML::Flow << YAML::BeginMap << YAML::Key << "id" << YAML::Value << a.id << YAML::Key << "exit_status"
-      << YAML::Value << a.exit_status << YAML::Key << "ended" << YAML::Value << (a.exited_early ? "by_itself" : "stopped")
-      << YAML::Key << "stop_latency_s" << YAML::Value << a.stop_latency_s << YAML::Key << "killed_as_asked"
-      << YAML::Value << killed_as_asked(a, kills) << YAML::Key << "restarts" << YAML::Value << a.restarts
-      << YAML::EndMap;
+      << YAML::Value << a.exit_status << YAML::Key << "ended" << YAML::Value
+      << (a.exited_early ? "by_itself" : "stopped") << YAML::Key << "stop_latency_s" << YAML::Value << a.stop_latency_s
+      << YAML::Key << "killed_as_asked" << YAML::Value << killed_as_asked(a, kills) << YAML::Key << "restarts"
+      << YAML::Value << a.restarts << YAML::EndMap;
   }
   y << YAML::EndSeq << YAML::EndMap;
   std::error_code ec;
@@ -83,8 +83,9 @@ int main(int argc, char** argv) {
   int agents = 0;
   try {
     // With the map from a topic the scenario may have none: the team is all it needs.
-    agents = (map_from_topic ? gather::load_scenario_settings(scenario_path, false) : gather::load_scenario(scenario_path))
-                 .team.agents;
+    agents =
+        (map_from_topic ? gather::load_scenario_settings(scenario_path, false) : gather::load_scenario(scenario_path))
+            .team.agents;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fleet: %s\n", e.what());
     return 2;
@@ -100,7 +101,7 @@ int main(int argc, char** argv) {
   pnh.param<std::string>("kill", kill, "none");
   pnh.param<std::string>("restart", restart, "none");
   pnh.param("plan_timeout", plan_timeout, 300.0);
-  if (lcm_url == "default") lcm_url.clear();    // mission.launch's "not given"
+  if (lcm_url == "default") lcm_url.clear();  // mission.launch's "not given"
   if (agent_bin == "auto") agent_bin.clear();
   results_dir = gather::resolve_launch_path(results_dir);
   const std::string bin = gather::find_agent_binary(agent_bin);
@@ -141,15 +142,20 @@ int main(int argc, char** argv) {
   // The OC's fleet key (or --insecure), set with the plan's directory.
   std::string key_file;
   if (!nh.getParam("/gather/key_file", key_file)) {
-    std::fprintf(stderr, "fleet: the OC did not say which fleet key to use (/gather/key_file): not starting unsigned agents\n");
+    std::fprintf(stderr,
+                 "fleet: the OC did not say which fleet key to use (/gather/key_file): not starting unsigned agents\n");
     return 1;
   }
   std::vector<std::string> command{bin, "--id", "{id}", "--plan", plan_dir};
-  if (key_file.empty()) command.push_back("--insecure");
-  else command.insert(command.end(), {"--key-file", key_file});
+  if (key_file.empty())
+    command.push_back("--insecure");
+  else
+    command.insert(command.end(), {"--key-file", key_file});
   if (!lcm_url.empty()) command.insert(command.end(), {"--lcm-url", lcm_url});
-  if (!restarts.empty()) command.insert(command.end(), {"--journal", (results_dir.empty() ? "." : results_dir) + "/journal"});
-  command.insert(command.end(), {"--reply-url", reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(lcm_url) : reply_url});
+  if (!restarts.empty())
+    command.insert(command.end(), {"--journal", (results_dir.empty() ? "." : results_dir) + "/journal"});
+  command.insert(command.end(),
+                 {"--reply-url", reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(lcm_url) : reply_url});
   gather::AgentFleet fleet(command, agents);
   try {
     fleet.start();

@@ -30,7 +30,9 @@ MissionPublisher::MissionPublisher(ros::NodeHandle& nh, const agent::TeamSetup& 
     poses_.push_back(nh.advertise<geometry_msgs::PoseStamped>("gather/agent_" + std::to_string(a) + "/pose", 10));
 }
 
-ros::Time MissionPublisher::stamp(double t) const { return options_.sim_time ? ros::Time(std::max(0.0, t)) : ros::Time::now(); }
+ros::Time MissionPublisher::stamp(double t) const {
+  return options_.sim_time ? ros::Time(std::max(0.0, t)) : ros::Time::now();
+}
 
 void MissionPublisher::before_start(agent::LockstepMaster& master) {
   const ros::Time now = stamp(0.0);

@@ -35,7 +35,8 @@ MissionView::MissionView(const agent::TeamSetup& team, const Style& style, std::
 void MissionView::take(const agent::ViewEvents& events, const agent::OcRole& oc) {
   measured_.resize(oc.goals().size(), 0);
   for (const agent::MeasuredEvent& m : events.measured)
-    if (m.goal >= 0 && static_cast<std::size_t>(m.goal) < measured_.size()) measured_[static_cast<std::size_t>(m.goal)] = 1;
+    if (m.goal >= 0 && static_cast<std::size_t>(m.goal) < measured_.size())
+      measured_[static_cast<std::size_t>(m.goal)] = 1;
   handovers_.insert(handovers_.end(), events.handovers.begin(), events.handovers.end());
 }
 
@@ -46,19 +47,25 @@ int MissionView::goal_state(const agent::OcRole& oc, int id) const {
   if (g.expired_at >= 0) return kExpired;
   if (oc.resolved(id)) {
     switch (g.state) {
-      case mission::GoalState::kDelivered: return kDelivered;
-      case mission::GoalState::kDropped: return kDropped;
-      case mission::GoalState::kLostWithAgent: return kLost;
-      default: return kExpired;
+      case mission::GoalState::kDelivered:
+        return kDelivered;
+      case mission::GoalState::kDropped:
+        return kDropped;
+      case mission::GoalState::kLostWithAgent:
+        return kLost;
+      default:
+        return kExpired;
     }
   }
-  if (g.measured_at >= 0 || (static_cast<std::size_t>(id) < measured_.size() && measured_[static_cast<std::size_t>(id)]))
+  if (g.measured_at >= 0 ||
+      (static_cast<std::size_t>(id) < measured_.size() && measured_[static_cast<std::size_t>(id)]))
     return kCarried;
   return kPending;
 }
 
 visualization_msgs::MarkerArray MissionView::team_markers(const std::vector<agent::Reply>& agents, double t,
-                                                          bool started, const ros::Time& stamp, const agent::OcRole* ledger) {
+                                                          bool started, const ros::Time& stamp,
+                                                          const agent::OcRole* ledger) {
   visualization_msgs::MarkerArray out;
   const double u = style_.unit;
   // Links: every pair in radio range, the OC included.
@@ -85,10 +92,12 @@ visualization_msgs::MarkerArray MissionView::team_markers(const std::vector<agen
   hand.color = style_.handover;
   hand.pose.position.z = kZLinks + 0.01;
   auto where = [&](int16_t id) {
-    return id == agent::kOc || id < 0 || static_cast<std::size_t>(id) >= agents.size() ? oc
-                                                                                         : agents[static_cast<std::size_t>(id)].pose;
+    return id == agent::kOc || id < 0 || static_cast<std::size_t>(id) >= agents.size()
+               ? oc
+               : agents[static_cast<std::size_t>(id)].pose;
   };
-  for (const agent::HandoverEvent& h : handovers_) hand.points.push_back(pt(where(h.from))), hand.points.push_back(pt(where(h.to)));
+  for (const agent::HandoverEvent& h : handovers_)
+    hand.points.push_back(pt(where(h.from))), hand.points.push_back(pt(where(h.to)));
   if (hand.points.empty()) hand.action = Marker::DELETE;
   out.markers.push_back(hand);
 
@@ -102,14 +111,17 @@ visualization_msgs::MarkerArray MissionView::team_markers(const std::vector<agen
     m.scale.x = m.scale.y = u * (collector ? 1.1 : 1.0);
     m.scale.z = u * 0.3;
     const bool dead = ledger && ledger->declared_dead_at(r.agent) >= 0;
-    m.color = !started ? style_.waiting : dead ? style_.dead
-                                        : as.delivers_to >= 0 ? style_.collector(as.delivers_to) : style_.oc_worker;
+    m.color = !started              ? style_.waiting
+              : dead                ? style_.dead
+              : as.delivers_to >= 0 ? style_.collector(as.delivers_to)
+                                    : style_.oc_worker;
     out.markers.push_back(m);
     Marker id = marker(frame_, stamp, "agent_ids", r.agent, Marker::TEXT_VIEW_FACING);
     id.pose.position = pt(Point2{r.pose.x + u * 0.9, r.pose.y + u * 0.9}, kZLabels);
     id.scale.z = u * 1.1;
     id.color = style_.label;
-    id.text = collector ? "C" + std::to_string(as.delivers_to) + " (" + std::to_string(r.agent) + ")" : std::to_string(r.agent);
+    id.text = collector ? "C" + std::to_string(as.delivers_to) + " (" + std::to_string(r.agent) + ")"
+                        : std::to_string(r.agent);
     if (dead) id.text += " dead";
     out.markers.push_back(id);
   }
@@ -117,8 +129,8 @@ visualization_msgs::MarkerArray MissionView::team_markers(const std::vector<agen
 }
 
 visualization_msgs::MarkerArray MissionView::goal_markers(const agent::OcRole& oc, const ros::Time& stamp) const {
-  static const char* const names[kGoalViews] = {"goals_pending", "goals_carried", "goals_delivered", "goals_expired",
-                                                "goals_dropped", "goals_lost"};
+  static const char* const names[kGoalViews] = {"goals_pending", "goals_carried", "goals_delivered",
+                                                "goals_expired", "goals_dropped", "goals_lost"};
   const std_msgs::ColorRGBA colours[kGoalViews] = {style_.goal_pending, style_.goal_carried, style_.goal_delivered,
                                                    style_.goal_expired, style_.goal_dropped, style_.goal_lost};
   visualization_msgs::MarkerArray out;
@@ -205,7 +217,8 @@ gather_msgs::AgentStates MissionView::agent_states(const std::vector<agent::Repl
     s.id = r.agent;
     s.role = as.collector ? gather_msgs::AgentState::COLLECTOR : gather_msgs::AgentState::WORKER;
     s.role_name = as.collector ? "collector" : "worker";
-    s.collector = static_cast<int16_t>(!as.collector && as.delivers_to >= 0 ? team_.collector_agent(as.delivers_to) : -1);
+    s.collector =
+        static_cast<int16_t>(!as.collector && as.delivers_to >= 0 ? team_.collector_agent(as.delivers_to) : -1);
     s.phase = as.collector ? "route" : agent::WorkerRole::phase_name(r.phase);
     s.x = r.pose.x, s.y = r.pose.y;
     s.measured = static_cast<int32_t>(r.report.measured);
@@ -230,10 +243,17 @@ void MissionView::add(Totals& t, const agent::OcRole& oc, std::size_t goal) cons
       t.refresh_max = std::max(t.refresh_max, g.delivered_at - g.requested_at);
       break;
     }
-    case kExpired: ++t.expired; break;
-    case kDropped: ++t.dropped; break;
-    case kLost: ++t.lost; break;
-    default: break;
+    case kExpired:
+      ++t.expired;
+      break;
+    case kDropped:
+      ++t.dropped;
+      break;
+    case kLost:
+      ++t.lost;
+      break;
+    default:
+      break;
   }
 }
 
@@ -252,7 +272,8 @@ void MissionView::settle(const agent::OcRole& oc) {
     m.refresh_max = row_.refresh_max;
     m.total_requested = settled_totals_.requested;
     m.total_delivered = settled_totals_.delivered;
-    m.total_refresh_mean = settled_totals_.delivered > 0 ? settled_totals_.refresh_sum / settled_totals_.delivered : 0.0;
+    m.total_refresh_mean =
+        settled_totals_.delivered > 0 ? settled_totals_.refresh_sum / settled_totals_.delivered : 0.0;
     m.est_refresh = team_.plan.file.est_refresh_s;
     m.est_goals = team_.plan.file.est_goals;
     ready_.push_back(m);
@@ -277,8 +298,8 @@ void MissionView::settle(const agent::OcRole& oc) {
   if (settled_ == n && row_cycle_ >= 0 && row_cycle_ < oc.issued()) flush();  // every goal issued so far resolved
 }
 
-gather_msgs::MissionStatus MissionView::status(const agent::OcRole& oc, const std::string& state, double t,
-                                               double rate, const ros::Time& stamp) {
+gather_msgs::MissionStatus MissionView::status(const agent::OcRole& oc, const std::string& state, double t, double rate,
+                                               const ros::Time& stamp) {
   over_ = over_ || state == "done" || state == "failed";
   settle(oc);
   gather_msgs::MissionStatus s;
@@ -321,8 +342,9 @@ visualization_msgs::Marker MissionView::status_text(const gather_msgs::MissionSt
   m.scale.z = style_.unit * 1.6;
   m.color = rgba(0.95f, 0.95f, 0.95f);
   char text[256];
-  std::snprintf(text, sizeof text, "t %.0f s | %s | request %u of %u | goals: %u pending, %u carried, %u delivered, %u expired",
-                s.time, s.state.c_str(), s.requested > 0 ? s.cycle + 1 : 0, s.cycles, s.pending, s.carried, s.delivered,
+  std::snprintf(text, sizeof text,
+                "t %.0f s | %s | request %u of %u | goals: %u pending, %u carried, %u delivered, %u expired", s.time,
+                s.state.c_str(), s.requested > 0 ? s.cycle + 1 : 0, s.cycles, s.pending, s.carried, s.delivered,
                 s.expired);
   m.text = text;
   if (s.dropped > 0) m.text += ", " + std::to_string(s.dropped) + " dropped";

@@ -45,7 +45,8 @@ int fail(int status, const std::string& what) {
 std::unique_ptr<gather::agent::LoadedPlan> load_matching_plan(const std::string& dir, const std::string& scenario) {
   auto plan = std::make_unique<gather::agent::LoadedPlan>(gather::agent::load_plan(dir));
   if (std::filesystem::weakly_canonical(plan->plan.file.scenario) != std::filesystem::weakly_canonical(scenario))
-    throw gather::Error(dir + "/plan.yaml", "was planned for scenario " + plan->plan.file.scenario + ", not " + scenario);
+    throw gather::Error(dir + "/plan.yaml",
+                        "was planned for scenario " + plan->plan.file.scenario + ", not " + scenario);
   return plan;
 }
 
@@ -57,7 +58,8 @@ bool same_settings(const gather::Scenario& a, const gather::Scenario& b) {
          a.team.radius == b.team.radius && ra.tx_power_dbm == rb.tx_power_dbm && ra.ref_loss_db == rb.ref_loss_db &&
          ra.exponent == rb.exponent && ra.wall_loss_db == rb.wall_loss_db && ra.max_walls == rb.max_walls &&
          ra.sensitivity_dbm == rb.sensitivity_dbm && a.mission.goals_per_request == b.mission.goals_per_request &&
-         a.mission.cycles == b.mission.cycles && a.mission.seed == b.mission.seed && a.mission.period == b.mission.period;
+         a.mission.cycles == b.mission.cycles && a.mission.seed == b.mission.seed &&
+         a.mission.period == b.mission.period;
 }
 
 bool same_map(const gather::OccupancyGrid& a, const gather::OccupancyGrid& b) {
@@ -107,18 +109,22 @@ std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s
   if (!bad.empty()) return bad;
   nh.param("/use_sim_time", s.sim_time, false);
   s.results_dir = gather::resolve_launch_path(s.results_dir);
-  if (s.cycles < 0 || s.cycles > 100000) return "~cycles must be in 0..100000 (0: the scenario's), got " + std::to_string(s.cycles);
-  if (s.clock != "lockstep" && s.clock != "wall") return "~clock must be lockstep or wall, got '" + s.clock.substr(0, 40) + "'";
+  if (s.cycles < 0 || s.cycles > 100000)
+    return "~cycles must be in 0..100000 (0: the scenario's), got " + std::to_string(s.cycles);
+  if (s.clock != "lockstep" && s.clock != "wall")
+    return "~clock must be lockstep or wall, got '" + s.clock.substr(0, 40) + "'";
   if (!(s.rate >= 0.0 && s.rate <= 1e6)) return "~rate must be in [0, 1e6] (0: as fast as the lockstep allows)";
   if (s.clock == "wall" && s.rate == 0.0) s.rate = 1.0;  // the wall clock runs at real time unless told otherwise
   if (!(s.tick > 0.0 && s.tick <= 0.1)) return "~tick must be in (0, 0.1] s";
   if (!(s.loss >= 0.0 && s.loss < 1.0)) return "~loss must be in [0, 1)";
   if (s.loss_seed < 0) return "~loss_seed must be >= 0";
-  if (s.repair != "merge" && s.repair != "none") return "~repair must be merge or none, got '" + s.repair.substr(0, 40) + "'";
+  if (s.repair != "merge" && s.repair != "none")
+    return "~repair must be merge or none, got '" + s.repair.substr(0, 40) + "'";
   if (!(s.silent_intervals >= 1.5 && s.silent_intervals <= 100.0)) return "~silent_intervals must be in [1.5, 100]";
   if (!(s.ready_timeout > 0.0 && s.ready_timeout <= 86400.0)) return "~ready_timeout must be in (0, 86400] s";
   if (!(s.map_timeout > 0.0 && s.map_timeout <= 86400.0)) return "~map_timeout must be in (0, 86400] s";
-  if (!(s.view_period >= s.tick && s.view_period <= 3600.0)) return "~view_period must be in [~tick, 3600] s of mission time";
+  if (!(s.view_period >= s.tick && s.view_period <= 3600.0))
+    return "~view_period must be in [~tick, 3600] s of mission time";
   if (s.frame.empty()) return "~frame_id must not be empty";
   if (s.key_file.empty()) return "~key_file must not be empty (auto: results_dir/fleet.key, made if missing)";
   if (s.insecure && s.key_file != "auto") return "give ~key_file or ~insecure, not both";
@@ -150,9 +156,10 @@ int main(int argc, char** argv) {
   if (plan_flag == "auto") plan_flag.clear();
   if (!plan_flag.empty()) args.push_back(plan_flag);
   if (args.size() != 1 && args.size() != 2)
-    return fail(2, "usage: oc_node SCENARIO [PLAN_DIR | --plan=PLAN_DIR|auto] [--map-topic=TOPIC|none] (no plan: plan "
-                   "the scenario; --map-topic: take the map from a map_server topic; settings as private parameters, "
-                   "see the README)");
+    return fail(2,
+                "usage: oc_node SCENARIO [PLAN_DIR | --plan=PLAN_DIR|auto] [--map-topic=TOPIC|none] (no plan: plan "
+                "the scenario; --map-topic: take the map from a map_server topic; settings as private parameters, "
+                "see the README)");
   std::string scenario_path = gather::resolve_launch_path(args[0]);
   std::string plan_dir = args.size() == 2 ? gather::resolve_launch_path(args[1]) : "";
   const bool map_from_topic = !map_topic.empty();
@@ -235,7 +242,8 @@ int main(int argc, char** argv) {
   if (!plan) {
     plan_dir = set.results_dir + "/plan";
     try {
-      const std::string best = gather::plan::plan_scenario(scenario_path, plan_dir, 2, gather::figures::write_plan_figures);
+      const std::string best =
+          gather::plan::plan_scenario(scenario_path, plan_dir, 2, gather::figures::write_plan_figures);
       ROS_INFO("oc: planned %s: %s -> %s", scenario_path.c_str(), best.c_str(), plan_dir.c_str());
       plan = load_matching_plan(plan_dir, scenario_path);
     } catch (const std::exception& e) {
@@ -259,7 +267,8 @@ int main(int argc, char** argv) {
   try {
     world_ptr = std::make_unique<gather::mission::World>(plan->scenario);
     team_ptr = std::make_unique<gather::agent::TeamSetup>(*world_ptr, plan->plan, params);
-    const std::string replies = set.reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(set.lcm_url) : set.reply_url;
+    const std::string replies =
+        set.reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(set.lcm_url) : set.reply_url;
     // The fleet key (docs/security.md): ~key_file, or with "auto" one kept
     // beside the results (made on the first run); fleet_node hands the same
     // file to the agents it starts (/gather/key_file).
@@ -284,9 +293,11 @@ int main(int argc, char** argv) {
     if (!mo.restarts.empty() && set.clock == "wall") throw gather::Error("~restart", "needs the lockstep clock");
     for (const gather::agent::Kill& r : mo.restarts)
       for (const gather::agent::Kill& k : mo.kills)
-        if (r.agent == k.agent) throw gather::Error("~restart", "agent " + std::to_string(r.agent) + " is also in ~kill");
+        if (r.agent == k.agent)
+          throw gather::Error("~restart", "agent " + std::to_string(r.agent) + " is also in ~kill");
     if (set.clock == "wall") mo.clock = gather::agent::ClockMode::kWall;
-    master_ptr = std::make_unique<gather::agent::LockstepMaster>(*team_ptr, *fleet_ptr, gather::agent::plan_digest(*plan), mo);
+    master_ptr =
+        std::make_unique<gather::agent::LockstepMaster>(*team_ptr, *fleet_ptr, gather::agent::plan_digest(*plan), mo);
   } catch (const std::exception& e) {
     return fail(2, e.what());
   }
@@ -300,7 +311,7 @@ int main(int argc, char** argv) {
   po.view_period = set.view_period;
   gather::MissionPublisher pub(nh, team, scenario.grid, po);
   nh.setParam("/gather/key_file", set.insecure ? std::string() : set.key_file);  // "": --insecure
-  nh.setParam("/gather/plan_dir", plan_dir);  // fleet_node starts the agents with it
+  nh.setParam("/gather/plan_dir", plan_dir);                                     // fleet_node starts the agents with it
 
   int status = 0;
   std::string failure;
@@ -340,12 +351,12 @@ int main(int argc, char** argv) {
       gather::agent::RunFiles files;
       files.add(pf, params, out);
       files.write(set.results_dir);
-      std::printf("oc: mission done: %s Nc=%d, %d cycles, %zu goals requested, refresh %.1f s (est. %.1f), %.2f "
-                  "goals per cycle (est. %.2f); %lld ticks in %.1f s = %.0fx real time -> %s\n",
-                  pf.method.c_str(), pf.collectors, params.cycles, out.result.goals.size(), out.result.refresh_mean_s,
-                  pf.est_refresh_s, out.result.goals_per_cycle, pf.est_goals, static_cast<long long>(out.ticks),
-                  out.wall_ms / 1000.0, out.wall_ms > 0 ? out.end_s * 1000.0 / out.wall_ms : 0.0,
-                  set.results_dir.c_str());
+      std::printf(
+          "oc: mission done: %s Nc=%d, %d cycles, %zu goals requested, refresh %.1f s (est. %.1f), %.2f "
+          "goals per cycle (est. %.2f); %lld ticks in %.1f s = %.0fx real time -> %s\n",
+          pf.method.c_str(), pf.collectors, params.cycles, out.result.goals.size(), out.result.refresh_mean_s,
+          pf.est_refresh_s, out.result.goals_per_cycle, pf.est_goals, static_cast<long long>(out.ticks),
+          out.wall_ms / 1000.0, out.wall_ms > 0 ? out.end_s * 1000.0 / out.wall_ms : 0.0, set.results_dir.c_str());
     } else {
       failure = out.failure + (ros::ok() ? "" : " (stopped)") + "; " + set.results_dir + "/mission.yaml";
     }
@@ -355,7 +366,8 @@ int main(int argc, char** argv) {
       gather::agent::RunOutcome out = master.finish();
       out.completed = false;
       out.failure = failure;
-      gather::agent::RunSettings settings{set.clock == "wall" ? "lcm, wall clock" : "lcm", set.tick, set.rate, set.loss};
+      gather::agent::RunSettings settings{set.clock == "wall" ? "lcm, wall clock" : "lcm", set.tick, set.rate,
+                                          set.loss};
       gather::agent::write_mission_yaml(set.results_dir + "/mission.yaml", *plan, params, settings, out);
       failure += "; " + set.results_dir + "/mission.yaml";
       pub.finish(master, "failed", 0.0);
@@ -384,7 +396,8 @@ int main(int argc, char** argv) {
     ROS_INFO("oc: mission over, ending the launch (close_on_end)");
     // roslaunch stops every node now, this one included (SIGINT).
     const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(15);
-    while (ros::ok() && std::chrono::steady_clock::now() < limit) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    while (ros::ok() && std::chrono::steady_clock::now() < limit)
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
     return status;
   }
   if (set.close_on_end) return status;  // not started by roslaunch: just end

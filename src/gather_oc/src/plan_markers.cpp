@@ -64,8 +64,8 @@ Point2 point_at(const std::vector<Point2>& line, double s) {
   return line.back();
 }
 
-visualization_msgs::MarkerArray plan_markers(const agent::TeamSetup& team, const Style& style,
-                                             const std::string& frame, const ros::Time& stamp) {
+visualization_msgs::MarkerArray plan_markers(const agent::TeamSetup& team, const Style& style, const std::string& frame,
+                                             const ros::Time& stamp) {
   visualization_msgs::MarkerArray out;
   const OccupancyGrid& grid = team.world.scenario.grid;
   const mission::MissionPlan& plan = team.plan;
@@ -81,7 +81,8 @@ visualization_msgs::MarkerArray plan_markers(const agent::TeamSetup& team, const
   for (const Rect& r : label_rects(plan.labels, plan.width, plan.height)) {
     const double x0 = o.x + r.col0 * res, x1 = o.x + (r.col1 + 1) * res;
     const double y0 = o.y + r.row0 * res, y1 = o.y + (r.row1 + 1) * res;
-    const std_msgs::ColorRGBA c = rgba(palette[static_cast<std::size_t>(colour[static_cast<std::size_t>(r.label - 1)]) % palette.size()], 0.5f);
+    const std_msgs::ColorRGBA c =
+        rgba(palette[static_cast<std::size_t>(colour[static_cast<std::size_t>(r.label - 1)]) % palette.size()], 0.5f);
     for (const auto& p : {pt(x0, y0), pt(x1, y0), pt(x1, y1), pt(x0, y0), pt(x1, y1), pt(x0, y1)}) {
       seg.points.push_back(p);
       seg.colors.push_back(c);
@@ -175,7 +176,8 @@ visualization_msgs::MarkerArray plan_markers(const agent::TeamSetup& team, const
       disc.scale.x = disc.scale.y = style.unit * 2.2, disc.scale.z = 0.02;
       disc.color = style.collector(route.collector, 0.35f);
       out.markers.push_back(disc);
-      Marker passes = marker(frame, stamp, "meetings", 5000000 + route.collector * 10000 + m.segment, Marker::SPHERE_LIST);
+      Marker passes =
+          marker(frame, stamp, "meetings", 5000000 + route.collector * 10000 + m.segment, Marker::SPHERE_LIST);
       passes.scale.x = passes.scale.y = passes.scale.z = style.unit * 0.7;
       passes.color = style.collector(route.collector, 0.45f);
       passes.pose.position.z = kZMeetings;
@@ -198,12 +200,17 @@ void legend(visualization_msgs::MarkerArray& out, const Style& style, const Box&
     std_msgs::ColorRGBA colour;
   };
   const Item items[] = {
-      {"goal pending", Marker::CUBE, style.goal_pending},     {"carried", Marker::CUBE, style.goal_carried},
-      {"delivered", Marker::CUBE, style.goal_delivered},       {"expired", Marker::CUBE, style.goal_expired},
+      {"goal pending", Marker::CUBE, style.goal_pending},
+      {"carried", Marker::CUBE, style.goal_carried},
+      {"delivered", Marker::CUBE, style.goal_delivered},
+      {"expired", Marker::CUBE, style.goal_expired},
       {"lost with agent", Marker::CUBE, style.goal_lost},
-      {"collector", Marker::CUBE, style.collector(0)},         {"its worker", Marker::CYLINDER, style.collector(0)},
-      {"OC worker", Marker::CYLINDER, style.oc_worker},        {"radio link", Marker::LINE_LIST, style.link},
-      {"hand-over", Marker::LINE_LIST, style.handover},        {"coverage", Marker::LINE_LIST, style.oc},
+      {"collector", Marker::CUBE, style.collector(0)},
+      {"its worker", Marker::CYLINDER, style.collector(0)},
+      {"OC worker", Marker::CYLINDER, style.oc_worker},
+      {"radio link", Marker::LINE_LIST, style.link},
+      {"hand-over", Marker::LINE_LIST, style.handover},
+      {"coverage", Marker::LINE_LIST, style.oc},
       {"dead agent", Marker::CYLINDER, style.dead},
   };
   const double u = style.unit, h = u * 1.1;  // text height

@@ -27,7 +27,8 @@ Box reachable_box(const OccupancyGrid& grid, const std::vector<uint8_t>& reachab
   int c0 = grid.width(), c1 = -1, r0 = grid.height(), r1 = -1;
   for (int r = 0; r < grid.height(); ++r)
     for (int c = 0; c < grid.width(); ++c)
-      if (reachable[grid.index(Cell{r, c})]) c0 = std::min(c0, c), c1 = std::max(c1, c), r0 = std::min(r0, r), r1 = std::max(r1, r);
+      if (reachable[grid.index(Cell{r, c})])
+        c0 = std::min(c0, c), c1 = std::max(c1, c), r0 = std::min(r0, r), r1 = std::max(r1, r);
   if (c1 < 0) c0 = 0, c1 = grid.width() - 1, r0 = 0, r1 = grid.height() - 1;
   const double res = grid.resolution();
   return Box{grid.origin().x + c0 * res, grid.origin().y + r0 * res, grid.origin().x + (c1 + 1) * res,

@@ -30,14 +30,14 @@ const char* kind_name(Kind k);
 
 struct Header {
   Kind kind = Kind::kState;
-  int16_t sender = 0;      // agent id, kOc
+  int16_t sender = 0;  // agent id, kOc
   int16_t dest = kBroadcast;
-  uint32_t seq = 0;        // per sender: 0, 1, 2, ... (set by the runner)
-  int64_t tick = -1;       // lockstep tick it was sent in (-1: wall clock)
-  double t = 0.0;          // [s] mission time at sending
-  Point2 pos;              // [m] sender's position at sending
-  int32_t request = -1;    // newest request the sender knows, -1 none
-  uint8_t dead = 0;        // how many of the OC's declarations of dead agents the sender knows
+  uint32_t seq = 0;      // per sender: 0, 1, 2, ... (set by the runner)
+  int64_t tick = -1;     // lockstep tick it was sent in (-1: wall clock)
+  double t = 0.0;        // [s] mission time at sending
+  Point2 pos;            // [m] sender's position at sending
+  int32_t request = -1;  // newest request the sender knows, -1 none
+  uint8_t dead = 0;      // how many of the OC's declarations of dead agents the sender knows
 };
 
 // One part of goal request `request`: goals first_goal .. first_goal +
@@ -70,12 +70,12 @@ enum class ItemKind : uint8_t {
 const char* item_kind_name(ItemKind k);
 
 struct DataItem {
-  int32_t key = 0;            // goal id (>= 0); kSkipped: skipped_key(request, worker) (< 0)
+  int32_t key = 0;  // goal id (>= 0); kSkipped: skipped_key(request, worker) (< 0)
   ItemKind kind = ItemKind::kMeasured;
-  int16_t by = -1;            // the worker that measured (expired, skipped) it
-  double at = 0.0;            // [s] measured_at, or when it expired / was dropped
-  int16_t picked_up_by = -1;  // the collector that took it from the worker, -1 none
-  double picked_up_at = -1.0; // [s]
+  int16_t by = -1;             // the worker that measured (expired, skipped) it
+  double at = 0.0;             // [s] measured_at, or when it expired / was dropped
+  int16_t picked_up_by = -1;   // the collector that took it from the worker, -1 none
+  double picked_up_at = -1.0;  // [s]
 };
 // Keys of skip notices: one per (request, worker), all negative.
 constexpr int kMaxRequests = 100000;
@@ -98,10 +98,10 @@ const char* role_kind_name(RoleKind r);
 
 struct StateReport {
   RoleKind role = RoleKind::kWorker;
-  uint16_t carried = 0;     // data items in custody (measured data)
-  uint16_t notices = 0;     // expiry / drop / skip notices in custody
-  uint16_t pending = 0;     // goals known and not yet measured
-  int32_t measured = 0;     // goals measured so far
+  uint16_t carried = 0;  // data items in custody (measured data)
+  uint16_t notices = 0;  // expiry / drop / skip notices in custody
+  uint16_t pending = 0;  // goals known and not yet measured
+  int32_t measured = 0;  // goals measured so far
   // Collectors: when they last heard each of their workers (the OC's news
   // of workers it cannot hear; docs/faults.md, "Liveness").
   uint8_t heard_count = 0;

@@ -73,8 +73,10 @@ bool SimulatedBase::line_of_sight(Point2 a, Point2 b) const {
   for (int i = 0;; ++i) {
     if (!paths_.traversable(Cell{cy, cx})) return false;
     if (i >= steps) return true;
-    if (tmx < tmy) cx += sx, tmx += tdx;
-    else cy += sy, tmy += tdy;
+    if (tmx < tmy)
+      cx += sx, tmx += tdx;
+    else
+      cy += sy, tmy += tdy;
   }
 }
 
@@ -92,7 +94,8 @@ Cell SimulatedBase::descend(Cell from, std::vector<Cell>& out) const {
       for (int dc = -1; dc <= 1; ++dc) {
         const Cell n{c.row + dr, c.col + dc};
         if ((dr == 0 && dc == 0) || !paths_.traversable(n)) continue;
-        if (dr != 0 && dc != 0 && (!paths_.traversable(Cell{c.row + dr, c.col}) || !paths_.traversable(Cell{c.row, c.col + dc})))
+        if (dr != 0 && dc != 0 &&
+            (!paths_.traversable(Cell{c.row + dr, c.col}) || !paths_.traversable(Cell{c.row, c.col + dc})))
           continue;
         if (home_->time(n) < best) best = home_->time(n), next = n;
       }
@@ -140,7 +143,8 @@ void SimulatedBase::plan_path(Point2 from, Point2 to, bool search) {
 }
 
 void SimulatedBase::go(const Waypoint* legs, std::size_t n, double depart) {
-  if (n > max_legs_) throw Error("motion", "a plan of " + std::to_string(n) + " legs, at most " + std::to_string(max_legs_));
+  if (n > max_legs_)
+    throw Error("motion", "a plan of " + std::to_string(n) + " legs, at most " + std::to_string(max_legs_));
   std::copy(legs, legs + n, legs_.begin());
   n_ = n, done_ = 0, depart_ = depart;
   ++revision_;

@@ -18,8 +18,9 @@ CollectorRole::CollectorRole(TeamSetup& team, int agent, MotionBackend& motion)
   for (const plan::MeetingArea& m : r.meetings) {
     const int w = team.worker_of_segment(m.segment);
     if (w < 0 || team.assignment(w).delivers_to != collector_)
-      throw Error(team.plan.source.empty() ? "plan" : team.plan.source, "collector " + std::to_string(collector_) + " meets segment " + std::to_string(m.segment) +
-                              ", whose worker is not its own");
+      throw Error(team.plan.source.empty() ? "plan" : team.plan.source,
+                  "collector " + std::to_string(collector_) + " meets segment " + std::to_string(m.segment) +
+                      ", whose worker is not its own");
     workers_.push_back(Served{static_cast<int16_t>(w), m.route_s, -1});
   }
   const std::size_t g = static_cast<std::size_t>(team.params.goals_per_request);
@@ -59,7 +60,8 @@ void CollectorRole::on_request(const RequestPart& part) {
     motion_.hold();
   }
   if (part.request < request_id_ || part.request >= team_.params.cycles) return;
-  if (part.parts == 0 || part.parts > kMaxRequestParts || part.part >= part.parts || part.count > kRequestPartGoals) return;
+  if (part.parts == 0 || part.parts > kMaxRequestParts || part.part >= part.parts || part.count > kRequestPartGoals)
+    return;
   if (part.parts > parts_.size()) parts_.resize(part.parts);  // a larger request than the scenario's
   if (part.request > request_id_) request_id_ = part.request, seen_ = 0, complete_ = false;
   if ((seen_ >> part.part) & 1) return;
@@ -91,7 +93,8 @@ void CollectorRole::step(double now, const Message* const* inbox, std::size_t n,
         if (m.h.sender == kOc) on_request(m.request);
         break;
       case Kind::kAck:
-        if (m.h.sender == kOc && m.h.dest == id_) custody_.acked(m.ack.keys, std::min<std::size_t>(m.ack.count, kMaxBatch));
+        if (m.h.sender == kOc && m.h.dest == id_)
+          custody_.acked(m.ack.keys, std::min<std::size_t>(m.ack.count, kMaxBatch));
         break;
       case Kind::kData: {
         Served* w = served(m.h.sender);
@@ -100,7 +103,8 @@ void CollectorRole::step(double now, const Message* const* inbox, std::size_t n,
         const std::size_t count = std::min<std::size_t>(m.data.count, kMaxBatch);
         for (std::size_t k = 0; k < count; ++k) {
           DataItem item = m.data.items[k];
-          if (item.kind == ItemKind::kMeasured && item.picked_up_by < 0) item.picked_up_by = id_, item.picked_up_at = now;
+          if (item.kind == ItemKind::kMeasured && item.picked_up_by < 0)
+            item.picked_up_by = id_, item.picked_up_at = now;
           if (custody_.put(item) == Custody::Put::kFull) {
             ++counters_.refused_full;  // not acked: the worker keeps it
             continue;
@@ -123,7 +127,8 @@ void CollectorRole::step(double now, const Message* const* inbox, std::size_t n,
         // before this loop's pass handed it (it missed request 0 at the
         // start, or the hand-over at the pass was lost); a beacon only
         // after the pass.
-        if (w && (m.h.request < request_id_ || m.h.dead < dead_.size()) && (m.h.dest == id_ || w->handed >= request_id_))
+        if (w && (m.h.request < request_id_ || m.h.dead < dead_.size()) &&
+            (m.h.dest == id_ || w->handed >= request_id_))
           w->handed = -1, hand_request(*w, now, out);
         break;
       }

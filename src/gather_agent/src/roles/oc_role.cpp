@@ -106,7 +106,8 @@ void OcRole::declare_dead(int16_t agent, double now, Outbox& out) {
   served_by_it[static_cast<std::size_t>(agent)] = 1;
   if (before.collector)
     for (int a = 0; a < team_.agents(); ++a)
-      if (!assigned(a).collector && assigned(a).delivers_to == before.delivers_to) served_by_it[static_cast<std::size_t>(a)] = 1;
+      if (!assigned(a).collector && assigned(a).delivers_to == before.delivers_to)
+        served_by_it[static_cast<std::size_t>(a)] = 1;
   dead_.push_back(agent);
   declared_at_[static_cast<std::size_t>(agent)] = now;
   repair_ = &team_.repaired(dead_.data(), dead_.size());
@@ -126,7 +127,7 @@ void OcRole::declare_dead(int16_t agent, double now, Outbox& out) {
     g.segment = repair_->plan.labels[cell_of_[i]];
     g.worker = g.segment > 0 ? team_.worker_of_segment(g.segment) : -1;
     g.deadline = g.worker < 0 || assigned(g.worker).delivers_to < 0 ? std::numeric_limits<double>::infinity()
-                                                                     : team_.deadline(g.worker, g.cycle);
+                                                                    : team_.deadline(g.worker, g.cycle);
     if (g.worker < 0 && !was_unassigned) unassigned_.push_back(g.id);
   }
   // Workers that now deliver to the OC: as long to come as they had to be
@@ -180,15 +181,16 @@ bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
   // Its deadline is the new worker's (goals.csv keeps the worker it was
   // issued to; measured_by says who measured it).
   if (new_owner)
-    g.deadline = assigned(item.by).delivers_to < 0 ? std::numeric_limits<double>::infinity()
-                                                   : team_.deadline(item.by, g.cycle);
+    g.deadline =
+        assigned(item.by).delivers_to < 0 ? std::numeric_limits<double>::infinity() : team_.deadline(item.by, g.cycle);
   switch (item.kind) {
     case ItemKind::kMeasured:
       // A worker of a collector that brings its own data works for the OC
       // (it found its collector silent before the OC declared it dead): its
       // deadline started when it learned the request, as for every worker
       // of the OC, which the OC's record could not know at the issue.
-      if (item.at > g.deadline && item.picked_up_by < 0 && sender == item.by && team_.assignment(sender).delivers_to >= 0)
+      if (item.at > g.deadline && item.picked_up_by < 0 && sender == item.by &&
+          team_.assignment(sender).delivers_to >= 0)
         g.deadline = std::numeric_limits<double>::infinity();
       g.measured_at = item.at, g.measured_by = item.by;
       g.picked_up_at = item.picked_up_at, g.picked_up_by = item.picked_up_by;
@@ -214,7 +216,8 @@ bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
 void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox& out) {
   // A request every period: broadcast to whoever is in the coverage.
   while (issued_ < team_.params.cycles && now >= issued_ * team_.period - 1e-9) {
-    for (std::size_t i = first_[static_cast<std::size_t>(issued_)]; i < first_[static_cast<std::size_t>(issued_) + 1]; ++i)
+    for (std::size_t i = first_[static_cast<std::size_t>(issued_)]; i < first_[static_cast<std::size_t>(issued_) + 1];
+         ++i)
       goals_[i].requested_at = now;
     issued_at_[static_cast<std::size_t>(issued_)] = now;
     ++issued_;

@@ -13,44 +13,60 @@ namespace agent {
 
 const char* kind_name(Kind k) {
   switch (k) {
-    case Kind::kRequest: return "request";
-    case Kind::kData: return "data";
-    case Kind::kAck: return "ack";
-    case Kind::kState: return "state";
+    case Kind::kRequest:
+      return "request";
+    case Kind::kData:
+      return "data";
+    case Kind::kAck:
+      return "ack";
+    case Kind::kState:
+      return "state";
   }
   return "?";
 }
 
 const char* item_kind_name(ItemKind k) {
   switch (k) {
-    case ItemKind::kMeasured: return "measured";
-    case ItemKind::kExpired: return "expired";
-    case ItemKind::kDropped: return "dropped";
-    case ItemKind::kSkipped: return "skipped";
+    case ItemKind::kMeasured:
+      return "measured";
+    case ItemKind::kExpired:
+      return "expired";
+    case ItemKind::kDropped:
+      return "dropped";
+    case ItemKind::kSkipped:
+      return "skipped";
   }
   return "?";
 }
 
 const char* role_kind_name(RoleKind r) {
   switch (r) {
-    case RoleKind::kWorker: return "worker";
-    case RoleKind::kCollector: return "collector";
-    case RoleKind::kOcRole: return "oc";
+    case RoleKind::kWorker:
+      return "worker";
+    case RoleKind::kCollector:
+      return "collector";
+    case RoleKind::kOcRole:
+      return "oc";
   }
   return "?";
 }
 
 TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, const MissionParams& prm)
-    : world(w), plan(p), params(prm), radio(w.scenario.grid, w.scenario.radio),
+    : world(w),
+      plan(p),
+      params(prm),
+      radio(w.scenario.grid, w.scenario.radio),
       areas(mission::area_weights(w, p.file.area_tile_m)) {
   const OccupancyGrid& grid = w.scenario.grid;
   const plan::PlanFile& pf = p.file;
   const std::string where = p.source.empty() ? "plan" : p.source;
   if (p.width != grid.width() || p.height != grid.height())
     throw Error(where, "label image is " + std::to_string(p.width) + "x" + std::to_string(p.height) +
-                           ", the scenario's map " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()));
+                           ", the scenario's map " + std::to_string(grid.width()) + "x" +
+                           std::to_string(grid.height()));
   const int n = static_cast<int>(pf.agents.size());
-  if (n < 1 || n > kMaxTeam) throw Error(where, "a team of " + std::to_string(n) + " agents (1.." + std::to_string(kMaxTeam) + ")");
+  if (n < 1 || n > kMaxTeam)
+    throw Error(where, "a team of " + std::to_string(n) + " agents (1.." + std::to_string(kMaxTeam) + ")");
   mission::check_plan(p, w.scenario.team.agents, w.scenario.grid);
   for (std::size_t k = 0; k < pf.agents.size(); ++k)  // the plan's loader sorts them; repairs index them so
     if (pf.agents[k].id != static_cast<int>(k))
@@ -72,8 +88,10 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
   worker_of_segment_.assign(static_cast<std::size_t>(pf.workers) + 1, -1);
   for (const plan::AgentAssignment& a : pf.agents) {  // check_plan made sure these are all valid and distinct
     assignment_[static_cast<std::size_t>(a.id)] = a;
-    if (a.collector) collector_agent_[static_cast<std::size_t>(a.delivers_to)] = a.id;
-    else worker_of_segment_[static_cast<std::size_t>(a.segment)] = a.id;
+    if (a.collector)
+      collector_agent_[static_cast<std::size_t>(a.delivers_to)] = a.id;
+    else
+      worker_of_segment_[static_cast<std::size_t>(a.segment)] = a.id;
   }
   for (const plan::CollectorRoute& r : pf.routes) {
     try {
@@ -117,26 +135,29 @@ const mission::RepairedPlan& TeamSetup::repaired(const int16_t* dead, std::size_
     if (set == key) return *repaired;
   const std::size_t cells = static_cast<std::size_t>(plan.width) * static_cast<std::size_t>(plan.height);
   if (plan.labels.size() == cells) {
-    repaired_.emplace_back(key, std::make_unique<mission::RepairedPlan>(mission::repair_plan(plan, key, params.repair)));
+    repaired_.emplace_back(key,
+                           std::make_unique<mission::RepairedPlan>(mission::repair_plan(plan, key, params.repair)));
   } else {
     mission::MissionPlan full;
     full.source = plan.source, full.file = plan.file, full.width = plan.width, full.height = plan.height;
     if (reload_labels) full.labels = reload_labels();
-    if (full.labels.size() != cells) throw RuntimeError("plan repair (internal error)", "the plan's label image was dropped");
-    repaired_.emplace_back(key, std::make_unique<mission::RepairedPlan>(mission::repair_plan(full, key, params.repair)));
+    if (full.labels.size() != cells)
+      throw RuntimeError("plan repair (internal error)", "the plan's label image was dropped");
+    repaired_.emplace_back(key,
+                           std::make_unique<mission::RepairedPlan>(mission::repair_plan(full, key, params.repair)));
   }
   return *repaired_.back().second;
 }
 
-
 double TeamSetup::silent_timeout(const mission::MissionPlan& p, int agent) const {
   const plan::AgentAssignment& a = p.file.agents[static_cast<std::size_t>(agent)];
-  if (a.delivers_to < 0) return mission::silent_timeout(mission::Liveness::kOcWorker, period, 0.0, params.silent_intervals);
+  if (a.delivers_to < 0)
+    return mission::silent_timeout(mission::Liveness::kOcWorker, period, 0.0, params.silent_intervals);
   // An idle collector's route has no period (it stays at the OC): at least
   // a request period.
   const double loop = std::max(routes[static_cast<std::size_t>(a.delivers_to)].period(), period);
-  return mission::silent_timeout(a.collector ? mission::Liveness::kCollector : mission::Liveness::kCollectorWorker, period,
-                                 loop, params.silent_intervals);
+  return mission::silent_timeout(a.collector ? mission::Liveness::kCollector : mission::Liveness::kCollectorWorker,
+                                 period, loop, params.silent_intervals);
 }
 
 Message* Outbox::add(Kind kind, int16_t dest) {

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <string>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
+#include <string>
 
 #include "gather_core/error.hpp"
 
@@ -20,7 +20,7 @@ int trace_id() {
 #define TRACE(...) \
   if (id_ == trace_id()) std::fprintf(stderr, __VA_ARGS__)
 
-constexpr double kEps = 1e-9;  // [s] as the simulator's time tolerance
+constexpr double kEps = 1e-9;      // [s] as the simulator's time tolerance
 constexpr double kAskAfter = 0.5;  // [s] after a request is due without it: ask the OC
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -38,8 +38,9 @@ WorkerRole::WorkerRole(TeamSetup& team, int agent, MotionBackend& motion)
       team_(team),
       policy_(std::make_unique<mission::WorkerPolicy>(
           team.world, team.plan, team.assignment(agent),
-          team.assignment(agent).delivers_to >= 0 ? &team.routes[static_cast<std::size_t>(team.assignment(agent).delivers_to)]
-                                                  : nullptr,
+          team.assignment(agent).delivers_to >= 0
+              ? &team.routes[static_cast<std::size_t>(team.assignment(agent).delivers_to)]
+              : nullptr,
           *team.distances, initial_goals(team))),
       custody_(team.params.data_capacity, team.params.notice_capacity) {
   if (policy_->collector() >= 0) upstream_ = static_cast<int16_t>(team.collector_agent(policy_->collector()));
@@ -73,9 +74,7 @@ WorkerRole::WorkerRole(TeamSetup& team, int agent, MotionBackend& motion)
   dead_.reserve(kMaxDead);
 }
 
-double WorkerRole::deadline(int cycle) const {
-  return policy_->delivers_to_oc() ? kInf : team_.deadline(id_, cycle);
-}
+double WorkerRole::deadline(int cycle) const { return policy_->delivers_to_oc() ? kInf : team_.deadline(id_, cycle); }
 
 void WorkerRole::progress(Progress& out) const {
   out.resolved = resolved_;
@@ -134,8 +133,8 @@ void WorkerRole::repair(double now) {
   if (!new_upstream && cells == served_cells_) return;
   const mission::RouteTimetable* route =
       a.delivers_to >= 0 ? &team_.routes[static_cast<std::size_t>(a.delivers_to)] : nullptr;
-  auto fresh = std::make_unique<mission::WorkerPolicy>(team_.world, r.plan, a, route, *team_.distances,
-                                                       policy_->max_goals());
+  auto fresh =
+      std::make_unique<mission::WorkerPolicy>(team_.world, r.plan, a, route, *team_.distances, policy_->max_goals());
   fresh->reserve_all();
   // The current request's goals, in the same order: the plan under way
   // refers to them by their local index.
@@ -168,9 +167,9 @@ double WorkerRole::due_time() const {
   if (resolved_ + 1 >= team_.params.cycles) return kInf;
   if (policy_->delivers_to_oc()) return (resolved_ + 1) * team_.period;
   // A worker of a collector: when the next request reaches it.
-  return resolved_ < 0 ? 0.0
-                       : mission::request_reaches_worker(*policy_->route(), policy_->meeting_arc(), resolved_ + 1,
-                                                         team_.period);
+  return resolved_ < 0
+             ? 0.0
+             : mission::request_reaches_worker(*policy_->route(), policy_->meeting_arc(), resolved_ + 1, team_.period);
 }
 
 void WorkerRole::on_request(const RequestPart& part, int16_t) {
@@ -291,7 +290,8 @@ bool WorkerRole::settled(double now, bool in_contact) {
 void WorkerRole::decide(double now) {
   const OccupancyGrid& grid = team_.world.scenario.grid;
   const bool oc_worker = policy_->delivers_to_oc();
-  const bool may_learn = !oc_worker || team_.world.covered(grid.world_to_cell(motion_.pose()));  // OC workers: in the coverage
+  const bool may_learn =
+      !oc_worker || team_.world.covered(grid.world_to_cell(motion_.pose()));  // OC workers: in the coverage
   if (may_learn && request_.complete() && request_.id > resolved_) {
     // Requests in between never reached this worker; what is left of the
     // older one is superseded by the newer (its goals expire when a newer
@@ -407,7 +407,8 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
         }
         break;
       case Kind::kAck:
-        if (m.h.sender == upstream_ && m.h.dest == id_) custody_.acked(m.ack.keys, std::min<std::size_t>(m.ack.count, kMaxBatch));
+        if (m.h.sender == upstream_ && m.h.dest == id_)
+          custody_.acked(m.ack.keys, std::min<std::size_t>(m.ack.count, kMaxBatch));
         break;
       default:
         break;
@@ -459,8 +460,8 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
     transfer_since_ = -1.0;
   }
   if (!in_contact) sent_in_contact_ = false;
-  const bool transferred =
-      oc_worker || custody_.data() == 0 || now + kEps >= transfer_since_ + transfer_s(team_.world.scenario, custody_.data());
+  const bool transferred = oc_worker || custody_.data() == 0 ||
+                           now + kEps >= transfer_since_ + transfer_s(team_.world.scenario, custody_.data());
   if (in_contact && custody_.size() > 0 && transferred) {
     DataBatch batch;
     if (custody_.due(now, team_.params.resend_after, !contact_prev_ || !sent_in_contact_, batch) > 0) {

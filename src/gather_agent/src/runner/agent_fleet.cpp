@@ -51,7 +51,8 @@ std::string find_agent_binary(const std::string& explicit_path) {
     self[n] = '\0';
     std::string dir(self);
     dir = dir.substr(0, dir.rfind('/'));
-    for (const std::string& p : {dir + "/gather_agent", dir + "/../gather_agent/gather_agent", dir + "/../gather_agent"})
+    for (const std::string& p :
+         {dir + "/gather_agent", dir + "/../gather_agent/gather_agent", dir + "/../gather_agent"})
       if (executable(p)) return p;
   }
   for (const auto& prefix : split(std::getenv("CMAKE_PREFIX_PATH"), ':')) {

@@ -112,7 +112,9 @@ bool decode_progress(const uint8_t* at, const uint8_t* end, Progress& p) {
 
 }  // namespace
 
-std::string journal_path(const std::string& dir, int agent) { return dir + "/agent_" + std::to_string(agent) + ".journal"; }
+std::string journal_path(const std::string& dir, int agent) {
+  return dir + "/agent_" + std::to_string(agent) + ".journal";
+}
 
 Journal::Journal(std::string path, int agent, uint64_t run) : path_(std::move(path)), agent_(agent), run_(run) {
   std::error_code ec;
@@ -205,7 +207,8 @@ static const uint8_t* read_records(const uint8_t* at, const uint8_t* end, Journa
       break;
     }
     case kPose:
-      if (!get_raw(body, body_end, s.pose.x) || !get_raw(body, body_end, s.pose.y) || !get_raw(body, body_end, s.pose_t))
+      if (!get_raw(body, body_end, s.pose.x) || !get_raw(body, body_end, s.pose.y) ||
+          !get_raw(body, body_end, s.pose_t))
         return nullptr;
       s.have_pose = true;
       break;
@@ -219,7 +222,8 @@ static const uint8_t* read_records(const uint8_t* at, const uint8_t* end, Journa
 JournalState Journal::replay() {
   JournalState s;
   struct stat st {};
-  if (::fstat(fd_, &st) != 0) throw RuntimeError(path_, std::string("cannot read the journal: ") + std::strerror(errno));
+  if (::fstat(fd_, &st) != 0)
+    throw RuntimeError(path_, std::string("cannot read the journal: ") + std::strerror(errno));
   std::vector<uint8_t> data(static_cast<std::size_t>(st.st_size));
   if (::pread(fd_, data.data(), data.size(), 0) != static_cast<ssize_t>(data.size()))
     throw RuntimeError(path_, std::string("cannot read the journal: ") + std::strerror(errno));
@@ -337,7 +341,8 @@ void Journal::compact(const JournalState& state) {
     throw;
   }
   const bool synced = ::fsync(fd) == 0;
-  if (::close(fd) != 0 || !synced) throw RuntimeError(tmp, std::string("cannot sync the journal: ") + std::strerror(errno));
+  if (::close(fd) != 0 || !synced)
+    throw RuntimeError(tmp, std::string("cannot sync the journal: ") + std::strerror(errno));
   if (std::rename(tmp.c_str(), path_.c_str()) != 0)
     throw RuntimeError(path_, std::string("cannot replace the journal: ") + std::strerror(errno));
   const std::string dir = std::filesystem::path(path_).parent_path().string();
@@ -360,15 +365,18 @@ JournalKeeper::JournalKeeper(std::string path, int agent, uint64_t run) : journa
 
 JournalState JournalKeeper::open(bool replay) {
   JournalState s;
-  if (replay) s = journal_.replay();
-  else journal_.reset();
+  if (replay)
+    s = journal_.replay();
+  else
+    journal_.reset();
   return s;
 }
 
 void JournalKeeper::bind(Role& role) {
   role_ = &role;
   version_ = ~0ull;
-  if (Custody* c = role.custody_log()) c->enable_log(8 * kMaxBatch);  // a step's changes: a batch or two stored, a few acked
+  if (Custody* c = role.custody_log())
+    c->enable_log(8 * kMaxBatch);  // a step's changes: a batch or two stored, a few acked
 }
 
 void JournalKeeper::snapshot(const MotionBackend& motion, double now) {

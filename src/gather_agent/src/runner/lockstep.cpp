@@ -19,15 +19,16 @@ namespace agent {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr std::size_t kHeld = 8192;   // radio messages held for the ticks to come
-constexpr std::size_t kOutbox = 64;   // messages a role sends in one tick
+constexpr std::size_t kHeld = 8192;  // radio messages held for the ticks to come
+constexpr std::size_t kOutbox = 64;  // messages a role sends in one tick
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // Wall time [us since the epoch]: what every process of a fleet on one
 // host (or on NTP-synchronised robots) agrees on.
 int64_t realtime_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
 }
 
 void fnv1a(uint64_t& h, const std::string& path) {
@@ -48,9 +49,12 @@ void take_tick(std::vector<Message>& held, std::vector<Message>& current, int64_
   current.clear();
   std::size_t keep = 0;
   for (std::size_t i = 0; i < held.size(); ++i) {
-    if (held[i].h.tick == tick - 1) current.push_back(held[i]);
-    else if (held[i].h.tick < tick - 1) ++late;
-    else held[keep++] = held[i];
+    if (held[i].h.tick == tick - 1)
+      current.push_back(held[i]);
+    else if (held[i].h.tick < tick - 1)
+      ++late;
+    else
+      held[keep++] = held[i];
   }
   held.resize(keep);
   // In (sender, seq) order, as the in-process runner has them: an inbox that
@@ -127,8 +131,8 @@ bool LockstepAgent::take_plan(std::string* why) {
   std::snprintf(hex[0], sizeof hex[0], "%016llx", static_cast<unsigned long long>(digest_));
   std::snprintf(hex[1], sizeof hex[1], "%016llx", static_cast<unsigned long long>(p.digest));
   if (p.digest != digest_) {
-    *why = plan_.dir + ": this agent's plan (plan.yaml, labels, scenario, map) has digest " + hex[0] +
-           ", the OC's " + hex[1] + ": they are not the same plan";
+    *why = plan_.dir + ": this agent's plan (plan.yaml, labels, scenario, map) has digest " + hex[0] + ", the OC's " +
+           hex[1] + ": they are not the same plan";
     return false;
   }
   if (p.agents != static_cast<int>(plan_.plan.file.agents.size())) {
@@ -356,11 +360,13 @@ LockstepMaster::LockstepMaster(TeamSetup& team, LcmFleet& fleet, uint64_t digest
   restarted_.assign(static_cast<std::size_t>(team.agents()), 0);
   for (const Kill& k : options_.restarts)
     if (k.agent < 0 || k.agent >= team.agents())
-      throw Error("--restart", "agent " + std::to_string(k.agent) + " is not in the team of " + std::to_string(team.agents()));
+      throw Error("--restart",
+                  "agent " + std::to_string(k.agent) + " is not in the team of " + std::to_string(team.agents()));
   pid_.assign(static_cast<std::size_t>(team.agents()), 0);
   for (const Kill& k : options_.kills)
     if (k.agent < 0 || k.agent >= team.agents())
-      throw Error("--kill", "agent " + std::to_string(k.agent) + " is not in the team of " + std::to_string(team.agents()));
+      throw Error("--kill",
+                  "agent " + std::to_string(k.agent) + " is not in the team of " + std::to_string(team.agents()));
   held_.reserve(kHeld);
   current_.reserve(kHeld);
   inbox_.reserve(1024);
@@ -374,8 +380,10 @@ LockstepMaster::~LockstepMaster() = default;
 void LockstepMaster::restart(int a, ShutdownSignal* signal) {
   const std::size_t i = static_cast<std::size_t>(a);
   const int32_t old = pid_[i];
-  if (options_.kill_agent) options_.kill_agent(a);
-  else if (old > 0) ::kill(static_cast<pid_t>(old), SIGKILL);
+  if (options_.kill_agent)
+    options_.kill_agent(a);
+  else if (old > 0)
+    ::kill(static_cast<pid_t>(old), SIGKILL);
   restarted_[i] = 1;
   if (options_.respawn) options_.respawn(a);
   const auto t0 = Clock::now();
@@ -398,9 +406,11 @@ void LockstepMaster::restart(int a, ShutdownSignal* signal) {
     fleet_.replies().clear();
     if (ready) return;
     if (seconds_since(t0) > options_.ready_timeout_s || signalled(signal))
-      throw Error("lockstep", "agent " + std::to_string(a) + " did not come back READY after its restart" +
-                                  (signalled(signal) ? " before the stop" : " within " +
-                                   std::to_string(static_cast<int>(options_.ready_timeout_s)) + " s"));
+      throw Error(
+          "lockstep",
+          "agent " + std::to_string(a) + " did not come back READY after its restart" +
+              (signalled(signal) ? " before the stop"
+                                 : " within " + std::to_string(static_cast<int>(options_.ready_timeout_s)) + " s"));
   }
 }
 
@@ -428,7 +438,8 @@ void LockstepMaster::collect_replies(int64_t tick, ReplyStatus want, double time
       if (r.tick != tick) continue;
       const std::size_t a = static_cast<std::size_t>(r.agent);
       if (r.status == ReplyStatus::kRefused)
-        throw Error("agent " + std::to_string(r.agent), "refused the plan: its plan files differ from the OC's (see its log)");
+        throw Error("agent " + std::to_string(r.agent),
+                    "refused the plan: its plan files differ from the OC's (see its log)");
       if (r.status != want || replied_[a]) continue;
       replied_[a] = 1, --missing;
       if (r.status == ReplyStatus::kReady) pid_[a] = r.pid;
@@ -444,9 +455,11 @@ void LockstepMaster::collect_replies(int64_t tick, ReplyStatus want, double time
       for (std::size_t a = 0; a < replied_.size(); ++a)
         if (!replied_[a] && shown++ < 10) who += (who.empty() ? "" : ", ") + std::to_string(a);
       if (missing > 10) who += ", ...";
-      throw Error("lockstep", std::to_string(missing) + " agent(s) (" + who + ") did not " +
-                                  (tick < 0 ? "answer the plan announcement" : "reply to tick " + std::to_string(tick)) +
-                                  (signalled(signal) ? " before the stop" : " within " + std::to_string(static_cast<int>(timeout_s)) + " s"));
+      throw Error("lockstep",
+                  std::to_string(missing) + " agent(s) (" + who + ") did not " +
+                      (tick < 0 ? "answer the plan announcement" : "reply to tick " + std::to_string(tick)) +
+                      (signalled(signal) ? " before the stop"
+                                         : " within " + std::to_string(static_cast<int>(timeout_s)) + " s"));
     }
   }
 }
@@ -511,7 +524,8 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   const int64_t k = tick_;
   const double t = k * options_.tick;
   if (options_.rate > 0.0) {
-    const auto at = started_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(t / options_.rate));
+    const auto at =
+        started_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(t / options_.rate));
     const auto w0 = Clock::now();
     if (at > w0) {
       if (signal ? signal->wait_until(at) : (std::this_thread::sleep_until(at), false))
@@ -525,8 +539,10 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   for (const Kill& kill : options_.kills) {
     const std::size_t a = static_cast<std::size_t>(kill.agent);
     if (killed_[a] || t < kill.at - 1e-9) continue;
-    if (options_.kill_agent) options_.kill_agent(kill.agent);
-    else if (pid_[a] > 0) ::kill(static_cast<pid_t>(pid_[a]), SIGKILL);
+    if (options_.kill_agent)
+      options_.kill_agent(kill.agent);
+    else if (pid_[a] > 0)
+      ::kill(static_cast<pid_t>(pid_[a]), SIGKILL);
     killed_[a] = 1;
   }
   for (const Kill& r : options_.restarts) {

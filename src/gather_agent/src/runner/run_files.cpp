@@ -2,8 +2,8 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <map>
 #include <fstream>
+#include <map>
 
 #include <yaml-cpp/yaml.h>
 
@@ -43,20 +43,22 @@ MissionParams mission_params(const Scenario& s) {
   return p;
 }
 
-void append_agent_rows(std::string& out, const plan::PlanFile& plan, unsigned seed, const std::vector<AgentSummary>& agents) {
+void append_agent_rows(std::string& out, const plan::PlanFile& plan, unsigned seed,
+                       const std::vector<AgentSummary>& agents) {
   char line[512];
   for (const AgentSummary& a : agents) {
-    std::snprintf(line, sizeof line, "%s,%d,%u,%d,%s,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld\n",
-                  plan.method.c_str(), plan.collectors, seed, a.id, role_kind_name(a.role),
-                  static_cast<long long>(a.report.measured), static_cast<long long>(a.report.expired),
-                  static_cast<long long>(a.report.skipped), static_cast<long long>(a.report.dropped),
-                  static_cast<long long>(a.carried), static_cast<long long>(a.delivered),
-                  static_cast<long long>(a.link.sent), static_cast<long long>(a.link.received),
-                  static_cast<long long>(a.link.gated), static_cast<long long>(a.link.lost),
-                  static_cast<long long>(a.link.bad), static_cast<long long>(a.link.overflow),
-                  static_cast<long long>(a.auth.unsigned_msgs), static_cast<long long>(a.auth.unknown_key),
-                  static_cast<long long>(a.auth.bad_mac), static_cast<long long>(a.auth.replayed),
-                  static_cast<long long>(a.auth.wrong_sender));
+    std::snprintf(
+        line, sizeof line,
+        "%s,%d,%u,%d,%s,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld\n",
+        plan.method.c_str(), plan.collectors, seed, a.id, role_kind_name(a.role),
+        static_cast<long long>(a.report.measured), static_cast<long long>(a.report.expired),
+        static_cast<long long>(a.report.skipped), static_cast<long long>(a.report.dropped),
+        static_cast<long long>(a.carried), static_cast<long long>(a.delivered), static_cast<long long>(a.link.sent),
+        static_cast<long long>(a.link.received), static_cast<long long>(a.link.gated),
+        static_cast<long long>(a.link.lost), static_cast<long long>(a.link.bad),
+        static_cast<long long>(a.link.overflow), static_cast<long long>(a.auth.unsigned_msgs),
+        static_cast<long long>(a.auth.unknown_key), static_cast<long long>(a.auth.bad_mac),
+        static_cast<long long>(a.auth.replayed), static_cast<long long>(a.auth.wrong_sender));
     out += line;
   }
 }
@@ -105,13 +107,13 @@ void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const M
     << YAML::Value << settings.tick << YAML::Key << "rate" << YAML::Value << settings.rate << YAML::Key << "loss"
     << YAML::Value << settings.loss << YAML::Key << "ticks" << YAML::Value << run.ticks << YAML::Key << "end_s"
     << YAML::Value << run.end_s << YAML::Key << "wall_s" << YAML::Value << run.wall_ms / 1000.0 << YAML::Key
-    << "speedup" << YAML::Value << (run.wall_ms > 0 ? run.end_s * 1000.0 / run.wall_ms : 0.0) << YAML::Key
-    << "messages" << YAML::Value << run.messages << YAML::EndMap;
+    << "speedup" << YAML::Value << (run.wall_ms > 0 ? run.end_s * 1000.0 / run.wall_ms : 0.0) << YAML::Key << "messages"
+    << YAML::Value << run.messages << YAML::EndMap;
   y << YAML::Key << "goals" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "requested" << YAML::Value
     << requested << YAML::Key << "delivered" << YAML::Value << delivered << YAML::Key << "expired" << YAML::Value
     << expired << YAML::Key << "dropped" << YAML::Value << dropped << YAML::Key << "lost_with_agent" << YAML::Value
-    << lost << YAML::Key << "per_cycle" << YAML::Value
-    << run.result.goals_per_cycle << YAML::Key << "est_per_cycle" << YAML::Value << pf.est_goals << YAML::EndMap;
+    << lost << YAML::Key << "per_cycle" << YAML::Value << run.result.goals_per_cycle << YAML::Key << "est_per_cycle"
+    << YAML::Value << pf.est_goals << YAML::EndMap;
   y << YAML::Key << "refresh" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "mean_s" << YAML::Value
     << run.result.refresh_mean_s << YAML::Key << "max_s" << YAML::Value << run.result.refresh_max_s << YAML::Key
     << "est_s" << YAML::Value << pf.est_refresh_s << YAML::EndMap;
@@ -155,8 +157,8 @@ void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const M
 }
 
 void RunFiles::add(const plan::PlanFile& plan, const MissionParams& params, const RunOutcome& run) {
-  const mission::RunLabel label{plan.method, plan.collectors, plan.workers, params.seed, params.cycles,
-                                plan.est_refresh_s, plan.est_goals, plan.est_interval_s};
+  const mission::RunLabel label{plan.method,   plan.collectors,    plan.workers,   params.seed,
+                                params.cycles, plan.est_refresh_s, plan.est_goals, plan.est_interval_s};
   mission::append_goal_rows(goals_, label, run.result.goals);
   mission::append_cycle_rows(cycles_, label, run.result.cycles);
   mission::append_summary_row(summary_, label, run.result);
@@ -190,9 +192,12 @@ void append_fault_rows(std::string& out, const plan::PlanFile& plan, unsigned se
     const plan::AgentAssignment& x = plan.agents[static_cast<std::size_t>(a)];
     bool restarted = false;
     for (const Kill& k : run.restarts) restarted = restarted || k.agent == a;
-    std::snprintf(line, sizeof line, "%s,%d,%u,%d,%s,%.3f,%.3f,%d,%lld\n", plan.method.c_str(), plan.collectors, seed, a,
-                  x.collector ? "collector" : x.delivers_to < 0 ? "oc_worker" : "collector_worker", t.first, t.second,
-                  restarted ? 1 : 0, static_cast<long long>(run.recovered));
+    std::snprintf(line, sizeof line, "%s,%d,%u,%d,%s,%.3f,%.3f,%d,%lld\n", plan.method.c_str(), plan.collectors, seed,
+                  a,
+                  x.collector         ? "collector"
+                  : x.delivers_to < 0 ? "oc_worker"
+                                      : "collector_worker",
+                  t.first, t.second, restarted ? 1 : 0, static_cast<long long>(run.recovered));
     out += line;
   }
 }

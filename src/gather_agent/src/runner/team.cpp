@@ -14,7 +14,8 @@ namespace agent {
 
 AgentUnit make_agent(TeamSetup& team, int agent, const Point2* at) {
   if (agent < 0 || agent >= team.agents())
-    throw Error(team.plan.source.empty() ? "plan" : team.plan.source, "agent " + std::to_string(agent) + " is not in the team of " + std::to_string(team.agents()));
+    throw Error(team.plan.source.empty() ? "plan" : team.plan.source,
+                "agent " + std::to_string(agent) + " is not in the team of " + std::to_string(team.agents()));
   AgentUnit u;
   const Point2 start = at ? *at : team.start_pose(agent);
   if (team.assignment(agent).collector) {
@@ -48,7 +49,8 @@ void check_conservation(const OcRole& oc, int64_t measured_total, std::vector<in
   for (int32_t key : custody) {
     if (key < 0 || static_cast<std::size_t>(key) >= oc.goals().size() || delivered_goal(key)) continue;
     ++carried;
-    lost_carried += oc.resolved(key) && oc.goals()[static_cast<std::size_t>(key)].state == mission::GoalState::kLostWithAgent;
+    lost_carried +=
+        oc.resolved(key) && oc.goals()[static_cast<std::size_t>(key)].state == mission::GoalState::kLostWithAgent;
   }
   int64_t delivered = 0, expired = 0, dropped = 0, lost = 0;
   for (const mission::GoalRecord& g : oc.goals()) {
@@ -59,17 +61,19 @@ void check_conservation(const OcRole& oc, int64_t measured_total, std::vector<in
     lost += g.state == mission::GoalState::kLostWithAgent;
   }
   if (measured_total != delivered + carried)
-    throw RuntimeError("conservation", "at t = " + std::to_string(now) + " s: " + std::to_string(measured_total) +
-                                    " goals measured and stored, but " + std::to_string(delivered) + " delivered + " +
-                                    std::to_string(carried) + " carried (" +
-                                    (measured_total > delivered + carried ? "data lost" : "goals counted twice") + ")");
+    throw RuntimeError("conservation",
+                       "at t = " + std::to_string(now) + " s: " + std::to_string(measured_total) +
+                           " goals measured and stored, but " + std::to_string(delivered) + " delivered + " +
+                           std::to_string(carried) + " carried (" +
+                           (measured_total > delivered + carried ? "data lost" : "goals counted twice") + ")");
   const int64_t requested = static_cast<int64_t>(oc.requested());
   const int64_t pending = requested - delivered - carried - expired - dropped - (lost - lost_carried);
   if (pending < 0)
     throw RuntimeError("conservation", "at t = " + std::to_string(now) + " s: requested " + std::to_string(requested) +
-                                    " < delivered " + std::to_string(delivered) + " + carried " + std::to_string(carried) +
-                                    " + expired " + std::to_string(expired) + " + dropped " + std::to_string(dropped) +
-                                    " + lost with an agent " + std::to_string(lost - lost_carried));
+                                           " < delivered " + std::to_string(delivered) + " + carried " +
+                                           std::to_string(carried) + " + expired " + std::to_string(expired) +
+                                           " + dropped " + std::to_string(dropped) + " + lost with an agent " +
+                                           std::to_string(lost - lost_carried));
 }
 
 }  // namespace agent

@@ -44,7 +44,8 @@ std::vector<Kill> parse_kills(const std::string& list, int agents, const std::st
   std::size_t from = 0;
   for (;;) {
     const std::size_t comma = list.find(',', from);
-    const Kill k = parse_kill(list.substr(from, comma == std::string::npos ? std::string::npos : comma - from), agents, flag);
+    const Kill k =
+        parse_kill(list.substr(from, comma == std::string::npos ? std::string::npos : comma - from), agents, flag);
     for (const Kill& other : kills)
       if (other.agent == k.agent) throw Error(flag, "agent " + std::to_string(k.agent) + " is killed twice");
     kills.push_back(k);
@@ -64,7 +65,8 @@ void check_lost_goals(const OcRole& oc, const std::vector<const Role*>& roles, c
     if (const Custody* c = roles[a]->custody())
       for (std::size_t i = 0; i < c->size(); ++i) {
         const int32_t key = c->item(i).key;
-        if (key >= 0 && static_cast<std::size_t>(key) < held_by_gone.size()) held_by_gone[static_cast<std::size_t>(key)] = 1;
+        if (key >= 0 && static_cast<std::size_t>(key) < held_by_gone.size())
+          held_by_gone[static_cast<std::size_t>(key)] = 1;
         if (key < 0) skips_held.emplace(skipped_request(key), skipped_worker(key));
       }
   }
@@ -72,8 +74,10 @@ void check_lost_goals(const OcRole& oc, const std::vector<const Role*>& roles, c
     if (g.state != mission::GoalState::kLostWithAgent) continue;
     const bool own = g.worker >= 0 && gone[static_cast<std::size_t>(g.worker)];
     if (!held_by_gone[static_cast<std::size_t>(g.id)] && !own && !skips_held.count({g.cycle, g.worker}))
-      throw RuntimeError("faults", "goal " + std::to_string(g.id) + " was declared lost with an agent, but no dead agent "
-                                   "had it (worker " + std::to_string(g.worker) + ")");
+      throw RuntimeError("faults", "goal " + std::to_string(g.id) +
+                                       " was declared lost with an agent, but no dead agent "
+                                       "had it (worker " +
+                                       std::to_string(g.worker) + ")");
   }
 }
 
@@ -133,20 +137,23 @@ TeamRunner::TeamRunner(TeamSetup& team, const RunOptions& options)
   fresh_.assign(units_.size(), 0);
   for (const Kill& k : options_.restarts)
     if (k.agent < 0 || k.agent >= team.agents())
-      throw Error("--restart", "agent " + std::to_string(k.agent) + " is not in the team of " + std::to_string(team.agents()));
+      throw Error("--restart",
+                  "agent " + std::to_string(k.agent) + " is not in the team of " + std::to_string(team.agents()));
   if (!options_.restarts.empty() && options_.journal_dir.empty())
     throw Error("--restart", "needs the agents' journals (a journal directory)");
   journals_.resize(units_.size());
   if (!options_.journal_dir.empty())
     for (std::size_t i = 1; i < units_.size(); ++i) {
       const int a = static_cast<int>(i) - 1;
-      journals_[i] = std::make_unique<JournalKeeper>(journal_path(options_.journal_dir, a), a, journal_run_id(team.params));
+      journals_[i] =
+          std::make_unique<JournalKeeper>(journal_path(options_.journal_dir, a), a, journal_run_id(team.params));
       journals_[i]->open(false);
       journals_[i]->bind(*units_[i].role);
     }
   for (const Kill& k : options_.kills)
     if (k.agent < 0 || k.agent >= team.agents())
-      throw Error("--kill", "agent " + std::to_string(k.agent) + " is not in the team of " + std::to_string(team.agents()));
+      throw Error("--kill",
+                  "agent " + std::to_string(k.agent) + " is not in the team of " + std::to_string(team.agents()));
   sent_.reserve(units_.size() * 8);
   next_.reserve(units_.size() * 8);
   inbox_.reserve(options_.inbox);
@@ -259,10 +266,11 @@ RunOutcome TeamRunner::run() {
       for (std::size_t i = 1; i < units_.size(); ++i)
         if (const Custody* c = units_[i].role->custody())
           for (std::size_t k = 0; k < c->size(); ++k)
-            if (c->item(k).key == g.id) where += " held by " + std::to_string(i - 1) + "(" + item_kind_name(c->item(k).kind) + ")";
+            if (c->item(k).key == g.id)
+              where += " held by " + std::to_string(i - 1) + "(" + item_kind_name(c->item(k).kind) + ")";
       const Role& w = *units_[static_cast<std::size_t>(g.worker) + 1].role;
-      std::fprintf(stderr, "unresolved goal %d cycle %d worker %d seg %d deadline %.1f:%s worker knows %d phase %d\n", g.id, g.cycle,
-                   g.worker, g.segment, g.deadline, where.c_str(), w.newest_request(),
+      std::fprintf(stderr, "unresolved goal %d cycle %d worker %d seg %d deadline %.1f:%s worker knows %d phase %d\n",
+                   g.id, g.cycle, g.worker, g.segment, g.deadline, where.c_str(), w.newest_request(),
                    w.kind() == RoleKind::kWorker ? static_cast<int>(static_cast<const WorkerRole&>(w).phase()) : -1);
     }
   }

@@ -67,9 +67,11 @@ FleetKey load_fleet_key(const std::string& path) {
   if ((st.st_mode & 077) != 0) {
     char mode[8];
     std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(st.st_mode & 07777));
-    throw Error(path, std::string("the key file is readable by group or others (mode ") + mode + "); chmod 600 " + path);
+    throw Error(path,
+                std::string("the key file is readable by group or others (mode ") + mode + "); chmod 600 " + path);
   }
-  if (st.st_size > 4096 || text.size() > 4096) throw Error(path, "the key file is larger than 4096 bytes: not a gather fleet key");
+  if (st.st_size > 4096 || text.size() > 4096)
+    throw Error(path, "the key file is larger than 4096 bytes: not a gather fleet key");
   std::istringstream in(text);
   FleetKey k;
   bool have_id = false, have_key = false;

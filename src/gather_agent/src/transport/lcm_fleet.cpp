@@ -105,8 +105,8 @@ std::string LcmFleet::reply_url_for(const std::string& url) {
   return scheme + host + ":" + std::to_string(port + 1) + rest;
 }
 
-LcmFleet::LcmFleet(const std::string& url, const std::string& reply_url, bool listen_replies, std::optional<FleetKey> key,
-                   int team)
+LcmFleet::LcmFleet(const std::string& url, const std::string& reply_url, bool listen_replies,
+                   std::optional<FleetKey> key, int team)
     : team_(team),
       listen_replies_(listen_replies),
       buffer_(kBuffer),
@@ -153,7 +153,8 @@ bool LcmFleet::publish(const Message& m) {
       r.part = static_cast<int16_t>(m.request.part);
       r.parts = static_cast<int16_t>(m.request.parts);
       r.count = static_cast<int16_t>(m.request.count);
-      for (int i = 0; i < kRequestPartGoals; ++i) r.cells[i] = i < m.request.count ? static_cast<int32_t>(m.request.cells[i]) : 0;
+      for (int i = 0; i < kRequestPartGoals; ++i)
+        r.cells[i] = i < m.request.count ? static_cast<int32_t>(m.request.cells[i]) : 0;
       r.n_dead = static_cast<int8_t>(std::min<int>(m.request.dead_count, kMaxDead));
       r.dead.assign(m.request.dead, m.request.dead + r.n_dead);
       n = r.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
@@ -446,7 +447,8 @@ void LcmFleet::on_radio_payload(const char* channel, const void* data, int size,
     if (!decoded(safe_decode(w.state, data, size))) return;
     const gather_lcm::agent_state_t& s = w.state;
     h = &s.h;
-    if (s.role < 1 || s.role > 3 || s.carried < 0 || s.notices < 0 || s.pending < 0) return void(++refused_.out_of_range);
+    if (s.role < 1 || s.role > 3 || s.carried < 0 || s.notices < 0 || s.pending < 0)
+      return void(++refused_.out_of_range);
     m.h.kind = Kind::kState;
     m.state.role = static_cast<RoleKind>(s.role);
     m.state.carried = static_cast<uint16_t>(s.carried);
@@ -491,7 +493,8 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
     if (w.tick.schema_version != gather_lcm::tick_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
     if (w.tick.tick < 0 || !finite(w.tick.t) || w.tick.sent_before < 0 || w.tick.start_us < 0)
       return void(++refused_.out_of_range);
-    ticks_.push_back(Tick{w.tick.tick, w.tick.t, w.tick.sent_before, w.tick.report != 0, w.tick.done != 0, w.tick.start_us});
+    ticks_.push_back(
+        Tick{w.tick.tick, w.tick.t, w.tick.sent_before, w.tick.report != 0, w.tick.done != 0, w.tick.start_us});
   } else if (std::strcmp(channel, kPlanChannel) == 0) {
     if (safe_decode(w.plan, data, size) != size) return void(++refused_.undecodable);
     const gather_lcm::plan_t& p = w.plan;
@@ -500,10 +503,11 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
     // plan message sizes the agents' buffers.
     constexpr int32_t kMaxCapacity = 1 << 22;
     if (p.agents < 1 || p.agents > kMaxTeam || p.cycles < 1 || p.cycles > kMaxRequests || p.goals_per_request < 0 ||
-        p.goals_per_request > 100000 || p.data_capacity < 1 || p.data_capacity > kMaxCapacity || p.notice_capacity < 1 ||
-        p.notice_capacity > kMaxCapacity || !(p.tick > 0 && p.tick <= 0.1) || !(p.loss >= 0 && p.loss < 1) ||
-        !(p.beacon_period > 0 && p.beacon_period <= 3600) || !(p.resend_after > 0 && p.resend_after <= 3600) ||
-        (p.clock != 0 && p.clock != 1) || !(p.rate > 0 && p.rate <= 1e6) || (p.repair != 0 && p.repair != 1) ||
+        p.goals_per_request > 100000 || p.data_capacity < 1 || p.data_capacity > kMaxCapacity ||
+        p.notice_capacity < 1 || p.notice_capacity > kMaxCapacity || !(p.tick > 0 && p.tick <= 0.1) ||
+        !(p.loss >= 0 && p.loss < 1) || !(p.beacon_period > 0 && p.beacon_period <= 3600) ||
+        !(p.resend_after > 0 && p.resend_after <= 3600) || (p.clock != 0 && p.clock != 1) ||
+        !(p.rate > 0 && p.rate <= 1e6) || (p.repair != 0 && p.repair != 1) ||
         !(p.silent_intervals >= 1.5 && p.silent_intervals <= 100.0))
       return void(++refused_.out_of_range);
     PlanAnnounce a;
@@ -537,7 +541,8 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
     for (int i = 0; i < r.n_measured; ++i)
       if (r.measured_goals[static_cast<std::size_t>(i)] < 0) return void(++refused_.out_of_range);
     for (int i = 0; i < r.n_path; ++i)
-      if (!std::isfinite(r.path_x[static_cast<std::size_t>(i)]) || !std::isfinite(r.path_y[static_cast<std::size_t>(i)]))
+      if (!std::isfinite(r.path_x[static_cast<std::size_t>(i)]) ||
+          !std::isfinite(r.path_y[static_cast<std::size_t>(i)]))
         return void(++refused_.out_of_range);
     Reply o;
     o.tick = r.tick;

@@ -55,12 +55,16 @@ MapCanvas::MapCanvas(const OccupancyGrid& g, const cv::Vec3b& free_colour) : gri
     }
 }
 
-void MapCanvas::paint(Cell c, const cv::Vec3b& colour) { cells_.at<cv::Vec3b>(grid_.height() - 1 - c.row, c.col) = colour; }
+void MapCanvas::paint(Cell c, const cv::Vec3b& colour) {
+  cells_.at<cv::Vec3b>(grid_.height() - 1 - c.row, c.col) = colour;
+}
 
 cv::Mat& MapCanvas::image() {
   if (img_.empty()) {
-    if (scale_ == 1.0) img_ = cells_.clone();
-    else cv::resize(cells_, img_, cv::Size(), scale_, scale_, scale_ > 1.0 ? cv::INTER_NEAREST : cv::INTER_AREA);
+    if (scale_ == 1.0)
+      img_ = cells_.clone();
+    else
+      cv::resize(cells_, img_, cv::Size(), scale_, scale_, scale_ > 1.0 ? cv::INTER_NEAREST : cv::INTER_AREA);
   }
   return img_;
 }
@@ -73,7 +77,9 @@ cv::Point MapCanvas::px(Point2 p) const {
 
 cv::Point MapCanvas::px(Cell c) const { return px(grid_.cell_center(c)); }
 
-int MapCanvas::px_len(double m) const { return std::max(1, static_cast<int>(std::lround(m / grid_.resolution() * scale_))); }
+int MapCanvas::px_len(double m) const {
+  return std::max(1, static_cast<int>(std::lround(m / grid_.resolution() * scale_)));
+}
 
 void MapCanvas::oc(Point2 p) {
   const cv::Point o = px(p);
@@ -135,7 +141,8 @@ cv::Mat MapCanvas::framed(const std::string& caption, const std::vector<LegendIt
   cv::rectangle(out, cv::Point(8, y - 4), cv::Point(8 + bar, y + 2), cv::Scalar(0, 0, 0), cv::FILLED);
   char text[32];
   std::snprintf(text, sizeof text, "%g m", len);
-  cv::putText(out, text, cv::Point(14 + bar, y + 3), cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  cv::putText(out, text, cv::Point(14 + bar, y + 3), cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar(0, 0, 0), 1,
+              cv::LINE_AA);
   x = 60 + bar;
   for (std::size_t i = 0; i < legend.size(); ++i) {
     if (x + item_w[i] > width) y += 20, x = 8;

@@ -33,12 +33,12 @@ class MapCanvas {
   // Scaled image with marks; the first call freezes the painted cells.
   cv::Mat& image();
   double scale() const { return scale_; }  // [px per cell]
-  cv::Point px(Point2 p) const;             // map point [m] -> pixel
+  cv::Point px(Point2 p) const;            // map point [m] -> pixel
   cv::Point px(Cell c) const;
-  int px_len(double meters) const;          // a length [m] in pixels
+  int px_len(double meters) const;  // a length [m] in pixels
 
-  void oc(Point2 p);                                    // red square
-  void dot(Point2 p, const cv::Scalar& fill, int radius_px);   // black-edged disc
+  void oc(Point2 p);                                          // red square
+  void dot(Point2 p, const cv::Scalar& fill, int radius_px);  // black-edged disc
   void polyline(const std::vector<Point2>& pts, const cv::Scalar& colour, int thickness, bool dashed = false);
   void label(Point2 p, const std::string& text, double font = 0.4);
 

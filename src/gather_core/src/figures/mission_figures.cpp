@@ -64,7 +64,8 @@ void paint_segments(MapCanvas& canvas, const plan::PlanContext& ctx, const missi
     const cv::Vec3b& full = pal[static_cast<std::size_t>(k - 1) % pal.size()];
     cv::Vec3b c(static_cast<uchar>(full[0] * 0.4 + 255 * 0.6), static_cast<uchar>(full[1] * 0.4 + 255 * 0.6),
                 static_cast<uchar>(full[2] * 0.4 + 255 * 0.6));
-    if (ctx.coverage[i]) c = cv::Vec3b(static_cast<uchar>(c[0] * 0.8), static_cast<uchar>(c[1] * 0.8), static_cast<uchar>(c[2] * 0.8));
+    if (ctx.coverage[i])
+      c = cv::Vec3b(static_cast<uchar>(c[0] * 0.8), static_cast<uchar>(c[1] * 0.8), static_cast<uchar>(c[2] * 0.8));
     canvas.paint(g.cell(i), c);
   }
 }
@@ -81,7 +82,9 @@ std::vector<std::vector<double>> simulated_utilities(const std::vector<ConfigRun
   for (auto& x : u) x.assign(seeds, 0.0);
   for (std::size_t s = 0; s < seeds; ++s) {
     double tlo = 1e300, thi = -1e300, nlo = 1e300, nhi = -1e300;
-    auto refresh = [&](const ConfigRuns& r) { return m == RefreshMetric::kInterval ? r.interval_s[s] : r.refresh_s[s]; };
+    auto refresh = [&](const ConfigRuns& r) {
+      return m == RefreshMetric::kInterval ? r.interval_s[s] : r.refresh_s[s];
+    };
     for (const auto& r : runs) {
       tlo = std::min(tlo, refresh(r)), thi = std::max(thi, refresh(r));
       nlo = std::min(nlo, r.goals[s]), nhi = std::max(nhi, r.goals[s]);
@@ -100,7 +103,8 @@ void write_fig3(const std::string& dir, const std::vector<ConfigRuns>& runs, con
   const auto util = simulated_utilities(runs, alpha, beta, metric);
   enum { kRefresh, kInterval, kGoals, kUtility };
   const char* files[] = {"fig3_refresh.png", "fig3_interval.png", "fig3_goals.png", "fig3_utility.png"};
-  const std::string utility_title = std::string("(c) Utility U on the ") + refresh_metric_name(metric) + " refresh: E and R";
+  const std::string utility_title =
+      std::string("(c) Utility U on the ") + refresh_metric_name(metric) + " refresh: E and R";
   const char* titles[] = {"(a) Refreshing time, latency: estimated E, real R (min-max over seeds)",
                           "(a') Refreshing time, interval between an area's deliveries: E and R",
                           "(b) Delivered goals per cycle: E and R", utility_title.c_str()};
@@ -119,10 +123,16 @@ void write_fig3(const std::string& dir, const std::vector<ConfigRuns>& runs, con
       for (std::size_t i = 0; i < runs.size(); ++i) {
         const ConfigRuns& c = runs[i];
         if (c.method != m) continue;
-        const std::vector<double>& v = q == kRefresh ? c.refresh_s : q == kInterval ? c.interval_s : q == kGoals ? c.goals : util[i];
+        const std::vector<double>& v = q == kRefresh    ? c.refresh_s
+                                       : q == kInterval ? c.interval_s
+                                       : q == kGoals    ? c.goals
+                                                        : util[i];
         if (v.empty()) continue;
         e.x.push_back(c.collectors), r.x.push_back(c.collectors);
-        e.y.push_back(q == kRefresh ? c.est_refresh_s : q == kInterval ? c.est_interval_s : q == kGoals ? c.est_goals : c.est_utility);
+        e.y.push_back(q == kRefresh    ? c.est_refresh_s
+                      : q == kInterval ? c.est_interval_s
+                      : q == kGoals    ? c.est_goals
+                                       : c.est_utility);
         r.y.push_back(mean(v));
         r.band_lo.push_back(*std::min_element(v.begin(), v.end()));
         r.band_hi.push_back(*std::max_element(v.begin(), v.end()));
@@ -190,10 +200,12 @@ void write_fig4_sync(const std::string& path, const plan::PlanContext& ctx, cons
                   "Fig. 4a: worker %d (blue) and its collector %d (red), t = %.0f..%.0f s; a goal takes %.2f s of link",
                   agent, collector, t0, t1, transfer_s(ctx.scenario, 1));
   else
-    std::snprintf(caption, sizeof caption, "Fig. 4a: worker %d (blue) and its collector %d (red), t = %.0f..%.0f s; instant hand-over",
-                  agent, collector, t0, t1);
+    std::snprintf(caption, sizeof caption,
+                  "Fig. 4a: worker %d (blue) and its collector %d (red), t = %.0f..%.0f s; instant hand-over", agent,
+                  collector, t0, t1);
   canvas.save(path, caption,
-              {{LegendItem::kLine, blue, "worker"}, {LegendItem::kLine, red, "collector"},
+              {{LegendItem::kLine, blue, "worker"},
+               {LegendItem::kLine, red, "collector"},
                {LegendItem::kLine, window_colour, "link window of a pass"},
                {LegendItem::kLine, transfer_colour, "transfer (collector's path)"},
                {LegendItem::kSquare, rv_colour, "rendezvous point"},
@@ -208,7 +220,8 @@ namespace {
 // follow their legs' geodesic paths, each marched once and cached.
 class MissionRenderer {
  public:
-  MissionRenderer(const plan::PlanContext& ctx, const mission::MissionSimulator& sim, const mission::MissionResult& result)
+  MissionRenderer(const plan::PlanContext& ctx, const mission::MissionSimulator& sim,
+                  const mission::MissionResult& result)
       : ctx_(ctx), sim_(sim), result_(result), base_(ctx.scenario.grid), fm_(ctx.scenario.grid) {
     const mission::MissionPlan& plan = sim.plan();
     paint_segments(base_, ctx, plan);
@@ -221,7 +234,8 @@ class MissionRenderer {
     MapCanvas canvas = base_;
     canvas.image() = base_.image().clone();
     const mission::MissionPlan& plan = sim_.plan();
-    const int cycle = std::min(static_cast<int>(std::floor(t / result_.period_s)), static_cast<int>(result_.cycles.size()) - 1);
+    const int cycle =
+        std::min(static_cast<int>(std::floor(t / result_.period_s)), static_cast<int>(result_.cycles.size()) - 1);
     for (const auto& goal : result_.goals) {
       if (goal.cycle != cycle) continue;
       cv::Scalar c = kPending;
@@ -287,7 +301,7 @@ class MissionRenderer {
   const mission::MissionResult& result_;
   MapCanvas base_;
   fmm::FastMarching fm_;
-  std::map<int, std::vector<std::size_t>> legs_of_;  // agent -> its legs in time order
+  std::map<int, std::vector<std::size_t>> legs_of_;                                   // agent -> its legs in time order
   std::map<std::size_t, std::pair<std::vector<Point2>, std::vector<double>>> paths_;  // leg -> path, its arcs
 };
 
@@ -304,21 +318,26 @@ void write_mission_video(const std::string& path, const plan::PlanContext& ctx, 
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
   int fourcc = 0;
-  if (ext == ".mp4") fourcc = cv::VideoWriter::fourcc('m', 'p', '4', 'v');
-  else if (ext == ".avi") fourcc = cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
-  else throw Error(path, "video must be .mp4 or .avi, got '" + ext + "'");
+  if (ext == ".mp4")
+    fourcc = cv::VideoWriter::fourcc('m', 'p', '4', 'v');
+  else if (ext == ".avi")
+    fourcc = cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
+  else
+    throw Error(path, "video must be .mp4 or .avi, got '" + ext + "'");
   if (!(fps > 0) || frames < 2) throw Error(path, "video needs fps > 0 and at least 2 frames");
   const double end = std::max(result.end_s, result.mission_s);
   MissionRenderer renderer(ctx, sim, result);
   std::error_code ec;
-  if (std::filesystem::path(path).has_parent_path()) std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
+  if (std::filesystem::path(path).has_parent_path())
+    std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
   cv::VideoWriter writer;
   cv::Size size;
   for (int i = 0; i < frames; ++i) {
     cv::Mat img = renderer.frame(end * i / (frames - 1));
     if (i == 0) {
       size = cv::Size(img.cols + img.cols % 2, img.rows + img.rows % 2);  // even sizes for the encoders
-      if (!writer.open(path, cv::CAP_FFMPEG, fourcc, fps, size)) throw Error(path, "cannot write video (OpenCV/FFmpeg)");
+      if (!writer.open(path, cv::CAP_FFMPEG, fourcc, fps, size))
+        throw Error(path, "cannot write video (OpenCV/FFmpeg)");
     }
     cv::Mat even(size, img.type(), cv::Scalar(255, 255, 255));
     img(cv::Rect(0, 0, std::min(img.cols, size.width), std::min(img.rows, size.height)))

@@ -24,7 +24,9 @@ cv::Vec3b blend(cv::Vec3b a, cv::Vec3b b, double t) {
                    static_cast<uchar>(a[2] * (1 - t) + b[2] * t));
 }
 
-cv::Vec3b to_vec(cv::Scalar s) { return cv::Vec3b(static_cast<uchar>(s[0]), static_cast<uchar>(s[1]), static_cast<uchar>(s[2])); }
+cv::Vec3b to_vec(cv::Scalar s) {
+  return cv::Vec3b(static_cast<uchar>(s[0]), static_cast<uchar>(s[1]), static_cast<uchar>(s[2]));
+}
 
 // Paints each reachable cell with colour_of(label), segment borders dark and
 // the OC's coverage slightly darker (so it reads as an area).
@@ -37,8 +39,9 @@ void paint_segments(MapCanvas& canvas, const OccupancyGrid& g, const std::vector
       const std::size_t i = static_cast<std::size_t>(r) * w + c;
       const int k = labels[i];
       if (k <= 0) continue;
-      const bool border = (c + 1 < w && labels[i + 1] > 0 && labels[i + 1] != k) ||
-                          (r + 1 < h && labels[i + static_cast<std::size_t>(w)] > 0 && labels[i + static_cast<std::size_t>(w)] != k);
+      const bool border =
+          (c + 1 < w && labels[i + 1] > 0 && labels[i + 1] != k) ||
+          (r + 1 < h && labels[i + static_cast<std::size_t>(w)] > 0 && labels[i + static_cast<std::size_t>(w)] != k);
       cv::Vec3b col = colour_of(k);
       if (coverage[i]) col = blend(col, cv::Vec3b(90, 90, 90), 0.28);
       canvas.paint(Cell{r, c}, border ? cv::Vec3b(70, 70, 70) : col);
@@ -58,15 +61,18 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
   const auto& labels = cfg.partition.labels;
   const auto& pal = fill_palette();
   const auto& lines = line_palette();
-  const int dot = std::max(4, static_cast<int>(std::lround(0.3 / g.resolution() * std::min(1.0, 1600.0 / std::max(g.width(), g.height())))));
+  const int dot = std::max(
+      4, static_cast<int>(std::lround(0.3 / g.resolution() * std::min(1.0, 1600.0 / std::max(g.width(), g.height())))));
   const std::string what = method_upper(cfg.method) + ", " + std::to_string(cfg.workers) + " workers, " +
                            std::to_string(cfg.collectors) + " collectors";
 
   // (a) Worker graph.
   {
-    const std::vector<int> colour = colour_segments(labels, g.width(), g.height(), cfg.workers, static_cast<int>(pal.size()));
+    const std::vector<int> colour =
+        colour_segments(labels, g.width(), g.height(), cfg.workers, static_cast<int>(pal.size()));
     MapCanvas canvas(g);
-    paint_segments(canvas, g, labels, ctx.coverage, [&](int k) { return pal[static_cast<std::size_t>(colour[static_cast<std::size_t>(k - 1)])]; });
+    paint_segments(canvas, g, labels, ctx.coverage,
+                   [&](int k) { return pal[static_cast<std::size_t>(colour[static_cast<std::size_t>(k - 1)])]; });
     int edges = 0;
     for (const auto& s : cfg.graph.segments)
       for (int m : s.neighbours)
@@ -89,14 +95,17 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
   const cv::Vec3b direct_colour(205, 205, 205);
   auto group_fill = [&](int k) {
     const int c = cfg.collector_of_segment[static_cast<std::size_t>(k - 1)];
-    return c < 0 ? direct_colour : blend(to_vec(lines[static_cast<std::size_t>(c) % lines.size()]), cv::Vec3b(255, 255, 255), 0.55);
+    return c < 0 ? direct_colour
+                 : blend(to_vec(lines[static_cast<std::size_t>(c) % lines.size()]), cv::Vec3b(255, 255, 255), 0.55);
   };
   std::vector<LegendItem> group_legend;
   for (int c = 0; c < cfg.collectors; ++c) {
-    const cv::Vec3b f = blend(to_vec(lines[static_cast<std::size_t>(c) % lines.size()]), cv::Vec3b(255, 255, 255), 0.55);
+    const cv::Vec3b f =
+        blend(to_vec(lines[static_cast<std::size_t>(c) % lines.size()]), cv::Vec3b(255, 255, 255), 0.55);
     group_legend.push_back({LegendItem::kSquare, cv::Scalar(f[0], f[1], f[2]), "collector " + std::to_string(c + 1)});
   }
-  group_legend.push_back({LegendItem::kSquare, cv::Scalar(direct_colour[0], direct_colour[1], direct_colour[2]), "to the OC"});
+  group_legend.push_back(
+      {LegendItem::kSquare, cv::Scalar(direct_colour[0], direct_colour[1], direct_colour[2]), "to the OC"});
   group_legend.push_back({LegendItem::kSquare, cv::Scalar(0, 0, 230), "OC"});
 
   // (b) Collector segments.
@@ -110,7 +119,8 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
   // (c) Associations: routes, meeting areas, who delivers to whom.
   {
     MapCanvas canvas(g);
-    paint_segments(canvas, g, labels, ctx.coverage, [&](int k) { return blend(group_fill(k), cv::Vec3b(255, 255, 255), 0.5); });
+    paint_segments(canvas, g, labels, ctx.coverage,
+                   [&](int k) { return blend(group_fill(k), cv::Vec3b(255, 255, 255), 0.5); });
     for (const auto& s : cfg.graph.segments) {
       const int c = cfg.collector_of_segment[static_cast<std::size_t>(s.id - 1)];
       if (c < 0) {
@@ -119,7 +129,8 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
       }
       const auto& r = cfg.routes[static_cast<std::size_t>(c)];
       for (const auto& m : r.meetings)
-        if (m.segment == s.id) canvas.polyline({s.centroid_m, m.point}, lines[static_cast<std::size_t>(c) % lines.size()], 1, true);
+        if (m.segment == s.id)
+          canvas.polyline({s.centroid_m, m.point}, lines[static_cast<std::size_t>(c) % lines.size()], 1, true);
     }
     for (const auto& r : cfg.routes) {
       const cv::Scalar& col = lines[static_cast<std::size_t>(r.collector) % lines.size()];
@@ -136,12 +147,13 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
     legend.push_back({LegendItem::kCircle, cv::Scalar(255, 255, 255), "worker (centroid)"});
     legend.push_back({LegendItem::kLine, cv::Scalar(0, 0, 200), "delivers to OC (dashed)"});
     legend.push_back({LegendItem::kSquare, cv::Scalar(0, 0, 230), "OC"});
-    canvas.save(dir + "/fig2_associations.png", "(c) Associations P_cw: " + what + fmt(", request period %.0f s", ctx.cycle_period),
-                legend);
+    canvas.save(dir + "/fig2_associations.png",
+                "(c) Associations P_cw: " + what + fmt(", request period %.0f s", ctx.cycle_period), legend);
   }
 }
 
-void write_estimates_figure(const std::string& path, const plan::SweepResult& sweep, const std::vector<std::string>& methods) {
+void write_estimates_figure(const std::string& path, const plan::SweepResult& sweep,
+                            const std::vector<std::string>& methods) {
   const cv::Scalar colours[] = {cv::Scalar(180, 90, 20), cv::Scalar(40, 150, 40), cv::Scalar(20, 110, 230)};
   std::vector<Series> refresh, interval, goals, utility;
   for (std::size_t mi = 0; mi < methods.size(); ++mi) {

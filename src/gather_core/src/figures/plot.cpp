@@ -61,15 +61,19 @@ cv::Mat line_chart(const std::string& title, const std::string& x_label, const s
   if (!(x1 >= x0)) x0 = 0, x1 = 1;
   if (!(y1 >= y0)) y0 = 0, y1 = 1;
   if (x1 - x0 < 1e-9) x0 -= 0.5, x1 += 0.5;
-  if (y1 - y0 < 1e-9 * std::max(1.0, std::abs(y1))) y0 -= std::max(0.5, std::abs(y0) * 0.05), y1 += std::max(0.5, std::abs(y1) * 0.05);
+  if (y1 - y0 < 1e-9 * std::max(1.0, std::abs(y1)))
+    y0 -= std::max(0.5, std::abs(y0) * 0.05), y1 += std::max(0.5, std::abs(y1) * 0.05);
   const double ystep = tick_step(y1 - y0, 5);
   y0 = std::floor(y0 / ystep) * ystep, y1 = std::ceil(y1 / ystep) * ystep;
   const double xstep = std::max(1.0, tick_step(x1 - x0, 8));
 
-  const int left = 62, right = 14, top = 30, legend_h = 18 * static_cast<int>((series.size() + 2) / 3), bottom = 44 + legend_h;
+  const int left = 62, right = 14, top = 30, legend_h = 18 * static_cast<int>((series.size() + 2) / 3),
+            bottom = 44 + legend_h;
   const cv::Rect plot(left, top, size.width - left - right, size.height - top - bottom);
   auto X = [&](double x) { return plot.x + static_cast<int>(std::lround((x - x0) / (x1 - x0) * plot.width)); };
-  auto Y = [&](double y) { return plot.y + plot.height - static_cast<int>(std::lround((y - y0) / (y1 - y0) * plot.height)); };
+  auto Y = [&](double y) {
+    return plot.y + plot.height - static_cast<int>(std::lround((y - y0) / (y1 - y0) * plot.height));
+  };
 
   text(img, title, cv::Point(size.width / 2, 19), 0.5, 1);
   for (double y = y0; y <= y1 + 1e-9 * ystep; y += ystep) {
@@ -77,7 +81,8 @@ cv::Mat line_chart(const std::string& title, const std::string& x_label, const s
     text(img, num(y), cv::Point(plot.x - 6, Y(y) + 4), 0.4, 2);
   }
   for (double x = std::ceil(x0 / xstep) * xstep; x <= x1 + 1e-9; x += xstep) {
-    cv::line(img, cv::Point(X(x), plot.y + plot.height), cv::Point(X(x), plot.y + plot.height + 4), cv::Scalar(0, 0, 0), 1);
+    cv::line(img, cv::Point(X(x), plot.y + plot.height), cv::Point(X(x), plot.y + plot.height + 4), cv::Scalar(0, 0, 0),
+             1);
     text(img, num(x), cv::Point(X(x), plot.y + plot.height + 17), 0.4, 1);
   }
   cv::rectangle(img, plot, cv::Scalar(0, 0, 0), 1);
@@ -87,7 +92,8 @@ cv::Mat line_chart(const std::string& title, const std::string& x_label, const s
     int base = 0;
     const cv::Size ts = cv::getTextSize(y_label, cv::FONT_HERSHEY_SIMPLEX, 0.45, 1, &base);
     cv::Mat lab(ts.height + 8, ts.width + 4, CV_8UC3, cv::Scalar(255, 255, 255));
-    cv::putText(lab, y_label, cv::Point(2, ts.height + 2), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    cv::putText(lab, y_label, cv::Point(2, ts.height + 2), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1,
+                cv::LINE_AA);
     cv::Mat rot;
     cv::rotate(lab, rot, cv::ROTATE_90_COUNTERCLOCKWISE);
     const int ry = std::max(0, plot.y + plot.height / 2 - rot.rows / 2);
@@ -111,7 +117,8 @@ cv::Mat line_chart(const std::string& title, const std::string& x_label, const s
       } else {
         const double len = std::hypot(b.x - a.x, b.y - a.y);
         for (double t = 0; t < len; t += 9.0)
-          cv::line(img, a + (b - a) * (t / len), a + (b - a) * (std::min(len, t + 5.0) / len), s.colour, 2, cv::LINE_AA);
+          cv::line(img, a + (b - a) * (t / len), a + (b - a) * (std::min(len, t + 5.0) / len), s.colour, 2,
+                   cv::LINE_AA);
       }
     }
     for (std::size_t i = 0; i < s.x.size(); ++i) marker(img, cv::Point(X(s.x[i]), Y(s.y[i])), s.marker, s.colour);

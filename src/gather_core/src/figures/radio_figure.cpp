@@ -19,8 +19,10 @@ void write_coverage_png(const std::string& path, const OccupancyGrid& g, const R
     if (!coverage[i]) continue;
     const Cell c = g.cell(i);
     // Strong signal dark green, near the sensitivity pale green.
-    const double t = std::clamp((radio.received_dbm(tx, g.cell_center(c)) - sens) / std::max(1.0, top - sens), 0.0, 1.0);
-    canvas.paint(c, cv::Vec3b(static_cast<uchar>(200 - 140 * t), static_cast<uchar>(240 - 90 * t), static_cast<uchar>(200 - 160 * t)));
+    const double t =
+        std::clamp((radio.received_dbm(tx, g.cell_center(c)) - sens) / std::max(1.0, top - sens), 0.0, 1.0);
+    canvas.paint(c, cv::Vec3b(static_cast<uchar>(200 - 140 * t), static_cast<uchar>(240 - 90 * t),
+                              static_cast<uchar>(200 - 160 * t)));
   }
   cv::Mat& img = canvas.image();
   const int r = canvas.px_len(radio.free_space_range());

@@ -46,7 +46,8 @@ void FastMarching::march_buckets(const SolveOptions& options) {
   float max_inv_w = 1.0f;
   for (float w : inv_front_speed_) max_inv_w = std::max(max_inv_w, w);
   const double span = std::max(static_cast<double>(max_cost_) * max_inv_w,
-                               seeds_.empty() ? 0.0 : static_cast<double>(seed_hi) - seed_lo) + delta;
+                               seeds_.empty() ? 0.0 : static_cast<double>(seed_hi) - seed_lo) +
+                      delta;
   std::size_t nb = 4;
   while (nb < static_cast<std::size_t>(std::ceil(span / delta)) + 2 && nb < kMaxBuckets) nb *= 2;
   if (span / delta + 2 > static_cast<double>(nb)) delta = span / static_cast<double>(nb - 3);

@@ -125,8 +125,8 @@ void FastMarching::seed(const std::vector<Source>& sources, bool labels) {
       qy = (s.point.y - origin_.y) / resolution_;
       base = Cell{static_cast<int>(std::floor(qy)), static_cast<int>(std::floor(qx))};
       if (!contains(base) || !(std::abs(qx) < 1e9 && std::abs(qy) < 1e9))
-        throw Error(where, "point [" + std::to_string(s.point.x) + ", " + std::to_string(s.point.y) +
-                               "] m is off the map");
+        throw Error(where,
+                    "point [" + std::to_string(s.point.x) + ", " + std::to_string(s.point.y) + "] m is off the map");
     } else {
       base = s.cell;
       if (!contains(base))
@@ -137,14 +137,14 @@ void FastMarching::seed(const std::vector<Source>& sources, bool labels) {
     }
     if (!traversable(base))
       throw Error(where, "cell " + cell_text(base) + " is an obstacle" + (cost_.empty() ? "" : " or has zero speed"));
-    const float base_cost =
-        cost_at(padded(base)) * (inv_front_speed_.empty() ? 1.0f : inv_front_speed_[i]);
+    const float base_cost = cost_at(padded(base)) * (inv_front_speed_.empty() ? 1.0f : inv_front_speed_[i]);
     for (int dr = -1; dr <= 1; ++dr) {
       for (int dc = -1; dc <= 1; ++dc) {
         const Cell n{base.row + dr, base.col + dc};
         if (!traversable(n)) continue;
         // A diagonal cell is in straight sight only when both cells between are free.
-        if (dr != 0 && dc != 0 && (!traversable(Cell{base.row + dr, base.col}) || !traversable(Cell{base.row, base.col + dc})))
+        if (dr != 0 && dc != 0 &&
+            (!traversable(Cell{base.row + dr, base.col}) || !traversable(Cell{base.row, base.col + dc})))
           continue;
         const std::size_t p = padded(n);
         const double d = std::hypot(n.col + 0.5 - qx, n.row + 0.5 - qy);  // [cells]
@@ -171,8 +171,7 @@ void FastMarching::seed(const std::vector<Source>& sources, bool labels) {
 const SolveStats& FastMarching::solve(const std::vector<Source>& sources, const SolveOptions& options) {
   if (mask_.empty()) throw Error("fmm", "workspace is not bound to a grid");
   if (sources.empty()) throw Error("fmm", "no sources given");
-  if (options.order != Order::kFirst && options.order != Order::kSecond)
-    throw Error("fmm", "order must be 1 or 2");
+  if (options.order != Order::kFirst && options.order != Order::kSecond) throw Error("fmm", "order must be 1 or 2");
   if (!(options.bucket_width >= 0.0) || !std::isfinite(options.bucket_width))
     throw Error("fmm", "bucket_width must be >= 0");
   if (std::isnan(options.max_time) || options.max_time < 0.0) throw Error("fmm", "max_time must be >= 0");
@@ -181,8 +180,7 @@ const SolveStats& FastMarching::solve(const std::vector<Source>& sources, const 
   targets_.clear();
   for (std::size_t i = 0; i < options.targets.size(); ++i) {
     const Cell c = options.targets[i];
-    if (!contains(c))
-      throw Error("target " + std::to_string(i), "cell " + cell_text(c) + " is off the map");
+    if (!contains(c)) throw Error("target " + std::to_string(i), "cell " + cell_text(c) + " is off the map");
     if (traversable(c)) targets_.push_back(static_cast<uint32_t>(padded(c)));  // an obstacle is never reached
   }
   inv_front_speed_.clear();
@@ -285,8 +283,10 @@ void FastMarching::copy_labels(std::vector<int32_t>& out) const {
 std::size_t FastMarching::working_bytes() const {
   std::size_t b = mask_.capacity() + cost_.capacity() * sizeof(float) + times_.capacity() * sizeof(float) +
                   labels_.capacity() * sizeof(int32_t) + touched_.capacity() * sizeof(uint32_t) +
-                  heap_.capacity() * sizeof(HeapEntry) + (sorted_.capacity() + bheap_.capacity()) * sizeof(uint64_t) + inv_front_speed_.capacity() * sizeof(float) + late_.capacity() * sizeof(uint32_t) + targets_.capacity() * sizeof(uint32_t) +
-                  seeds_.capacity() * sizeof(Seed) + sources_.capacity() * sizeof(Source);
+                  heap_.capacity() * sizeof(HeapEntry) + (sorted_.capacity() + bheap_.capacity()) * sizeof(uint64_t) +
+                  inv_front_speed_.capacity() * sizeof(float) + late_.capacity() * sizeof(uint32_t) +
+                  targets_.capacity() * sizeof(uint32_t) + seeds_.capacity() * sizeof(Seed) +
+                  sources_.capacity() * sizeof(Source);
   for (const auto& v : buckets_) b += v.capacity() * sizeof(uint32_t) + sizeof(std::vector<uint32_t>);
   return b;
 }

@@ -26,9 +26,7 @@ Point2 to_map(const FastMarching& fm, Q q) {
 Cell cell_of(Q q) { return Cell{static_cast<int>(std::floor(q.y)), static_cast<int>(std::floor(q.x))}; }
 bool finite_q(Q q) { return std::abs(q.x) < 1e9 && std::abs(q.y) < 1e9; }
 
-float time_of(const FastMarching& fm, Cell c) {
-  return fm.traversable(c) ? fm.padded_times()[fm.padded(c)] : kInfF;
-}
+float time_of(const FastMarching& fm, Cell c) { return fm.traversable(c) ? fm.padded_times()[fm.padded(c)] : kInfF; }
 
 // Bilinear weights over the four cell centres around q; unreached centres drop
 // out, and so does the centre diagonal to q's own cell when an obstacle corner
@@ -47,8 +45,8 @@ bool bilinear(const FastMarching& fm, Q q, F&& visit) {
     cells[k] = Cell{r0 + dr, c0 + dc};
     const double wk = (dr ? fy : 1.0 - fy) * (dc ? fx : 1.0 - fx);
     const bool diagonal = cells[k].row != own.row && cells[k].col != own.col;
-    const bool hidden = diagonal && (!fm.traversable(Cell{own.row, cells[k].col}) ||
-                                     !fm.traversable(Cell{cells[k].row, own.col}));
+    const bool hidden =
+        diagonal && (!fm.traversable(Cell{own.row, cells[k].col}) || !fm.traversable(Cell{cells[k].row, own.col}));
     w[k] = !hidden && time_of(fm, cells[k]) < kInfF ? wk : 0.0;
     wsum += w[k];
   }
@@ -84,8 +82,7 @@ void cell_gradient(const FastMarching& fm, Cell c, double& gx, double& gy) {
 bool step_allowed(const FastMarching& fm, Cell a, Cell b) {
   const int dr = b.row - a.row, dc = b.col - a.col;
   if (std::abs(dr) > 1 || std::abs(dc) > 1) return false;
-  if (dr != 0 && dc != 0)
-    return fm.traversable(Cell{a.row + dr, a.col}) && fm.traversable(Cell{a.row, a.col + dc});
+  if (dr != 0 && dc != 0) return fm.traversable(Cell{a.row + dr, a.col}) && fm.traversable(Cell{a.row, a.col + dc});
   return true;
 }
 
@@ -180,8 +177,7 @@ std::vector<Point2> descend(const FastMarching& fm, Point2 from, const PathOptio
 
 double path_length(const std::vector<Point2>& path) {
   double len = 0.0;
-  for (std::size_t i = 1; i < path.size(); ++i)
-    len += std::hypot(path[i].x - path[i - 1].x, path[i].y - path[i - 1].y);
+  for (std::size_t i = 1; i < path.size(); ++i) len += std::hypot(path[i].x - path[i - 1].x, path[i].y - path[i - 1].y);
   return len;
 }
 

@@ -54,9 +54,9 @@ inline float update_first(const float* t, std::size_t n, std::size_t stride, flo
 // One axis of the second-order update: the upwind neighbour t1 and, when the
 // cell beyond it is final and further upwind, the second-order term.
 struct Axis {
-  float t1;     // upwind neighbour time, +inf when none
-  float beta;   // the axis' equation is (a (T - beta))^2
-  float a;      // 1 (first order) or 3/2 (second order)
+  float t1;    // upwind neighbour time, +inf when none
+  float beta;  // the axis' equation is (a (T - beta))^2
+  float a;     // 1 (first order) or 3/2 (second order)
 };
 
 inline Axis upwind_axis(const float* t, std::size_t n, std::size_t off, float final_below) {

@@ -20,8 +20,8 @@ std::vector<uint8_t> read_file(const std::string& path) { return read_input_file
 // The documented pixel limit (input_file.hpp), before any pixel is allocated.
 void check_pixels(const std::string& path, uint64_t w, uint64_t h) {
   if (w * h > kMaxImagePixels)
-    throw Error(path, "image of " + std::to_string(w) + "x" + std::to_string(h) + " pixels is larger than the limit of " +
-                          std::to_string(kMaxImagePixels) + " pixels");
+    throw Error(path, "image of " + std::to_string(w) + "x" + std::to_string(h) +
+                          " pixels is larger than the limit of " + std::to_string(kMaxImagePixels) + " pixels");
 }
 
 // --- PGM --------------------------------------------------------------------
@@ -93,8 +93,8 @@ MapImage decode_pgm(const std::vector<uint8_t>& b, const std::string& path) {
   } else {
     tok.skip_one_space();
     if (b.size() - tok.pos() < n)
-      throw Error(path, "truncated PGM: " + std::to_string(b.size() - tok.pos()) + " of " +
-                            std::to_string(n) + " pixel bytes");
+      throw Error(
+          path, "truncated PGM: " + std::to_string(b.size() - tok.pos()) + " of " + std::to_string(n) + " pixel bytes");
     std::memcpy(img.pixels.data(), b.data() + tok.pos(), n);
   }
   if (maxval < 255)  // SDL_image scales to the full 8-bit range
@@ -171,8 +171,10 @@ MapImage decode_png(const std::vector<uint8_t>& b, const std::string& path) {
     png_get_tRNS(png, info, &trans, &num_trans, nullptr);
     int transparent = 0;
     for (int i = 0; i < num_trans; ++i) {
-      if (trans[i] == 0) ++transparent;
-      else if (trans[i] != 255) transparent = 2;
+      if (trans[i] == 0)
+        ++transparent;
+      else if (trans[i] != 255)
+        transparent = 2;
     }
     if (transparent > 1) {
       png_set_expand(png);
@@ -209,7 +211,8 @@ MapImage decode_png(const std::vector<uint8_t>& b, const std::string& path) {
   if (want > 1032.0 * static_cast<double>(b.size()) + 65536.0 || want > 2e9) {
     png_destroy_read_struct(&png, &info, nullptr);
     throw Error(path, "truncated or corrupt PNG: header claims " + std::to_string(img.width) + "x" +
-                          std::to_string(img.height) + " pixels, the file is only " + std::to_string(b.size()) + " bytes");
+                          std::to_string(img.height) + " pixels, the file is only " + std::to_string(b.size()) +
+                          " bytes");
   }
   img.pixels.resize(rowbytes * img.height);
   rows.resize(img.height);
@@ -253,11 +256,13 @@ Gray16Image decode_gray16_png(const std::vector<uint8_t>& b, const std::string& 
       want > 2e9) {
     png_destroy_read_struct(&png, &info, nullptr);
     throw Error(path, "truncated or corrupt PNG: header claims " + std::to_string(img.width) + "x" +
-                          std::to_string(img.height) + " pixels, the file is only " + std::to_string(b.size()) + " bytes");
+                          std::to_string(img.height) + " pixels, the file is only " + std::to_string(b.size()) +
+                          " bytes");
   }
   img.pixels.resize(static_cast<std::size_t>(img.width) * img.height);
   rows.resize(img.height);
-  for (int r = 0; r < img.height; ++r) rows[r] = reinterpret_cast<png_bytep>(img.pixels.data() + static_cast<std::size_t>(img.width) * r);
+  for (int r = 0; r < img.height; ++r)
+    rows[r] = reinterpret_cast<png_bytep>(img.pixels.data() + static_cast<std::size_t>(img.width) * r);
   png_read_image(png, rows.data());
   png_destroy_read_struct(&png, &info, nullptr);
   return img;

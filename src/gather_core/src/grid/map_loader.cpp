@@ -19,19 +19,25 @@ MapMetadata read_map_metadata(const std::string& yaml_path) {
   m.resolution = f.required<double>("resolution");
   const std::vector<double> origin = f.required<std::vector<double>>("origin");
   if (origin.size() != 3) throw Error(yaml_path, "origin must be [x, y, yaw]");
-  if (origin[2] != 0.0 || !std::isfinite(origin[2])) throw Error(yaml_path, "origin yaw must be 0 (rotated maps are not supported)");
+  if (origin[2] != 0.0 || !std::isfinite(origin[2]))
+    throw Error(yaml_path, "origin yaw must be 0 (rotated maps are not supported)");
   m.origin = Point2{origin[0], origin[1]};
   m.negate = f.required<int>("negate") != 0;
   m.occupied_thresh = f.required<double>("occupied_thresh");
   m.free_thresh = f.required<double>("free_thresh");
   const std::string mode = f.optional<std::string>("mode", "trinary");
-  if (mode == "trinary") m.mode = MapMode::kTrinary;
-  else if (mode == "scale") m.mode = MapMode::kScale;
-  else if (mode == "raw") m.mode = MapMode::kRaw;
-  else throw Error(yaml_path, "mode must be trinary, scale or raw, got '" + mode + "'");
+  if (mode == "trinary")
+    m.mode = MapMode::kTrinary;
+  else if (mode == "scale")
+    m.mode = MapMode::kScale;
+  else if (mode == "raw")
+    m.mode = MapMode::kRaw;
+  else
+    throw Error(yaml_path, "mode must be trinary, scale or raw, got '" + mode + "'");
 
   if (!(m.resolution >= 1e-4 && m.resolution <= 1e3))
-    throw Error(yaml_path, "resolution must be a finite value in [0.0001, 1000] m/cell, got " + std::to_string(m.resolution));
+    throw Error(yaml_path,
+                "resolution must be a finite value in [0.0001, 1000] m/cell, got " + std::to_string(m.resolution));
   if (!(std::abs(origin[0]) <= 1e7 && std::abs(origin[1]) <= 1e7))
     throw Error(yaml_path, "origin x and y must be finite values in [-1e7, 1e7] m");
   if (!(m.free_thresh >= 0.0 && m.occupied_thresh <= 1.0 && m.free_thresh < m.occupied_thresh))
@@ -67,10 +73,14 @@ OccupancyGrid threshold_map_image(const MapImage& img, const MapMetadata& meta) 
         is_free = raw <= 100 && raw / 100.0 < meta.free_thresh;
       } else {
         const double occ = (255 - color_avg) / 255.0;
-        if (occ > meta.occupied_thresh) value = 100;
-        else if (occ < meta.free_thresh) value = 0;
-        else if (meta.mode == MapMode::kTrinary || alpha < 1) value = -1;
-        else value = static_cast<int8_t>(1 + 98 * ((occ - meta.free_thresh) / (meta.occupied_thresh - meta.free_thresh)));
+        if (occ > meta.occupied_thresh)
+          value = 100;
+        else if (occ < meta.free_thresh)
+          value = 0;
+        else if (meta.mode == MapMode::kTrinary || alpha < 1)
+          value = -1;
+        else
+          value = static_cast<int8_t>(1 + 98 * ((occ - meta.free_thresh) / (meta.occupied_thresh - meta.free_thresh)));
         is_free = value == 0;
       }
       values[out_row + i] = value;

@@ -6,10 +6,14 @@
 
 namespace gather {
 
-OccupancyGrid::OccupancyGrid(int width, int height, double resolution, Point2 origin,
-                             std::vector<int8_t> values, std::vector<uint8_t> free)
-    : width_(width), height_(height), resolution_(resolution), origin_(origin),
-      values_(std::move(values)), free_(std::move(free)) {
+OccupancyGrid::OccupancyGrid(int width, int height, double resolution, Point2 origin, std::vector<int8_t> values,
+                             std::vector<uint8_t> free)
+    : width_(width),
+      height_(height),
+      resolution_(resolution),
+      origin_(origin),
+      values_(std::move(values)),
+      free_(std::move(free)) {
   if (width <= 0 || height <= 0) throw std::invalid_argument("grid size must be positive");
   if (!(resolution > 0.0)) throw std::invalid_argument("grid resolution must be > 0");
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);

@@ -26,8 +26,10 @@ OccupancyGrid coarsen(const OccupancyGrid& grid, int f) {
             continue;
           }
           const int8_t v = grid.value(q);
-          if (v < 0) unknown = true;
-          else top = std::max(top, v);
+          if (v < 0)
+            unknown = true;
+          else
+            top = std::max(top, v);
           occupied = occupied || (v >= 0 && !grid.is_free(q));
           all_free = all_free && grid.is_free(q);
         }

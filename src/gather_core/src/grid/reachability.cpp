@@ -21,8 +21,7 @@ std::size_t flood(const OccupancyGrid& g, std::size_t seed, uint32_t label, std:
     stack.pop_back();
     ++count;
     const std::size_t col = i % w;
-    const std::size_t nb[4] = {col > 0 ? i - 1 : n, col + 1 < w ? i + 1 : n, i >= w ? i - w : n,
-                               i + w < n ? i + w : n};
+    const std::size_t nb[4] = {col > 0 ? i - 1 : n, col + 1 < w ? i + 1 : n, i >= w ? i - w : n, i + w < n ? i + w : n};
     for (std::size_t j : nb) {
       if (j < n && free[j] && labels[j] == 0) {
         labels[j] = label;

@@ -1,8 +1,8 @@
 // Per-goal accounting of a mission: replays the goals' timestamps in time
 // order and checks conservation at the end of every cycle.
 #include <algorithm>
-#include <map>
 #include <cmath>
+#include <map>
 #include <string>
 
 #include "gather_core/error.hpp"
@@ -30,12 +30,18 @@ struct Event {
 
 const char* goal_state_name(GoalState s) {
   switch (s) {
-    case GoalState::kPending: return "pending";
-    case GoalState::kCarried: return "carried";
-    case GoalState::kDelivered: return "delivered";
-    case GoalState::kExpired: return "expired";
-    case GoalState::kDropped: return "dropped_overflow";
-    case GoalState::kLostWithAgent: return "lost_with_agent";
+    case GoalState::kPending:
+      return "pending";
+    case GoalState::kCarried:
+      return "carried";
+    case GoalState::kDelivered:
+      return "delivered";
+    case GoalState::kExpired:
+      return "expired";
+    case GoalState::kDropped:
+      return "dropped_overflow";
+    case GoalState::kLostWithAgent:
+      return "lost_with_agent";
   }
   return "?";
 }
@@ -120,8 +126,7 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
   std::size_t next = 0;
   for (int c = 0; c < cycles; ++c) {
     const double end = (c + 1) * period;
-    while (next < events.size() &&
-           (events[next].t < end || (events[next].t == end && events[next].kind == kExpire)))
+    while (next < events.size() && (events[next].t < end || (events[next].t == end && events[next].kind == kExpire)))
       move(events[next++]);
     check("cycle " + std::to_string(c));
     CycleStats& s = out[static_cast<std::size_t>(c)];

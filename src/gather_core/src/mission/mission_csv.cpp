@@ -13,7 +13,8 @@ const char* const kGoalsCsvHeader =
     "picked_up_by,delivered_at,delivered_by,state,lost_at\n";
 const char* const kCyclesCsvHeader =
     "method,collectors,seed,cycle,requested_at,requested,delivered,expired,refresh_mean_s,refresh_max_s,"
-    "total_requested,total_delivered,total_carried,total_pending,total_expired,dropped,total_dropped,lost_with_agent,total_lost_with_agent\n";
+    "total_requested,total_delivered,total_carried,total_pending,total_expired,dropped,total_dropped,lost_with_agent,"
+    "total_lost_with_agent\n";
 const char* const kSummaryCsvHeader =
     "method,collectors,workers,seed,cycles,period_s,mission_s,wall_ms,speedup,refresh_mean_s,refresh_max_s,"
     "goals_per_cycle,est_refresh_s,est_goals,interval_mean_s,interval_max_s,est_interval_s,delivered,expired,"
@@ -23,9 +24,9 @@ void append_goal_rows(std::string& out, const RunLabel& run, const std::vector<G
   char line[640];
   for (const GoalRecord& g : goals) {
     std::snprintf(line, sizeof line, "%s,%d,%u,%d,%d,%.3f,%.3f,%d,%d,%.3f,%.3f,%d,%.3f,%d,%.3f,%d,%s,%.3f\n",
-                  run.method.c_str(), run.collectors, run.seed, g.id, g.cycle, g.point.x, g.point.y, g.segment, g.worker,
-                  g.requested_at, g.measured_at, g.measured_by, g.picked_up_at, g.picked_up_by, g.delivered_at,
-                  g.delivered_by, goal_state_name(g.state), g.lost_at);
+                  run.method.c_str(), run.collectors, run.seed, g.id, g.cycle, g.point.x, g.point.y, g.segment,
+                  g.worker, g.requested_at, g.measured_at, g.measured_by, g.picked_up_at, g.picked_up_by,
+                  g.delivered_at, g.delivered_by, goal_state_name(g.state), g.lost_at);
     out += line;
   }
 }
@@ -43,12 +44,11 @@ void append_cycle_rows(std::string& out, const RunLabel& run, const std::vector<
 
 void append_summary_row(std::string& out, const RunLabel& run, const MissionResult& r) {
   char line[640];
-  std::snprintf(line, sizeof line,
-                "%s,%d,%d,%u,%d,%.3f,%.3f,%.2f,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%d,%d,%d\n",
-                run.method.c_str(), run.collectors, run.workers, run.seed, run.cycles, r.period_s, r.mission_s, r.wall_ms,
-                r.speedup(), r.refresh_mean_s, r.refresh_max_s, r.goals_per_cycle, run.est_refresh_s, run.est_goals,
-                r.interval_mean_s, r.interval_max_s, run.est_interval_s, r.delivered, r.expired, r.dropped,
-                r.lost_with_agent);
+  std::snprintf(
+      line, sizeof line, "%s,%d,%d,%u,%d,%.3f,%.3f,%.2f,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%d,%d,%d\n",
+      run.method.c_str(), run.collectors, run.workers, run.seed, run.cycles, r.period_s, r.mission_s, r.wall_ms,
+      r.speedup(), r.refresh_mean_s, r.refresh_max_s, r.goals_per_cycle, run.est_refresh_s, run.est_goals,
+      r.interval_mean_s, r.interval_max_s, run.est_interval_s, r.delivered, r.expired, r.dropped, r.lost_with_agent);
   out += line;
 }
 

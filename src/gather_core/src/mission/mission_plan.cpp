@@ -40,16 +40,20 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
   const int n = static_cast<int>(pf.agents.size());
   if (p.width != grid.width() || p.height != grid.height())
     throw Error(where, "label image is " + std::to_string(p.width) + "x" + std::to_string(p.height) +
-                           ", the scenario's planning grid " + std::to_string(grid.width()) + "x" + std::to_string(grid.height()));
-  if (n != team) throw Error(where, "plans " + std::to_string(n) + " agents, the scenario's team has " + std::to_string(team));
+                           ", the scenario's planning grid " + std::to_string(grid.width()) + "x" +
+                           std::to_string(grid.height()));
+  if (n != team)
+    throw Error(where, "plans " + std::to_string(n) + " agents, the scenario's team has " + std::to_string(team));
   if (pf.collectors < 0 || pf.workers < 1 || pf.collectors + pf.workers != n)
     throw Error(where, "collectors (" + std::to_string(pf.collectors) + ") + workers (" + std::to_string(pf.workers) +
                            ") must be the " + std::to_string(n) + " agents");
   if (static_cast<int>(pf.routes.size()) != pf.collectors)
-    throw Error(where, std::to_string(pf.routes.size()) + " routes for " + std::to_string(pf.collectors) + " collectors");
+    throw Error(where,
+                std::to_string(pf.routes.size()) + " routes for " + std::to_string(pf.collectors) + " collectors");
   if (!(pf.cycle_period_s > 0 && pf.cycle_period_s <= 1e6))
     throw Error(where, "cycle_period_s must be a finite value in (0, 1e6] s");
-  if (!(pf.area_tile_m > 0 && pf.area_tile_m <= 1e6)) throw Error(where, "area_tile_m must be a finite value in (0, 1e6] m");
+  if (!(pf.area_tile_m > 0 && pf.area_tile_m <= 1e6))
+    throw Error(where, "area_tile_m must be a finite value in (0, 1e6] m");
   std::vector<char> id_seen(static_cast<std::size_t>(n), 0), collector_seen(static_cast<std::size_t>(pf.collectors), 0),
       segment_seen(static_cast<std::size_t>(pf.workers) + 1, 0);
   for (const plan::AgentAssignment& a : pf.agents) {
@@ -58,7 +62,8 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
       throw Error(where, who + ": ids must be 0.." + std::to_string(n - 1) + ", once each");
     id_seen[static_cast<std::size_t>(a.id)] = 1;
     if (a.collector != (a.id < pf.collectors))
-      throw Error(where, who + ": agents 0.." + std::to_string(pf.collectors - 1) + " must be the collectors, the others workers");
+      throw Error(where, who + ": agents 0.." + std::to_string(pf.collectors - 1) +
+                             " must be the collectors, the others workers");
     if (a.collector) {
       if (a.delivers_to != a.id || collector_seen[static_cast<std::size_t>(a.delivers_to)])
         throw Error(where, who + ": a collector's index must be its own id");
@@ -72,7 +77,8 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
       throw Error(where, who + ": collector must be -1 (the OC) or 0.." + std::to_string(pf.collectors - 1));
     if (a.delivers_to < 0) continue;
     const plan::CollectorRoute& r = pf.routes[static_cast<std::size_t>(a.delivers_to)];
-    if (std::none_of(r.meetings.begin(), r.meetings.end(), [&](const plan::MeetingArea& m) { return m.segment == a.segment; }))
+    if (std::none_of(r.meetings.begin(), r.meetings.end(),
+                     [&](const plan::MeetingArea& m) { return m.segment == a.segment; }))
       throw Error(where, "collector " + std::to_string(a.delivers_to) + " has no meeting area for segment " +
                              std::to_string(a.segment) + " (" + who + ")");
   }
@@ -82,7 +88,8 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
   for (std::size_t c = 0; c < pf.routes.size(); ++c) {
     const plan::CollectorRoute& r = pf.routes[c];
     const std::string route = "route of collector " + std::to_string(c);
-    if (r.collector != static_cast<int>(c)) throw Error(where, route + ": its collector index must be " + std::to_string(c));
+    if (r.collector != static_cast<int>(c))
+      throw Error(where, route + ": its collector index must be " + std::to_string(c));
     double polyline = 0.0;
     for (std::size_t i = 0; i < r.waypoints.size(); ++i) {
       const Point2& q = r.waypoints[i];
@@ -92,11 +99,13 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
     }
     const double most = polyline + 1e-3;  // arcs [m]: on the route (its length is recomputed from the waypoints)
     auto arc_ok = [&](double s) { return s >= 0.0 && s <= most; };
-    if (!(r.length >= 0.0 && r.length <= most)) throw Error(where, route + ": length_m is not finite or not the route's");
+    if (!(r.length >= 0.0 && r.length <= most))
+      throw Error(where, route + ": length_m is not finite or not the route's");
     for (double u : r.coverage_entries)
       if (!arc_ok(u)) throw Error(where, route + ": a coverage entry is not finite or off the route");
     for (int seg : r.segments)
-      if (seg < 1 || seg > pf.workers) throw Error(where, route + ": segment " + std::to_string(seg) + " does not exist");
+      if (seg < 1 || seg > pf.workers)
+        throw Error(where, route + ": segment " + std::to_string(seg) + " does not exist");
     for (const plan::MeetingArea& m : r.meetings) {
       if (m.segment < 1 || m.segment > pf.workers)
         throw Error(where, route + ": a meeting area's segment " + std::to_string(m.segment) + " does not exist");

@@ -88,7 +88,8 @@ RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, 
     for (bool merged = true; merged && !waiting.empty();) {
       merged = false;
       for (std::size_t k = 0; k < waiting.size();) {
-        const int32_t s = now_label[static_cast<std::size_t>(base.file.agents[static_cast<std::size_t>(waiting[k])].segment)];
+        const int32_t s =
+            now_label[static_cast<std::size_t>(base.file.agents[static_cast<std::size_t>(waiting[k])].segment)];
         const int32_t into = neighbour(s);
         if (into > 0) {
           relabel(s, into);
@@ -115,9 +116,12 @@ RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, 
 
 double silent_timeout(Liveness kind, double period, double route_period, double intervals) {
   switch (kind) {
-    case Liveness::kCollector: return intervals * route_period;
-    case Liveness::kOcWorker: return intervals * period;
-    case Liveness::kCollectorWorker: return intervals * (route_period + period);
+    case Liveness::kCollector:
+      return intervals * route_period;
+    case Liveness::kOcWorker:
+      return intervals * period;
+    case Liveness::kCollectorWorker:
+      return intervals * (route_period + period);
   }
   return intervals * period;
 }

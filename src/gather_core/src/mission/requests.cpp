@@ -19,7 +19,8 @@ std::vector<DrawnGoal> draw_goals(const World& world, unsigned seed, int cycles,
   std::mt19937_64 rng(seed);
   const uint64_t n = reachable.size();  // modulo bias < n / 2^64: negligible
   for (int c = 0; c < cycles; ++c)
-    for (int i = 0; i < per_request; ++i) goals.push_back(DrawnGoal{c, grid.cell(reachable[static_cast<std::size_t>(rng() % n)])});
+    for (int i = 0; i < per_request; ++i)
+      goals.push_back(DrawnGoal{c, grid.cell(reachable[static_cast<std::size_t>(rng() % n)])});
   return goals;
 }
 

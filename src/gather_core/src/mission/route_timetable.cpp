@@ -45,8 +45,10 @@ RouteTimetable::RouteTimetable(const plan::CollectorRoute& route, double speed, 
         const double mid = 0.5 * (lo + hi);
         (in(mid) == inside ? lo : hi) = mid;
       }
-      if (now) open = hi;
-      else inside_.emplace_back(open, lo);
+      if (now)
+        open = hi;
+      else
+        inside_.emplace_back(open, lo);
       inside = now;
     }
     prev = s;

@@ -26,16 +26,19 @@ void spread_line(const uint8_t* in, uint8_t* out, int n, std::size_t stride, int
 // map) plus `margin` cells, free where the map is free and, if `near_only`,
 // within `margin` cells (Chebyshev) of `cells`: one pass along rows, then
 // one along columns.
-OccupancyGrid window_grid(const OccupancyGrid& grid, const std::vector<Cell>& cells, Cell also, int margin, bool near_only,
-                          Cell& origin) {
+OccupancyGrid window_grid(const OccupancyGrid& grid, const std::vector<Cell>& cells, Cell also, int margin,
+                          bool near_only, Cell& origin) {
   int r0 = grid.height(), r1 = -1, c0 = grid.width(), c1 = -1;
-  for (Cell c : cells) r0 = std::min(r0, c.row), r1 = std::max(r1, c.row), c0 = std::min(c0, c.col), c1 = std::max(c1, c.col);
+  for (Cell c : cells)
+    r0 = std::min(r0, c.row), r1 = std::max(r1, c.row), c0 = std::min(c0, c.col), c1 = std::max(c1, c.col);
   if (grid.contains(also))
     r0 = std::min(r0, also.row), r1 = std::max(r1, also.row), c0 = std::min(c0, also.col), c1 = std::max(c1, also.col);
   r0 = std::max(0, r0 - margin), c0 = std::max(0, c0 - margin);
   r1 = std::min(grid.height() - 1, r1 + margin), c1 = std::min(grid.width() - 1, c1 + margin);
   const int ww = c1 - c0 + 1, wh = r1 - r0 + 1;
-  auto at = [ww](int r, int c) { return static_cast<std::size_t>(r) * static_cast<std::size_t>(ww) + static_cast<std::size_t>(c); };
+  auto at = [ww](int r, int c) {
+    return static_cast<std::size_t>(r) * static_cast<std::size_t>(ww) + static_cast<std::size_t>(c);
+  };
   std::vector<int8_t> vals(static_cast<std::size_t>(ww) * static_cast<std::size_t>(wh));
   std::vector<uint8_t> fr(vals.size());
   for (int r = 0; r < wh; ++r)
@@ -58,13 +61,15 @@ OccupancyGrid window_grid(const OccupancyGrid& grid, const std::vector<Cell>& ce
 }  // namespace
 
 SegmentWindow::SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, double margin)
-    : fm_(window_grid(grid, cells, Cell{-1, -1}, static_cast<int>(std::ceil(margin / grid.resolution())), true, origin_)),
+    : fm_(window_grid(grid, cells, Cell{-1, -1}, static_cast<int>(std::ceil(margin / grid.resolution())), true,
+                      origin_)),
       source_(1) {
   options_.labels = false;
 }
 
 SegmentWindow::SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, Cell also, double margin)
-    : fm_(window_grid(grid, cells, also, static_cast<int>(std::ceil(margin / grid.resolution())), false, origin_)), source_(1) {
+    : fm_(window_grid(grid, cells, also, static_cast<int>(std::ceil(margin / grid.resolution())), false, origin_)),
+      source_(1) {
   options_.labels = false;
 }
 
@@ -80,7 +85,8 @@ bool SegmentWindow::march(Cell from, const std::vector<Cell>& targets, double* o
   options_.targets.assign(shifted_.begin(), shifted_.end());
   fm_.solve(source_, options_);
   bool all = true;
-  for (std::size_t i = 0; i < shifted_.size(); ++i) out[i] = fm_.time(shifted_[i]), all = all && fm_.reached(shifted_[i]);
+  for (std::size_t i = 0; i < shifted_.size(); ++i)
+    out[i] = fm_.time(shifted_[i]), all = all && fm_.reached(shifted_[i]);
   return all;
 }
 

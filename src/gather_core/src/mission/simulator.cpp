@@ -18,7 +18,7 @@ namespace mission {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kEps = 1e-9;        // [s] time tolerance
+constexpr double kEps = 1e-9;           // [s] time tolerance
 constexpr int kMaxDecisions = 1000000;  // per worker: a loop that long is a bug
 constexpr double kLinkProbe = 1.0;      // [s] between two radio link checks of a walking or waiting worker
 
@@ -47,8 +47,8 @@ void drop_expired(std::vector<int>& known, const WorkerPolicy& p, double t) {
 }
 
 // The worker learns request `ids` (goal ids of its segment) from the run's records.
-void learn(WorkerPolicy& p, const std::vector<GoalRecord>& goals, const std::vector<int>& ids, const OccupancyGrid& grid,
-           std::vector<KnownGoal>& scratch, std::vector<int>& known) {
+void learn(WorkerPolicy& p, const std::vector<GoalRecord>& goals, const std::vector<int>& ids,
+           const OccupancyGrid& grid, std::vector<KnownGoal>& scratch, std::vector<int>& known) {
   scratch.clear();
   for (int id : ids) {
     const GoalRecord& g = goals[static_cast<std::size_t>(id)];
@@ -97,7 +97,8 @@ MissionResult MissionSimulator::run(const MissionOptions& opt) {
   run.cycles = opt.cycles;
   run.goals_of.assign(workers_.size(), std::vector<std::vector<int>>(static_cast<std::size_t>(opt.cycles)));
   std::vector<int> worker_of_segment(static_cast<std::size_t>(plan_.file.workers) + 1, -1);
-  for (std::size_t i = 0; i < workers_.size(); ++i) worker_of_segment[static_cast<std::size_t>(workers_[i].segment())] = static_cast<int>(i);
+  for (std::size_t i = 0; i < workers_.size(); ++i)
+    worker_of_segment[static_cast<std::size_t>(workers_[i].segment())] = static_cast<int>(i);
   auto add_goal = [&](int cycle, Cell cell) {
     GoalRecord g;
     g.id = static_cast<int>(run.goals.size());
@@ -123,7 +124,8 @@ MissionResult MissionSimulator::run(const MissionOptions& opt) {
         add_goal(c, cell);
       }
   } else {
-    const int per_request = opt.goals_per_request >= 0 ? opt.goals_per_request : ctx_.scenario.mission.goals_per_request;
+    const int per_request =
+        opt.goals_per_request >= 0 ? opt.goals_per_request : ctx_.scenario.mission.goals_per_request;
     for (const DrawnGoal& g : draw_goals(ctx_, opt.seed, opt.cycles, per_request)) add_goal(g.cycle, g.cell);
   }
 
@@ -131,13 +133,18 @@ MissionResult MissionSimulator::run(const MissionOptions& opt) {
     std::size_t most = 0;
     for (const auto& ids : run.goals_of[w]) most = std::max(most, ids.size());
     workers_[w].reserve(most);
-    if (workers_[w].delivers_to_oc()) simulate_oc_worker(w, run);
-    else simulate_collector_worker(w, run);
+    if (workers_[w].delivers_to_oc())
+      simulate_oc_worker(w, run);
+    else
+      simulate_collector_worker(w, run);
   }
   for (GoalRecord& g : run.goals) {
-    if (g.measured_at < 0 && !std::isfinite(g.deadline)) bug("goal " + std::to_string(g.id) + " neither measured nor expired");
-    if (g.measured_at < 0) g.expired_at = g.deadline, g.state = GoalState::kExpired;
-    else g.state = g.delivered_at >= 0 ? GoalState::kDelivered : GoalState::kCarried;
+    if (g.measured_at < 0 && !std::isfinite(g.deadline))
+      bug("goal " + std::to_string(g.id) + " neither measured nor expired");
+    if (g.measured_at < 0)
+      g.expired_at = g.deadline, g.state = GoalState::kExpired;
+    else
+      g.state = g.delivered_at >= 0 ? GoalState::kDelivered : GoalState::kCarried;
   }
 
   std::vector<Leg> legs = std::move(run.legs);
@@ -163,10 +170,10 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
   Cell pos = ctx_.oc_cell;
   double t = 0.0;
   int next_req = 0;
-  std::vector<int> known;    // local indices of unmeasured goals of the current request
-  std::vector<int> carried;  // goal ids measured and not yet handed over
-  int at_rv = -1;  // the rendezvous the worker stands at, -1 elsewhere
-  bool at_meeting = false;  // it stands at its meeting point
+  std::vector<int> known;          // local indices of unmeasured goals of the current request
+  std::vector<int> carried;        // goal ids measured and not yet handed over
+  int at_rv = -1;                  // the rendezvous the worker stands at, -1 elsewhere
+  bool at_meeting = false;         // it stands at its meeting point
   double no_meeting_before = 0.0;  // [s] after a failed hand-over: the next try is a later pass
   // Everything carried goes to the collector at t; it drops it at its next
   // time inside the OC's coverage.
@@ -188,8 +195,8 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
   // it came up with data on board (goals measured meanwhile join it): the
   // link's start is carried from one walk to the next while it holds.
   const double link_range = radio_.free_space_range();
-  double link_since = -1.0;     // [s] the current contact with data began (-1: none)
-  double probed_until = -1.0;   // [s] the last probe (link_since is valid only from there on)
+  double link_since = -1.0;    // [s] the current contact with data began (-1: none)
+  double probed_until = -1.0;  // [s] the last probe (link_since is valid only from there on)
   // Returns the time of the pick-up, or -1 if it did not happen during [t0, t1].
   auto pick_up_on_the_way = [&](Point2 from, Point2 to, double t0, double t1) -> double {
     if (std::abs(t0 - probed_until) > kEps) link_since = -1.0;
@@ -373,7 +380,8 @@ std::vector<TimeBudget> MissionSimulator::time_budgets(const MissionResult& resu
   for (const Leg& l : result.legs) {
     if (l.agent < 0 || static_cast<std::size_t>(l.agent) >= walked.size() || l.t0 >= horizon) continue;
     const double d = std::max(0.0, std::min(l.t1, horizon) - l.t0);
-    (l.to_goal ? walked[static_cast<std::size_t>(l.agent)].first : walked[static_cast<std::size_t>(l.agent)].second) += d;
+    (l.to_goal ? walked[static_cast<std::size_t>(l.agent)].first : walked[static_cast<std::size_t>(l.agent)].second) +=
+        d;
   }
   std::vector<TimeBudget> out;
   for (const auto& a : plan_.file.agents) {

@@ -14,9 +14,9 @@ namespace mission {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kEps = 1e-9;           // [s] time tolerance
-constexpr std::size_t kMaxLandings = 8;   // per OC worker: landing tables kept; beyond, march each time
-constexpr double kLinkStep = 0.1;       // [m] of route between two samples of a rendezvous' link window
+constexpr double kEps = 1e-9;            // [s] time tolerance
+constexpr std::size_t kMaxLandings = 8;  // per OC worker: landing tables kept; beyond, march each time
+constexpr double kLinkStep = 0.1;        // [m] of route between two samples of a rendezvous' link window
 
 // An internal invariant broke (a bug, not bad input): exit status 1.
 [[noreturn]] void bug(const std::string& what) { throw RuntimeError("mission (internal error)", what); }
@@ -104,14 +104,15 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
     if (mp.labels[i] == segment_ && world.reachable[i]) segment_cells_.push_back(grid.cell(i));
   if (!segment_cells_.empty()) {
     int r0 = grid.height(), r1 = -1, c0 = grid.width(), c1 = -1;
-    for (Cell c : segment_cells_) r0 = std::min(r0, c.row), r1 = std::max(r1, c.row), c0 = std::min(c0, c.col), c1 = std::max(c1, c.col);
+    for (Cell c : segment_cells_)
+      r0 = std::min(r0, c.row), r1 = std::max(r1, c.row), c0 = std::min(c0, c.col), c1 = std::max(c1, c.col);
     box_origin_ = Cell{r0, c0};
     box_width_ = c1 - c0 + 1, box_height_ = r1 - r0 + 1;
     box_index_.assign(static_cast<std::size_t>(box_width_) * static_cast<std::size_t>(box_height_), -1);
     for (std::size_t k = 0; k < segment_cells_.size(); ++k) {
       const Cell c = segment_cells_[k];
-      box_index_[static_cast<std::size_t>(c.row - r0) * static_cast<std::size_t>(box_width_) + static_cast<std::size_t>(c.col - c0)] =
-          static_cast<int32_t>(k);
+      box_index_[static_cast<std::size_t>(c.row - r0) * static_cast<std::size_t>(box_width_) +
+                 static_cast<std::size_t>(c.col - c0)] = static_cast<int32_t>(k);
     }
   }
 
@@ -231,8 +232,8 @@ void WorkerPolicy::march_in_window(Cell from, const std::vector<Cell>& targets, 
 
 void WorkerPolicy::learn(const KnownGoal* goals, std::size_t n) {
   if (n > max_goals_)
-    throw Error("mission", "worker " + std::to_string(agent_) + ": " + std::to_string(n) + " goals in a request, at most " +
-                               std::to_string(max_goals_));
+    throw Error("mission", "worker " + std::to_string(agent_) + ": " + std::to_string(n) +
+                               " goals in a request, at most " + std::to_string(max_goals_));
   const OccupancyGrid& grid = world_.scenario.grid;
   for (std::size_t i = 0; i < n; ++i) {
     const Cell c = goals[i].cell;
@@ -265,7 +266,8 @@ void WorkerPolicy::learn(const KnownGoal* goals, std::size_t n) {
 void WorkerPolicy::from_landing(Cell landing, const Cell* targets, std::size_t n, double* out) {
   const OccupancyGrid& grid = world_.scenario.grid;
   const std::size_t key = grid.index(landing);
-  auto it = std::find_if(landing_to_cell_.begin(), landing_to_cell_.end(), [&](const auto& e) { return e.first == key; });
+  auto it =
+      std::find_if(landing_to_cell_.begin(), landing_to_cell_.end(), [&](const auto& e) { return e.first == key; });
   if (it == landing_to_cell_.end()) {
     // A free table (made up front by reserve_all), or a new one while there is room.
     it = std::find_if(landing_to_cell_.begin(), landing_to_cell_.end(),
@@ -284,8 +286,7 @@ void WorkerPolicy::from_landing(Cell landing, const Cell* targets, std::size_t n
     it->first = key;
     std::copy(tmp_.begin(), tmp_.end(), it->second.begin());
   }
-  for (std::size_t i = 0; i < n; ++i)
-    out[i] = it->second[static_cast<std::size_t>(segment_index(targets[i]))];
+  for (std::size_t i = 0; i < n; ++i) out[i] = it->second[static_cast<std::size_t>(segment_index(targets[i]))];
 }
 
 void WorkerPolicy::distances_from(const Spot& at) {
@@ -436,9 +437,12 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
         return d;
       }
       double dist = kInf;
-      if (at.rendezvous >= 0) dist = meeting_to_rv_[static_cast<std::size_t>(at.rendezvous)];
-      else if (at.cell == world_.oc_cell && !shared_.from_oc.empty()) dist = shared_.from_oc[grid.index(meeting_cell_)];
-      else march_one(at.cell, meeting_cell_, dist);
+      if (at.rendezvous >= 0)
+        dist = meeting_to_rv_[static_cast<std::size_t>(at.rendezvous)];
+      else if (at.cell == world_.oc_cell && !shared_.from_oc.empty())
+        dist = shared_.from_oc[grid.index(meeting_cell_)];
+      else
+        march_one(at.cell, meeting_cell_, dist);
       if (dist < kInf) {
         d.action = Action::kGoToMeeting;
         d.landing = meeting_cell_;
@@ -451,7 +455,8 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
     if (at.rendezvous < 0) {
       const std::size_t r = static_cast<std::size_t>(std::min_element(position_to_rv_.begin(), position_to_rv_.end()) -
                                                      position_to_rv_.begin());
-      if (!(position_to_rv_[r] < kInf)) bug("worker " + std::to_string(agent_) + " cannot reach any pass of its collector");
+      if (!(position_to_rv_[r] < kInf))
+        bug("worker " + std::to_string(agent_) + " cannot reach any pass of its collector");
       d.action = Action::kGoToRendezvous;
       d.rendezvous = static_cast<int>(r);
       d.arrive = t + position_to_rv_[r] / speed_;

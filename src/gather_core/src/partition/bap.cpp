@@ -68,7 +68,7 @@ void sequential_fronts(FrontGrowth& growth, const std::vector<uint32_t>& order, 
   labels.assign(n, 0);
   seeds.clear();
   std::size_t remaining = total;
-  std::size_t next = 0;                // order[..next) are all covered
+  std::size_t next = 0;  // order[..next) are all covered
   const std::size_t w = static_cast<std::size_t>(growth.width());
   std::vector<uint32_t> taken;
   for (int k = 1; k <= workers; ++k) {
@@ -145,7 +145,8 @@ void keep_largest_component(int w, int h, std::vector<uint8_t>& region) {
 
 // Keeps, per label, its largest 4-connected piece; the other pieces are given
 // to the neighbouring segment they touch (breadth-first from labelled cells).
-void reconnect(const OccupancyGrid& g, const std::vector<uint8_t>& reachable, int workers, std::vector<int32_t>& labels) {
+void reconnect(const OccupancyGrid& g, const std::vector<uint8_t>& reachable, int workers,
+               std::vector<int32_t>& labels) {
   const std::size_t n = g.size(), w = static_cast<std::size_t>(g.width());
   std::vector<uint32_t> piece(n, 0);
   std::vector<std::size_t> piece_size;
@@ -163,7 +164,8 @@ void reconnect(const OccupancyGrid& g, const std::vector<uint8_t>& reachable, in
       stack.pop_back();
       ++piece_size[id];
       const std::size_t col = i % w;
-      const std::size_t nb[4] = {col > 0 ? i - 1 : i, col + 1 < w ? i + 1 : i, i >= w ? i - w : i, i + w < n ? i + w : i};
+      const std::size_t nb[4] = {col > 0 ? i - 1 : i, col + 1 < w ? i + 1 : i, i >= w ? i - w : i,
+                                 i + w < n ? i + w : i};
       for (std::size_t j : nb)
         if (!piece[j] && labels[j] == labels[i]) piece[j] = id, stack.push_back(j);
     }
@@ -209,7 +211,8 @@ void reconnect_label(int width, int32_t label, std::vector<int32_t>& labels) {
       ++size;
       cells.push_back(static_cast<uint32_t>(i));
       const std::size_t col = i % w;
-      const std::size_t nb[4] = {col > 0 ? i - 1 : i, col + 1 < w ? i + 1 : i, i >= w ? i - w : i, i + w < n ? i + w : i};
+      const std::size_t nb[4] = {col > 0 ? i - 1 : i, col + 1 < w ? i + 1 : i, i >= w ? i - w : i,
+                                 i + w < n ? i + w : i};
       for (std::size_t j : nb)
         if (labels[j] == label && !piece[j]) piece[j] = id, stack.push_back(static_cast<uint32_t>(j));
     }
@@ -230,14 +233,18 @@ void reconnect_label(int width, int32_t label, std::vector<int32_t>& labels) {
     for (uint32_t c : queue) {
       if (labels[c] != 0) continue;
       const std::size_t col = c % w;
-      const std::size_t nb[4] = {col > 0 ? c - 1 : c, col + 1 < w ? c + 1 : c, c >= w ? c - w : c, c + w < n ? c + w : c};
+      const std::size_t nb[4] = {col > 0 ? c - 1 : c, col + 1 < w ? c + 1 : c, c >= w ? c - w : c,
+                                 c + w < n ? c + w : c};
       int32_t l = 0;
       for (std::size_t j : nb)
         if (labels[j] > 0) {
           l = labels[j];
           break;
         }
-      if (l) assign.emplace_back(c, l); else next_round.push_back(c);
+      if (l)
+        assign.emplace_back(c, l);
+      else
+        next_round.push_back(c);
     }
     if (assign.empty()) break;  // cannot happen: the region is connected
     for (const auto& [c, l] : assign) labels[c] = l;

@@ -14,7 +14,9 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr uint8_t kFar = 0, kBand = 1, kAccepted = 2, kPinned = 3;
 
 template <class E>
-bool later(const E& a, const E& b) { return a.t > b.t || (a.t == b.t && a.p > b.p); }
+bool later(const E& a, const E& b) {
+  return a.t > b.t || (a.t == b.t && a.p > b.p);
+}
 
 // The untidy bucket queue of grow() and grow_quota(): a ring of buckets half
 // the cheapest cell crossing wide, FIFO inside a bucket; O(1) per insert.
@@ -22,7 +24,8 @@ bool later(const E& a, const E& b) { return a.t > b.t || (a.t == b.t && a.p > b.
 // calls advance().
 class BucketRing {
  public:
-  BucketRing(std::vector<std::vector<uint32_t>>& buckets, float res, float min_slowness, float max_slowness, double base)
+  BucketRing(std::vector<std::vector<uint32_t>>& buckets, float res, float min_slowness, float max_slowness,
+             double base)
       : buckets_(buckets), width_(0.5f * res * min_slowness), base_(base) {
     n_ = static_cast<std::size_t>(std::ceil(res * max_slowness / width_)) + 3;
     inv_width_ = 1.0 / static_cast<double>(width_);
@@ -61,7 +64,10 @@ class BucketRing {
 }  // namespace
 
 FrontGrowth::FrontGrowth(int width, int height, double resolution, const std::vector<uint8_t>& region)
-    : width_(width), height_(height), stride_(static_cast<std::size_t>(width) + 2), res_(static_cast<float>(resolution)) {
+    : width_(width),
+      height_(height),
+      stride_(static_cast<std::size_t>(width) + 2),
+      res_(static_cast<float>(resolution)) {
   if (width <= 0 || height <= 0 || region.size() != static_cast<std::size_t>(width) * height)
     throw Error("partition", "front growth: region mask does not match the map size");
   const std::size_t n = stride_ * (static_cast<std::size_t>(height) + 2);
@@ -137,7 +143,8 @@ void FrontGrowth::grow(const std::vector<Front>& fronts, std::vector<int32_t>& l
                        const std::vector<int32_t>* confine) {
   if (fronts.empty()) throw Error("partition", "front growth: no fronts");
   const std::size_t n = static_cast<std::size_t>(width_) * height_;
-  if (confine && confine->size() != n) throw Error("partition", "front growth: confine map does not match the map size");
+  if (confine && confine->size() != n)
+    throw Error("partition", "front growth: confine map does not match the map size");
   reset_touched();
   std::fill(label_.begin(), label_.end(), 0);
   for (std::size_t k = 0; k < fronts.size(); ++k) {

@@ -17,7 +17,7 @@ struct MethodInput {
   Cell oc;
   const std::vector<uint8_t>& reachable;  // row-major, 1 = reachable from the OC
   std::size_t reachable_cells;
-  const std::vector<float>& clearance;    // row-major [m]
+  const std::vector<float>& clearance;  // row-major [m]
   int workers;
   unsigned seed;
   const PartitionParams& params;

@@ -60,7 +60,8 @@ PartitionMetrics compute_metrics(const OccupancyGrid& grid, const PartitionResul
   growth.grow(fronts, labels, &times, &part.labels);
   std::vector<double> radius(nw, 0.0);
   for (std::size_t i = 0; i < n; ++i)
-    if (labels[i] > 0 && std::isfinite(times[i])) radius[labels[i] - 1] = std::max<double>(radius[labels[i] - 1], times[i]);
+    if (labels[i] > 0 && std::isfinite(times[i]))
+      radius[labels[i] - 1] = std::max<double>(radius[labels[i] - 1], times[i]);
   m.compactness.resize(nw);
   double csum = 0.0, cmin = 1e300;
   for (int k = 0; k < nw; ++k) {

@@ -30,7 +30,8 @@ class Rebalancer {
       : w_(width), h_(height), stride_(static_cast<std::size_t>(width) + 2), nw_(workers), out_(labels) {
     lab_.assign(stride_ * (static_cast<std::size_t>(h_) + 2), 0);
     for (int r = 0; r < h_; ++r)
-      std::copy_n(labels.data() + static_cast<std::size_t>(r) * w_, w_, lab_.data() + (static_cast<std::size_t>(r) + 1) * stride_ + 1);
+      std::copy_n(labels.data() + static_cast<std::size_t>(r) * w_, w_,
+                  lab_.data() + (static_cast<std::size_t>(r) + 1) * stride_ + 1);
     stamp_.assign(lab_.size(), 0);
     area_.assign(static_cast<std::size_t>(nw_) + 1, 0);
     for (int32_t l : lab_)
@@ -53,7 +54,8 @@ class Rebalancer {
       if (!one_pass()) break;
     }
     for (int r = 0; r < h_; ++r)
-      std::copy_n(lab_.data() + (static_cast<std::size_t>(r) + 1) * stride_ + 1, w_, out_.data() + static_cast<std::size_t>(r) * w_);
+      std::copy_n(lab_.data() + (static_cast<std::size_t>(r) + 1) * stride_ + 1, w_,
+                  out_.data() + static_cast<std::size_t>(r) * w_);
   }
 
  private:
@@ -119,7 +121,8 @@ class Rebalancer {
     for (std::size_t i = 0; i < pairs_.size();) {
       std::size_t j = i;
       while (j < pairs_.size() && pairs_[j] == pairs_[i]) ++j;
-      edges.push_back(Edge{static_cast<int32_t>(pairs_[i] >> 32), static_cast<int32_t>(pairs_[i] & 0xffffffffu), j - i});
+      edges.push_back(
+          Edge{static_cast<int32_t>(pairs_[i] >> 32), static_cast<int32_t>(pairs_[i] & 0xffffffffu), j - i});
       i = j;
     }
     // Maximum spanning forest (Kruskal; ties by pair, so deterministic).

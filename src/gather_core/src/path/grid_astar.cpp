@@ -13,8 +13,15 @@ constexpr float kDiag = 1.41421356f;
 
 }  // namespace
 
-GridAStar::GridAStar(const OccupancyGrid& grid, const std::vector<uint8_t>& traversable, const fmm::FastMarching* landmark)
-    : grid_(grid), free_(traversable), landmark_(landmark), inv_res_(static_cast<float>(1.0 / grid.resolution())), g_(grid.size(), 0.0f), stamp_(grid.size(), 0), dir_(grid.size(), 0) {
+GridAStar::GridAStar(const OccupancyGrid& grid, const std::vector<uint8_t>& traversable,
+                     const fmm::FastMarching* landmark)
+    : grid_(grid),
+      free_(traversable),
+      landmark_(landmark),
+      inv_res_(static_cast<float>(1.0 / grid.resolution())),
+      g_(grid.size(), 0.0f),
+      stamp_(grid.size(), 0),
+      dir_(grid.size(), 0) {
   open_.reserve(std::max<std::size_t>(4096, grid.size() / 4));  // the open list of a search across the map fits
 }
 

@@ -53,8 +53,10 @@ std::vector<Point2> shortcut(const std::vector<Point2>& in, const ClearanceMap& 
     }
     while (bad - good > 1) {
       const std::size_t mid = good + (bad - good) / 2;
-      if (clear(i, mid)) good = mid;
-      else bad = mid;
+      if (clear(i, mid))
+        good = mid;
+      else
+        bad = mid;
     }
     out.push_back(in[good]);
     i = good;
@@ -125,7 +127,8 @@ PolishedPath polish_path(const std::vector<Point2>& path, const ClearanceMap& cm
   result.length = fmm::path_length(result.points);
   result.min_clearance = cm.free_distance(result.points.front());
   for (std::size_t i = 1; i < result.points.size(); ++i)
-    result.min_clearance = std::min(result.min_clearance, segment_clearance(cm, result.points[i - 1], result.points[i], step));
+    result.min_clearance =
+        std::min(result.min_clearance, segment_clearance(cm, result.points[i - 1], result.points[i], step));
   return result;
 }
 

@@ -95,7 +95,8 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
     // part of the mean over segments.
     const double n_workers = static_cast<double>(cfg.estimates.workers.size());
     auto share = [&](double delivered, double latency, double interval) {
-      const double t = s.planner.refresh == RefreshMetric::kInterval ? interval / n_workers : delivered * latency / goals;
+      const double t =
+          s.planner.refresh == RefreshMetric::kInterval ? interval / n_workers : delivered * latency / goals;
       return s.planner.beta * delivered / G - s.planner.alpha * t / T;
     };
     std::vector<std::pair<double, int>> gain;

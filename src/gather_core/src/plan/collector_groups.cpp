@@ -27,7 +27,8 @@ std::vector<int> group_segments(const WorkerGraph& graph, int collectors, const 
   for (const WorkerSegment& s : graph.segments)
     if (!s.touches_coverage) candidates.push_back(&s);
   if (candidates.empty()) return group;
-  std::sort(candidates.begin(), candidates.end(), [](const WorkerSegment* a, const WorkerSegment* b) { return closer(*a, *b); });
+  std::sort(candidates.begin(), candidates.end(),
+            [](const WorkerSegment* a, const WorkerSegment* b) { return closer(*a, *b); });
 
   // Seeds: the candidate nearest the coverage, then repeatedly the candidate
   // farthest from the seeds so far among the inner ring (candidates adjacent
@@ -66,7 +67,8 @@ std::vector<int> group_segments(const WorkerGraph& graph, int collectors, const 
   for (;;) {
     int g_best = -1;
     for (int g = 0; g < groups; ++g)
-      if (!closed[static_cast<std::size_t>(g)] && (g_best < 0 || load[static_cast<std::size_t>(g)] < load[static_cast<std::size_t>(g_best)]))
+      if (!closed[static_cast<std::size_t>(g)] &&
+          (g_best < 0 || load[static_cast<std::size_t>(g)] < load[static_cast<std::size_t>(g_best)]))
         g_best = g;
     if (g_best < 0) break;
     const WorkerSegment* pick = nullptr;

@@ -30,7 +30,8 @@ static double upload_after(const CollectorRoute& r, double s) {
 // cells spread over the segment instead came out further from the
 // simulator: its workers walk towards a pass once they have data.)
 using Stretches = std::vector<std::pair<double, double>>;
-static Stretches contact_stretches(const CollectorRoute& r, const MeetingArea& m, Point2 centroid, const RadioModel& radio) {
+static Stretches contact_stretches(const CollectorRoute& r, const MeetingArea& m, Point2 centroid,
+                                   const RadioModel& radio) {
   const std::vector<double> arc = fmm::path_arcs(r.waypoints);
   std::vector<Point2> from{centroid};
   for (const double pass : m.passes) from.push_back(fmm::point_at_arc(r.waypoints, arc, pass));
@@ -131,7 +132,8 @@ WorkerRun run_oc_worker(const TourModel& tour, const TourModel& first, const std
     std::fill(next_late.begin(), next_late.end(), 0.0);
     auto put = [&](double lateness, double p) {
       const double b = std::max(0.0, lateness) / bin + 0.5;
-      next_late[b >= static_cast<double>(next_late.size() - 1) ? next_late.size() - 1 : static_cast<std::size_t>(b)] += p;
+      next_late[b >= static_cast<double>(next_late.size() - 1) ? next_late.size() - 1 : static_cast<std::size_t>(b)] +=
+          p;
     };
     for (std::size_t b = 0; b < late.size(); ++b) {
       const double p = late[b], lambda = static_cast<double>(b) * bin;
@@ -216,8 +218,8 @@ WorkerRun run_oc_worker(const TourModel& tour, const TourModel& first, const std
 // (mission::handover_guard), so a worker hands over at most
 // floor((longest stretch - guard) / per_goal) goals a request.
 static WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, const Stretches& contact,
-                               const TourModel& model, const std::vector<double>& pmf, double v, double T, int cycles,
-                               const std::vector<AreaDeliveries>& areas, double per_goal) {
+                                      const TourModel& model, const std::vector<double>& pmf, double v, double T,
+                                      int cycles, const std::vector<AreaDeliveries>& areas, double per_goal) {
   WorkerRun run;
   run.areas = areas;
   const LoopSchedule sched(r.period, T);
@@ -247,8 +249,8 @@ static WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea
   };
   double longest = 0.0;
   for (const auto& [a, b] : contact) longest = std::max(longest, (b - a) / v);
-  const double capacity = per_goal > 0.0 ? std::floor((longest - mission::handover_guard(longest)) / per_goal + 1e-9)
-                                         : kInf;
+  const double capacity =
+      per_goal > 0.0 ? std::floor((longest - mission::handover_guard(longest)) / per_goal + 1e-9) : kInf;
   std::vector<double> at;  // upload times of one goal count's samples
   at.reserve(16);
   for (int req = 0; req < cycles; ++req) {
@@ -313,8 +315,8 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
                         cfg.area_parts[static_cast<std::size_t>(seg.id - 1)]);
   } else {
     const CollectorRoute& r = cfg.routes[static_cast<std::size_t>(w.collector)];
-    const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
-                                [&](const MeetingArea& a) { return a.segment == seg.id; });
+    const auto m =
+        std::find_if(r.meetings.begin(), r.meetings.end(), [&](const MeetingArea& a) { return a.segment == seg.id; });
     const TourModel model = tour_model(seg, false, c);
     w.tour_s = model.length(w.expected_goals) / v;
     if (m != r.meetings.end())

@@ -22,7 +22,8 @@ PlanFile make_plan_file(const PlanContext& ctx, const ConfigurationPlan& cfg, co
   p.seed = seed;
   p.labels_png = labels_png;
   const double map_res = ctx.scenario.map_meta.resolution;  // 0 for scenarios built in code
-  p.grid_factor = map_res > 0 ? std::max(1, static_cast<int>(std::lround(ctx.scenario.grid.resolution() / map_res))) : 1;
+  p.grid_factor =
+      map_res > 0 ? std::max(1, static_cast<int>(std::lround(ctx.scenario.grid.resolution() / map_res))) : 1;
   p.cycle_period_s = ctx.cycle_period;
   p.area_tile_m = ctx.area_tile;
   p.est_refresh_s = cfg.estimates.refresh_s;
@@ -31,7 +32,8 @@ PlanFile make_plan_file(const PlanContext& ctx, const ConfigurationPlan& cfg, co
   p.utility = cfg.utility;
   for (int c = 0; c < cfg.collectors; ++c) p.agents.push_back(AgentAssignment{c, true, 0, c});
   for (int k = 1; k <= cfg.workers; ++k)
-    p.agents.push_back(AgentAssignment{cfg.collectors + k - 1, false, k, cfg.collector_of_segment[static_cast<std::size_t>(k - 1)]});
+    p.agents.push_back(
+        AgentAssignment{cfg.collectors + k - 1, false, k, cfg.collector_of_segment[static_cast<std::size_t>(k - 1)]});
   p.routes = cfg.routes;
   p.workers_est = cfg.estimates.workers;
   return p;
@@ -39,22 +41,23 @@ PlanFile make_plan_file(const PlanContext& ctx, const ConfigurationPlan& cfg, co
 
 void write_sweep_report(const std::string& path, const SweepResult& sweep) {
   std::ofstream out(path);
-  out << "method,collectors,active_collectors,workers,oc_workers,est_refresh_s,est_interval_s,est_goals,utility,plan_ms,partition_ms,graph_ms,groups_ms,"
+  out << "method,collectors,active_collectors,workers,oc_workers,est_refresh_s,est_interval_s,est_goals,utility,plan_"
+         "ms,partition_ms,graph_ms,groups_ms,"
          "routes_ms,estimate_ms,associate_ms\n";
   char line[512];
   for (const auto& c : sweep.configs) {
-    const int oc_workers = static_cast<int>(std::count(c.collector_of_segment.begin(), c.collector_of_segment.end(), -1));
-    const int active = static_cast<int>(std::count_if(c.routes.begin(), c.routes.end(),
-                                                      [](const CollectorRoute& r) { return !r.segments.empty(); }));
+    const int oc_workers =
+        static_cast<int>(std::count(c.collector_of_segment.begin(), c.collector_of_segment.end(), -1));
+    const int active = static_cast<int>(
+        std::count_if(c.routes.begin(), c.routes.end(), [](const CollectorRoute& r) { return !r.segments.empty(); }));
     std::snprintf(line, sizeof line, "%s,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.4f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f\n",
                   partition::method_name(c.method), c.collectors, active, c.workers, oc_workers, c.estimates.refresh_s,
-                  c.estimates.interval_s, c.estimates.goals, c.utility, c.times.total(), c.times.partition_ms, c.times.graph_ms,
-                  c.times.groups_ms, c.times.routes_ms, c.times.estimate_ms, c.times.associate_ms);
+                  c.estimates.interval_s, c.estimates.goals, c.utility, c.times.total(), c.times.partition_ms,
+                  c.times.graph_ms, c.times.groups_ms, c.times.routes_ms, c.times.estimate_ms, c.times.associate_ms);
     out << line;
   }
   if (!out) throw Error(path, "cannot write report");
 }
-
 
 std::string plan_scenario(const std::string& scenario_path, const std::string& dir, int threads,
                           const PlanFigureWriter& figures) {
@@ -69,7 +72,8 @@ std::string plan_scenario(const std::string& scenario_path, const std::string& d
   write_plan_directory(dir, ctx, best, opt.seed, figures);
   write_sweep_report(dir + "/report.csv", sweep);
   char line[256];
-  std::snprintf(line, sizeof line, "%s with %d collectors and %d workers (U = %.3f, est. refresh %.1f s, %.2f goals per cycle of %.1f s)",
+  std::snprintf(line, sizeof line,
+                "%s with %d collectors and %d workers (U = %.3f, est. refresh %.1f s, %.2f goals per cycle of %.1f s)",
                 partition::method_name(best.method), best.collectors, best.workers, best.utility,
                 best.estimates.refresh_s, best.estimates.goals, ctx.cycle_period);
   return line;

@@ -48,8 +48,8 @@ void write_plan_file(const std::string& path, const PlanFile& p) {
   y << YAML::Key << "cycle_period_s" << YAML::Value << p.cycle_period_s;
   y << YAML::Key << "area_tile_m" << YAML::Value << p.area_tile_m;
   y << YAML::Key << "estimates" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "refresh_s"
-    << YAML::Value << p.est_refresh_s << YAML::Key << "interval_s" << YAML::Value << p.est_interval_s << YAML::Key << "goals" << YAML::Value << p.est_goals << YAML::Key << "utility"
-    << YAML::Value << p.utility << YAML::EndMap;
+    << YAML::Value << p.est_refresh_s << YAML::Key << "interval_s" << YAML::Value << p.est_interval_s << YAML::Key
+    << "goals" << YAML::Value << p.est_goals << YAML::Key << "utility" << YAML::Value << p.utility << YAML::EndMap;
   y << YAML::Key << "agents" << YAML::Value << YAML::BeginSeq;
   for (const AgentAssignment& a : p.agents) {
     y << YAML::Flow << YAML::BeginMap << YAML::Key << "id" << YAML::Value << a.id << YAML::Key << "role" << YAML::Value
@@ -99,12 +99,11 @@ void write_plan_file(const std::string& path, const PlanFile& p) {
 PlanFile read_plan_file(const std::string& path) {
   const YAML::Node root = yaml::load_file(path);
   yaml::Fields f(root, path, "");
-  f.allow({"format", "scenario", "method", "collectors", "workers", "seed", "labels", "grid_factor", "cycle_period_s", "area_tile_m", "estimates",
-           "agents", "routes", "worker_estimates"});
+  f.allow({"format", "scenario", "method", "collectors", "workers", "seed", "labels", "grid_factor", "cycle_period_s",
+           "area_tile_m", "estimates", "agents", "routes", "worker_estimates"});
   PlanFile p;
   const std::string format = f.required<std::string>("format");
-  if (format != PlanFile::kFormat)
-    throw Error(path, "format '" + format + "' is not " + PlanFile::kFormat);
+  if (format != PlanFile::kFormat) throw Error(path, "format '" + format + "' is not " + PlanFile::kFormat);
   p.scenario = f.required<std::string>("scenario");
   p.method = f.required<std::string>("method");
   if (p.method != "bap" && p.method != "pap" && p.method != "rap")
@@ -129,7 +128,8 @@ PlanFile read_plan_file(const std::string& path) {
     AgentAssignment x;
     x.id = a.required<int>("id");
     const std::string role = a.required<std::string>("role");
-    if (role != "collector" && role != "worker") throw Error(path, "'" + a.name("role") + "' must be collector or worker");
+    if (role != "collector" && role != "worker")
+      throw Error(path, "'" + a.name("role") + "' must be collector or worker");
     x.collector = role == "collector";
     x.segment = a.required<int>("segment");
     x.delivers_to = a.required<int>("collector");
@@ -137,7 +137,8 @@ PlanFile read_plan_file(const std::string& path) {
   }
   const YAML::Node routes = root["routes"];
   for (const yaml::Fields& r : items(root, path, "routes")) {
-    r.allow({"collector", "segments", "length_m", "period_s", "min_clearance_m", "coverage_entries_m", "meetings", "waypoints"});
+    r.allow({"collector", "segments", "length_m", "period_s", "min_clearance_m", "coverage_entries_m", "meetings",
+             "waypoints"});
     CollectorRoute x;
     x.collector = r.required<int>("collector");
     x.segments = r.required<std::vector<int>>("segments");
@@ -169,10 +170,11 @@ PlanFile read_plan_file(const std::string& path) {
     p.workers_est.push_back(x);
   }
   if (static_cast<int>(p.agents.size()) != p.collectors + p.workers)
-    throw Error(path, "lists " + std::to_string(p.agents.size()) + " agents, expected collectors + workers = " +
-                          std::to_string(p.collectors + p.workers));
+    throw Error(path, "lists " + std::to_string(p.agents.size()) +
+                          " agents, expected collectors + workers = " + std::to_string(p.collectors + p.workers));
   if (static_cast<int>(p.routes.size()) != p.collectors)
-    throw Error(path, "lists " + std::to_string(p.routes.size()) + " routes for " + std::to_string(p.collectors) + " collectors");
+    throw Error(path, "lists " + std::to_string(p.routes.size()) + " routes for " + std::to_string(p.collectors) +
+                          " collectors");
   // By id, whatever order the file lists them in (check_plan then makes sure
   // the ids are 0..N-1: agents[k] is agent k).
   std::stable_sort(p.agents.begin(), p.agents.end(),

@@ -48,8 +48,10 @@ PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_fi
   oc_walk = mission::SharedDistances(*this).from_oc;
   for (std::size_t i = 0; i < coverage_distance.size(); ++i) {
     if (coverage[i]) coverage_distance[i] = 0.0;
-    if (!reachable[i]) coverage_distance[i] = kInf;
-    else farthest = std::max(farthest, coverage_distance[i]);
+    if (!reachable[i])
+      coverage_distance[i] = kInf;
+    else
+      farthest = std::max(farthest, coverage_distance[i]);
   }
   route_speed.assign(grid.size(), 0.0);
   roomy.assign(grid.size(), 0);
@@ -57,7 +59,8 @@ PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_fi
     if (!reachable[i]) continue;
     // The margin of a half cell diagonal makes every point of a roomy cell,
     // not only its centre, keep the radius (see ClearanceMap::free_distance).
-    roomy[i] = clearance.disc_free(grid.cell_center(grid.cell(i)), s.team.radius + 0.5 * std::sqrt(2.0) * grid.resolution());
+    roomy[i] =
+        clearance.disc_free(grid.cell_center(grid.cell(i)), s.team.radius + 0.5 * std::sqrt(2.0) * grid.resolution());
     route_speed[i] = roomy[i] ? 1.0 : kTightSpeed;
   }
   oc_field.set_speed(route_speed);
@@ -95,7 +98,8 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
   cfg.times.partition_ms = ms_since(t0);
 
   t0 = Clock::now();
-  cfg.graph = build_worker_graph(s.grid, cfg.partition.labels, cfg.workers, ctx.coverage, ctx.coverage_distance, &ctx.roomy);
+  cfg.graph =
+      build_worker_graph(s.grid, cfg.partition.labels, cfg.workers, ctx.coverage, ctx.coverage_distance, &ctx.roomy);
   const std::vector<float> home_rank = segment_distances(ctx, cfg.partition.labels, cfg.graph);
   cfg.times.graph_ms = ms_since(t0);
   // The tiles of each segment (the areas of the refresh interval).
@@ -110,16 +114,21 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
       if (k <= 0 || k > cfg.workers || t < 0) continue;
       std::vector<AreaDeliveries>& parts = cfg.area_parts[static_cast<std::size_t>(k - 1)];
       int32_t& j = part[static_cast<std::size_t>(k - 1) * tiles + static_cast<std::size_t>(t)];
-      if (j < 0) j = static_cast<int32_t>(parts.size()), parts.push_back(AreaDeliveries{ctx.tile_ids[static_cast<std::size_t>(t)]});
+      if (j < 0)
+        j = static_cast<int32_t>(parts.size()),
+        parts.push_back(AreaDeliveries{ctx.tile_ids[static_cast<std::size_t>(t)]});
       AreaDeliveries& a = parts[static_cast<std::size_t>(j)];
       a.area_m2 += cell;
       const int b = std::clamp(static_cast<int>(std::max(0.0f, home_rank[i]) * AreaDeliveries::kRankBins), 0,
                                AreaDeliveries::kRankBins - 1);
-      if (ctx.coverage[i]) a.covered_m2 += cell, a.rank_in[static_cast<std::size_t>(b)] += 1.0f;
-      else a.rank_out[static_cast<std::size_t>(b)] += 1.0f;
+      if (ctx.coverage[i])
+        a.covered_m2 += cell, a.rank_in[static_cast<std::size_t>(b)] += 1.0f;
+      else
+        a.rank_out[static_cast<std::size_t>(b)] += 1.0f;
     }
     for (std::vector<AreaDeliveries>& parts : cfg.area_parts)
-      std::sort(parts.begin(), parts.end(), [](const AreaDeliveries& x, const AreaDeliveries& y) { return x.area < y.area; });
+      std::sort(parts.begin(), parts.end(),
+                [](const AreaDeliveries& x, const AreaDeliveries& y) { return x.area < y.area; });
   }
 
   t0 = Clock::now();

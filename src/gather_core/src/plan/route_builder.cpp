@@ -52,9 +52,11 @@ std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
       const std::size_t j = grid.index(n);
       if (speed[j] <= 0) continue;
       const bool diagonal = k >= 4;
-      if (diagonal && (speed[grid.index(Cell{c.row + dr[k], c.col})] <= 0 || speed[grid.index(Cell{c.row, c.col + dc[k]})] <= 0))
+      if (diagonal &&
+          (speed[grid.index(Cell{c.row + dr[k], c.col})] <= 0 || speed[grid.index(Cell{c.row, c.col + dc[k]})] <= 0))
         continue;
-      const float step = static_cast<float>((diagonal ? std::sqrt(2.0) : 1.0) * 0.5 * (1.0 / speed[i] + 1.0 / speed[j]));
+      const float step =
+          static_cast<float>((diagonal ? std::sqrt(2.0) : 1.0) * 0.5 * (1.0 / speed[i] + 1.0 / speed[j]));
       if (g[i] + step < g[j]) {
         g[j] = g[i] + step;
         parent[j] = i;
@@ -150,7 +152,9 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
       // Nearest point on segment i..i+1.
       const Point2 a = route.waypoints[i], b = route.waypoints[i + 1];
       const double len2 = (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y);
-      const double t = len2 > 0 ? std::clamp(((target.x - a.x) * (b.x - a.x) + (target.y - a.y) * (b.y - a.y)) / len2, 0.0, 1.0) : 0.0;
+      const double t =
+          len2 > 0 ? std::clamp(((target.x - a.x) * (b.x - a.x) + (target.y - a.y) * (b.y - a.y)) / len2, 0.0, 1.0)
+                   : 0.0;
       const Point2 p{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
       const double e = distance(p, target);
       if (e < best - 1e-9) best = e, m.point = p, m.route_s = arc[i] + t * std::sqrt(len2);
@@ -169,8 +173,10 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
     const int stride = std::max(1, static_cast<int>(std::lround(0.2 / grid.resolution())));
     const double step = 0.5;
     std::vector<double> open_since(segments.size(), -1.0);
-    std::vector<int> index_of(static_cast<std::size_t>(graph.segments.size()) + 1, -1);  // label -> position in `segments`
-    for (std::size_t i = 0; i < segments.size(); ++i) index_of[static_cast<std::size_t>(segments[i])] = static_cast<int>(i);
+    std::vector<int> index_of(static_cast<std::size_t>(graph.segments.size()) + 1,
+                              -1);  // label -> position in `segments`
+    for (std::size_t i = 0; i < segments.size(); ++i)
+      index_of[static_cast<std::size_t>(segments[i])] = static_cast<int>(i);
     auto seg_index = [&](int32_t label) { return label > 0 ? index_of[static_cast<std::size_t>(label)] : -1; };
     std::vector<uint8_t> near(segments.size());
     const double total = arc.back();
@@ -188,8 +194,9 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
       for (std::size_t k = 0; k < segments.size(); ++k) {
         if (near[k] && open_since[k] < 0) open_since[k] = at;
         if ((!near[k] || at >= total) && open_since[k] >= 0) {
-          route.meetings[static_cast<std::size_t>(std::find(route.segments.begin(), route.segments.end(), segments[k]) -
-                                                  route.segments.begin())]
+          route
+              .meetings[static_cast<std::size_t>(std::find(route.segments.begin(), route.segments.end(), segments[k]) -
+                                                 route.segments.begin())]
               .passes.push_back(0.5 * (open_since[k] + at));
           open_since[k] = -1.0;
         }

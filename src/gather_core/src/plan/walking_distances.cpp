@@ -71,7 +71,8 @@ std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<i
                        std::vector<double>& out, double& sum, std::size_t& n) {
     out.resize(to.size());
     if (!window.march(from, to, out.data()) &&
-        !(grid.contains(box_with) && mission::SegmentWindow(grid, to, box_with, kHomeBoxMargin).march(from, to, out.data()))) {
+        !(grid.contains(box_with) &&
+          mission::SegmentWindow(grid, to, box_with, kHomeBoxMargin).march(from, to, out.data()))) {
       so.targets = to;
       walk.solve({fmm::Source::at_cell(from)}, so);
       for (std::size_t i = 0; i < to.size(); ++i) out[i] = walk.time(to[i]);
@@ -100,7 +101,8 @@ std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<i
       order.push_back(static_cast<uint64_t>(float_bits(home.row >= 0 ? walk_time[i] : 0.0)) << 32 | i);
     std::sort(order.begin(), order.end());
     for (std::size_t i = 0; i < order.size(); ++i)
-      rank[grid.index(cells[k][order[i] & 0xffffffffu])] = static_cast<float>(static_cast<double>(i) / static_cast<double>(order.size()));
+      rank[grid.index(cells[k][order[i] & 0xffffffffu])] =
+          static_cast<float>(static_cast<double>(i) / static_cast<double>(order.size()));
     if (home.row >= 0 && n == order.size()) {
       sorted.clear();
       for (uint64_t key : order) sorted.push_back(walk_time[key & 0xffffffffu]);

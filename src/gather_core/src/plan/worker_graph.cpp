@@ -30,7 +30,8 @@ WorkerGraph build_worker_graph(const OccupancyGrid& grid, const std::vector<int3
       if (std::isfinite(coverage_distance[i])) sd[static_cast<std::size_t>(k - 1)] += coverage_distance[i];
       if (coverage_distance[i] < s.coverage_distance) {
         s.coverage_distance = coverage_distance[i];
-        if (roomy_best[static_cast<std::size_t>(k - 1)] == std::numeric_limits<double>::infinity()) s.entry = Cell{r, c};
+        if (roomy_best[static_cast<std::size_t>(k - 1)] == std::numeric_limits<double>::infinity())
+          s.entry = Cell{r, c};
       }
       if (roomy && (*roomy)[i] && coverage_distance[i] < roomy_best[static_cast<std::size_t>(k - 1)]) {
         roomy_best[static_cast<std::size_t>(k - 1)] = coverage_distance[i];
@@ -40,8 +41,9 @@ WorkerGraph build_worker_graph(const OccupancyGrid& grid, const std::vector<int3
       const int right = c + 1 < w ? labels[i + 1] : 0;
       const int up = r + 1 < h ? labels[i + static_cast<std::size_t>(w)] : 0;
       for (int m : {right, up})
-        if (m > 0 && m != k) adjacent[static_cast<std::size_t>(k - 1)][static_cast<std::size_t>(m - 1)] =
-                                 adjacent[static_cast<std::size_t>(m - 1)][static_cast<std::size_t>(k - 1)] = 1;
+        if (m > 0 && m != k)
+          adjacent[static_cast<std::size_t>(k - 1)][static_cast<std::size_t>(m - 1)] =
+              adjacent[static_cast<std::size_t>(m - 1)][static_cast<std::size_t>(k - 1)] = 1;
     }
   }
   std::vector<double> best(g.segments.size(), std::numeric_limits<double>::infinity());

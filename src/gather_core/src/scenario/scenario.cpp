@@ -54,7 +54,8 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   in_range(s.team.radius, 0.0, 100.0, path, "team.radius", " m");
 
   const yaml::Fields radio = f.section("radio");
-  radio.allow({"tx_power_dbm", "ref_loss_db", "exponent", "wall_loss_db", "max_walls", "sensitivity_dbm", "bitrate_bps"});
+  radio.allow(
+      {"tx_power_dbm", "ref_loss_db", "exponent", "wall_loss_db", "max_walls", "sensitivity_dbm", "bitrate_bps"});
   RadioParams& r = s.radio;
   r.tx_power_dbm = radio.optional<double>("tx_power_dbm", r.tx_power_dbm);
   r.ref_loss_db = radio.optional<double>("ref_loss_db", r.ref_loss_db);
@@ -66,14 +67,15 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   in_range(r.ref_loss_db, 0.0, 200.0, path, "radio.ref_loss_db", " dB");
   in_range(r.exponent, 0.5, 10.0, path, "radio.exponent", "");
   in_range(r.wall_loss_db, 0.0, 200.0, path, "radio.wall_loss_db", " dB");
-  require(r.max_walls >= 0 && r.max_walls <= 100, path, "radio.max_walls must be in [0, 100], got " + std::to_string(r.max_walls));
+  require(r.max_walls >= 0 && r.max_walls <= 100, path,
+          "radio.max_walls must be in [0, 100], got " + std::to_string(r.max_walls));
   in_range(r.sensitivity_dbm, -200.0, 100.0, path, "radio.sensitivity_dbm", " dBm");
   {
     // The free-space range the link budget gives (RadioModel): at most 100 km.
     const double budget = r.tx_power_dbm - r.ref_loss_db - r.sensitivity_dbm;
     require(budget / (10.0 * r.exponent) <= 5.0, path,
-            "radio: tx_power_dbm - ref_loss_db - sensitivity_dbm = " + num(budget) + " dB over exponent " + num(r.exponent) +
-                " gives a free-space range over 100 km; lower the budget or raise radio.exponent");
+            "radio: tx_power_dbm - ref_loss_db - sensitivity_dbm = " + num(budget) + " dB over exponent " +
+                num(r.exponent) + " gives a free-space range over 100 km; lower the budget or raise radio.exponent");
   }
   r.bitrate_bps = radio.optional<double>("bitrate_bps", r.bitrate_bps);
   require(r.bitrate_bps >= 0 && r.bitrate_bps <= 1e12, path,
@@ -91,7 +93,8 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   s.mission.period = mission.optional<double>("period", s.mission.period);
   require(s.mission.period == 0.0 || (s.mission.period >= 1.0 && s.mission.period <= 1e6), path,
           "mission.period must be 0 (automatic) or a finite value in [1, 1e6] s, got " + num(s.mission.period));
-  require(s.mission.seed <= 2147483647u, path, "mission.seed must be in [0, 2147483647], got " + std::to_string(s.mission.seed));
+  require(s.mission.seed <= 2147483647u, path,
+          "mission.seed must be in [0, 2147483647], got " + std::to_string(s.mission.seed));
   s.mission.bytes_per_goal = mission.optional<double>("bytes_per_goal", s.mission.bytes_per_goal);
   require(s.mission.bytes_per_goal >= 0 && s.mission.bytes_per_goal <= 1e9, path,
           "mission.bytes_per_goal must be in [0, 1e9] bytes, got " + num(s.mission.bytes_per_goal));
@@ -102,10 +105,12 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   p.methods = planner.optional<std::vector<std::string>>("methods", p.methods);
   require(!p.methods.empty(), path, "planner.methods must not be empty");
   for (const auto& m : p.methods)
-    require(m == "bap" || m == "pap" || m == "rap", path, "planner.methods: unknown method '" + m + "' (bap, pap, rap)");
+    require(m == "bap" || m == "pap" || m == "rap", path,
+            "planner.methods: unknown method '" + m + "' (bap, pap, rap)");
   std::vector<std::string> sorted = p.methods;
   std::sort(sorted.begin(), sorted.end());
-  require(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end(), path, "planner.methods lists a method twice");
+  require(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end(), path,
+          "planner.methods lists a method twice");
   p.collectors_max = std::min(p.collectors_max, s.team.agents - 1);
   if (planner.has("collectors")) {
     const std::vector<int> range = planner.required<std::vector<int>>("collectors");

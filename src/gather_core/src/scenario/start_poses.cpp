@@ -36,7 +36,8 @@ std::vector<Point2> start_poses(const OccupancyGrid& grid, Point2 oc, int n, dou
   }
   if (static_cast<int>(poses.size()) < n)
     throw Error("start poses", "the free space reachable from the OC holds only " + std::to_string(poses.size()) +
-                                   " agents " + std::to_string(spacing) + " m apart, the team has " + std::to_string(n));
+                                   " agents " + std::to_string(spacing) + " m apart, the team has " +
+                                   std::to_string(n));
   return poses;
 }
 

@@ -17,10 +17,10 @@ namespace gather {
 
 struct PublisherOptions {
   std::string frame = "map";
-  bool publish_map = true;     // /map from the scenario (false: a map_server publishes it)
-  bool sim_time = false;       // publish /clock; stamps are mission time
-  double view_period = 0.5;    // [s] of mission time between two views (markers, TF, poses)
-  double state_period = 1.0;   // [s] of mission time between two /gather/agents and /gather/status
+  bool publish_map = true;    // /map from the scenario (false: a map_server publishes it)
+  bool sim_time = false;      // publish /clock; stamps are mission time
+  double view_period = 0.5;   // [s] of mission time between two views (markers, TF, poses)
+  double state_period = 1.0;  // [s] of mission time between two /gather/agents and /gather/status
 };
 
 class MissionPublisher {

@@ -90,14 +90,14 @@ class MissionView {
   std::vector<uint32_t> shown_path_;             // path revision shown, by agent
   std::vector<double> yaw_;                      // by agent, from its last motion
   std::vector<Point2> last_pose_;
-  Box box_;                                      // where the team can be
-  std::size_t settled_ = 0;                      // goals [0, settled_) are all resolved
-  bool over_ = false;                            // the mission is over: lost goals are final
-  Totals settled_totals_;                        // of those
-  int row_cycle_ = -1;                           // the cycle being added up
-  Totals row_;                                   // its goals so far
+  Box box_;                  // where the team can be
+  std::size_t settled_ = 0;  // goals [0, settled_) are all resolved
+  bool over_ = false;        // the mission is over: lost goals are final
+  Totals settled_totals_;    // of those
+  int row_cycle_ = -1;       // the cycle being added up
+  Totals row_;               // its goals so far
   double row_requested_at_ = 0.0;
-  std::vector<gather_msgs::CycleStats> ready_;   // rows of cycles resolved, not yet taken
+  std::vector<gather_msgs::CycleStats> ready_;  // rows of cycles resolved, not yet taken
 };
 
 }  // namespace view

@@ -17,8 +17,8 @@ std::string typed_param(const ros::NodeHandle& pnh, const std::string& name, T& 
     return "";
   }
   if (pnh.getParam(name, value)) return "";
-  const char* type = std::is_same<T, bool>::value ? "true or false"
-                     : std::is_same<T, int>::value ? "an integer"
+  const char* type = std::is_same<T, bool>::value     ? "true or false"
+                     : std::is_same<T, int>::value    ? "an integer"
                      : std::is_same<T, double>::value ? "a number"
                                                       : "a string";
   return "~" + name + " must be " + type;

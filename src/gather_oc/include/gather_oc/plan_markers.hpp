@@ -22,8 +22,8 @@
 namespace gather {
 namespace view {
 
-visualization_msgs::MarkerArray plan_markers(const agent::TeamSetup& team, const Style& style,
-                                             const std::string& frame, const ros::Time& stamp);
+visualization_msgs::MarkerArray plan_markers(const agent::TeamSetup& team, const Style& style, const std::string& frame,
+                                             const ros::Time& stamp);
 
 // A legend below the box `below` (namespace "legend"): the goals' states,
 // the agents' shapes and the lines, in their colours.

@@ -37,8 +37,8 @@ struct Style {
   std_msgs::ColorRGBA goal_delivered = rgba(0.1f, 0.7f, 0.2f);
   std_msgs::ColorRGBA goal_expired = rgba(0.85f, 0.1f, 0.1f);
   std_msgs::ColorRGBA goal_dropped = rgba(0.6f, 0.0f, 0.6f);
-  std_msgs::ColorRGBA goal_lost = rgba(0.35f, 0.2f, 0.1f);     // lost with a dead agent
-  std_msgs::ColorRGBA dead = rgba(0.6f, 0.6f, 0.6f, 0.8f);     // an agent the OC declared dead
+  std_msgs::ColorRGBA goal_lost = rgba(0.35f, 0.2f, 0.1f);  // lost with a dead agent
+  std_msgs::ColorRGBA dead = rgba(0.6f, 0.6f, 0.6f, 0.8f);  // an agent the OC declared dead
   std_msgs::ColorRGBA link = rgba(0.45f, 0.45f, 0.5f, 0.4f);
   std_msgs::ColorRGBA handover = rgba(0.0f, 0.85f, 0.3f);
 

@@ -38,8 +38,8 @@ class MotionBackend {
   virtual void follow(const mission::RouteTimetable& timetable) = 0;
   // Moves on to time `now` [s] (monotonic).
   virtual void advance(double now) = 0;
-  virtual Point2 pose() const = 0;               // [m] at the last advance()
-  virtual std::size_t legs_done() const = 0;     // legs of the current plan completed
+  virtual Point2 pose() const = 0;                       // [m] at the last advance()
+  virtual std::size_t legs_done() const = 0;             // legs of the current plan completed
   virtual double arrived_at(std::size_t leg) const = 0;  // [s] when leg `leg` was completed
   virtual std::size_t max_legs() const = 0;
 

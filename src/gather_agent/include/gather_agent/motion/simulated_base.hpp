@@ -66,7 +66,7 @@ class SimulatedBase : public MotionBackend {
   std::size_t n_ = 0, done_ = 0;
   uint32_t revision_ = 0;
   double depart_ = 0.0;
-  std::vector<Point2> points_;                               // every leg's polyline, one after the other
+  std::vector<Point2> points_;                              // every leg's polyline, one after the other
   std::vector<std::pair<std::size_t, std::size_t>> spans_;  // [first, last) in points_ per leg
   std::vector<double> lengths_;                             // [m] per leg
   std::vector<Cell> cells_, tail_;                          // scratch: a path of cells

@@ -33,10 +33,10 @@ class CollectorRole : public Role {
  private:
   struct Served {
     int16_t agent;
-    double meeting_arc;   // [m]
-    int32_t handed = -1;  // newest request handed to it
+    double meeting_arc;           // [m]
+    int32_t handed = -1;          // newest request handed to it
     std::size_t handed_dead = 0;  // declarations of dead agents handed with it
-    double heard_at = 0.0;  // [s] its latest message (reported to the OC: docs/faults.md)
+    double heard_at = 0.0;        // [s] its latest message (reported to the OC: docs/faults.md)
   };
   void on_request(const RequestPart& part);
   void hand_request(Served& w, double now, Outbox& out);

@@ -32,7 +32,7 @@ class Custody {
   std::size_t due(double now, double resend_after, bool fresh_contact, DataBatch& batch);
 
   std::size_t size() const { return count_; }
-  std::size_t data() const { return data_; }        // measured items held
+  std::size_t data() const { return data_; }  // measured items held
   std::size_t notices() const { return count_ - data_; }
   bool data_full() const { return data_ >= data_capacity_; }
   bool notices_full() const { return count_ - data_ >= notice_capacity_; }

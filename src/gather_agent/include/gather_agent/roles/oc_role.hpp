@@ -51,7 +51,9 @@ class OcRole : public Role {
   // A goal resolved by news from an agent: unresolved, or declared lost
   // with an agent (the news overrides that; counted as recovered).
   bool open(std::size_t goal);
-  const plan::AgentAssignment& assigned(int agent) const { return current_plan().file.agents[static_cast<std::size_t>(agent)]; }
+  const plan::AgentAssignment& assigned(int agent) const {
+    return current_plan().file.agents[static_cast<std::size_t>(agent)];
+  }
   // Declares `agent` dead at `now`: repairs the plan, declares lost what was
   // its own (docs/faults.md), and tells whoever is in the coverage.
   void declare_dead(int16_t agent, double now, Outbox& out);
@@ -61,11 +63,11 @@ class OcRole : public Role {
   std::vector<mission::GoalRecord> goals_;  // every cycle's, drawn up front; requested_at set at the issue
   std::vector<uint32_t> cell_of_;           // grid index of each goal's cell
   std::vector<uint8_t> resolved_;
-  std::vector<int32_t> unassigned_;         // goals in no worker's segment, not yet expired
-  std::vector<double> issued_at_;           // [s] by cycle
+  std::vector<int32_t> unassigned_;  // goals in no worker's segment, not yet expired
+  std::vector<double> issued_at_;    // [s] by cycle
   std::size_t resolved_count_ = 0;
   int issued_ = 0;
-  std::vector<double> answered_at_;         // [s] by agent: last time it was passed the newest request
+  std::vector<double> answered_at_;  // [s] by agent: last time it was passed the newest request
   std::vector<int64_t> delivered_by_;
   std::vector<int32_t> acks_;
   int64_t invalid_ = 0, duplicates_ = 0;

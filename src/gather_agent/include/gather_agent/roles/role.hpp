@@ -100,7 +100,6 @@ class TeamSetup {
   std::vector<Point2> start_;
   double range_ = 0.0;
   std::vector<std::pair<std::vector<int>, std::unique_ptr<mission::RepairedPlan>>> repaired_;
-
 };
 
 // Messages a step sends, at most `capacity` (the rest is refused and counted).
@@ -127,25 +126,25 @@ class Outbox {
 struct RoleReport {
   RoleKind role = RoleKind::kWorker;
   int id = 0;
-  int64_t measured = 0;       // goals measured and stored
-  int64_t dropped = 0;        // goals measured whose data could not be stored
-  int64_t expired = 0;        // goals expired (notices made)
-  int64_t skipped = 0;        // requests skipped (notices made)
-  int64_t pending = 0;        // goals known and not yet measured
-  int64_t refused_full = 0;   // items refused because the custody buffer was full
-  int64_t lost_notices = 0;   // notices that found no room (must stay 0)
-  int64_t requests = 0;       // newest request known
-  int64_t dead_known = 0;     // the OC's declarations of dead agents it knows
+  int64_t measured = 0;      // goals measured and stored
+  int64_t dropped = 0;       // goals measured whose data could not be stored
+  int64_t expired = 0;       // goals expired (notices made)
+  int64_t skipped = 0;       // requests skipped (notices made)
+  int64_t pending = 0;       // goals known and not yet measured
+  int64_t refused_full = 0;  // items refused because the custody buffer was full
+  int64_t lost_notices = 0;  // notices that found no room (must stay 0)
+  int64_t requests = 0;      // newest request known
+  int64_t dead_known = 0;    // the OC's declarations of dead agents it knows
 };
 
 // What a role keeps across a restart of its process besides its custody
 // (runner/journal; docs/faults.md, "Crash and restart").
 struct Progress {
-  int32_t resolved = -1;  // every request up to this one learned or skipped
+  int32_t resolved = -1;                                        // every request up to this one learned or skipped
   int64_t measured = 0, dropped = 0, expired = 0, skipped = 0;  // its counters
-  std::vector<int16_t> dead;                 // the OC's declarations it knows
-  std::vector<mission::KnownGoal> learned;   // the request it works on: its goals here, in learning order
-  std::vector<int32_t> known;                // ids of those not yet measured or expired
+  std::vector<int16_t> dead;                                    // the OC's declarations it knows
+  std::vector<mission::KnownGoal> learned;  // the request it works on: its goals here, in learning order
+  std::vector<int32_t> known;               // ids of those not yet measured or expired
 };
 
 class Role {

@@ -48,7 +48,7 @@ class WorkerRole : public Role {
   struct Incoming {
     int32_t id = -1;
     uint16_t parts = 0;
-    uint64_t seen = 0;  // bit per part
+    uint64_t seen = 0;                     // bit per part
     std::vector<mission::KnownGoal> mine;  // goals of this worker's segment
     bool complete() const { return id >= 0 && parts > 0 && seen == (parts >= 64 ? ~0ull : ((1ull << parts) - 1)); }
   };
@@ -60,8 +60,8 @@ class WorkerRole : public Role {
   void expire_overdue(double now);
   bool settled(double now, bool contact);
   void decide(double now);
-  bool contact(double now) const;  // with its upstream, as predicted by the radio model
-  double due_time() const;         // [s] when the next request should reach it
+  bool contact(double now) const;    // with its upstream, as predicted by the radio model
+  double due_time() const;           // [s] when the next request should reach it
   double deadline(int cycle) const;  // [s] of request `cycle`'s goals here (inf: a worker of the OC)
   // Executes the plan repaired for the deaths it knows (the OC's, and its
   // collector if it suspects it): a new policy when its segment or its
@@ -72,17 +72,17 @@ class WorkerRole : public Role {
   std::unique_ptr<mission::WorkerPolicy> policy_;
   bool retired_ = false;
   uint64_t progress_version_ = 0;  // bumped whenever progress() changes
-  int16_t suspected_ = -1;        // the collector (agent id) it suspects dead, -1 none
-  double upstream_heard_ = 0.0;   // [s] the latest message from its collector
-  double suspect_after_ = 0.0;    // [s] of silence from its collector before it suspects it
-  int64_t served_cells_ = 0;      // cells of the label it serves (grows when a segment is merged into it)
+  int16_t suspected_ = -1;         // the collector (agent id) it suspects dead, -1 none
+  double upstream_heard_ = 0.0;    // [s] the latest message from its collector
+  double suspect_after_ = 0.0;     // [s] of silence from its collector before it suspects it
+  int64_t served_cells_ = 0;       // cells of the label it serves (grows when a segment is merged into it)
   Custody custody_;
   int16_t upstream_ = kOc;
   Phase phase_ = Phase::kStart;
-  Incoming request_;         // newest request received (maybe not yet learned)
-  int32_t resolved_ = -1;    // every request up to this one is learned or skipped
+  Incoming request_;                       // newest request received (maybe not yet learned)
+  int32_t resolved_ = -1;                  // every request up to this one is learned or skipped
   std::vector<int32_t> measured_in_step_;  // goal ids measured in the last step
-  std::vector<int> known_;   // local indices of the learned request's unmeasured goals
+  std::vector<int> known_;                 // local indices of the learned request's unmeasured goals
   // The plan being executed.
   std::vector<Waypoint> legs_;
   std::vector<int> leg_goal_;  // local goal index per leg, -1 for the pass / landing
@@ -99,8 +99,8 @@ class WorkerRole : public Role {
   bool sent_in_contact_ = false;
   // Contact and state messages.
   bool contact_prev_ = false;
-  bool heard_oc_ = false;     // OC workers: the OC answered since it came back into the coverage
-  int32_t oc_newest_ = -1;    // the newest request the OC said it has
+  bool heard_oc_ = false;   // OC workers: the OC answered since it came back into the coverage
+  int32_t oc_newest_ = -1;  // the newest request the OC said it has
   double next_beacon_ = 0.0, last_hello_ = -1e300;
   std::vector<mission::KnownGoal> scratch_;
   RoleReport counters_;

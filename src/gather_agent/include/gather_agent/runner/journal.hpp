@@ -8,10 +8,9 @@
 // payload][u8 type][payload]: an item stored, a key acked away, a progress
 // snapshot, a pose; each control step's records go in one batch record (one
 // CRC: a step comes back whole or not at all), appended with one write()
-// and made durable with fdatasync() before the step's messages go out. Bounded: past kCompactBytes the file is rewritten (to a temporary
-// file, fsync, rename) with the current state only. On start, the records
-// are replayed up to the first one that is torn or fails its CRC (a crash
-// during a write), and the file is cut there.
+// and made durable with fdatasync() before the step's messages go out. Bounded: past kCompactBytes the file is
+// rewritten (to a temporary file, fsync, rename) with the current state only. On start, the records are replayed up to
+// the first one that is torn or fails its CRC (a crash during a write), and the file is cut there.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -30,11 +29,11 @@ struct JournalState {
   Progress progress;
   bool have_progress = false;
   bool have_pose = false;
-  Point2 pose;                    // [m] the last one journaled
-  double pose_t = 0.0;            // [s] when
-  std::size_t records = 0;        // good records read
-  bool cut = false;               // a torn or corrupt tail was cut off
-  bool matched = false;           // the file was this agent's of this run (else it was started afresh)
+  Point2 pose;              // [m] the last one journaled
+  double pose_t = 0.0;      // [s] when
+  std::size_t records = 0;  // good records read
+  bool cut = false;         // a torn or corrupt tail was cut off
+  bool matched = false;     // the file was this agent's of this run (else it was started afresh)
 };
 
 class Journal {
@@ -86,7 +85,7 @@ class Journal {
   bool durable_ = false;          // pending_ holds more than poses
   std::vector<uint8_t> scratch_;
   std::vector<uint8_t> batch_;
-  std::size_t compacted_ = 0;     // bytes right after the last compaction
+  std::size_t compacted_ = 0;  // bytes right after the last compaction
 };
 
 // Keeps a role's journal up to date after each control step (the runner

@@ -22,8 +22,8 @@
 // arrived meanwhile, mission time = wall time since the start x rate. No
 // ticks, no replies, no per-agent counters at the OC, not reproducible.
 #include <chrono>
-#include <functional>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -88,8 +88,8 @@ class LockstepAgent {
   int64_t wall_start_us_ = 0;  // wall clock: the mission's start
   double wall_next_ = 0.0;     // [s] mission time of the next wall-clock step
   int wall_wait_ms_ = 20;
-  std::vector<Message> held_;               // radio messages of ticks not yet processed
-  std::vector<Message> current_;            // the messages of the tick being processed
+  std::vector<Message> held_;     // radio messages of ticks not yet processed
+  std::vector<Message> current_;  // the messages of the tick being processed
   std::vector<const Message*> inbox_;
   Reply reply_;
   std::string journal_dir_;
@@ -100,14 +100,14 @@ class LockstepAgent {
 
 struct MasterOptions {
   ClockMode clock = ClockMode::kLockstep;  // kWall: no ticks; mission time is wall time x rate
-  double tick = 0.1;             // [s] of mission time per tick (wall clock: per control step)
-  double loss = 0.0;             // injected loss of the range gate
+  double tick = 0.1;                       // [s] of mission time per tick (wall clock: per control step)
+  double loss = 0.0;                       // injected loss of the range gate
   uint64_t loss_seed = 1;
-  double rate = 0.0;             // times real time (0: as fast as the lockstep allows; the wall clock needs > 0)
-  double ready_timeout_s = 60.0; // for every agent to say READY
-  double reply_timeout_s = 10.0; // for every agent to reply to a tick
-  double time_limit = 0.0;       // [s] of mission time; 0: time_limit(team)
-  bool observe = false;          // keep ViewEvents for take_events() (the OC's views)
+  double rate = 0.0;              // times real time (0: as fast as the lockstep allows; the wall clock needs > 0)
+  double ready_timeout_s = 60.0;  // for every agent to say READY
+  double reply_timeout_s = 10.0;  // for every agent to reply to a tick
+  double time_limit = 0.0;        // [s] of mission time; 0: time_limit(team)
+  bool observe = false;           // keep ViewEvents for take_events() (the OC's views)
   // Agents to end (SIGKILL to the pid each said READY with; lockstep only).
   std::vector<Kill> kills;
   // Agents whose process is killed and started again (lockstep only): the
@@ -183,9 +183,7 @@ class LockstepMaster {
   void observe(double t, bool wall);
   // Killed by the lockstep, or declared dead by the OC: its custody no
   // longer holds the mission's end.
-  bool gone(int agent) const {
-    return killed_[static_cast<std::size_t>(agent)] || oc_role_dead(agent);
-  }
+  bool gone(int agent) const { return killed_[static_cast<std::size_t>(agent)] || oc_role_dead(agent); }
   bool oc_role_dead(int agent) const;
 
   TeamSetup& team_;

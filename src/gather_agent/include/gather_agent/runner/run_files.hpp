@@ -14,9 +14,9 @@ namespace gather {
 namespace agent {
 
 struct LoadedPlan {
-  std::string dir;                // the plan directory as given
+  std::string dir;  // the plan directory as given
   mission::MissionPlan plan;
-  Scenario scenario;              // on the plan's grid (plan.yaml's grid_factor)
+  Scenario scenario;  // on the plan's grid (plan.yaml's grid_factor)
 };
 
 // Reads PLAN_DIR/plan.yaml, its labels image and the scenario it names.
@@ -61,7 +61,8 @@ void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const M
 extern const char* const kAgentsCsvHeader;
 extern const char* const kFaultsCsvHeader;
 void append_fault_rows(std::string& out, const plan::PlanFile& plan, unsigned seed, const RunOutcome& run);
-void append_agent_rows(std::string& out, const plan::PlanFile& plan, unsigned seed, const std::vector<AgentSummary>& agents);
+void append_agent_rows(std::string& out, const plan::PlanFile& plan, unsigned seed,
+                       const std::vector<AgentSummary>& agents);
 
 }  // namespace agent
 }  // namespace gather

@@ -34,13 +34,13 @@ Kill parse_kill(const std::string& text, int agents, const std::string& flag);
 std::vector<Kill> parse_kills(const std::string& list, int agents, const std::string& flag);
 
 struct RunOptions {
-  double tick = 0.1;        // [s] of mission time per tick (the control rate), (0, 0.1]
-  double loss = 0.0;        // injected message loss probability, [0, 1)
+  double tick = 0.1;  // [s] of mission time per tick (the control rate), (0, 0.1]
+  double loss = 0.0;  // injected message loss probability, [0, 1)
   uint64_t loss_seed = 1;
-  double time_limit = 0.0;  // [s] of mission time; 0: automatic (time_limit())
-  std::size_t inbox = 1024; // messages an agent takes per tick (the rest is counted as overflow)
-  std::size_t outbox = 64;  // messages a role sends per tick
-  std::vector<Kill> kills;  // agents to end during the run
+  double time_limit = 0.0;   // [s] of mission time; 0: automatic (time_limit())
+  std::size_t inbox = 1024;  // messages an agent takes per tick (the rest is counted as overflow)
+  std::size_t outbox = 64;   // messages a role sends per tick
+  std::vector<Kill> kills;   // agents to end during the run
   // Agents whose process crashes at `at` and is started again at once from
   // its journal (docs/faults.md, "Crash and restart"); needs journal_dir.
   std::vector<Kill> restarts;
@@ -52,15 +52,15 @@ struct RunOptions {
 double time_limit(const TeamSetup& team);
 
 struct RunOutcome {
-  bool completed = false;     // every goal resolved
-  std::string failure;        // why not
+  bool completed = false;  // every goal resolved
+  std::string failure;     // why not
   int64_t ticks = 0;
-  double end_s = 0.0;         // [s] mission time of the last tick
+  double end_s = 0.0;  // [s] mission time of the last tick
   double wall_ms = 0.0;
-  mission::MissionResult result;  // when completed: accounting, metrics, per-cycle stats
+  mission::MissionResult result;     // when completed: accounting, metrics, per-cycle stats
   std::vector<AgentSummary> agents;  // by agent id
   LinkCounters oc_link;
-  AuthCounters oc_auth;  // over LCM: what the OC dropped before decoding, by reason
+  AuthCounters oc_auth;       // over LCM: what the OC dropped before decoding, by reason
   int64_t messages = 0;       // sent by everyone
   int64_t invalid_items = 0;  // items the OC could not place
   int64_t duplicate_items = 0;
@@ -103,7 +103,7 @@ class TeamRunner {
   std::vector<uint32_t> seq_;
   std::vector<Message> sent_, next_;
   std::vector<const Message*> inbox_;
-  std::vector<uint8_t> killed_;  // by unit
+  std::vector<uint8_t> killed_;     // by unit
   std::vector<uint8_t> restarted_;  // by unit: restarted (once)
   std::vector<uint8_t> fresh_;      // by unit: restarted this tick (an empty inbox: a new process heard nothing yet)
   std::vector<std::unique_ptr<JournalKeeper>> journals_;  // by unit ([0], the OC's: none)

@@ -67,7 +67,7 @@ struct Reply {
   int64_t tick = -1;
   int16_t agent = 0;
   ReplyStatus status = ReplyStatus::kStepped;
-  int32_t pid = 0;            // the agent's process id (READY replies)
+  int32_t pid = 0;  // the agent's process id (READY replies)
   int32_t sent = 0;
   Point2 pose;
   RoleKind role = RoleKind::kWorker;

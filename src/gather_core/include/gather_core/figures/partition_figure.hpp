@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "gather_core/grid/occupancy_grid.hpp"
 #include "gather_core/figures/palette.hpp"
+#include "gather_core/grid/occupancy_grid.hpp"
 #include "gather_core/partition/partition.hpp"
 
 namespace gather {

@@ -50,8 +50,8 @@ enum class QueueKind { kAuto, kBuckets, kSortedBuckets, kHeap };
 // between them are free), so the front starts round and sub-cell exact.
 struct Source {
   bool is_point = false;
-  Cell cell{};      // used when !is_point
-  Point2 point{};   // [m], map frame; used when is_point
+  Cell cell{};     // used when !is_point
+  Point2 point{};  // [m], map frame; used when is_point
 
   static Source at_cell(Cell c) { return Source{false, c, Point2{}}; }
   static Source at_point(Point2 p) { return Source{true, Cell{}, p}; }
@@ -137,7 +137,7 @@ class FastMarching {
   int width() const { return width_; }
   int height() const { return height_; }
   double resolution() const { return resolution_; }  // [m/cell]
-  Point2 origin() const { return origin_; }           // [m]
+  Point2 origin() const { return origin_; }          // [m]
   bool contains(Cell c) const { return c.row >= 0 && c.col >= 0 && c.row < height_ && c.col < width_; }
   // Free in the grid and, with a speed map, of positive speed.
   bool traversable(Cell c) const {
@@ -160,9 +160,9 @@ class FastMarching {
 
   // A cell whose time was set directly from a source (not by the march).
   struct Seed {
-    uint32_t index;   // padded index
-    int32_t source;   // index into sources()
-    float time;       // [s] the time the source gave it
+    uint32_t index;  // padded index
+    int32_t source;  // index into sources()
+    float time;      // [s] the time the source gave it
   };
   const std::vector<Seed>& seeds() const { return seeds_; }
 
@@ -186,7 +186,10 @@ class FastMarching {
   void seed(const std::vector<Source>& sources, bool labels);
   void note_touched(uint32_t p) {
     if (touched_overflow_) return;
-    if (touched_.size() < touched_limit_) touched_.push_back(p); else touched_overflow_ = true;
+    if (touched_.size() < touched_limit_)
+      touched_.push_back(p);
+    else
+      touched_overflow_ = true;
   }
   float cost_at(std::size_t p) const { return cost_.empty() ? unit_cost_ : cost_[p]; }
 
@@ -195,14 +198,14 @@ class FastMarching {
   std::size_t stride_ = 0;
   double resolution_ = 1.0;
   Point2 origin_{};
-  float unit_cost_ = 1.0f;      // seconds per cell at unit speed = resolution
-  float min_cost_ = 1.0f;       // [s per cell] at the fastest speed
-  float max_cost_ = 1.0f;       // [s per cell] at the slowest positive speed
+  float unit_cost_ = 1.0f;  // seconds per cell at unit speed = resolution
+  float min_cost_ = 1.0f;   // [s per cell] at the fastest speed
+  float max_cost_ = 1.0f;   // [s per cell] at the slowest positive speed
 
-  std::vector<uint8_t> mask_;   // padded, 1 = free in the grid
-  std::vector<float> cost_;     // padded [s per cell] = resolution / F (+inf at F = 0); empty at unit speed
-  std::vector<float> times_;    // padded [s]
-  std::vector<int32_t> labels_; // padded; valid where times_ is finite and labels_on_
+  std::vector<uint8_t> mask_;    // padded, 1 = free in the grid
+  std::vector<float> cost_;      // padded [s per cell] = resolution / F (+inf at F = 0); empty at unit speed
+  std::vector<float> times_;     // padded [s]
+  std::vector<int32_t> labels_;  // padded; valid where times_ is finite and labels_on_
   bool labels_on_ = false;
 
   std::vector<uint32_t> touched_;  // cells made finite by the last solve (reset list)

@@ -11,9 +11,9 @@ namespace gather {
 struct MapImage {
   int width = 0;
   int height = 0;
-  int channels = 0;         // 1 (gray or palette index), 2 (gray + tRNS alpha), 3 (RGB) or 4 (RGBA)
-  bool has_alpha = false;   // SDL's Amask: true only for a real alpha channel
-  bool palette_indices = false;  // channel 0 holds palette indices (as SDL_image keeps them)
+  int channels = 0;                  // 1 (gray or palette index), 2 (gray + tRNS alpha), 3 (RGB) or 4 (RGBA)
+  bool has_alpha = false;            // SDL's Amask: true only for a real alpha channel
+  bool palette_indices = false;      // channel 0 holds palette indices (as SDL_image keeps them)
   bool palette_is_gray_ramp = true;  // palette entry i == gray i, so indices equal gray levels
   std::vector<uint8_t> pixels;
 };

@@ -11,9 +11,9 @@ enum class MapMode { kTrinary, kScale, kRaw };
 
 // The keys of a map_server YAML file. All keys but `mode` are required.
 struct MapMetadata {
-  std::string image;              // resolved path of the image file
-  double resolution = 0.0;        // [m/cell]
-  Point2 origin;                  // lower-left corner [m]; yaw must be 0
+  std::string image;        // resolved path of the image file
+  double resolution = 0.0;  // [m/cell]
+  Point2 origin;            // lower-left corner [m]; yaw must be 0
   bool negate = false;
   double occupied_thresh = 0.65;  // occupancy above -> occupied (100)
   double free_thresh = 0.196;     // occupancy below -> free (0)

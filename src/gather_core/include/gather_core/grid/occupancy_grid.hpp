@@ -1,8 +1,8 @@
 #pragma once
 // A 2-D occupancy grid in the ROS map convention: cells row-major, row 0 at the
 // lowest y (the bottom of the image), origin = lower-left corner of cell (0,0).
-#include <cstddef>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -31,14 +31,14 @@ class OccupancyGrid {
   // `values` are nav_msgs/OccupancyGrid values (-1 unknown, 0..100 occupancy),
   // `free` marks traversable cells (1) - unknown cells are never traversable.
   // resolution [m/cell] > 0; origin [m]. Throws std::invalid_argument on size mismatch.
-  OccupancyGrid(int width, int height, double resolution, Point2 origin,
-                std::vector<int8_t> values, std::vector<uint8_t> free);
+  OccupancyGrid(int width, int height, double resolution, Point2 origin, std::vector<int8_t> values,
+                std::vector<uint8_t> free);
 
   int width() const { return width_; }
   int height() const { return height_; }
   std::size_t size() const { return values_.size(); }
   double resolution() const { return resolution_; }  // [m/cell]
-  Point2 origin() const { return origin_; }           // [m]
+  Point2 origin() const { return origin_; }          // [m]
 
   bool contains(Cell c) const { return c.row >= 0 && c.col >= 0 && c.row < height_ && c.col < width_; }
   std::size_t index(Cell c) const { return static_cast<std::size_t>(c.row) * width_ + c.col; }

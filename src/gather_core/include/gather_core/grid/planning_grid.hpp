@@ -22,15 +22,14 @@ namespace gather {
 OccupancyGrid coarsen(const OccupancyGrid& grid, int factor);
 
 struct PlanningGrid {
-  int factor = 1;            // 1: the map's own grid
-  double kept = 1.0;         // share of the map's reachable cells still next to coarse reachable space
+  int factor = 1;     // 1: the map's own grid
+  double kept = 1.0;  // share of the map's reachable cells still next to coarse reachable space
 };
 
 // The factor for a map: the smallest f with cells / f^2 <= max_cells (0 = no
 // limit), lowered until the coarse grid keeps `min_kept` of the reachable
 // space (a map cell counts as kept when its block or a neighbouring block is
 // reachable from the OC's block) and the OC's block is free.
-PlanningGrid choose_planning_grid(const OccupancyGrid& grid, Point2 oc, std::size_t max_cells,
-                                  double min_kept = 0.98);
+PlanningGrid choose_planning_grid(const OccupancyGrid& grid, Point2 oc, std::size_t max_cells, double min_kept = 0.98);
 
 }  // namespace gather

@@ -13,9 +13,9 @@ std::vector<uint8_t> reachable_from(const OccupancyGrid& grid, Cell start);
 
 struct FreeSpaceSummary {
   std::size_t free_cells = 0;
-  std::size_t reachable_cells = 0;       // in the component of the start cell
-  std::size_t other_components = 0;      // free components the start cannot reach
-  std::size_t largest_other_cells = 0;   // size of the largest of those
+  std::size_t reachable_cells = 0;      // in the component of the start cell
+  std::size_t other_components = 0;     // free components the start cannot reach
+  std::size_t largest_other_cells = 0;  // size of the largest of those
 };
 
 FreeSpaceSummary summarize_free_space(const OccupancyGrid& grid, Cell start);

@@ -36,21 +36,21 @@ const char* goal_state_name(GoalState s);
 
 struct GoalRecord {
   int id = 0;
-  int cycle = 0;               // the request it belongs to
-  Point2 point;                // [m] (a cell centre)
-  int segment = 0;             // 0: in no segment (never measured, expires)
-  int worker = -1;             // agent id of the segment's worker
-  double requested_at = 0.0;   // [s]
-  double deadline = 0.0;       // [s] the next request: unmeasured by then = expired
-  double measured_at = -1.0;   // [s], -1 = never
+  int cycle = 0;              // the request it belongs to
+  Point2 point;               // [m] (a cell centre)
+  int segment = 0;            // 0: in no segment (never measured, expires)
+  int worker = -1;            // agent id of the segment's worker
+  double requested_at = 0.0;  // [s]
+  double deadline = 0.0;      // [s] the next request: unmeasured by then = expired
+  double measured_at = -1.0;  // [s], -1 = never
   int measured_by = -1;
   double picked_up_at = -1.0;  // [s] handed to a collector, -1 = never (OC workers deliver themselves)
   int picked_up_by = -1;
-  double delivered_at = -1.0;  // [s] inside the OC's coverage, -1 = never
-  int delivered_by = -1;       // agent that brought it into coverage
-  double expired_at = -1.0;    // [s] = deadline when never measured
-  double dropped_at = -1.0;    // [s] measured, but no buffer had room for its data (agent runtime only)
-  double lost_at = -1.0;       // [s] declared lost with a dead agent (agent runtime only)
+  double delivered_at = -1.0;             // [s] inside the OC's coverage, -1 = never
+  int delivered_by = -1;                  // agent that brought it into coverage
+  double expired_at = -1.0;               // [s] = deadline when never measured
+  double dropped_at = -1.0;               // [s] measured, but no buffer had room for its data (agent runtime only)
+  double lost_at = -1.0;                  // [s] declared lost with a dead agent (agent runtime only)
   GoalState state = GoalState::kPending;  // at the end of the run
 };
 
@@ -62,9 +62,9 @@ struct CycleStats {
   // refresh times delivered_at - requested_at [s] (0 when none).
   int delivered = 0;
   double refresh_mean_s = 0.0, refresh_max_s = 0.0;
-  int expired = 0;            // goals of this request never measured
-  int dropped = 0;            // goals of this request measured and dropped (no room in a buffer)
-  int lost = 0;               // goals of this request lost with a dead agent
+  int expired = 0;  // goals of this request never measured
+  int dropped = 0;  // goals of this request measured and dropped (no room in a buffer)
+  int lost = 0;     // goals of this request lost with a dead agent
   // Snapshot of all goals requested so far at the end of the cycle
   // (t = requested_at + period), as checked for conservation.
   int total_requested = 0, total_delivered = 0, total_carried = 0, total_pending = 0, total_expired = 0,
@@ -103,17 +103,17 @@ struct MissionResult {
   std::vector<GoalRecord> goals;
   std::vector<CycleStats> cycles;
   std::vector<Leg> legs;
-  double period_s = 0.0;            // request period
-  double mission_s = 0.0;           // cycles * period [s]
-  double end_s = 0.0;               // last event (data still carried at the last request is delivered)
-  double refresh_mean_s = 0.0;      // latency: delivered_at - requested_at, mean over all delivered goals
+  double period_s = 0.0;        // request period
+  double mission_s = 0.0;       // cycles * period [s]
+  double end_s = 0.0;           // last event (data still carried at the last request is delivered)
+  double refresh_mean_s = 0.0;  // latency: delivered_at - requested_at, mean over all delivered goals
   double refresh_max_s = 0.0;
   // interval: per area (a square tile of the map) the time between
   // consecutive deliveries of its data to the OC (interval_stats); the mean
   // over areas of each area's mean, and the largest area mean.
   double interval_mean_s = 0.0;
   double interval_max_s = 0.0;
-  double goals_per_cycle = 0.0;     // delivered / cycles
+  double goals_per_cycle = 0.0;  // delivered / cycles
   // How every goal ended (they add up to the goals requested).
   int delivered = 0, expired = 0, dropped = 0, lost_with_agent = 0;
   double wall_ms = 0.0;
@@ -129,8 +129,8 @@ int64_t area_of(Point2 p, double tile);
 // The areas of a world: reachable area [m^2] of every tile of side `tile`
 // that holds reachable space.
 struct AreaWeights {
-  double tile = 0.0;                 // [m]
-  std::map<int64_t, double> area;    // area_of -> [m^2]
+  double tile = 0.0;               // [m]
+  std::map<int64_t, double> area;  // area_of -> [m^2]
 };
 AreaWeights area_weights(const World& world, double tile);
 
@@ -169,9 +169,8 @@ class MissionSimulator {
   std::vector<RouteTimetable> routes_;
   std::unique_ptr<SharedDistances> shared_;
   std::vector<WorkerPolicy> workers_;  // the decisions of each worker, shared with the agents' worker role
-  AreaWeights areas_;  // of the refresh interval
+  AreaWeights areas_;                  // of the refresh interval
 };
-
 
 // The refresh interval of a run (docs/simulator.md, "Metrics"): the areas
 // are the tiles of `areas`; an area's deliveries are the distinct times at

@@ -49,8 +49,8 @@ struct Spot {
 // simulator; an agent process has its own.
 struct SharedDistances {
   explicit SharedDistances(const World& world, bool from_oc = true);
-  fmm::FastMarching fm;                    // unit speed, the whole map
-  std::vector<float> from_oc;              // [m] geodesic distance of every cell from the OC's cell (or empty)
+  fmm::FastMarching fm;        // unit speed, the whole map
+  std::vector<float> from_oc;  // [m] geodesic distance of every cell from the OC's cell (or empty)
 };
 
 // When request `cycle` (issued at cycle * period [s]) reaches a worker of
@@ -87,14 +87,14 @@ class WorkerPolicy {
   };
   struct Decision {
     Action action = Action::kDone;
-    std::size_t k = 0;           // goals to measure: local indices tour[0..k), reached at at[0..k) [s]
+    std::size_t k = 0;  // goals to measure: local indices tour[0..k), reached at at[0..k) [s]
     const int* tour = nullptr;
     const double* at = nullptr;
-    int rendezvous = -1;         // collector worker: where it hands over
-    double arrive = 0.0;         // [s] at the rendezvous (or the landing cell)
-    double handover = 0.0;       // [s] when the hand-over there is planned to end (the link held for transfer_s)
-    double link_until = 0.0;     // [s] when that pass's link window ends (the worker gives up after it)
-    Cell landing;                // kBackToCoverage: the coverage cell; kGoToMeeting: the meeting point's cell
+    int rendezvous = -1;      // collector worker: where it hands over
+    double arrive = 0.0;      // [s] at the rendezvous (or the landing cell)
+    double handover = 0.0;    // [s] when the hand-over there is planned to end (the link held for transfer_s)
+    double link_until = 0.0;  // [s] when that pass's link window ends (the worker gives up after it)
+    Cell landing;             // kBackToCoverage: the coverage cell; kGoToMeeting: the meeting point's cell
   };
 
   // Worker `agent` of `plan` (not a collector). `route`: its collector's
@@ -201,15 +201,15 @@ class WorkerPolicy {
   int agent_ = 0, segment_ = 0, collector_ = -1;
   double speed_ = 1.0;
   double meeting_arc_ = 0.0;
-  std::vector<Cell> rendezvous_;        // cells of its collector's passes next to its segment
-  std::vector<double> rendezvous_arc_;  // [m] their arc positions on the route
+  std::vector<Cell> rendezvous_;                        // cells of its collector's passes next to its segment
+  std::vector<double> rendezvous_arc_;                  // [m] their arc positions on the route
   std::vector<std::pair<double, double>> link_window_;  // [m] arcs of the route linked to each rendezvous
-  std::size_t capacity_ = 0;  // goals per hand-over (handover_capacity)
+  std::size_t capacity_ = 0;                            // goals per hand-over (handover_capacity)
   // Geodesic distances [m] from each rendezvous to every cell of the segment
   // (by the cell's index in its segment) and to the other rendezvous.
   std::vector<std::vector<float>> rendezvous_to_cell_;
   std::vector<std::vector<double>> rendezvous_to_rendezvous_;
-  std::vector<Cell> segment_cells_;     // by index in the segment
+  std::vector<Cell> segment_cells_;  // by index in the segment
   // Index in segment_cells_ of each cell of the segment's bounding box (-1:
   // not of the segment).
   int32_t segment_index(Cell c) const;
@@ -233,7 +233,7 @@ class WorkerPolicy {
   std::size_t n_ = 0;
   std::size_t stride_ = 0;
   std::vector<KnownGoal> goals_;
-  std::vector<Cell> cells_;          // goals then rendezvous cells
+  std::vector<Cell> cells_;  // goals then rendezvous cells
   std::vector<double> from_;
   std::vector<double> from_position_;  // [target]
   std::vector<double> position_to_rv_;

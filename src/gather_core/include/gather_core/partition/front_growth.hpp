@@ -30,8 +30,8 @@ class FrontGrowth {
   void set_slowness(const std::vector<float>& slowness);
 
   struct Front {
-    std::size_t cell;   // row-major index, must be in the region
-    double start = 0.0; // [s] time the front starts (an additive weight)
+    std::size_t cell;    // row-major index, must be in the region
+    double start = 0.0;  // [s] time the front starts (an additive weight)
   };
 
   // Grows every front over the region. `labels` (row-major, resized) gets
@@ -71,7 +71,9 @@ class FrontGrowth {
   std::size_t pad(std::size_t cell) const {
     return (cell / static_cast<std::size_t>(width_) + 1) * stride_ + cell % static_cast<std::size_t>(width_) + 1;
   }
-  std::size_t unpad(std::size_t p) const { return (p / stride_ - 1) * static_cast<std::size_t>(width_) + p % stride_ - 1; }
+  std::size_t unpad(std::size_t p) const {
+    return (p / stride_ - 1) * static_cast<std::size_t>(width_) + p % stride_ - 1;
+  }
   std::size_t cell_weight(std::size_t p) const { return weight_.empty() ? 1 : weight_[p]; }
   float cost(std::size_t p) const { return slowness_.empty() ? res_ : res_ * slowness_[p]; }
   // First-order Eikonal update of p from accepted neighbours with label L.
@@ -82,13 +84,13 @@ class FrontGrowth {
   int width_, height_;
   std::size_t stride_;
   float res_;
-  std::vector<uint8_t> region_;    // padded
-  std::vector<uint8_t> avail_;     // padded, quota rounds
-  std::vector<float> slowness_;    // padded, empty = unit
-  std::vector<uint32_t> weight_;   // padded, empty = 1
-  std::vector<float> time_;        // padded
-  std::vector<int32_t> label_;     // padded
-  std::vector<uint8_t> state_;     // padded: 0 far, 1 band, 2 accepted, 3 pinned source
+  std::vector<uint8_t> region_;   // padded
+  std::vector<uint8_t> avail_;    // padded, quota rounds
+  std::vector<float> slowness_;   // padded, empty = unit
+  std::vector<uint32_t> weight_;  // padded, empty = 1
+  std::vector<float> time_;       // padded
+  std::vector<int32_t> label_;    // padded
+  std::vector<uint8_t> state_;    // padded: 0 far, 1 band, 2 accepted, 3 pinned source
   std::vector<uint32_t> touched_;
   struct Entry {
     float t;

@@ -13,17 +13,17 @@ namespace partition {
 
 struct PartitionMetrics {
   int segments = 0;
-  std::vector<double> areas;        // [m^2] per segment 1..N_w
-  double area_mean = 0.0;           // [m^2]
-  double area_ratio = 0.0;          // max / min area
-  double area_cv = 0.0;             // coefficient of variation (population std / mean)
+  std::vector<double> areas;  // [m^2] per segment 1..N_w
+  double area_mean = 0.0;     // [m^2]
+  double area_ratio = 0.0;    // max / min area
+  double area_cv = 0.0;       // coefficient of variation (population std / mean)
   // Compactness of a segment: radius of the disc of its area / its geodesic
   // radius (largest FMM distance, inside the segment, from its cell nearest
   // the centre of mass). 1 for a disc; lower for long or twisted segments.
   std::vector<double> compactness;
   double compactness_mean = 0.0;
   double compactness_min = 0.0;
-  double runtime_ms = 0.0;          // of the partition
+  double runtime_ms = 0.0;  // of the partition
 };
 
 PartitionMetrics compute_metrics(const OccupancyGrid& grid, const PartitionResult& part);

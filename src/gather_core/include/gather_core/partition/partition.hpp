@@ -52,13 +52,14 @@ struct PartitionParams {
 
 struct PartitionResult {
   Method method = Method::kBap;
-  int workers = 0;                 // N_w
+  int workers = 0;  // N_w
   int width = 0, height = 0;
-  std::vector<int32_t> labels;     // row-major (row 0 = bottom), 0 = no segment, k = segment k (1..N_w)
-  std::vector<Cell> seeds;         // per segment k-1: its final seed / wavefront start
-  std::vector<Cell> initial_seeds; // PAP/RAP: the centroid initialisation (Fig. 1b); BAP: empty
-  std::vector<float> clearance;    // row-major [m] clearance_map(): distance to the nearest non-free cell (map edge = wall)
-  double runtime_ms = 0.0;         // wall time of partition_area()
+  std::vector<int32_t> labels;      // row-major (row 0 = bottom), 0 = no segment, k = segment k (1..N_w)
+  std::vector<Cell> seeds;          // per segment k-1: its final seed / wavefront start
+  std::vector<Cell> initial_seeds;  // PAP/RAP: the centroid initialisation (Fig. 1b); BAP: empty
+  std::vector<float>
+      clearance;            // row-major [m] clearance_map(): distance to the nearest non-free cell (map edge = wall)
+  double runtime_ms = 0.0;  // wall time of partition_area()
 };
 
 // Splits the free space reachable from `oc` [cell] into `workers` segments.
@@ -76,9 +77,9 @@ PartitionResult partition_area(const OccupancyGrid& grid, Cell oc, Method method
 struct PreparedArea {
   int width = 0, height = 0;
   Cell oc{};
-  std::vector<uint8_t> reachable;   // row-major, 1 = free and 4-connected to the OC
+  std::vector<uint8_t> reachable;  // row-major, 1 = free and 4-connected to the OC
   std::size_t reachable_cells = 0;
-  std::vector<float> clearance;     // clearance_map(grid)
+  std::vector<float> clearance;  // clearance_map(grid)
 };
 // Throws gather::Error when the OC is off the map or not free.
 PreparedArea prepare_area(const OccupancyGrid& grid, Cell oc);

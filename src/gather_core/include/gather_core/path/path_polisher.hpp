@@ -8,10 +8,10 @@
 namespace gather {
 
 struct PolishOptions {
-  double robot_radius = 0.2;       // [m] every point of the result keeps this distance from blocked cells
-  double check_step = 0.0;         // [m] spacing of clearance checks along segments; 0 = resolution / 2
-  unsigned smoothing_passes = 3;   // OMPL PathSimplifier::smoothBSpline steps; 0 = shortcuts only
-  double min_spacing = 0.25;       // [m] smoothed vertices closer than this to the previous kept one are dropped
+  double robot_radius = 0.2;      // [m] every point of the result keeps this distance from blocked cells
+  double check_step = 0.0;        // [m] spacing of clearance checks along segments; 0 = resolution / 2
+  unsigned smoothing_passes = 3;  // OMPL PathSimplifier::smoothBSpline steps; 0 = shortcuts only
+  double min_spacing = 0.25;      // [m] smoothed vertices closer than this to the previous kept one are dropped
 };
 
 struct PolishedPath {

@@ -21,7 +21,7 @@ namespace plan {
 // over the goal count (goal-weighted, as the simulator's mean is: requests
 // with more goals take longer and weigh more).
 struct WorkerRun {
-  double delivered = 0.0;  // goals over all cycles
+  double delivered = 0.0;    // goals over all cycles
   double refresh_sum = 0.0;  // sum of delivered_at - requested_at over them [s]
   // The deliveries of each area (tile) of the segment to the OC.
   std::vector<AreaDeliveries> areas;

@@ -27,9 +27,9 @@ class LoopSchedule {
   LoopSchedule(double travel, double request_period);
 
   bool idle() const { return travel_ <= 0.0; }
-  double travel() const { return travel_; }        // P [s]
-  double super_period() const { return super_; }   // S [s]
-  int loops() const { return loops_; }             // m, loops per super-period
+  double travel() const { return travel_; }       // P [s]
+  double super_period() const { return super_; }  // S [s]
+  int loops() const { return loops_; }            // m, loops per super-period
 
   // Earliest departure (loop start) at or after t [s].
   double next_departure(double t) const;

@@ -14,21 +14,21 @@ namespace plan {
 struct AgentAssignment {
   int id = 0;
   bool collector = false;
-  int segment = 0;     // workers: their segment 1..N_w; collectors: 0
+  int segment = 0;       // workers: their segment 1..N_w; collectors: 0
   int delivers_to = -1;  // workers: their collector 0..N_c-1, or -1 = the OC; collectors: their own index
 };
 
 struct PlanFile {
   static constexpr const char* kFormat = "gather-plan/2";  // 2: area_tile_m, estimates.interval_s
-  std::string scenario;        // absolute path of the scenario file
-  std::string method;          // bap | pap | rap
+  std::string scenario;                                    // absolute path of the scenario file
+  std::string method;                                      // bap | pap | rap
   int collectors = 0;
   int workers = 0;
   unsigned seed = 1;
-  std::string labels_png;      // relative to the plan file
-  int grid_factor = 1;         // the labels are on the map coarsened by this (grid/planning_grid.hpp)
+  std::string labels_png;  // relative to the plan file
+  int grid_factor = 1;     // the labels are on the map coarsened by this (grid/planning_grid.hpp)
   double cycle_period_s = 0.0;
-  double area_tile_m = 0.0;    // side of the square areas of the refresh interval (mission::area_of)
+  double area_tile_m = 0.0;  // side of the square areas of the refresh interval (mission::area_of)
   double est_refresh_s = 0.0;
   double est_goals = 0.0;
   double est_interval_s = 0.0;

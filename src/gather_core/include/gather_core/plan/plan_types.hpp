@@ -31,9 +31,9 @@ struct CollectorRoute {
   std::vector<int> segments;      // worker segments it serves, in visiting order
   std::vector<Point2> waypoints;  // [m] polished, first and last at the OC
   std::vector<MeetingArea> meetings;
-  double length = 0.0;            // [m]
-  double period = 0.0;            // [s] length / speed
-  double min_clearance = 0.0;     // [m] of the polished route
+  double length = 0.0;                   // [m]
+  double period = 0.0;                   // [s] length / speed
+  double min_clearance = 0.0;            // [m] of the polished route
   std::vector<double> coverage_entries;  // [m] arc lengths where the route enters the OC's coverage (uploads)
 };
 
@@ -41,9 +41,9 @@ struct CollectorRoute {
 // of it in one worker's segment, and the deliveries of its data the
 // estimate expects (over the goal count; first and last of them [s]).
 struct AreaDeliveries {
-  int64_t area = 0;           // mission::area_of
-  double area_m2 = 0.0;       // reachable area of the tile in the segment
-  double covered_m2 = 0.0;    // of it inside the OC's coverage
+  int64_t area = 0;         // mission::area_of
+  double area_m2 = 0.0;     // reachable area of the tile in the segment
+  double covered_m2 = 0.0;  // of it inside the OC's coverage
   // Where the part's cells rank among its segment's cells by walking
   // distance from the home of the segment's worker as a worker of the OC
   // (a worker that cannot measure all its goals in time measures the
@@ -61,8 +61,8 @@ struct AreaDeliveries {
     for (int i = 0; i < kRankBins; ++i) in += ranks[static_cast<std::size_t>(i)] * std::clamp(b - i, 0.0, 1.0);
     return in / total;
   }
-  double deliveries = 0.0;     // expected number of deliveries
-  double events = 0.0;         // deliveries that may happen (each with its probability)
+  double deliveries = 0.0;  // expected number of deliveries
+  double events = 0.0;      // deliveries that may happen (each with its probability)
   double first = std::numeric_limits<double>::infinity(), last = -std::numeric_limits<double>::infinity();
   // A delivery at t [s] carrying some of the area's goals with probability
   // `expected`; `slots`: how many chances to deliver it stands for (below 1
@@ -108,12 +108,12 @@ struct AreaDeliveries {
 
 struct WorkerEstimate {
   int segment = 0;
-  int collector = -1;             // -1: delivers to the OC directly
-  double expected_goals = 0.0;    // goals of one request falling in its segment
-  double delivered_goals = 0.0;   // of those, measured within the cycle
-  double tour_s = 0.0;            // [s] time to measure all its goals (tour + approach)
-  double refresh_s = 0.0;         // [s] mean request-to-delivery time of its goals (latency)
-  double interval_s = 0.0;        // [s] mean over its areas of the time between their deliveries (interval)
+  int collector = -1;                 // -1: delivers to the OC directly
+  double expected_goals = 0.0;        // goals of one request falling in its segment
+  double delivered_goals = 0.0;       // of those, measured within the cycle
+  double tour_s = 0.0;                // [s] time to measure all its goals (tour + approach)
+  double refresh_s = 0.0;             // [s] mean request-to-delivery time of its goals (latency)
+  double interval_s = 0.0;            // [s] mean over its areas of the time between their deliveries (interval)
   std::vector<AreaDeliveries> areas;  // the tiles of its segment (not in plan.yaml)
 };
 

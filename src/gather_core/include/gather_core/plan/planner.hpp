@@ -13,9 +13,9 @@
 
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/grid/clearance.hpp"
-#include "gather_core/partition/partition.hpp"
 #include "gather_core/mission/simulator.hpp"
 #include "gather_core/mission/world.hpp"
+#include "gather_core/partition/partition.hpp"
 #include "gather_core/plan/plan_types.hpp"
 #include "gather_core/plan/worker_graph.hpp"
 #include "gather_core/scenario/scenario.hpp"
@@ -24,11 +24,11 @@ namespace gather {
 namespace plan {
 
 struct PlannerOptions {
-  unsigned seed = 1;            // partition seed
-  int threads = 2;              // configurations planned in parallel
-  double tsp_constant = 0.7124; // Beardwood-Halton-Hammersley constant of random tours in the plane
-  int smoothing_passes = 3;     // OMPL B-spline passes on collector routes
-  bool associate = true;        // decide per worker: collector or OC, and trim routes to the request period
+  unsigned seed = 1;             // partition seed
+  int threads = 2;               // configurations planned in parallel
+  double tsp_constant = 0.7124;  // Beardwood-Halton-Hammersley constant of random tours in the plane
+  int smoothing_passes = 3;      // OMPL B-spline passes on collector routes
+  bool associate = true;         // decide per worker: collector or OC, and trim routes to the request period
 };
 
 // Options that keep the collector groups as grown (no association step:
@@ -46,24 +46,24 @@ inline PlannerOptions grown_groups() {
 // plus what only planning needs.
 struct PlanContext : mission::World {
   explicit PlanContext(const Scenario& scenario);
-  std::vector<double> coverage_distance;    // [m] geodesic distance to the coverage, +inf unreachable
-  double farthest = 0.0;                    // [m] largest coverage_distance over reachable cells
-  double cycle_period = 0.0;                // [s] time between two OC requests
+  std::vector<double> coverage_distance;  // [m] geodesic distance to the coverage, +inf unreachable
+  double farthest = 0.0;                  // [m] largest coverage_distance over reachable cells
+  double cycle_period = 0.0;              // [s] time between two OC requests
   // [m] side of the square areas of the refresh interval: sqrt(reachable
   // area / team size), so about one area per robot whatever the configuration.
   double area_tile = 0.0;
-  mission::AreaWeights areas;               // the tiles of side area_tile and their reachable area
-  std::vector<int64_t> tile_ids;            // the keys of `areas`, ascending
-  std::vector<int32_t> tile_of_cell;        // row-major: index into tile_ids, -1 off the reachable space
+  mission::AreaWeights areas;         // the tiles of side area_tile and their reachable area
+  std::vector<int64_t> tile_ids;      // the keys of `areas`, ascending
+  std::vector<int32_t> tile_of_cell;  // row-major: index into tile_ids, -1 off the reachable space
   ClearanceMap clearance;
-  partition::PreparedArea prepared;         // reachability + clearance for the 27 partitions, computed once
+  partition::PreparedArea prepared;  // reachability + clearance for the 27 partitions, computed once
   // Collector routes keep the robot radius from walls: they are marched on a
   // speed map that is 1 where a robot fits and kTightSpeed elsewhere (so a
   // route only squeezes through where there is no other way).
   static constexpr double kTightSpeed = 0.05;
-  std::vector<double> route_speed;          // row-major [m/s relative]
-  std::vector<uint8_t> roomy;               // 1 where the robot fits (route_speed == 1)
-  fmm::FastMarching oc_field;               // solved from the OC on route_speed: legs from/to the OC
+  std::vector<double> route_speed;  // row-major [m/s relative]
+  std::vector<uint8_t> roomy;       // 1 where the robot fits (route_speed == 1)
+  fmm::FastMarching oc_field;       // solved from the OC on route_speed: legs from/to the OC
   // [m] walking distance (unit speed on the reachable space) from the OC's
   // cell, where every worker starts the mission; +inf unreachable
   // (mission::SharedDistances::from_oc, the simulator's table).
@@ -71,9 +71,9 @@ struct PlanContext : mission::World {
 };
 
 struct Estimates {
-  double refresh_s = 0.0;         // latency: mean over delivered goals [s]
-  double interval_s = 0.0;        // interval: mean over segments of the time between their deliveries [s]
-  double goals = 0.0;             // delivered per cycle
+  double refresh_s = 0.0;   // latency: mean over delivered goals [s]
+  double interval_s = 0.0;  // interval: mean over segments of the time between their deliveries [s]
+  double goals = 0.0;       // delivered per cycle
   // The refresh metric the utility uses (the scenario's planner.refresh).
   double refresh(RefreshMetric m) const { return m == RefreshMetric::kInterval ? interval_s : refresh_s; }
   std::vector<WorkerEstimate> workers;
@@ -90,9 +90,9 @@ struct ConfigurationPlan {
   int workers = 0;
   partition::PartitionResult partition;
   WorkerGraph graph;
-  std::vector<int> collector_of_segment;  // index k-1: collector of segment k, -1 = the OC
+  std::vector<int> collector_of_segment;                // index k-1: collector of segment k, -1 = the OC
   std::vector<std::vector<AreaDeliveries>> area_parts;  // index k-1: the tiles of segment k (no deliveries)
-  int moved_to_oc = 0;                     // segments the association step gave back to the OC
+  int moved_to_oc = 0;                                  // segments the association step gave back to the OC
   std::vector<CollectorRoute> routes;
   Estimates estimates;
   double utility = 0.0;

@@ -48,8 +48,8 @@ struct TourModel {
     if (n < 2) return out > 0 ? std::clamp(d / out, 0.0, 1.0) : 1.0;
     if (d < out_quantiles.front()) return 0.0;
     if (d >= out_quantiles.back()) return 1.0;
-    const std::size_t i = static_cast<std::size_t>(
-        std::upper_bound(out_quantiles.begin(), out_quantiles.end(), d) - out_quantiles.begin() - 1);
+    const std::size_t i = static_cast<std::size_t>(std::upper_bound(out_quantiles.begin(), out_quantiles.end(), d) -
+                                                   out_quantiles.begin() - 1);
     const double lo = out_quantiles[i], hi = out_quantiles[i + 1];
     return (static_cast<double>(i) + (hi > lo ? (d - lo) / (hi - lo) : 1.0)) / static_cast<double>(n - 1);
   }

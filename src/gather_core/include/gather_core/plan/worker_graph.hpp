@@ -10,7 +10,7 @@ namespace gather {
 namespace plan {
 
 struct WorkerSegment {
-  int id = 0;                   // label 1..N_w
+  int id = 0;  // label 1..N_w
   std::size_t cells = 0;
   double area = 0.0;            // [m^2]
   Cell centroid;                // segment cell nearest to its centre of mass
@@ -38,7 +38,7 @@ struct WorkerSegment {
   // Mean geodesic distance [m] between two cells of the segment (walls and
   // doors included; 0.52 sqrt(area) in an open square). Set by the planner.
   double mean_pair_distance = 0.0;
-  Cell entry;                   // preferably a cell where the robot fits (see build_worker_graph)
+  Cell entry;                     // preferably a cell where the robot fits (see build_worker_graph)
   bool touches_coverage = false;  // some cell of the segment is linked to the OC
 };
 
