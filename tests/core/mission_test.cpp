@@ -37,7 +37,7 @@ mission::MissionPlan through_plan_directory(const plan::PlanContext& ctx, const 
   const auto dir = std::filesystem::temp_directory_path() /
                    ("gather_mission_test_" + std::to_string(::getpid()) + "_" + std::to_string(count++));
   std::filesystem::create_directories(dir);
-  figures::write_label_png((dir / "labels.png").string(), cfg.partition);
+  partition::write_label_png((dir / "labels.png").string(), cfg.partition);
   plan::write_plan_file((dir / "plan.yaml").string(), plan::make_plan_file(ctx, cfg, "labels.png", 1));
   mission::MissionPlan loaded = mission::load_mission_plan(dir.string());
   std::filesystem::remove_all(dir);

@@ -2,6 +2,8 @@
 // of maps/ and ../shared/maps/ipa, edge cases of N_w, bad input, metrics.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -203,6 +205,28 @@ TEST(Partition, BadInputIsAClearError) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("larger than"), std::string::npos) << e.what();
   }
+}
+
+TEST(Partition, ParamsOutsideTheirRangeNameTheField) {
+  const OccupancyGrid g = two_rooms();
+  auto message = [&](PartitionParams p, Method m) {
+    try {
+      partition_area(g, Cell{30, 20}, m, 2, 1, p);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  PartitionParams p;
+  p.bap_balance_tolerance = 0.0;
+  EXPECT_NE(message(p, Method::kBap).find("bap_balance_tolerance"), std::string::npos) << message(p, Method::kBap);
+  p = PartitionParams{};
+  p.pap_min_area_share = 1.5;
+  EXPECT_NE(message(p, Method::kPap).find("pap_min_area_share = 1.5"), std::string::npos) << message(p, Method::kPap);
+  p = PartitionParams{};
+  p.rap_min_speed = std::nan("");
+  EXPECT_NE(message(p, Method::kRap).find("rap_min_speed"), std::string::npos) << message(p, Method::kRap);
+  EXPECT_EQ(message(PartitionParams{}, Method::kPap), "accepted");
 }
 
 TEST(Partition, NeighbouringSegmentsGetDifferentColours) {

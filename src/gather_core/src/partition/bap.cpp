@@ -13,7 +13,7 @@
 //  2. What is left may be in pieces: its largest piece stays, the others go
 //     to the segments next to them.
 //  3. rebalance_areas() (rebalance.cpp) moves boundary cells between adjacent
-//     segments until every area is within kBalanceTolerance of the mean,
+//     segments until every area is within PartitionParams::bap_balance_tolerance of the mean,
 //     keeping each segment 4-connected.
 //
 // Maps with more than PartitionParams::bap_coarse_cells reachable cells (the
@@ -34,8 +34,6 @@ namespace partition {
 namespace {
 
 // Rebalancing: stop when every area is within this fraction of the mean.
-constexpr double kBalanceTolerance = 0.002;
-constexpr int kBalancePasses = 12;
 
 // Region cells, farthest first (counting sort on `dist` in steps; ties by index).
 std::vector<uint32_t> farthest_first(const std::vector<uint8_t>& region, const std::vector<double>& dist, double step) {
@@ -278,7 +276,8 @@ void run_bap(const MethodInput& in, PartitionResult& out) {
     const auto order = farthest_first(in.reachable, dist, grid.resolution() / 4.0);
     sequential_fronts(growth, order, in.reachable_cells, in.workers, out.labels, seeds);
     reconnect_label(grid.width(), in.workers, out.labels);
-    rebalance_areas(grid.width(), grid.height(), in.workers, out.labels, kBalanceTolerance, kBalancePasses);
+    rebalance_areas(grid.width(), grid.height(), in.workers, out.labels, in.params.bap_balance_tolerance,
+                    in.params.bap_balance_passes);
     for (std::size_t s : seeds) out.seeds.push_back(grid.cell(s));
     return;
   }
@@ -321,7 +320,8 @@ void run_bap(const MethodInput& in, PartitionResult& out) {
       if (in.reachable[i]) out.labels[i] = coarse_labels[static_cast<std::size_t>(r / f) * cw + c / f];
     }
   reconnect(grid, in.reachable, in.workers, out.labels);
-  rebalance_areas(grid.width(), grid.height(), in.workers, out.labels, kBalanceTolerance, kBalancePasses);
+  rebalance_areas(grid.width(), grid.height(), in.workers, out.labels, in.params.bap_balance_tolerance,
+                  in.params.bap_balance_passes);
   for (std::size_t s : seeds) out.seeds.push_back(grid.cell(far_cell[s]));
 }
 

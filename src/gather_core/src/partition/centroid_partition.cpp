@@ -37,17 +37,10 @@ namespace partition {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-// PAP start delays stay within this many mean segment radii of each other: a
-// larger one lets the neighbours surround a seed before its front starts.
-constexpr double kMaxDelayRadii = 1.0;
-// PAP: a segment under this share of the mean area after the Lloyd
-// iterations gets its delay cut.
-constexpr double kMinAreaShare = 0.5;
-
-// Shifts the delays so the smallest is 0 and caps them at kMaxDelayRadii radii.
-void normalise_delays(std::vector<double>& delay, double seg_radius) {
+// Shifts the delays so the smallest is 0 and caps them at `max_radii` segment radii.
+void normalise_delays(std::vector<double>& delay, double seg_radius, double max_radii) {
   const double lo = *std::min_element(delay.begin(), delay.end());
-  for (double& d : delay) d = std::min(d - lo, kMaxDelayRadii * seg_radius);
+  for (double& d : delay) d = std::min(d - lo, max_radii * seg_radius);
 }
 
 float rap_slowness(float clearance, const PartitionParams& p) {
@@ -218,11 +211,11 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
       for (double a : cnt) mean += a;
       mean /= static_cast<double>(nw);
       for (std::size_t k = 0; k < nw; ++k) delay[k] += p.pap_balance_gain * seg_radius * (cnt[k] / mean - 1.0);
-      normalise_delays(delay, seg_radius);
+      normalise_delays(delay, seg_radius, p.pap_max_delay_radii);
     }
   }
   // The last delays and seed moves were never tried: grow once more and, while
-  // a segment holds under kMinAreaShare of the mean (its neighbours reached
+  // a segment holds under pap_min_area_share of the mean (its neighbours reached
   // its seed before its delay ran out), halve that segment's delay.
   if (!rooms) {
     for (int round = 0; round < 8; ++round) {
@@ -234,9 +227,9 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
       const double mean = std::accumulate(cnt.begin(), cnt.end(), 0.0) / static_cast<double>(nw);
       bool starved = false;
       for (std::size_t k = 0; k < nw; ++k)
-        if (cnt[k] < kMinAreaShare * mean && delay[k] > 0.0) delay[k] *= 0.5, starved = true;
+        if (cnt[k] < p.pap_min_area_share * mean && delay[k] > 0.0) delay[k] *= 0.5, starved = true;
       if (!starved) break;
-      normalise_delays(delay, seg_radius);
+      normalise_delays(delay, seg_radius, p.pap_max_delay_radii);
     }
   }
 

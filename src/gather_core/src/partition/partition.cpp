@@ -1,6 +1,8 @@
 #include "gather_core/partition/partition.hpp"
 
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <utility>
 
 #include "gather_core/error.hpp"
@@ -70,9 +72,19 @@ void check_workers(int workers, std::size_t count) {
                                  " free cells reachable from the OC");
 }
 
+// Throws unless lo <= v <= hi (lo < v with `open_lo`, v < hi with `open_hi`).
+void check_range(const char* field, double v, double lo, double hi, bool open_lo = false, bool open_hi = false) {
+  if (std::isfinite(v) && (open_lo ? v > lo : v >= lo) && (open_hi ? v < hi : v <= hi)) return;
+  char text[160];
+  std::snprintf(text, sizeof text, "%s = %g must be in %s%g, %g%s", field, v, open_lo ? "(" : "[", lo, hi,
+                open_hi ? ")" : "]");
+  throw Error("partition params", text);
+}
+
 PartitionResult run(const OccupancyGrid& grid, Cell oc, const std::vector<uint8_t>& reachable, std::size_t count,
                     std::vector<float> clearance, Method method, int workers, unsigned seed,
                     const PartitionParams& params) {
+  check_params(params);
   PartitionResult out;
   out.method = method;
   out.workers = workers;
@@ -124,6 +136,20 @@ PartitionResult partition_area(const OccupancyGrid& grid, const PreparedArea& ar
       run(grid, area.oc, area.reachable, area.reachable_cells, area.clearance, method, workers, seed, params);
   out.runtime_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+void check_params(const PartitionParams& p) {
+  check_range("coarse_cells", static_cast<double>(p.coarse_cells), 100, 1e9);
+  check_range("bap_coarse_cells", static_cast<double>(p.bap_coarse_cells), 100, 1e9);
+  check_range("bap_balance_tolerance", p.bap_balance_tolerance, 0, 1, true, true);
+  check_range("bap_balance_passes", p.bap_balance_passes, 0, 1000);
+  check_range("lloyd_iterations", p.lloyd_iterations, 0, 1000);
+  check_range("pap_balance_gain", p.pap_balance_gain, 0, 10);
+  check_range("pap_max_delay_radii", p.pap_max_delay_radii, 0, 10);
+  check_range("pap_min_area_share", p.pap_min_area_share, 0, 1);
+  check_range("rap_room_clearance", p.rap_room_clearance, 0, 100, true);
+  check_range("rap_exponent", p.rap_exponent, 0, 10);
+  check_range("rap_min_speed", p.rap_min_speed, 0, 1, true);
 }
 
 void write_label_png(const std::string& path, const PartitionResult& part) {

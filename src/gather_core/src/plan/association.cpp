@@ -109,7 +109,7 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
     std::sort(gain.begin(), gain.end(), std::greater<>());
     return gain;
   };
-  constexpr std::size_t kTrials = 4;  // moves fully re-estimated per step
+  const auto trials_per_step = static_cast<std::size_t>(opt.association_trials);  // moves fully re-estimated per step
   // 1. Balance: the best of the promising moves and of the one farthest
   // from the coverage (it usually shortens the route most).
   for (int c = 0; c < cfg.collectors; ++c) {
@@ -117,7 +117,7 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
       const std::vector<std::pair<double, int>> gain = ranked(c);
       if (gain.empty()) break;
       std::vector<int> trials;
-      for (std::size_t i = 0; i < gain.size() && i < kTrials; ++i) trials.push_back(gain[i].second);
+      for (std::size_t i = 0; i < gain.size() && i < trials_per_step; ++i) trials.push_back(gain[i].second);
       int farthest = gain.front().second;
       for (const auto& [g, k] : gain)
         if (cfg.graph.segment(k).coverage_distance > cfg.graph.segment(farthest).coverage_distance) farthest = k;
@@ -138,7 +138,7 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
     const std::vector<std::pair<double, int>> gain = ranked(-1);
     int best_k = -1;
     double best = current;
-    for (std::size_t i = 0; i < gain.size() && i < kTrials; ++i) {
+    for (std::size_t i = 0; i < gain.size() && i < trials_per_step; ++i) {
       const double j = try_move(gain[i].second);
       undo();
       if (j > best + 1e-12) best = j, best_k = gain[i].second;

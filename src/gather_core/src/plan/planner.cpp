@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <thread>
 
@@ -80,8 +81,24 @@ PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_fi
     }
 }
 
+void check_options(const PlannerOptions& opt) {
+  auto in = [](const char* field, double v, double lo, double hi, bool open_lo) {
+    if (std::isfinite(v) && (open_lo ? v > lo : v >= lo) && v <= hi) return;
+    char text[160];
+    std::snprintf(text, sizeof text, "%s = %g must be in %s%g, %g]", field, v, open_lo ? "(" : "[", lo, hi);
+    throw Error("planner options", text);
+  };
+  in("threads", opt.threads, 1, 256, false);
+  in("tsp_constant", opt.tsp_constant, 0, 2, true);
+  in("smoothing_passes", opt.smoothing_passes, 0, 20, false);
+  in("association_trials", opt.association_trials, 1, 64, false);
+  in("pair_sources", opt.pair_sources, 1, 64, false);
+  in("home_box_margin_m", opt.home_box_margin_m, 0, 1000, false);
+}
+
 ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method method, int collectors,
                                      const PlannerOptions& opt) {
+  check_options(opt);
   const Scenario& s = ctx.scenario;
   if (collectors < 0 || collectors >= s.team.agents)
     throw Error(s.path, "cannot plan " + std::to_string(collectors) + " collectors for a team of " +
@@ -100,7 +117,7 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
   t0 = Clock::now();
   cfg.graph =
       build_worker_graph(s.grid, cfg.partition.labels, cfg.workers, ctx.coverage, ctx.coverage_distance, &ctx.roomy);
-  const std::vector<float> home_rank = segment_distances(ctx, cfg.partition.labels, cfg.graph);
+  const std::vector<float> home_rank = segment_distances(ctx, cfg.partition.labels, cfg.graph, opt);
   cfg.times.graph_ms = ms_since(t0);
   // The tiles of each segment (the areas of the refresh interval).
   {
@@ -179,6 +196,7 @@ void compute_utilities(std::vector<ConfigurationPlan>& configs, double alpha, do
 }
 
 SweepResult sweep(const PlanContext& ctx, const PlannerOptions& opt) {
+  check_options(opt);
   const auto t0 = Clock::now();
   const PlannerParams& pp = ctx.scenario.planner;
   struct Job {

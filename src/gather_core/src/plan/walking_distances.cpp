@@ -32,14 +32,15 @@ uint32_t float_bits(double d) {
 //  - mean_oc_distance and oc_quantiles: from the OC's cell (ctx.oc_walk,
 //    no march), where that worker starts the mission;
 //  - mean_pair_distance: between two of its cells, the mean over the cells
-//    of the distances from kPairSources cells spread over the segment (in
+//    of the distances from opt.pair_sources cells spread over the segment (in
 //    row-major order, so the estimate is deterministic), marched in the
 //    segment's window as the worker marches between its goals.
 // Returns each cell's rank in its segment by distance from that home, in
 // [0, 1) (row-major; -1 off the segments).
-std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<int32_t>& labels, WorkerGraph& graph) {
-  constexpr std::size_t kPairSources = 3, kQuantiles = 16;
-  constexpr double kHomeBoxMargin = 3.0;  // [m] around the segment and its home, for the walk from the home
+std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<int32_t>& labels, WorkerGraph& graph,
+                                     const PlannerOptions& opt) {
+  constexpr std::size_t kQuantiles = 16;  // WorkerSegment::home_quantiles holds 17
+  const auto pair_sources = static_cast<std::size_t>(opt.pair_sources);
   const OccupancyGrid& grid = ctx.scenario.grid;
   std::vector<std::vector<Cell>> cells(graph.segments.size());
   for (std::size_t i = 0; i < labels.size() && i < grid.size(); ++i) {
@@ -72,7 +73,7 @@ std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<i
     out.resize(to.size());
     if (!window.march(from, to, out.data()) &&
         !(grid.contains(box_with) &&
-          mission::SegmentWindow(grid, to, box_with, kHomeBoxMargin).march(from, to, out.data()))) {
+          mission::SegmentWindow(grid, to, box_with, opt.home_box_margin_m).march(from, to, out.data()))) {
       so.targets = to;
       walk.solve({fmm::Source::at_cell(from)}, so);
       for (std::size_t i = 0; i < to.size(); ++i) out[i] = walk.time(to[i]);
@@ -127,7 +128,7 @@ std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<i
     // Between its cells, in its window as the worker walks between goals
     // (on the whole map when the window does not connect them).
     sum = 0.0, n = 0;
-    const std::size_t sources = std::min(kPairSources, cells[k].size());
+    const std::size_t sources = std::min(pair_sources, cells[k].size());
     for (std::size_t j = 0; j < sources; ++j)
       distances(cells[k][(2 * j + 1) * cells[k].size() / (2 * sources)], cells[k], window, Cell{-1, -1}, pair, sum, n);
     if (n > 0) seg.mean_pair_distance = sum / static_cast<double>(n);

@@ -31,24 +31,47 @@ const char* method_name(Method m);  // "bap", "pap", "rap"
 // Every method, in table order.
 std::vector<Method> all_methods();
 
+// The partition methods' tuning. Every field changes results; the defaults
+// are the ones the reports (docs/partitions.md, docs/scenarios.md) were
+// measured with. partition_area() refuses a value outside its range with a
+// gather::Error naming the field.
 struct PartitionParams {
   // PAP/RAP work on a coarse copy of the grid for the seed phase (Lloyd
   // iterations) and label the full grid once at the end; coarse cells per
   // side = the smallest factor that leaves <= this many coarse free cells.
+  // Range [100, 1e9].
   std::size_t coarse_cells = 20000;
   // BAP runs its wavefronts on blocks of f x f cells, f the smallest factor
-  // that leaves <= this many coarse cells (1 = full resolution).
+  // that leaves <= this many coarse cells (1 = full resolution). Range [100, 1e9].
   std::size_t bap_coarse_cells = 1000000;
+  // BAP: boundary cells move between segments until every area is within
+  // this fraction of the mean (range (0, 1)), in at most this many passes
+  // (range [0, 1000]; partition/rebalance).
+  double bap_balance_tolerance = 0.002;
+  int bap_balance_passes = 12;
+  // PAP/RAP: Lloyd iterations of the seed phase. Range [0, 1000].
   int lloyd_iterations = 12;
   // PAP: additive front weights follow area imbalance; gain per iteration
   // [fraction of the mean segment radius per unit of relative area error].
+  // Range [0, 10].
   double pap_balance_gain = 0.5;
+  // PAP: start delays stay within this many mean segment radii of each other
+  // (a larger spread lets the neighbours surround a seed before its front
+  // starts). Range [0, 10].
+  double pap_max_delay_radii = 1.0;
+  // PAP: a segment under this share of the mean area after the Lloyd
+  // iterations gets its delay halved until it is not. Range [0, 1].
+  double pap_min_area_share = 0.5;
   // RAP: front speed = clamp((clearance / rap_room_clearance)^rap_exponent,
   // rap_min_speed, 1) [relative]; doors (clearance ~0.45 m) are slow.
-  double rap_room_clearance = 1.2;  // [m]
-  double rap_exponent = 2.0;
-  double rap_min_speed = 0.02;
+  double rap_room_clearance = 1.2;  // [m], range (0, 100]
+  double rap_exponent = 2.0;        // range [0, 10]
+  double rap_min_speed = 0.02;      // range (0, 1]
 };
+
+// Throws gather::Error("partition params", "<field> = <value> must be in
+// <range>") for the first field outside its documented range.
+void check_params(const PartitionParams& params);
 
 struct PartitionResult {
   Method method = Method::kBap;

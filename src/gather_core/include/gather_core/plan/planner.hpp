@@ -23,13 +23,32 @@
 namespace gather {
 namespace plan {
 
+// The sweep's options. The fields from tsp_constant on change results; the
+// defaults are the ones the reports (docs/scenarios.md, docs/regimes.md) were
+// measured with. plan_configuration() and sweep() refuse a value outside its
+// range with a gather::Error naming the field (check_options).
 struct PlannerOptions {
-  unsigned seed = 1;             // partition seed
-  int threads = 2;               // configurations planned in parallel
-  double tsp_constant = 0.7124;  // Beardwood-Halton-Hammersley constant of random tours in the plane
-  int smoothing_passes = 3;      // OMPL B-spline passes on collector routes
-  bool associate = true;         // decide per worker: collector or OC, and trim routes to the request period
+  unsigned seed = 1;  // partition seed
+  int threads = 2;    // configurations planned in parallel, range [1, 256]
+  // Beardwood-Halton-Hammersley constant of random tours in the plane
+  // (the tour-length model), range (0, 2].
+  double tsp_constant = 0.7124;
+  int smoothing_passes = 3;  // OMPL B-spline passes on collector routes, range [0, 20]
+  bool associate = true;     // decide per worker: collector or OC, and trim routes to the request period
+  // Association: the most promising moves fully re-estimated per step, range [1, 64].
+  int association_trials = 4;
+  // Walking distances: a segment's mean pair distance is the mean of the
+  // marches from this many of its cells, range [1, 64].
+  int pair_sources = 3;
+  // Walking distances: the walk from an OC worker's home is marched in a box
+  // around its segment and its home grown by this margin [m] (the whole map
+  // when a cell is not reached in it), range [0, 1000].
+  double home_box_margin_m = 3.0;
 };
+
+// Throws gather::Error("planner options", "<field> = <value> must be in
+// <range>") for the first field outside its documented range.
+void check_options(const PlannerOptions& opt);
 
 // Options that keep the collector groups as grown (no association step:
 // every segment off the coverage is served by a collector, routes as long

@@ -15,7 +15,9 @@ namespace plan {
 // walking_distances.cpp); returns each cell's rank in its segment by
 // walking distance from that home, in [0, 1) (row-major; -1 off the
 // segments).
-std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<int32_t>& labels, WorkerGraph& graph);
+// `opt`: pair_sources and home_box_margin_m.
+std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<int32_t>& labels, WorkerGraph& graph,
+                                     const PlannerOptions& opt);
 
 }  // namespace plan
 }  // namespace gather
