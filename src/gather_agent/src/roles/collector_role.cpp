@@ -21,7 +21,7 @@ CollectorRole::CollectorRole(TeamSetup& team, int agent, MotionBackend& motion)
       throw Error(team.plan.source.empty() ? "plan" : team.plan.source,
                   "collector " + std::to_string(collector_) + " meets segment " + std::to_string(m.segment) +
                       ", whose worker is not its own");
-    workers_.push_back(Served{static_cast<int16_t>(w), m.route_s, -1});
+    workers_.push_back(Served{static_cast<int16_t>(w), m.arc_m, -1});
   }
   const std::size_t g = static_cast<std::size_t>(team.params.goals_per_request);
   parts_.resize(std::max<std::size_t>(1, (g + kRequestPartGoals - 1) / kRequestPartGoals));

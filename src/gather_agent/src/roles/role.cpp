@@ -106,7 +106,7 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
     const plan::CollectorRoute& r = pf.routes[static_cast<std::size_t>(a.delivers_to)];
     const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
                                 [&](const plan::MeetingArea& x) { return x.segment == a.segment; });
-    meeting_arc_[static_cast<std::size_t>(a.id)] = m->route_s;  // check_plan: there is one
+    meeting_arc_[static_cast<std::size_t>(a.id)] = m->arc_m;  // check_plan: there is one
   }
   distances = std::make_unique<mission::SharedDistances>(w, /*from_oc=*/false);  // agents start at their start poses
   paths = std::make_unique<GridAStar>(grid, w.reachable, &w.coverage_field);

@@ -1,3 +1,8 @@
+// The worker role: WorkerRole's state machine around mission::WorkerPolicy
+// (requests in, measurements, custody of the data, hand-overs, expiry, repair
+// after a death, restore from a journal). Over 400 lines because it is one
+// state machine whose transitions read the same state; the decisions
+// themselves live in the shared policy (mission/worker_policy).
 #include "gather_agent/roles/worker_role.hpp"
 
 #include <algorithm>

@@ -1,3 +1,7 @@
+// The agent's on-disk journal (Journal: append-only records with a checksum,
+// replay, compaction; JournalKeeper: what a role writes into it each step).
+// Over 400 lines because the record format, its replay and its compaction
+// must agree byte for byte, and reading them side by side is the check.
 #include "gather_agent/runner/journal.hpp"
 
 #include <fcntl.h>

@@ -109,7 +109,7 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
     for (const plan::MeetingArea& m : r.meetings) {
       if (m.segment < 1 || m.segment > pf.workers)
         throw Error(where, route + ": a meeting area's segment " + std::to_string(m.segment) + " does not exist");
-      if (!arc_ok(m.route_s)) throw Error(where, route + ": a meeting area is not finite or off the route");
+      if (!arc_ok(m.arc_m)) throw Error(where, route + ": a meeting area is not finite or off the route");
       for (double pass : m.passes)
         if (!arc_ok(pass)) throw Error(where, route + ": a pass is not finite or off the route");
     }

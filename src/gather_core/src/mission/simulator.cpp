@@ -1,3 +1,9 @@
+// The analytic mission simulator (MissionSimulator): each worker's timeline
+// computed event by event (a worker of a collector, a worker of the OC),
+// with the decisions of mission::WorkerPolicy and the collectors'
+// RouteTimetable, and the time budgets. Goal generation is mission/requests,
+// the distances mission/world and mission/segment_window. Just over 400
+// lines: the two timelines are one concept and read best side by side.
 #include "gather_core/mission/simulator.hpp"
 
 #include <algorithm>

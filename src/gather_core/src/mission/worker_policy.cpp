@@ -1,3 +1,9 @@
+// The worker's decisions, shared by the planner's estimate, the analytic
+// simulator and the agents' worker role: which goals a request leaves it,
+// its tour, where and when it meets its collector, when it gives up a goal.
+// Over 400 lines because decide() and the distances it needs (marches in the
+// segment's window, landing tables, rendezvous windows) change together; the
+// tour itself is mission/tour, the window mission/segment_window.
 #include "gather_core/mission/worker_policy.hpp"
 
 #include <algorithm>
@@ -60,7 +66,7 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
     if (m == r.meetings.end() || route_->idle())
       throw Error(where, "collector " + std::to_string(collector_) + " has no meeting area for segment " +
                              std::to_string(segment_));
-    meeting_arc_ = m->route_s;
+    meeting_arc_ = m->arc_m;
     for (double pass : m->passes) {
       const Cell c = grid.world_to_cell(route_->position_at_arc(pass));
       if (!grid.contains(c) || !world.reachable[grid.index(c)]) continue;

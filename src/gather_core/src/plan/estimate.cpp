@@ -231,7 +231,7 @@ static WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea
     for (const double u : r.coverage_entries) first = std::min(first, sched.next_at(u / v, t));
     return first;
   };
-  auto arrival = [&](int req) { return sched.next_at(m.route_s / v, pickup(req * T)); };
+  auto arrival = [&](int req) { return sched.next_at(m.arc_m / v, pickup(req * T)); };
   // When a goal measured at `ready` reaches the OC in a hand-over that needs
   // `need` [s] of link: handed over in the first contact stretch of the
   // collector that still holds that long after then, uploaded where its

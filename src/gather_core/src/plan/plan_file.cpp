@@ -71,7 +71,7 @@ void write_plan_file(const std::string& path, const PlanFile& p) {
       y << YAML::Flow << YAML::BeginMap << YAML::Key << "segment" << YAML::Value << m.segment << YAML::Key << "point"
         << YAML::Value;
       point(y, m.point);
-      y << YAML::Key << "at_m" << YAML::Value << m.route_s << YAML::Key << "passes_m" << YAML::Value << YAML::Flow
+      y << YAML::Key << "at_m" << YAML::Value << m.arc_m << YAML::Key << "passes_m" << YAML::Value << YAML::Flow
         << m.passes << YAML::EndMap;
     }
     y << YAML::EndSeq;

@@ -140,7 +140,7 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
   // Arc length of every waypoint, then each meeting area at the route point
   // nearest to its segment's entry cell, in visiting order.
   const std::vector<double> arc = fmm::path_arcs(route.waypoints);
-  double from_s = 0.0;
+  double from_m = 0.0;
   for (int stop : order) {
     const int seg = segments[static_cast<std::size_t>(stop - 1)];
     const Point2 target = pts[static_cast<std::size_t>(stop)];
@@ -148,7 +148,7 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
     m.segment = seg;
     double best = kInf;
     for (std::size_t i = 0; i + 1 < route.waypoints.size(); ++i) {
-      if (arc[i + 1] < from_s) continue;
+      if (arc[i + 1] < from_m) continue;
       // Nearest point on segment i..i+1.
       const Point2 a = route.waypoints[i], b = route.waypoints[i + 1];
       const double len2 = (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y);
@@ -157,9 +157,9 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
                    : 0.0;
       const Point2 p{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
       const double e = distance(p, target);
-      if (e < best - 1e-9) best = e, m.point = p, m.route_s = arc[i] + t * std::sqrt(len2);
+      if (e < best - 1e-9) best = e, m.point = p, m.arc_m = arc[i] + t * std::sqrt(len2);
     }
-    from_s = m.route_s;
+    from_m = m.arc_m;
     route.meetings.push_back(m);
     route.segments.push_back(seg);
   }
@@ -204,7 +204,7 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
       if (at >= total) break;
     }
     for (MeetingArea& m : route.meetings)
-      if (m.passes.empty()) m.passes.push_back(m.route_s);  // the entry point itself
+      if (m.passes.empty()) m.passes.push_back(m.arc_m);  // the entry point itself
   }
   // Uploads: every point where the route comes (back) into the OC's coverage.
   bool inside = true;  // it starts at the OC

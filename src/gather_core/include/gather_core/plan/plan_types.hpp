@@ -20,7 +20,7 @@ namespace plan {
 struct MeetingArea {
   int segment = 0;             // worker segment id
   Point2 point;                // [m] on the route, next to the segment
-  double route_s = 0.0;        // [m] arc length of `point` from the route start
+  double arc_m = 0.0;          // [m] arc length of `point` from the route start
   std::vector<double> passes;  // [m] arc lengths of the middles of the stretches passing next to the segment
 };
 

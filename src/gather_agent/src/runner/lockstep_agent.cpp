@@ -1,0 +1,273 @@
+// The agent side of the lockstep (LockstepAgent; the protocol is in
+// gather_agent/runner/lockstep.hpp): take the plan, then step the role tick
+// by tick on the OC's clock, or on the wall clock.
+#include "gather_agent/runner/lockstep.hpp"
+
+#include <malloc.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "gather_agent/roles/worker_role.hpp"
+#include "gather_core/error.hpp"
+#include "gather_core/mission/mission_csv.hpp"
+#include "lockstep_shared.hpp"
+
+namespace gather {
+namespace agent {
+
+using lockstep::absorb;
+using lockstep::Clock;
+using lockstep::count_tick;
+using lockstep::kHeld;
+using lockstep::kOutbox;
+using lockstep::realtime_us;
+using lockstep::seconds_since;
+using lockstep::signalled;
+using lockstep::take_tick;
+namespace {
+
+std::string seconds_text(double s) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", s);
+  return b;
+}
+
+}  // namespace
+
+// --- agent -----------------------------------------------------------------
+
+LockstepAgent::LockstepAgent(LoadedPlan& plan, int id, LcmFleet& fleet)
+    : plan_(plan), id_(id), fleet_(fleet), digest_(plan_digest(plan)) {
+  if (id < 0 || id >= static_cast<int>(plan.plan.file.agents.size()))
+    throw Error(plan.dir, "agent --id " + std::to_string(id) + " is not in the plan's team of " +
+                              std::to_string(plan.plan.file.agents.size()));
+  malloc_trim(0);  // the map at full resolution was read and coarsened: give it back
+  world_ = std::make_unique<mission::World>(plan.scenario);
+  held_.reserve(kHeld);
+  current_.reserve(kHeld);
+  inbox_.reserve(1024);
+  reply_.keys.reserve(4096);
+  reply_.measured_goals.reserve(kReplyMaxPoints);
+  reply_.path.reserve(kReplyMaxPoints);
+}
+
+LockstepAgent::~LockstepAgent() = default;
+
+void LockstepAgent::set_journal(const std::string& dir, bool rejoin) {
+  journal_dir_ = dir;
+  rejoin_ = rejoin && !dir.empty();
+}
+
+bool LockstepAgent::take_plan(std::string* why) {
+  const PlanAnnounce& p = fleet_.plans().back();
+  char hex[2][17];
+  std::snprintf(hex[0], sizeof hex[0], "%016llx", static_cast<unsigned long long>(digest_));
+  std::snprintf(hex[1], sizeof hex[1], "%016llx", static_cast<unsigned long long>(p.digest));
+  if (p.digest != digest_) {
+    *why = plan_.dir + ": this agent's plan (plan.yaml, labels, scenario, map) has digest " + hex[0] + ", the OC's " +
+           hex[1] + ": they are not the same plan";
+    return false;
+  }
+  if (p.agents != static_cast<int>(plan_.plan.file.agents.size())) {
+    *why = plan_.dir + ": the OC runs a team of " + std::to_string(p.agents) + " agents";
+    return false;
+  }
+  try {
+    team_ = std::make_unique<TeamSetup>(*world_, plan_.plan, p.params);
+    gate_ = std::make_unique<RangeGate>(*team_, p.loss, p.loss_seed);
+    unit_ = make_agent(*team_, id_);
+    if (!journal_dir_.empty()) {
+      journal_ = std::make_unique<JournalKeeper>(journal_path(journal_dir_, id_), id_, journal_run_id(team_->params));
+      rejoin_state_ = journal_->open(rejoin_);
+      if (rejoin_ && !rejoin_state_.matched)
+        throw Error(journal_path(journal_dir_, id_), "--rejoin: no journal of this agent and mission to replay");
+      // Where it was; what it held and how far it got come back at its first tick.
+      if (rejoin_) unit_ = make_agent(*team_, id_, rejoin_state_.have_pose ? &rejoin_state_.pose : nullptr);
+      journal_->bind(*unit_.role);
+    }
+  } catch (const std::exception& e) {  // its plan cannot be run as the OC asks: refuse it
+    *why = e.what();
+    team_.reset();
+    return false;
+  }
+  outbox_ = std::make_unique<Outbox>(kOutbox);
+  tick_s_ = p.tick;
+  clock_ = p.clock;
+  rate_ = p.rate;
+  fleet_.set_team(p.agents);
+  // A repair (a repaired plan merges segments: docs/faults.md) reads the
+  // label image again from the plan directory.
+  team_->reload_labels = [dir = plan_.dir]() { return mission::load_mission_plan(dir).labels; };
+  std::vector<int32_t>().swap(plan_.plan.labels);
+  malloc_trim(0);  // give back what loading the map and the plan used and freed
+  return true;
+}
+
+bool LockstepAgent::inbox_complete(const Tick& tick) const {
+  return count_tick(held_, tick.tick) >= static_cast<std::size_t>(tick.sent_before);
+}
+
+void LockstepAgent::step(const Tick& tick) {
+  const auto s0 = Clock::now();
+  Role& role = *unit_.role;
+  unit_.motion->advance(tick.t);
+  if (rejoin_) {  // a new process heard nothing of the tick before it joined
+    held_.erase(std::remove_if(held_.begin(), held_.end(), [&](const Message& m) { return m.h.tick < tick.tick; }),
+                held_.end());
+    current_.clear();
+    inbox_.clear();
+    rejoin_ = false;
+    const JournalState& s = rejoin_state_;
+    role.restore(s.custody.data(), s.custody.size(), s.progress, tick.t);
+  } else {
+    take_tick(held_, current_, tick.tick, late_);
+    gather_inbox(current_, role.id(), unit_.motion->pose(), *gate_, link_, inbox_);
+  }
+  Outbox& out = *outbox_;
+  out.clear();
+  role.step(tick.t, inbox_.data(), inbox_.size(), out);
+  if (journal_) journal_->after_step(*unit_.motion, tick.t);  // durable before its messages go out
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    out[k].h.seq = seq_++;
+    out[k].h.tick = tick.tick;
+    fleet_.publish(out[k]);
+  }
+  link_.sent += static_cast<int64_t>(out.size());
+  link_.bad = fleet_.dropped();
+  step_us_ += std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - s0).count();
+  reply_.step_us = step_us_;
+  reply_.tick = tick.tick;
+  reply_.agent = static_cast<int16_t>(id_);
+  reply_.status = ReplyStatus::kStepped;
+  reply_.sent = static_cast<int32_t>(out.size());
+  reply_.pose = unit_.motion->pose();
+  reply_.role = role.kind();
+  reply_.phase = role.kind() == RoleKind::kWorker ? static_cast<int>(static_cast<const WorkerRole&>(role).phase()) : 0;
+  reply_.report = role.report();
+  const Custody* c = role.custody();
+  reply_.carried = c ? static_cast<int32_t>(c->data()) : 0;
+  reply_.notices = c ? static_cast<int32_t>(c->notices()) : 0;
+  reply_.link = link_;
+  reply_.auth = fleet_.rejected();
+  reply_.late = late_;
+  reply_.incomplete = incomplete_;
+  reply_.keys.clear();
+  if (tick.report && c)
+    for (std::size_t i = 0; i < c->size(); ++i)
+      if (c->item(i).kind == ItemKind::kMeasured) reply_.keys.push_back(c->item(i).key);
+  // For the OC's views: what it measured, and its path when that changed.
+  reply_.measured_goals.clear();
+  if (const std::vector<int32_t>* m = role.measured_in_step())
+    reply_.measured_goals.insert(reply_.measured_goals.end(), m->begin(),
+                                 m->begin() + static_cast<std::ptrdiff_t>(std::min(m->size(), kReplyMaxPoints)));
+  reply_.path.clear();
+  if (unit_.motion->path_revision() != reply_.path_revision) {
+    reply_.path_revision = unit_.motion->path_revision();
+    reply_.path.resize(kReplyMaxPoints);
+    reply_.path.resize(unit_.motion->path(reply_.path.data(), kReplyMaxPoints));
+  }
+  fleet_.publish(reply_);
+}
+
+// Wall-clock mode: the role steps every tick_s_ / rate_ seconds of wall time
+// with whatever arrived since the step before (through the gate, in
+// (sender, seq) order); nothing waits for anybody, so a run is not
+// reproducible, as on real robots.
+void LockstepAgent::step_wall(double t) {
+  Role& role = *unit_.role;
+  unit_.motion->advance(t);
+  if (rejoin_) {  // a restart: what it held and how far it got, now
+    rejoin_ = false;
+    role.restore(rejoin_state_.custody.data(), rejoin_state_.custody.size(), rejoin_state_.progress, t);
+  }
+  current_.swap(held_);
+  held_.clear();
+  gather_inbox(current_, role.id(), unit_.motion->pose(), *gate_, link_, inbox_);
+  Outbox& out = *outbox_;
+  out.clear();
+  role.step(t, inbox_.data(), inbox_.size(), out);
+  if (journal_) journal_->after_step(*unit_.motion, t);  // durable before its messages go out
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    out[k].h.seq = seq_++;
+    out[k].h.tick = -1;
+    fleet_.publish(out[k]);
+  }
+  link_.sent += static_cast<int64_t>(out.size());
+}
+
+LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, std::string* why) {
+  auto heard = Clock::now();
+  bool have_tick = false;
+  Tick pending;
+  auto tick_since = Clock::now();
+  for (;;) {
+    if (signal.wait_until(Clock::now())) return End::kStopped;
+    fleet_.handle(have_tick ? 20 : wall_start_us_ > 0 ? wall_wait_ms_ : 100);
+    absorb(fleet_, held_, link_);
+    if (!fleet_.plans().empty()) {
+      heard = Clock::now();
+      if (!team_ && !take_plan(why)) {
+        Reply r;
+        r.tick = -1, r.agent = static_cast<int16_t>(id_), r.status = ReplyStatus::kRefused;
+        fleet_.publish(r);
+        return End::kRefused;
+      }
+      if (next_tick_ == 0) {  // (again) READY: the OC may not have heard the last one
+        Reply r;
+        r.tick = -1, r.agent = static_cast<int16_t>(id_), r.status = ReplyStatus::kReady;
+        r.pid = static_cast<int32_t>(getpid());
+        r.role = unit_.role->kind();
+        r.pose = unit_.motion->pose();
+        fleet_.publish(r);
+      }
+      fleet_.plans().clear();
+    }
+    for (const Tick& t : fleet_.ticks()) {
+      heard = Clock::now();
+      if (!team_) continue;
+      if (t.done) return End::kDone;
+      if (clock_ == ClockMode::kWall) {
+        if (wall_start_us_ == 0 && t.start_us > 0) wall_start_us_ = t.start_us, next_tick_ = 1;
+        continue;
+      }
+      if (t.tick < next_tick_) continue;
+      if (!have_tick || t.tick < pending.tick) pending = t, have_tick = true, tick_since = Clock::now();
+    }
+    fleet_.ticks().clear();
+    if (clock_ == ClockMode::kWall && wall_start_us_ > 0) {
+      // Mission time from the wall clock; a step each tick_s_ / rate_ of wall time.
+      const double t = static_cast<double>(realtime_us() - wall_start_us_) * 1e-6 * rate_;
+      if (t >= wall_next_) {
+        step_wall(std::max(0.0, t));
+        wall_next_ = std::max(wall_next_ + tick_s_, t);
+      }
+      wall_wait_ms_ = std::clamp(static_cast<int>((wall_next_ - t) / rate_ * 1000.0), 0, 20);
+      if (seconds_since(heard) > silence_s) {
+        *why = "nothing heard from the OC for " + seconds_text(silence_s) + " s";
+        return End::kSilent;
+      }
+      continue;
+    }
+    // A tick runs once every message of the one before is in; if some never
+    // come (lost on the host), it runs without them after a while.
+    while (have_tick && (rejoin_ || inbox_complete(pending) || seconds_since(tick_since) > 5.0)) {
+      if (!rejoin_ && !inbox_complete(pending)) ++incomplete_;
+      step(pending);
+      next_tick_ = pending.tick + 1;
+      have_tick = false;
+    }
+    if (seconds_since(heard) > silence_s) {
+      *why = "nothing heard from the OC for " + seconds_text(silence_s) + " s";
+      return End::kSilent;
+    }
+  }
+}
+
+}  // namespace agent
+}  // namespace gather
