@@ -13,7 +13,7 @@ CYCLES ?= 0
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build run test format format-check tidy test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-signing identity-check partition-report scenario-report regime-report runtime-report clean help
+.PHONY: all deps build run test format format-check tidy bench-fmm-ab test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-signing identity-check partition-report scenario-report regime-report runtime-report clean help
 
 all: build
 
@@ -48,6 +48,7 @@ CXX_SOURCES = git ls-files '*.cpp' '*.hpp'
 format: deps
 	$(CXX_SOURCES) | xargs clang-format-14 -i --style=file
 format-check: deps
+	@command -v clang-format-14 > /dev/null || { echo "format-check: clang-format-14 not found (make deps installs it)" >&2; exit 1; }
 	@bad=$$($(CXX_SOURCES) | xargs clang-format-14 --style=file --dry-run 2>&1 | { grep -oE '^[^:]+:[0-9]+:[0-9]+: (warning|error)' || true; } | cut -d: -f1 | sort -u); \
 	  if [ -n "$$bad" ]; then echo "format-check: not formatted (make format fixes it):" >&2; echo "$$bad" >&2; exit 1; fi
 	@echo "format-check: every C++ file follows .clang-format"
@@ -78,7 +79,7 @@ test-plain: deps
 	  echo "gather_core/gather_agent must not include ROS headers" >&2; exit 1; fi
 	cmake -S src/gather_agent -B $(PLAIN) -DCMAKE_BUILD_TYPE=Release -DGATHER_SANITIZE=ON > /dev/null
 	cmake --build $(PLAIN) -j$(JOBS)
-	@if ldd $(PLAIN)/gather_agent | grep -q libopencv; then echo "gather_agent must not link OpenCV (figures live in gather_figures)" >&2; exit 1; fi
+	@test -x $(PLAIN)/gather_agent && if ldd $(PLAIN)/gather_agent | grep -q libopencv; then echo "gather_agent must not link OpenCV (figures live in gather_figures)" >&2; exit 1; fi
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --test-dir $(PLAIN) --output-on-failure -j$(JOBS) --timeout 600
 	$(PYTHON) tests/fuzz/fuzz_smoke.py --gather $(PLAIN)/gather_core/gather --agent $(PLAIN)/gather_agent \
@@ -90,7 +91,7 @@ G := $(WS)/devel/lib/gather_core/gather
 TEST_KEY := $(WS)/build/test_fleet.key
 test-cli: build
 	@for b in $(WS)/devel/lib/gather_oc/fleet_node $(WS)/devel/lib/gather_agent/gather_agent; do \
-	  if ldd $$b | grep -q libopencv; then echo "$$b must not link OpenCV (figures live in gather_figures)" >&2; exit 1; fi; done
+	  test -x $$b || { echo "$$b missing" >&2; exit 1; }; if ldd $$b | grep -q libopencv; then echo "$$b must not link OpenCV (figures live in gather_figures)" >&2; exit 1; fi; done
 	test -f $(TEST_KEY) || $(G) keygen $(TEST_KEY)
 	tests/cli/bad_input.sh "$(G) info"
 	tests/cli/bad_input.sh "$(WS)/devel/lib/gather_oc/oc_node"
@@ -113,6 +114,18 @@ bench-fmm: build
 	cmake -S src/gather_core -B build/bench -DCMAKE_BUILD_TYPE=Release -DGATHER_BUILD_BENCH=ON -DBUILD_TESTING=OFF > /dev/null
 	cmake --build build/bench -j$(JOBS) --target gather_fmm_micro
 	build/bench/gather_fmm_micro --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+
+# The FMM of REF's tree against this tree's, both static plain builds, on the
+# shared benchmark grids (bench/fmm_ab.sh; ~8 min with the two builds).
+bench-fmm-ab: deps
+	@test -n "$(REF)" || { echo "usage: make bench-fmm-ab REF=<commit>" >&2; exit 2; }
+	rm -rf build/ab_ref && git worktree prune && git worktree add -f --detach build/ab_ref/src $(REF) > /dev/null
+	cmake -S build/ab_ref/src/src/gather_agent -B build/ab_ref/build -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF > /dev/null
+	cmake --build build/ab_ref/build -j$(JOBS) --target gather > /dev/null
+	git worktree remove --force build/ab_ref/src
+	cmake -S src/gather_agent -B build/ab_new -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF > /dev/null
+	cmake --build build/ab_new -j$(JOBS) --target gather > /dev/null
+	bench/fmm_ab.sh build/ab_ref/build/gather_core/gather build/ab_new/gather_core/gather
 
 # The agent runtime on maps/office: in one process and one process per agent
 # over LCM (x real time, messages/s, where a tick goes, agent memory); ~3 min.

@@ -101,6 +101,25 @@ TEST(TourTest, ClosedTourIsExactUpToTwelveGoals) {
   EXPECT_TRUE(order_closed_tour(PlaneTour({{0, 0}}).distances(), 0).empty());
 }
 
+TEST(TourTest, ClosedTourBeyondTwelveGoalsLeavesNoImprovingReversal) {
+  for (int n : {13, 16, 20}) {
+    const PlaneTour t(random_points(n, 40u + static_cast<unsigned>(n)));
+    const std::vector<int> order = order_closed_tour(t.distances(), n);
+    std::vector<int> sorted = order;
+    std::sort(sorted.begin(), sorted.end());
+    std::vector<int> goals(static_cast<std::size_t>(n));
+    std::iota(goals.begin(), goals.end(), 1);
+    ASSERT_EQ(sorted, goals) << n << " goals";
+    const double len = t.closed_length(order);
+    for (std::size_t i = 0; i + 1 < order.size(); ++i)
+      for (std::size_t j = i + 1; j < order.size(); ++j) {
+        std::vector<int> o = order;
+        std::reverse(o.begin() + static_cast<long>(i), o.begin() + static_cast<long>(j) + 1);
+        EXPECT_GE(t.closed_length(o), len - 1e-6) << n << " goals, reversal " << i << ".." << j;
+      }
+  }
+}
+
 TEST(TourTest, ClosedTourBeyondTwelveGoalsFindsTheCircle) {
   // 24 points on a circle, the start among them: the optimum is the circle,
   // and nearest neighbour + 2-opt finds it.

@@ -87,7 +87,7 @@ TEST(WorkerGraphTest, TheCentroidOfAnLShapedSegmentIsOneOfItsCells) {
   EXPECT_TRUE(c.row == 0 || c.col == 0);
   EXPECT_EQ(g.segment(1).neighbours, (std::vector<int>{2}));
   EXPECT_EQ(g.segment(1).coverage_distance, std::numeric_limits<double>::infinity());
-  EXPECT_EQ(g.segment(1).mean_coverage_distance, 0.0);  // unreached cells do not count
+  EXPECT_EQ(g.segment(1).mean_coverage_distance, 0.0);  // unreached cells add nothing to the sum
 }
 
 }  // namespace

@@ -21,14 +21,14 @@ using detail::next_up;
 using detail::order_key;
 using detail::relax_neighbours;
 
+// Buckets of the circular queue are at most this many; slower speeds widen them.
+constexpr std::size_t kMaxBuckets = std::size_t{1} << 16;
+
 // The march with a circular bucket queue. Cells of the current bucket are
 // expanded in FIFO order; a cell whose time drops after it was expanded is
 // queued again, so every cell ends at the fixed point of the upwind update, as
 // with an exact priority queue. Every time below the current bucket's lower
 // edge is final.
-// Buckets of the circular queue are at most this many; slower speeds widen them.
-constexpr std::size_t kMaxBuckets = std::size_t{1} << 16;
-
 template <bool kUnit, bool kLabels, bool kSecond, bool kExact>
 void FastMarching::march_buckets(const SolveOptions& options) {
   const MarchGrid grid = march_grid(kLabels, options.label_look_back);

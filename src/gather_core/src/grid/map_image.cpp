@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <new>
 
 #include "gather_core/error.hpp"
 #include "gather_core/input_file.hpp"
@@ -297,7 +298,13 @@ namespace {
 
 void png_write_to_vector(png_structp png, png_bytep in, png_size_t len) {
   auto* out = static_cast<std::vector<uint8_t>*>(png_get_io_ptr(png));
-  out->insert(out->end(), in, in + len);
+  bool full = false;
+  try {
+    out->insert(out->end(), in, in + len);
+  } catch (const std::bad_alloc&) {
+    full = true;  // no exception may unwind through libpng's C frames
+  }
+  if (full) png_error(png, "out of memory");
 }
 void png_flush_nothing(png_structp) {}
 
@@ -328,7 +335,7 @@ void write_gray16_png(const std::string& path, const Gray16Image& img) {
   // outlives this frame, none is created below.
   if (setjmp(png_jmpbuf(png))) {
     png_destroy_write_struct(&png, &info);
-    throw Error(path, "cannot encode the PNG: " + err);
+    throw Error(path, "cannot encode the PNG: " + (err.empty() ? std::string("libpng error") : err));
   }
   png_set_write_fn(png, &encoded, png_write_to_vector, png_flush_nothing);
   png_set_IHDR(png, info, static_cast<png_uint_32>(img.width), static_cast<png_uint_32>(img.height), 16,

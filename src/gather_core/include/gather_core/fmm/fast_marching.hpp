@@ -181,7 +181,7 @@ class FastMarching {
   struct HeapMarches;
   static March bucket_march(bool unit, bool labels, bool second, bool exact);
   static March heap_march(bool unit, bool labels, bool second);
-  detail::MarchGrid march_grid(bool labels, int look_back);
+  inline detail::MarchGrid march_grid(bool labels, int look_back);  // defined in src/fmm/stencil.hpp
   void reset_times();
   void seed(const std::vector<Source>& sources, bool labels);
   void note_touched(uint32_t p) {

@@ -29,10 +29,11 @@ struct PartitionMetrics {
 PartitionMetrics compute_metrics(const OccupancyGrid& grid, const PartitionResult& part);
 
 // Ground-truth rooms: a room = 4-connected component of white pixels (all
-// channels >= 250) of `gt_png` (same size as the map, image row 0 = top),
+// colour channels >= 250, alpha ignored) of `gt_png`, a gray, gray+alpha,
+// RGB or RGBA PNG (or a PGM) of the map's size, image row 0 = top;
 // components under `min_cells` ignored. Returns row-major room ids (row 0 =
-// bottom, 0 = no room, 1..rooms). Throws gather::Error on a missing file or a
-// size mismatch.
+// bottom, 0 = no room, 1..rooms). Throws gather::Error on a missing or
+// unreadable file, a palette PNG that is not a gray ramp, or a size mismatch.
 std::vector<int32_t> load_gt_rooms(const std::string& gt_png, const OccupancyGrid& grid, int* rooms = nullptr,
                                    int min_cells = 50);
 
