@@ -9,9 +9,10 @@
 set -euo pipefail
 OLD=$1; NEW=$2; ROUNDS=${3:-8}
 OUT=${OUT:-results/bench}
+PY=${PYTHON:-/usr/bin/python3}  # with numpy (python3-numpy)
 for b in "$OLD" "$NEW"; do [[ -x $b ]] || { echo "fmm_ab: $b is not an executable" >&2; exit 2; }; done
 mkdir -p "$OUT/grids"
-python3 ../shared/bench/make_grids.py "$OUT/grids" >/dev/null
+"$PY" ../shared/bench/make_grids.py "$OUT/grids" >/dev/null
 printf '%-14s %5s %10s %10s %10s %10s %8s %8s\n' grid order old_min new_min old_med new_med min_ab med_ab
 for case in "b_office2000 1" "b_office2000 2" "c_multi1000 1" "a_free2000 1"; do
   set -- $case
@@ -23,7 +24,7 @@ for case in "b_office2000 1" "b_office2000 2" "c_multi1000 1" "a_free2000 1"; do
         grep -o 'ms=[0-9.]*' | cut -d= -f2 | sort -n | head -1)
       echo "$side $ms"
     done
-  done | python3 -c "
+  done | "$PY" -c "
 import sys, statistics as st
 d = {'old': [], 'new': []}
 for line in sys.stdin:
