@@ -1,8 +1,6 @@
 #include "gather_core/partition/partition.hpp"
 
 #include <chrono>
-#include <cmath>
-#include <cstdio>
 #include <utility>
 
 #include "gather_core/error.hpp"
@@ -72,15 +70,6 @@ void check_workers(int workers, std::size_t count) {
                                  " free cells reachable from the OC");
 }
 
-// Throws unless lo <= v <= hi (lo < v with `open_lo`, v < hi with `open_hi`).
-void check_range(const char* field, double v, double lo, double hi, bool open_lo = false, bool open_hi = false) {
-  if (std::isfinite(v) && (open_lo ? v > lo : v >= lo) && (open_hi ? v < hi : v <= hi)) return;
-  char text[160];
-  std::snprintf(text, sizeof text, "%s = %g must be in %s%g, %g%s", field, v, open_lo ? "(" : "[", lo, hi,
-                open_hi ? ")" : "]");
-  throw Error("partition params", text);
-}
-
 PartitionResult run(const OccupancyGrid& grid, Cell oc, const std::vector<uint8_t>& reachable, std::size_t count,
                     std::vector<float> clearance, Method method, int workers, unsigned seed,
                     const PartitionParams& params) {
@@ -139,17 +128,18 @@ PartitionResult partition_area(const OccupancyGrid& grid, const PreparedArea& ar
 }
 
 void check_params(const PartitionParams& p) {
-  check_range("coarse_cells", static_cast<double>(p.coarse_cells), 100, 1e9);
-  check_range("bap_coarse_cells", static_cast<double>(p.bap_coarse_cells), 100, 1e9);
-  check_range("bap_balance_tolerance", p.bap_balance_tolerance, 0, 1, true, true);
-  check_range("bap_balance_passes", p.bap_balance_passes, 0, 1000);
-  check_range("lloyd_iterations", p.lloyd_iterations, 0, 1000);
-  check_range("pap_balance_gain", p.pap_balance_gain, 0, 10);
-  check_range("pap_max_delay_radii", p.pap_max_delay_radii, 0, 10);
-  check_range("pap_min_area_share", p.pap_min_area_share, 0, 1);
-  check_range("rap_room_clearance", p.rap_room_clearance, 0, 100, true);
-  check_range("rap_exponent", p.rap_exponent, 0, 10);
-  check_range("rap_min_speed", p.rap_min_speed, 0, 1, true);
+  const std::string where = "partition params";
+  require_in_range(static_cast<double>(p.coarse_cells), 100, 1e9, where, "coarse_cells");
+  require_in_range(static_cast<double>(p.bap_coarse_cells), 100, 1e9, where, "bap_coarse_cells");
+  require_in_range(p.bap_balance_tolerance, 0, 1, where, "bap_balance_tolerance", "", true, true);
+  require_in_range(p.bap_balance_passes, 0, 1000, where, "bap_balance_passes");
+  require_in_range(p.lloyd_iterations, 0, 1000, where, "lloyd_iterations");
+  require_in_range(p.pap_balance_gain, 0, 10, where, "pap_balance_gain");
+  require_in_range(p.pap_max_delay_radii, 0, 10, where, "pap_max_delay_radii");
+  require_in_range(p.pap_min_area_share, 0, 1, where, "pap_min_area_share");
+  require_in_range(p.rap_room_clearance, 0, 100, where, "rap_room_clearance", "", true);
+  require_in_range(p.rap_exponent, 0, 10, where, "rap_exponent");
+  require_in_range(p.rap_min_speed, 0, 1, where, "rap_min_speed", "", true);
 }
 
 void write_label_png(const std::string& path, const PartitionResult& part) {

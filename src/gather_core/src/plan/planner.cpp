@@ -4,7 +4,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <thread>
 
@@ -82,18 +81,13 @@ PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_fi
 }
 
 void check_options(const PlannerOptions& opt) {
-  auto in = [](const char* field, double v, double lo, double hi, bool open_lo) {
-    if (std::isfinite(v) && (open_lo ? v > lo : v >= lo) && v <= hi) return;
-    char text[160];
-    std::snprintf(text, sizeof text, "%s = %g must be in %s%g, %g]", field, v, open_lo ? "(" : "[", lo, hi);
-    throw Error("planner options", text);
-  };
-  in("threads", opt.threads, 1, 256, false);
-  in("tsp_constant", opt.tsp_constant, 0, 2, true);
-  in("smoothing_passes", opt.smoothing_passes, 0, 20, false);
-  in("association_trials", opt.association_trials, 1, 64, false);
-  in("pair_sources", opt.pair_sources, 1, 64, false);
-  in("home_box_margin_m", opt.home_box_margin_m, 0, 1000, false);
+  const std::string where = "planner options";
+  require_in_range(opt.threads, 1, 256, where, "threads");
+  require_in_range(opt.tsp_constant, 0, 2, where, "tsp_constant", "", true);
+  require_in_range(opt.smoothing_passes, 0, 20, where, "smoothing_passes");
+  require_in_range(opt.association_trials, 1, 64, where, "association_trials");
+  require_in_range(opt.pair_sources, 1, 64, where, "pair_sources");
+  require_in_range(opt.home_box_margin_m, 0, 1000, where, "home_box_margin_m", " m");
 }
 
 ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method method, int collectors,
@@ -196,7 +190,6 @@ void compute_utilities(std::vector<ConfigurationPlan>& configs, double alpha, do
 }
 
 SweepResult sweep(const PlanContext& ctx, const PlannerOptions& opt) {
-  check_options(opt);
   const auto t0 = Clock::now();
   const PlannerParams& pp = ctx.scenario.planner;
   struct Job {

@@ -22,12 +22,6 @@ void require(bool ok, const std::string& file, const std::string& what) {
   if (!ok) throw Error(file, what);
 }
 
-// A finite value in [lo, hi] (docs/input_limits.md), or one line naming the key.
-void in_range(double v, double lo, double hi, const std::string& file, const std::string& key, const char* unit) {
-  require(std::isfinite(v) && v >= lo && v <= hi, file,
-          key + " must be a finite value in [" + num(lo) + ", " + num(hi) + "]" + unit + ", got " + num(v));
-}
-
 }  // namespace
 
 Scenario load_scenario_settings(const std::string& path, bool map_required) {
@@ -39,8 +33,8 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   if (map_required || f.has("map")) s.map_path = yaml::resolve_path(path, f.required<std::string>("map"));
   const std::vector<double> oc = f.required<std::vector<double>>("oc");
   require(oc.size() == 2, path, "oc must be [x, y] in meters");
-  in_range(oc[0], -1e7, 1e7, path, "oc x", " m");
-  in_range(oc[1], -1e7, 1e7, path, "oc y", " m");
+  require_in_range(oc[0], -1e7, 1e7, path, "oc x", " m");
+  require_in_range(oc[1], -1e7, 1e7, path, "oc y", " m");
   s.oc = Point2{oc[0], oc[1]};
 
   const yaml::Fields team = f.section("team");
@@ -49,9 +43,9 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   s.team.speed = team.optional<double>("speed", s.team.speed);
   require(s.team.agents >= 1 && s.team.agents <= 1000, path,
           "team.agents must be in [1, 1000], got " + std::to_string(s.team.agents));
-  in_range(s.team.speed, 0.01, 100.0, path, "team.speed", " m/s");
+  require_in_range(s.team.speed, 0.01, 100.0, path, "team.speed", " m/s");
   s.team.radius = team.optional<double>("radius", s.team.radius);
-  in_range(s.team.radius, 0.0, 100.0, path, "team.radius", " m");
+  require_in_range(s.team.radius, 0.0, 100.0, path, "team.radius", " m");
 
   const yaml::Fields radio = f.section("radio");
   radio.allow(
@@ -63,13 +57,13 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   r.wall_loss_db = radio.optional<double>("wall_loss_db", r.wall_loss_db);
   r.max_walls = radio.optional<int>("max_walls", r.max_walls);
   r.sensitivity_dbm = radio.optional<double>("sensitivity_dbm", r.sensitivity_dbm);
-  in_range(r.tx_power_dbm, -100.0, 100.0, path, "radio.tx_power_dbm", " dBm");
-  in_range(r.ref_loss_db, 0.0, 200.0, path, "radio.ref_loss_db", " dB");
-  in_range(r.exponent, 0.5, 10.0, path, "radio.exponent", "");
-  in_range(r.wall_loss_db, 0.0, 200.0, path, "radio.wall_loss_db", " dB");
+  require_in_range(r.tx_power_dbm, -100.0, 100.0, path, "radio.tx_power_dbm", " dBm");
+  require_in_range(r.ref_loss_db, 0.0, 200.0, path, "radio.ref_loss_db", " dB");
+  require_in_range(r.exponent, 0.5, 10.0, path, "radio.exponent", "");
+  require_in_range(r.wall_loss_db, 0.0, 200.0, path, "radio.wall_loss_db", " dB");
   require(r.max_walls >= 0 && r.max_walls <= 100, path,
           "radio.max_walls must be in [0, 100], got " + std::to_string(r.max_walls));
-  in_range(r.sensitivity_dbm, -200.0, 100.0, path, "radio.sensitivity_dbm", " dBm");
+  require_in_range(r.sensitivity_dbm, -200.0, 100.0, path, "radio.sensitivity_dbm", " dBm");
   {
     // The free-space range the link budget gives (RadioModel): at most 100 km.
     const double budget = r.tx_power_dbm - r.ref_loss_db - r.sensitivity_dbm;
@@ -125,8 +119,8 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   }
   p.alpha = planner.optional<double>("alpha", p.alpha);
   p.beta = planner.optional<double>("beta", p.beta);
-  in_range(p.alpha, 0.0, 1e6, path, "planner.alpha", "");
-  in_range(p.beta, 0.0, 1e6, path, "planner.beta", "");
+  require_in_range(p.alpha, 0.0, 1e6, path, "planner.alpha", "");
+  require_in_range(p.beta, 0.0, 1e6, path, "planner.beta", "");
   require(p.alpha + p.beta > 0, path, "planner.alpha and beta must not both be 0");
   const std::string refresh = planner.optional<std::string>("refresh", refresh_metric_name(p.refresh));
   require(refresh == "latency" || refresh == "interval", path,
