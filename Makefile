@@ -119,10 +119,7 @@ bench-fmm: build
 # shared benchmark grids (bench/fmm_ab.sh; ~8 min with the two builds).
 bench-fmm-ab: deps
 	@test -n "$(REF)" || { echo "usage: make bench-fmm-ab REF=<commit>" >&2; exit 2; }
-	rm -rf build/ab_ref && git worktree prune && git worktree add -f --detach build/ab_ref/src $(REF) > /dev/null
-	cmake -S build/ab_ref/src/src/gather_agent -B build/ab_ref/build -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF > /dev/null
-	cmake --build build/ab_ref/build -j$(JOBS) --target gather > /dev/null
-	git worktree remove --force build/ab_ref/src
+	tools/build-ref $(REF) build/ab_ref $(JOBS)
 	cmake -S src/gather_agent -B build/ab_new -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF > /dev/null
 	cmake --build build/ab_new -j$(JOBS) --target gather > /dev/null
 	bench/fmm_ab.sh build/ab_ref/build/gather_core/gather build/ab_new/gather_core/gather
@@ -153,11 +150,8 @@ bench-signing: build
 # goals.csv of office and office_a from REF's gather and from this tree's.
 identity-check: build
 	@test -n "$(REF)" || { echo "usage: make identity-check REF=<commit>" >&2; exit 2; }
-	rm -rf build/identity_ref && git worktree prune && git worktree add -f --detach build/identity_ref/src $(REF) > /dev/null
-	cmake -S build/identity_ref/src/src/gather_agent -B build/identity_ref/build -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF > /dev/null
-	cmake --build build/identity_ref/build -j$(JOBS) --target gather > /dev/null
-	$(PYTHON) tools/identity_check.py --before build/identity_ref/build/gather_core/gather --after $(G); \
-	  status=$$?; git worktree remove --force build/identity_ref/src; exit $$status
+	tools/build-ref $(REF) build/identity_ref $(JOBS)
+	$(PYTHON) tools/identity_check.py --before build/identity_ref/build/gather_core/gather --after $(G)
 
 # Partition metrics of BAP/PAP/RAP on every map -> docs/partitions.md.
 partition-report: build

@@ -333,12 +333,8 @@ TEST(LcmFleet, MutatedPayloadsOfEveryChannelAreAcceptedWithinBoundsOrCounted) {
         for (int k = 0, edits = 1 + static_cast<int>(rng() % 4); k < edits; ++k)
           b[rng() % b.size()] = static_cast<uint8_t>(std::array<uint8_t, 4>{0x00, 0xff, 0x7f, 0x80}[rng() % 4]);
         break;
-      case 2:
-        b.resize(rng() % b.size());
-        break;
-      default:
-        b.resize(b.size() + 1 + rng() % 64, static_cast<uint8_t>(rng()));
-        break;
+      case 2: b.resize(rng() % b.size()); break;
+      default: b.resize(b.size() + 1 + rng() % 64, static_cast<uint8_t>(rng())); break;
     }
     const int64_t before = f.dropped();
     feed(f, channel, b,

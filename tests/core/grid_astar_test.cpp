@@ -6,12 +6,14 @@
 #include <cstdlib>
 #include <vector>
 
+#include "predicate_grid.hpp"
+
 namespace gather {
 namespace {
 
 OccupancyGrid open_grid(int w, int h) {
-  return OccupancyGrid(w, h, 0.1, Point2{0, 0}, std::vector<int8_t>(static_cast<std::size_t>(w * h), 0),
-                       std::vector<uint8_t>(static_cast<std::size_t>(w * h), 1));
+  return testing_support::predicate_grid(
+      w, h, [](int, int) { return true; }, 0.1);
 }
 
 // Every step goes to one of the 8 neighbours, onto a traversable cell, and

@@ -14,6 +14,7 @@
 #include "gather_core/partition/metrics.hpp"
 #include "gather_core/partition/partition.hpp"
 #include "gather_core/scenario/scenario.hpp"
+#include "label_checks.hpp"
 
 namespace gather {
 namespace partition {
@@ -53,24 +54,9 @@ void expect_contract(const OccupancyGrid& g, Cell oc, const PartitionResult& p, 
     ++count[l];
     if (first[l] == g.size()) first[l] = i;
   }
-  std::vector<uint8_t> seen(g.size(), 0);
-  std::vector<std::size_t> stack;
-  const std::size_t w = static_cast<std::size_t>(g.width());
   for (int k = 1; k <= workers; ++k) {
     ASSERT_GT(count[k], 0u) << what << " segment " << k << " is empty";
-    std::size_t n = 0;
-    stack.assign(1, first[k]);
-    seen[first[k]] = 1;
-    while (!stack.empty()) {
-      const std::size_t i = stack.back();
-      stack.pop_back();
-      ++n;
-      const std::size_t col = i % w;
-      const std::size_t nb[4] = {col > 0 ? i - 1 : i, col + 1 < w ? i + 1 : i, i >= w ? i - w : i,
-                                 i + w < g.size() ? i + w : i};
-      for (std::size_t j : nb)
-        if (!seen[j] && p.labels[j] == k) seen[j] = 1, stack.push_back(j);
-    }
+    const std::size_t n = testing_support::flood_size(p.labels, static_cast<std::size_t>(g.width()), first[k]);
     EXPECT_EQ(n, count[k]) << what << " segment " << k << " is not 4-connected";
   }
 }

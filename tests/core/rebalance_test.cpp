@@ -8,6 +8,8 @@
 #include <cmath>
 #include <vector>
 
+#include "label_checks.hpp"
+
 namespace gather {
 namespace partition {
 namespace {
@@ -20,28 +22,14 @@ std::vector<int> areas(const std::vector<int32_t>& labels, int workers) {
 }
 
 // Every segment 1..workers is one 4-connected component.
-bool connected(const std::vector<int32_t>& labels, int w, int h, int workers) {
+bool connected(const std::vector<int32_t>& labels, int w, int workers) {
   for (int k = 1; k <= workers; ++k) {
-    std::vector<uint8_t> seen(labels.size(), 0);
-    std::vector<std::size_t> stack;
     const auto first = std::find(labels.begin(), labels.end(), k);
     if (first == labels.end()) return false;
-    stack.push_back(static_cast<std::size_t>(first - labels.begin()));
-    seen[stack.back()] = 1;
-    std::size_t reached = 0;
-    while (!stack.empty()) {
-      const std::size_t i = stack.back();
-      stack.pop_back();
-      ++reached;
-      const int r = static_cast<int>(i) / w, c = static_cast<int>(i) % w;
-      const int nr[4] = {r - 1, r + 1, r, r}, nc[4] = {c, c, c - 1, c + 1};
-      for (int q = 0; q < 4; ++q) {
-        if (nr[q] < 0 || nc[q] < 0 || nr[q] >= h || nc[q] >= w) continue;
-        const std::size_t j = static_cast<std::size_t>(nr[q]) * w + nc[q];
-        if (labels[j] == k && !seen[j]) seen[j] = 1, stack.push_back(j);
-      }
-    }
-    if (reached != static_cast<std::size_t>(std::count(labels.begin(), labels.end(), k))) return false;
+    const auto size = static_cast<std::size_t>(std::count(labels.begin(), labels.end(), k));
+    if (testing_support::flood_size(labels, static_cast<std::size_t>(w),
+                                    static_cast<std::size_t>(first - labels.begin())) != size)
+      return false;
   }
   return true;
 }
@@ -57,7 +45,7 @@ TEST(RebalanceTest, AStripOfTwoSegmentsEndsWithinTheTolerance) {
   EXPECT_NEAR(a[1], 80, 4);  // within 5% of the mean
   EXPECT_NEAR(a[2], 80, 4);
   EXPECT_EQ(a[1] + a[2], 160);
-  EXPECT_TRUE(connected(labels, w, h, 2));
+  EXPECT_TRUE(connected(labels, w, 2));
 }
 
 TEST(RebalanceTest, CellsOutsideEverySegmentStayOutAndTheResultIsDeterministic) {
@@ -77,7 +65,7 @@ TEST(RebalanceTest, CellsOutsideEverySegmentStayOutAndTheResultIsDeterministic) 
   rebalance_areas(w, h, 3, again, 0.05, 30);
   EXPECT_EQ(labels, again);
   for (std::size_t i = 0; i < labels.size(); ++i) EXPECT_EQ(labels[i] == 0, before[i] == 0) << "cell " << i;
-  EXPECT_TRUE(connected(labels, w, h, 3));
+  EXPECT_TRUE(connected(labels, w, 3));
   const std::vector<int> a = areas(labels, 3);
   const double mean = (a[1] + a[2] + a[3]) / 3.0;
   for (int k = 1; k <= 3; ++k) EXPECT_LE(std::abs(a[k] - mean), 0.05 * mean + 1) << "segment " << k;

@@ -8,6 +8,8 @@
 #include <limits>
 #include <vector>
 
+#include "predicate_grid.hpp"
+
 namespace gather {
 namespace plan {
 namespace {
@@ -16,7 +18,8 @@ namespace {
 // (1: columns 0-8, 2: 9-17, 3: 18-26); the OC's coverage is columns 0-4 and
 // the distance to it grows by 0.1 m a column beyond.
 struct Strip {
-  OccupancyGrid grid{27, 3, 0.1, Point2{0, 0}, std::vector<int8_t>(81, 0), std::vector<uint8_t>(81, 1)};
+  OccupancyGrid grid = testing_support::predicate_grid(
+      27, 3, [](int, int) { return true; }, 0.1);
   std::vector<int32_t> labels = std::vector<int32_t>(81, 0);
   std::vector<uint8_t> coverage = std::vector<uint8_t>(81, 0);
   std::vector<double> to_coverage = std::vector<double>(81, 0.0);
@@ -76,7 +79,7 @@ TEST(WorkerGraphTest, TheEntryIsARoomyCellWhenTheSegmentHasOne) {
 
 TEST(WorkerGraphTest, TheCentroidOfAnLShapedSegmentIsOneOfItsCells) {
   // 10 x 10 grid: segment 1 is an L (column 0 and row 0), segment 2 the rest.
-  const OccupancyGrid grid(10, 10, 1.0, Point2{0, 0}, std::vector<int8_t>(100, 0), std::vector<uint8_t>(100, 1));
+  const OccupancyGrid grid = testing_support::predicate_grid(10, 10, [](int, int) { return true; });
   std::vector<int32_t> labels(100, 2);
   for (int k = 0; k < 10; ++k) labels[grid.index(Cell{0, k})] = labels[grid.index(Cell{k, 0})] = 1;
   const std::vector<uint8_t> coverage(100, 0);

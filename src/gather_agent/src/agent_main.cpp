@@ -55,8 +55,7 @@ int main(int argc, char** argv) {
                    static_cast<long long>(fleet.rejected().total()), gather::agent::describe(fleet.rejected()).c_str());
     switch (end) {
       case gather::agent::LockstepAgent::End::kDone:
-      case gather::agent::LockstepAgent::End::kStopped:
-        return 0;
+      case gather::agent::LockstepAgent::End::kStopped: return 0;
       case gather::agent::LockstepAgent::End::kRefused:
         std::fprintf(stderr, "gather_agent %d: %s\n", opt.id, why.c_str());
         return 2;

@@ -47,14 +47,10 @@ int MissionView::goal_state(const agent::OcRole& oc, int id) const {
   if (g.expired_at >= 0) return kExpired;
   if (oc.resolved(id)) {
     switch (g.state) {
-      case mission::GoalState::kDelivered:
-        return kDelivered;
-      case mission::GoalState::kDropped:
-        return kDropped;
-      case mission::GoalState::kLostWithAgent:
-        return kLost;
-      default:
-        return kExpired;
+      case mission::GoalState::kDelivered: return kDelivered;
+      case mission::GoalState::kDropped: return kDropped;
+      case mission::GoalState::kLostWithAgent: return kLost;
+      default: return kExpired;
     }
   }
   if (g.measured_at >= 0 ||
@@ -243,17 +239,10 @@ void MissionView::add(Totals& t, const agent::OcRole& oc, std::size_t goal) cons
       t.refresh_max = std::max(t.refresh_max, g.delivered_at - g.requested_at);
       break;
     }
-    case kExpired:
-      ++t.expired;
-      break;
-    case kDropped:
-      ++t.dropped;
-      break;
-    case kLost:
-      ++t.lost;
-      break;
-    default:
-      break;
+    case kExpired: ++t.expired; break;
+    case kDropped: ++t.dropped; break;
+    case kLost: ++t.lost; break;
+    default: break;
   }
 }
 

@@ -207,8 +207,7 @@ bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
       g.dropped_at = item.at;
       resolve(g, mission::GoalState::kDropped);
       break;
-    default:
-      return false;
+    default: return false;
   }
   return true;
 }

@@ -13,40 +13,29 @@ namespace agent {
 
 const char* kind_name(Kind k) {
   switch (k) {
-    case Kind::kRequest:
-      return "request";
-    case Kind::kData:
-      return "data";
-    case Kind::kAck:
-      return "ack";
-    case Kind::kState:
-      return "state";
+    case Kind::kRequest: return "request";
+    case Kind::kData: return "data";
+    case Kind::kAck: return "ack";
+    case Kind::kState: return "state";
   }
   return "?";
 }
 
 const char* item_kind_name(ItemKind k) {
   switch (k) {
-    case ItemKind::kMeasured:
-      return "measured";
-    case ItemKind::kExpired:
-      return "expired";
-    case ItemKind::kDropped:
-      return "dropped";
-    case ItemKind::kSkipped:
-      return "skipped";
+    case ItemKind::kMeasured: return "measured";
+    case ItemKind::kExpired: return "expired";
+    case ItemKind::kDropped: return "dropped";
+    case ItemKind::kSkipped: return "skipped";
   }
   return "?";
 }
 
 const char* role_kind_name(RoleKind r) {
   switch (r) {
-    case RoleKind::kWorker:
-      return "worker";
-    case RoleKind::kCollector:
-      return "collector";
-    case RoleKind::kOcRole:
-      return "oc";
+    case RoleKind::kWorker: return "worker";
+    case RoleKind::kCollector: return "collector";
+    case RoleKind::kOcRole: return "oc";
   }
   return "?";
 }

@@ -268,11 +268,9 @@ bool WorkerRole::settled(double now, bool in_contact) {
       // Request 0, or (it missed request 0: its deadline passed) the way to
       // where the next one comes.
       return (request_.complete() && request_.id > resolved_) || resolved_ >= 0;
-    case Phase::kReady:
-      return true;
+    case Phase::kReady: return true;
     case Phase::kMoving:
-    case Phase::kDone:
-      return false;
+    case Phase::kDone: return false;
     case Phase::kAtPass:
       // Decide again once the data is gone (taken on the way or at the pass);
       // a pass without a link keeps the data for a later one.
@@ -415,8 +413,7 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
         if (m.h.sender == upstream_ && m.h.dest == id_)
           custody_.acked(m.ack.keys, std::min<std::size_t>(m.ack.count, kMaxBatch));
         break;
-      default:
-        break;
+      default: break;
     }
   }
   // The plan's progress: goals reached are measured at their arrival time.

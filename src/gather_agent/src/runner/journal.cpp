@@ -216,8 +216,7 @@ static const uint8_t* read_records(const uint8_t* at, const uint8_t* end, Journa
         return nullptr;
       s.have_pose = true;
       break;
-    default:
-      return nullptr;
+    default: return nullptr;
   }
   ++s.records;
   return body_end;

@@ -21,15 +21,7 @@
 namespace gather {
 namespace agent {
 
-using lockstep::absorb;
-using lockstep::Clock;
-using lockstep::count_tick;
-using lockstep::kHeld;
-using lockstep::kOutbox;
-using lockstep::realtime_us;
-using lockstep::seconds_since;
-using lockstep::signalled;
-using lockstep::take_tick;
+using namespace lockstep;  // lockstep_shared.hpp: the held messages, the clocks
 namespace {
 
 std::string seconds_text(double s) {

@@ -36,14 +36,9 @@ void gather_inbox(const std::vector<Message>& sent, int16_t receiver, Point2 at,
   for (const Message& m : sent) {
     if (m.h.sender == receiver || (m.h.dest != receiver && m.h.dest != kBroadcast)) continue;
     switch (gate.admit(m.h, receiver, at)) {
-      case RangeGate::Verdict::kOutOfRange:
-        ++counters.gated;
-        continue;
-      case RangeGate::Verdict::kLost:
-        ++counters.lost;
-        continue;
-      case RangeGate::Verdict::kPass:
-        break;
+      case RangeGate::Verdict::kOutOfRange: ++counters.gated; continue;
+      case RangeGate::Verdict::kLost: ++counters.lost; continue;
+      case RangeGate::Verdict::kPass: break;
     }
     if (inbox.size() >= inbox.capacity()) {
       ++counters.overflow;

@@ -15,11 +15,7 @@
 namespace gather {
 namespace fmm {
 
-using detail::kInf;
-using detail::MarchGrid;
-using detail::next_up;
-using detail::order_key;
-using detail::relax_neighbours;
+using namespace detail;  // stencil.hpp
 
 // Buckets of the circular queue are at most this many; slower speeds widen them.
 constexpr std::size_t kMaxBuckets = std::size_t{1} << 16;

@@ -13,10 +13,7 @@
 namespace gather {
 namespace fmm {
 
-using detail::kInf;
-using detail::MarchGrid;
-using detail::next_up;
-using detail::relax_neighbours;
+using namespace detail;  // stencil.hpp
 
 // Classical FMM: a binary min-heap with lazy deletion (an improved cell is
 // pushed again; the outdated entry is skipped when popped).

@@ -30,18 +30,12 @@ struct Event {
 
 const char* goal_state_name(GoalState s) {
   switch (s) {
-    case GoalState::kPending:
-      return "pending";
-    case GoalState::kCarried:
-      return "carried";
-    case GoalState::kDelivered:
-      return "delivered";
-    case GoalState::kExpired:
-      return "expired";
-    case GoalState::kDropped:
-      return "dropped_overflow";
-    case GoalState::kLostWithAgent:
-      return "lost_with_agent";
+    case GoalState::kPending: return "pending";
+    case GoalState::kCarried: return "carried";
+    case GoalState::kDelivered: return "delivered";
+    case GoalState::kExpired: return "expired";
+    case GoalState::kDropped: return "dropped_overflow";
+    case GoalState::kLostWithAgent: return "lost_with_agent";
   }
   return "?";
 }

@@ -116,12 +116,9 @@ RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, 
 
 double silent_timeout(Liveness kind, double period, double route_period, double intervals) {
   switch (kind) {
-    case Liveness::kCollector:
-      return intervals * route_period;
-    case Liveness::kOcWorker:
-      return intervals * period;
-    case Liveness::kCollectorWorker:
-      return intervals * (route_period + period);
+    case Liveness::kCollector: return intervals * route_period;
+    case Liveness::kOcWorker: return intervals * period;
+    case Liveness::kCollectorWorker: return intervals * (route_period + period);
   }
   return intervals * period;
 }
