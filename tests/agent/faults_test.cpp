@@ -48,7 +48,7 @@ TEST(RepairPlan, ADeadWorkersSegmentGoesToItsSmallestLiveNeighbour) {
   const int into = base.file.agents[static_cast<std::size_t>(into_worker)].segment;
   EXPECT_EQ(cells_of(r.plan, into), cells_of(base, into) + cells_of(base, s));
   // No other neighbour of s is smaller than the one chosen.
-  const int w = base.width, h = base.height;
+  const int w = base.labels.width(), h = base.labels.height();
   std::set<int32_t> touching;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x + 1 < w; ++x) {

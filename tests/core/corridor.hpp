@@ -43,8 +43,7 @@ inline Scenario corridor() {
 // requests every mission.period of the scenario.
 inline mission::MissionPlan one_collector_plan(const Scenario& s, plan::CollectorRoute route, double tile_m) {
   mission::MissionPlan m;
-  m.width = s.grid.width(), m.height = s.grid.height();
-  m.labels.assign(s.grid.size(), 1);
+  m.labels = LabelImage(s.grid.frame(), 1);
   plan::PlanFile& p = m.file;
   p.method = "hand";
   p.collectors = 1, p.workers = 1, p.cycle_period_s = s.mission.period;

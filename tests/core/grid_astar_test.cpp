@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <stdexcept>
 #include <vector>
 
 #include "predicate_grid.hpp"
@@ -18,7 +19,7 @@ OccupancyGrid open_grid(int w, int h) {
 
 // Every step goes to one of the 8 neighbours, onto a traversable cell, and
 // a diagonal step never passes a blocked corner.
-void expect_valid(const std::vector<Cell>& path, const OccupancyGrid& g, const std::vector<uint8_t>& free) {
+void expect_valid(const std::vector<Cell>& path, const OccupancyGrid& g, const Mask& free) {
   auto ok = [&](Cell c) { return g.contains(c) && free[g.index(c)] != 0; };
   for (std::size_t i = 0; i < path.size(); ++i) {
     EXPECT_TRUE(ok(path[i])) << "cell " << i;
@@ -34,7 +35,7 @@ void expect_valid(const std::vector<Cell>& path, const OccupancyGrid& g, const s
 
 TEST(GridAStarTest, OpenGridTakesTheOctileShortestPath) {
   const OccupancyGrid g = open_grid(10, 10);
-  const std::vector<uint8_t> free(100, 1);
+  const Mask free(g.frame(), 1);
   GridAStar astar(g, free);
   std::vector<Cell> path;
   ASSERT_TRUE(astar.find(Cell{0, 0}, Cell{5, 3}, path));
@@ -51,7 +52,7 @@ TEST(GridAStarTest, OpenGridTakesTheOctileShortestPath) {
 TEST(GridAStarTest, AroundAWallThroughItsDoorWithoutCuttingCorners) {
   // 9 x 9, a wall along column 4 with a door at row 8 (the top row).
   const OccupancyGrid g = open_grid(9, 9);
-  std::vector<uint8_t> free(81, 1);
+  Mask free(g.frame(), 1);
   for (int r = 0; r < 8; ++r) free[g.index(Cell{r, 4})] = 0;
   GridAStar astar(g, free);
   std::vector<Cell> path;
@@ -68,7 +69,7 @@ TEST(GridAStarTest, AroundAWallThroughItsDoorWithoutCuttingCorners) {
 
 TEST(GridAStarTest, UnreachableOrBlockedEndsGiveAnEmptyPath) {
   const OccupancyGrid g = open_grid(9, 9);
-  std::vector<uint8_t> free(81, 1);
+  Mask free(g.frame(), 1);
   for (int r = 0; r < 9; ++r) free[g.index(Cell{r, 4})] = 0;  // no door
   GridAStar astar(g, free);
   std::vector<Cell> path{Cell{1, 1}};
@@ -82,7 +83,7 @@ TEST(GridAStarTest, UnreachableOrBlockedEndsGiveAnEmptyPath) {
 TEST(GridAStarTest, AWorkspaceReusedPastItsGenerationCounterGivesTheSameAnswers) {
   // The stamps are 16-bit: 70000 searches wrap them more than once.
   const OccupancyGrid g = open_grid(6, 6);
-  std::vector<uint8_t> free(36, 1);
+  Mask free(g.frame(), 1);
   free[g.index(Cell{2, 2})] = free[g.index(Cell{2, 3})] = free[g.index(Cell{3, 2})] = 0;
   GridAStar astar(g, free);
   std::vector<Cell> first, path;
@@ -93,6 +94,11 @@ TEST(GridAStarTest, AWorkspaceReusedPastItsGenerationCounterGivesTheSameAnswers)
   ASSERT_TRUE(astar.find(Cell{0, 0}, Cell{5, 5}, path));
   EXPECT_EQ(path.size(), first.size());
   expect_valid(path, g, free);
+}
+
+TEST(GridAStarTest, AMaskOfAnotherSizeIsRefused) {
+  const OccupancyGrid g = open_grid(6, 6);
+  EXPECT_THROW(GridAStar(g, Mask(GridFrame{6, 5}, 1)), std::invalid_argument);
 }
 
 }  // namespace

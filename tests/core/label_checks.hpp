@@ -1,16 +1,17 @@
 #pragma once
-// Checks on label images (row-major, row 0 = bottom), shared by the partition
-// and rebalance tests.
+// Checks on label images, shared by the partition and rebalance tests.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "gather_core/grid/raster.hpp"
+
 namespace gather {
 namespace testing_support {
 
-// How many cells carry the label of `start` and are 4-connected to it
-// (labels of width `w`).
-inline std::size_t flood_size(const std::vector<int32_t>& labels, std::size_t w, std::size_t start) {
+// How many cells carry the label of `start` and are 4-connected to it.
+inline std::size_t flood_size(const LabelImage& labels, std::size_t start) {
+  const std::size_t w = static_cast<std::size_t>(labels.width());
   const int32_t k = labels[start];
   std::vector<uint8_t> seen(labels.size(), 0);
   std::vector<std::size_t> stack{start};

@@ -245,7 +245,7 @@ TEST(HandoverTest, ATransferThatNeedsTenSecondsPicksAPassWhereTheLinkLastsTenSec
     s.radio.bitrate_bps = bitrate;
     const mission::World world(s);
     const mission::MissionPlan mp = testing_support::lingering_plan(s);
-    const mission::RouteTimetable route(mp.file.routes[0], s.team.speed, s.mission.period, s.grid, world.coverage);
+    const mission::RouteTimetable route(mp.file.routes[0], s.team.speed, s.mission.period, world.coverage);
     mission::SharedDistances shared(world);
     mission::WorkerPolicy policy(world, mp, mp.file.agents[1], &route, shared, 4);
     const double range = RadioModel(s.grid, s.radio).free_space_range();
@@ -370,7 +370,11 @@ TEST_F(MissionOfficeTest, NoCollectorsEveryWorkerDeliversToTheOc) {
 TEST_F(MissionOfficeTest, PlanDirectoryGivesTheSameMissionAsTheInMemoryPlan) {
   const auto cfg = plan::plan_configuration(*ctx_, partition::Method::kPap, 2);
   const mission::MissionPlan loaded = through_plan_directory(*ctx_, cfg);
-  EXPECT_EQ(loaded.labels, cfg.partition.labels);
+  // The PNG holds the labels and the size, not the placement.
+  EXPECT_EQ(loaded.labels.values(), cfg.partition.labels.values());
+  EXPECT_TRUE(loaded.labels.frame().same_size(ctx_->scenario.grid.frame()));
+  EXPECT_EQ(loaded.labels.frame().resolution, 1.0);
+  EXPECT_EQ(cfg.partition.labels.frame(), ctx_->scenario.grid.frame());
   MissionOptions opt;
   opt.cycles = 3;
   MissionSimulator a(*ctx_, mission::mission_plan(*ctx_, cfg)), b(*ctx_, loaded);

@@ -43,8 +43,10 @@ std::vector<std::string> contract_scenarios() {
 // The contract: reachable cells labelled 1..N_w, others 0, every label
 // non-empty and 4-connected.
 void expect_contract(const OccupancyGrid& g, Cell oc, const PartitionResult& p, int workers, const std::string& what) {
-  const std::vector<uint8_t> reach = reachable_from(g, oc);
+  const Mask reach = reachable_from(g, oc);
   ASSERT_EQ(p.labels.size(), g.size()) << what;
+  EXPECT_EQ(p.labels.frame(), g.frame()) << what;
+  EXPECT_EQ(p.clearance.frame(), g.frame()) << what;
   std::vector<std::size_t> count(static_cast<std::size_t>(workers) + 1, 0), first(count.size(), g.size());
   for (std::size_t i = 0; i < g.size(); ++i) {
     const int32_t l = p.labels[i];
@@ -56,7 +58,7 @@ void expect_contract(const OccupancyGrid& g, Cell oc, const PartitionResult& p, 
   }
   for (int k = 1; k <= workers; ++k) {
     ASSERT_GT(count[k], 0u) << what << " segment " << k << " is empty";
-    const std::size_t n = testing_support::flood_size(p.labels, static_cast<std::size_t>(g.width()), first[k]);
+    const std::size_t n = testing_support::flood_size(p.labels, first[k]);
     EXPECT_EQ(n, count[k]) << what << " segment " << k << " is not 4-connected";
   }
 }
@@ -157,7 +159,7 @@ TEST(Partition, RapSplitsAtTheDoor) {
   const int32_t left = p.labels[g.index(Cell{30, 40})], right = p.labels[g.index(Cell{30, 130})];
   EXPECT_NE(left, right);
   // Each room belongs to one segment: agreement with the two rooms is high.
-  std::vector<int32_t> rooms(g.size(), 0);
+  LabelImage rooms(g.frame(), 0);
   for (std::size_t i = 0; i < g.size(); ++i)
     if (g.free_mask()[i]) rooms[i] = static_cast<int>(i % g.width()) < 85 ? 1 : 2;
   EXPECT_GT(room_agreement(p.labels, rooms).f1, 0.95);
@@ -165,11 +167,12 @@ TEST(Partition, RapSplitsAtTheDoor) {
 
 TEST(Partition, RoomAgreementCountsBestMatches) {
   // 4 cells: room 1 = {0,1}, room 2 = {2,3}; segments 1 = {0}, 2 = {1,2,3}.
-  const std::vector<int32_t> rooms{1, 1, 2, 2}, labels{1, 2, 2, 2};
+  const LabelImage rooms(GridFrame{4, 1}, {1, 1, 2, 2}), labels(GridFrame{4, 1}, {1, 2, 2, 2});
   const RoomAgreement a = room_agreement(labels, rooms);
   EXPECT_DOUBLE_EQ(a.recall, 3.0 / 4.0);     // room 1: 1 of 2, room 2: 2 of 2
   EXPECT_DOUBLE_EQ(a.precision, 3.0 / 4.0);  // segment 1: 1 of 1, segment 2: 2 of 3
   EXPECT_EQ(a.rooms, 2);
+  EXPECT_THROW(room_agreement(labels, LabelImage(GridFrame{2, 2}, 1)), Error);  // 4 cells, another shape
 }
 
 TEST(Partition, GroundTruthRoomsOfOfficeA) {
@@ -218,11 +221,12 @@ TEST(Partition, ParamsOutsideTheirRangeNameTheField) {
 TEST(Partition, NeighbouringSegmentsGetDifferentColours) {
   const Scenario sc = load_scenario(repo("../shared/maps/ipa/lab_c_scan.scenario.yaml"));
   const PartitionResult p = partition_area(sc.grid, sc.grid.world_to_cell(sc.oc), Method::kPap, 20, 1);
-  const std::vector<int> colour = figures::colour_segments(p.labels, p.width, p.height, 20, 16);
-  for (int r = 0; r + 1 < p.height; ++r)
-    for (int c = 0; c + 1 < p.width; ++c) {
-      const std::size_t i = static_cast<std::size_t>(r) * p.width + c;
-      for (std::size_t j : {i + 1, i + static_cast<std::size_t>(p.width)}) {
+  const std::vector<int> colour = figures::colour_segments(p.labels, 20, 16);
+  const int w = p.labels.width(), h = p.labels.height();
+  for (int r = 0; r + 1 < h; ++r)
+    for (int c = 0; c + 1 < w; ++c) {
+      const std::size_t i = static_cast<std::size_t>(r) * w + c;
+      for (std::size_t j : {i + 1, i + static_cast<std::size_t>(w)}) {
         const int32_t a = p.labels[i], b = p.labels[j];
         if (a > 0 && b > 0 && a != b) {
           ASSERT_NE(colour[a - 1], colour[b - 1]);

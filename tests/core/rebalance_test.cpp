@@ -14,7 +14,7 @@ namespace gather {
 namespace partition {
 namespace {
 
-std::vector<int> areas(const std::vector<int32_t>& labels, int workers) {
+std::vector<int> areas(const LabelImage& labels, int workers) {
   std::vector<int> a(static_cast<std::size_t>(workers) + 1, 0);
   for (int32_t l : labels)
     if (l > 0) ++a[static_cast<std::size_t>(l)];
@@ -22,14 +22,12 @@ std::vector<int> areas(const std::vector<int32_t>& labels, int workers) {
 }
 
 // Every segment 1..workers is one 4-connected component.
-bool connected(const std::vector<int32_t>& labels, int w, int workers) {
+bool connected(const LabelImage& labels, int workers) {
   for (int k = 1; k <= workers; ++k) {
     const auto first = std::find(labels.begin(), labels.end(), k);
     if (first == labels.end()) return false;
     const auto size = static_cast<std::size_t>(std::count(labels.begin(), labels.end(), k));
-    if (testing_support::flood_size(labels, static_cast<std::size_t>(w),
-                                    static_cast<std::size_t>(first - labels.begin())) != size)
-      return false;
+    if (testing_support::flood_size(labels, static_cast<std::size_t>(first - labels.begin())) != size) return false;
   }
   return true;
 }
@@ -37,35 +35,35 @@ bool connected(const std::vector<int32_t>& labels, int w, int workers) {
 TEST(RebalanceTest, AStripOfTwoSegmentsEndsWithinTheTolerance) {
   // 40 x 4: segment 1 holds columns 0-29 (120 cells), segment 2 columns 30-39 (40).
   const int w = 40, h = 4;
-  std::vector<int32_t> labels(static_cast<std::size_t>(w * h));
+  LabelImage labels(GridFrame{w, h});
   for (int r = 0; r < h; ++r)
-    for (int c = 0; c < w; ++c) labels[static_cast<std::size_t>(r * w + c)] = c < 30 ? 1 : 2;
-  rebalance_areas(w, h, 2, labels, 0.05, 20);
+    for (int c = 0; c < w; ++c) labels.at(Cell{r, c}) = c < 30 ? 1 : 2;
+  rebalance_areas(2, labels, 0.05, 20);
   const std::vector<int> a = areas(labels, 2);
   EXPECT_NEAR(a[1], 80, 4);  // within 5% of the mean
   EXPECT_NEAR(a[2], 80, 4);
   EXPECT_EQ(a[1] + a[2], 160);
-  EXPECT_TRUE(connected(labels, w, 2));
+  EXPECT_TRUE(connected(labels, 2));
 }
 
 TEST(RebalanceTest, CellsOutsideEverySegmentStayOutAndTheResultIsDeterministic) {
   // 30 x 30 with a wall (label 0) down column 15 except a door at rows 14-15;
   // three uneven segments: 1 left of the wall, 2 and 3 split the right at row 5.
   const int w = 30, h = 30;
-  std::vector<int32_t> labels(static_cast<std::size_t>(w * h));
+  LabelImage labels(GridFrame{w, h});
   for (int r = 0; r < h; ++r)
     for (int c = 0; c < w; ++c) {
       int32_t l = c < 15 ? 1 : (r < 5 ? 2 : 3);
       if (c == 15) l = (r == 14 || r == 15) ? 3 : 0;
-      labels[static_cast<std::size_t>(r * w + c)] = l;
+      labels.at(Cell{r, c}) = l;
     }
-  std::vector<int32_t> again = labels;
-  const std::vector<int32_t> before = labels;
-  rebalance_areas(w, h, 3, labels, 0.05, 30);
-  rebalance_areas(w, h, 3, again, 0.05, 30);
+  LabelImage again = labels;
+  const LabelImage before = labels;
+  rebalance_areas(3, labels, 0.05, 30);
+  rebalance_areas(3, again, 0.05, 30);
   EXPECT_EQ(labels, again);
   for (std::size_t i = 0; i < labels.size(); ++i) EXPECT_EQ(labels[i] == 0, before[i] == 0) << "cell " << i;
-  EXPECT_TRUE(connected(labels, w, 3));
+  EXPECT_TRUE(connected(labels, 3));
   const std::vector<int> a = areas(labels, 3);
   const double mean = (a[1] + a[2] + a[3]) / 3.0;
   for (int k = 1; k <= 3; ++k) EXPECT_LE(std::abs(a[k] - mean), 0.05 * mean + 1) << "segment " << k;
@@ -73,9 +71,9 @@ TEST(RebalanceTest, CellsOutsideEverySegmentStayOutAndTheResultIsDeterministic) 
 }
 
 TEST(RebalanceTest, ZeroPassesChangeNothing) {
-  std::vector<int32_t> labels = {1, 1, 1, 2};
-  rebalance_areas(4, 1, 2, labels, 0.0, 0);
-  EXPECT_EQ(labels, (std::vector<int32_t>{1, 1, 1, 2}));
+  LabelImage labels(GridFrame{4, 1}, {1, 1, 1, 2});
+  rebalance_areas(2, labels, 0.0, 0);
+  EXPECT_EQ(labels.values(), (std::vector<int32_t>{1, 1, 1, 2}));
 }
 
 }  // namespace

@@ -17,10 +17,10 @@ namespace {
 
 // The corridor's OC coverage by hand: cell centres within 2 m of the OC at
 // x = 0.55 m, i.e. columns 0..25 (x < 2.6 m).
-std::vector<uint8_t> corridor_coverage(const OccupancyGrid& g) {
-  std::vector<uint8_t> cov(g.size(), 0);
+Mask corridor_coverage(const OccupancyGrid& g) {
+  Mask cov(g.frame(), 0);
   for (int r = 0; r < g.height(); ++r)
-    for (int c = 0; c <= 25; ++c) cov[g.index(Cell{r, c})] = 1;
+    for (int c = 0; c <= 25; ++c) cov.at(Cell{r, c}) = 1;
   return cov;
 }
 
@@ -33,7 +33,7 @@ plan::CollectorRoute out_and_back() {
 
 TEST(RouteTimetableTest, PositionAlongTheLoopsOfARequestPeriod) {
   const Scenario s = testing_support::corridor();
-  const RouteTimetable rt(out_and_back(), 1.0, 100.0, s.grid, corridor_coverage(s.grid));
+  const RouteTimetable rt(out_and_back(), 1.0, 100.0, corridor_coverage(s.grid));
   EXPECT_FALSE(rt.idle());
   EXPECT_NEAR(rt.length(), 29.0, 1e-12);
   EXPECT_NEAR(rt.period(), 29.0, 1e-12);
@@ -50,7 +50,7 @@ TEST(RouteTimetableTest, PositionAlongTheLoopsOfARequestPeriod) {
 
 TEST(RouteTimetableTest, NextPassAtAnArcPosition) {
   const Scenario s = testing_support::corridor();
-  const RouteTimetable rt(out_and_back(), 1.0, 100.0, s.grid, corridor_coverage(s.grid));
+  const RouteTimetable rt(out_and_back(), 1.0, 100.0, corridor_coverage(s.grid));
   EXPECT_NEAR(rt.next_time_at(14.5, 0.0), 14.5, 1e-9);
   EXPECT_NEAR(rt.next_time_at(14.5, 14.5), 14.5, 1e-9);
   EXPECT_NEAR(rt.next_time_at(14.5, 14.5 + 5e-4), 14.5, 1e-9);  // within the 1 ms tolerance
@@ -61,7 +61,7 @@ TEST(RouteTimetableTest, NextPassAtAnArcPosition) {
 
 TEST(RouteTimetableTest, CoverageIntervalsAndTheNextTimeInCoverage) {
   const Scenario s = testing_support::corridor();
-  const RouteTimetable rt(out_and_back(), 1.0, 100.0, s.grid, corridor_coverage(s.grid));
+  const RouteTimetable rt(out_and_back(), 1.0, 100.0, corridor_coverage(s.grid));
   // Inside while x < 2.6: arcs [0, 2.05] and [26.95, 29].
   const auto& in = rt.coverage_intervals();
   ASSERT_EQ(in.size(), 2u);
@@ -79,7 +79,7 @@ TEST(RouteTimetableTest, AnIdleRouteNeverMovesAndIsNeverMet) {
   const Scenario s = testing_support::corridor();
   plan::CollectorRoute idle;
   idle.waypoints = {{0.55, 0.25}};
-  const RouteTimetable rt(idle, 1.0, 100.0, s.grid, corridor_coverage(s.grid));
+  const RouteTimetable rt(idle, 1.0, 100.0, corridor_coverage(s.grid));
   EXPECT_TRUE(rt.idle());
   EXPECT_EQ(rt.period(), 0.0);
   EXPECT_NEAR(rt.position(50.0).x, 0.55, 1e-12);
@@ -89,13 +89,13 @@ TEST(RouteTimetableTest, AnIdleRouteNeverMovesAndIsNeverMet) {
 
 TEST(RouteTimetableTest, BadRoutesAreClearErrors) {
   const Scenario s = testing_support::corridor();
-  const std::vector<uint8_t> cov = corridor_coverage(s.grid);
-  EXPECT_THROW(RouteTimetable(out_and_back(), 0.0, 100.0, s.grid, cov), Error);
-  EXPECT_THROW(RouteTimetable(out_and_back(), 1.0, 0.0, s.grid, cov), Error);
+  const Mask cov = corridor_coverage(s.grid);
+  EXPECT_THROW(RouteTimetable(out_and_back(), 0.0, 100.0, cov), Error);
+  EXPECT_THROW(RouteTimetable(out_and_back(), 1.0, 0.0, cov), Error);
   plan::CollectorRoute far;
   far.waypoints = {{10.05, 0.25}, {15.05, 0.25}, {10.05, 0.25}};
   try {
-    RouteTimetable(far, 1.0, 100.0, s.grid, cov);
+    RouteTimetable(far, 1.0, 100.0, cov);
     FAIL() << "a route outside the coverage was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("never enters the OC's coverage"), std::string::npos) << e.what();

@@ -20,9 +20,9 @@ namespace {
 struct Strip {
   OccupancyGrid grid = testing_support::predicate_grid(
       27, 3, [](int, int) { return true; }, 0.1);
-  std::vector<int32_t> labels = std::vector<int32_t>(81, 0);
-  std::vector<uint8_t> coverage = std::vector<uint8_t>(81, 0);
-  std::vector<double> to_coverage = std::vector<double>(81, 0.0);
+  LabelImage labels = LabelImage(grid.frame(), 0);
+  Mask coverage = Mask(grid.frame(), 0);
+  Raster<double> to_coverage = Raster<double>(grid.frame(), 0.0);
   Strip() {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 27; ++c) {
@@ -68,7 +68,7 @@ TEST(WorkerGraphTest, SegmentsOfAStripByHand) {
 
 TEST(WorkerGraphTest, TheEntryIsARoomyCellWhenTheSegmentHasOne) {
   const Strip s;
-  std::vector<uint8_t> roomy(81, 0);
+  Mask roomy(s.grid.frame(), 0);
   for (int c = 11; c < 27; ++c) roomy[s.grid.index(Cell{1, c})] = 1;  // the robot fits on row 1 from column 11
   const WorkerGraph g = build_worker_graph(s.grid, s.labels, 3, s.coverage, s.to_coverage, &roomy);
   EXPECT_EQ(g.segment(2).entry.row, 1);
@@ -80,10 +80,10 @@ TEST(WorkerGraphTest, TheEntryIsARoomyCellWhenTheSegmentHasOne) {
 TEST(WorkerGraphTest, TheCentroidOfAnLShapedSegmentIsOneOfItsCells) {
   // 10 x 10 grid: segment 1 is an L (column 0 and row 0), segment 2 the rest.
   const OccupancyGrid grid = testing_support::predicate_grid(10, 10, [](int, int) { return true; });
-  std::vector<int32_t> labels(100, 2);
+  LabelImage labels(grid.frame(), 2);
   for (int k = 0; k < 10; ++k) labels[grid.index(Cell{0, k})] = labels[grid.index(Cell{k, 0})] = 1;
-  const std::vector<uint8_t> coverage(100, 0);
-  const std::vector<double> far(100, std::numeric_limits<double>::infinity());
+  const Mask coverage(grid.frame(), 0);
+  const Raster<double> far(grid.frame(), std::numeric_limits<double>::infinity());
   const WorkerGraph g = build_worker_graph(grid, labels, 2, coverage, far);
   const Cell c = g.segment(1).centroid;
   EXPECT_EQ(labels[grid.index(c)], 1);  // the centre of mass (2.4, 2.4) is not in the L

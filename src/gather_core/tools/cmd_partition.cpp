@@ -59,7 +59,7 @@ std::string metrics_json(const Scenario& sc, const PartitionResult& p, const par
   o << in << "\"method\": \"" << partition::method_name(p.method) << "\",\n";
   o << in << "\"workers\": " << p.workers << ",\n";
   o << in << "\"seed\": " << seed << ",\n";
-  o << in << "\"map_size\": [" << p.width << ", " << p.height << "],\n";
+  o << in << "\"map_size\": [" << p.labels.width() << ", " << p.labels.height() << "],\n";
   o << in << "\"resolution_m\": " << sc.grid.resolution() << ",\n";
   o << in << "\"runtime_ms\": " << fmt("%.2f", p.runtime_ms) << ",\n";
   o << in << "\"area_mean_m2\": " << fmt("%.4f", m.area_mean) << ",\n";
@@ -128,7 +128,7 @@ int report(const cli::Args& args) {
     if (gt.empty()) continue;
     any_rooms = true;
     int n_rooms = 0;
-    const std::vector<int32_t> gt_rooms = partition::load_gt_rooms(gt, sc.grid, &n_rooms);
+    const LabelImage gt_rooms = partition::load_gt_rooms(gt, sc.grid, &n_rooms);
     rooms << "| " << name << " | " << n_rooms << " |";
     double best_f1 = -1.0;
     std::string best;
@@ -175,8 +175,7 @@ int partition(int argc, char** argv) {
   const Cell oc = sc.grid.world_to_cell(sc.oc);
   const std::string gt = args.has("--gt") ? args.get("--gt") : find_gt(sc);
   int n_rooms = 0;
-  const std::vector<int32_t> gt_rooms =
-      gt.empty() ? std::vector<int32_t>{} : partition::load_gt_rooms(gt, sc.grid, &n_rooms);
+  const LabelImage gt_rooms = gt.empty() ? LabelImage{} : partition::load_gt_rooms(gt, sc.grid, &n_rooms);
 
   const std::string dir = args.get("--out");
   std::error_code ec;

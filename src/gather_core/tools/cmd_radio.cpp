@@ -46,7 +46,7 @@ int radio(int argc, char** argv) {
   }
   std::sort(ms.begin(), ms.end());
   const std::size_t covered = static_cast<std::size_t>(std::count(mask.begin(), mask.end(), 1));
-  const std::vector<uint8_t> reach = reachable_from(s.grid, s.grid.world_to_cell(s.oc));
+  const Mask reach = reachable_from(s.grid, s.grid.world_to_cell(s.oc));
   std::size_t covered_reachable = 0, reachable = 0;
   for (std::size_t i = 0; i < mask.size(); ++i) reachable += reach[i], covered_reachable += reach[i] && mask[i];
   std::printf("transmitter [%.2f, %.2f] m, free-space range %.2f m (%.0f dBm tx, %.0f dBm sensitivity)\n", tx.x, tx.y,

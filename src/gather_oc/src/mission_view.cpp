@@ -28,7 +28,7 @@ MissionView::MissionView(const agent::TeamSetup& team, const Style& style, std::
       shown_path_(static_cast<std::size_t>(team.agents()), 0),
       yaw_(static_cast<std::size_t>(team.agents()), 0.0),
       last_pose_(static_cast<std::size_t>(team.agents())),
-      box_(reachable_box(team.world.scenario.grid, team.world.reachable)) {
+      box_(reachable_box(team.world.reachable)) {
   for (int a = 0; a < team.agents(); ++a) last_pose_[static_cast<std::size_t>(a)] = team.start_pose(a);
 }
 

@@ -20,7 +20,8 @@ struct Rect {
   int32_t label;
 };
 
-std::vector<Rect> label_rects(const std::vector<int32_t>& labels, int width, int height) {
+std::vector<Rect> label_rects(const LabelImage& labels) {
+  const int width = labels.width(), height = labels.height();
   std::vector<Rect> done;
   std::map<std::pair<int, int>, Rect> open;  // by (col0, col1)
   for (int r = 0; r < height; ++r) {
@@ -75,10 +76,9 @@ visualization_msgs::MarkerArray plan_markers(const agent::TeamSetup& team, const
   // Segments, coloured so that neighbours differ.
   const int segments = plan.file.workers;
   const auto& palette = figures::segment_palette();
-  const std::vector<int> colour =
-      figures::colour_segments(plan.labels, plan.width, plan.height, segments, static_cast<int>(palette.size()));
+  const std::vector<int> colour = figures::colour_segments(plan.labels, segments, static_cast<int>(palette.size()));
   Marker seg = marker(frame, stamp, "segments", 0, Marker::TRIANGLE_LIST);
-  for (const Rect& r : label_rects(plan.labels, plan.width, plan.height)) {
+  for (const Rect& r : label_rects(plan.labels)) {
     const double x0 = o.x + r.col0 * res, x1 = o.x + (r.col1 + 1) * res;
     const double y0 = o.y + r.row0 * res, y1 = o.y + (r.row1 + 1) * res;
     const std_msgs::ColorRGBA c =
@@ -93,17 +93,17 @@ visualization_msgs::MarkerArray plan_markers(const agent::TeamSetup& team, const
 
   // Segment ids at the segment cell nearest its centroid.
   std::vector<double> sx(static_cast<std::size_t>(segments) + 1), sy(sx.size()), n(sx.size());
-  for (int r = 0; r < plan.height; ++r)
-    for (int c = 0; c < plan.width; ++c) {
-      const int32_t l = plan.labels[static_cast<std::size_t>(r) * plan.width + c];
+  for (int r = 0; r < plan.labels.height(); ++r)
+    for (int c = 0; c < plan.labels.width(); ++c) {
+      const int32_t l = plan.labels.at(Cell{r, c});
       if (l <= 0 || l > segments) continue;
       sx[static_cast<std::size_t>(l)] += c, sy[static_cast<std::size_t>(l)] += r, n[static_cast<std::size_t>(l)] += 1;
     }
   std::vector<double> best(sx.size(), 1e300);
   std::vector<Cell> at(sx.size());
-  for (int r = 0; r < plan.height; ++r)
-    for (int c = 0; c < plan.width; ++c) {
-      const int32_t l = plan.labels[static_cast<std::size_t>(r) * plan.width + c];
+  for (int r = 0; r < plan.labels.height(); ++r)
+    for (int c = 0; c < plan.labels.width(); ++c) {
+      const int32_t l = plan.labels.at(Cell{r, c});
       if (l <= 0 || l > segments) continue;
       const std::size_t k = static_cast<std::size_t>(l);
       const double d = std::pow(c - sx[k] / n[k], 2) + std::pow(r - sy[k] / n[k], 2);
@@ -188,7 +188,7 @@ visualization_msgs::MarkerArray plan_markers(const agent::TeamSetup& team, const
       if (!passes.points.empty()) out.markers.push_back(passes);
     }
   }
-  legend(out, style, reachable_box(grid, team.world.reachable), frame, stamp);
+  legend(out, style, reachable_box(team.world.reachable), frame, stamp);
   return out;
 }
 

@@ -23,16 +23,16 @@ std_msgs::ColorRGBA Style::collector(int index, float a) const {
   return rgba(p[static_cast<std::size_t>(std::max(index, 0)) % p.size()], a);
 }
 
-Box reachable_box(const OccupancyGrid& grid, const std::vector<uint8_t>& reachable) {
-  int c0 = grid.width(), c1 = -1, r0 = grid.height(), r1 = -1;
-  for (int r = 0; r < grid.height(); ++r)
-    for (int c = 0; c < grid.width(); ++c)
-      if (reachable[grid.index(Cell{r, c})])
+Box reachable_box(const Mask& reachable) {
+  const GridFrame& f = reachable.frame();
+  int c0 = f.width, c1 = -1, r0 = f.height, r1 = -1;
+  for (int r = 0; r < f.height; ++r)
+    for (int c = 0; c < f.width; ++c)
+      if (reachable.at(Cell{r, c}))
         c0 = std::min(c0, c), c1 = std::max(c1, c), r0 = std::min(r0, r), r1 = std::max(r1, r);
-  if (c1 < 0) c0 = 0, c1 = grid.width() - 1, r0 = 0, r1 = grid.height() - 1;
-  const double res = grid.resolution();
-  return Box{grid.origin().x + c0 * res, grid.origin().y + r0 * res, grid.origin().x + (c1 + 1) * res,
-             grid.origin().y + (r1 + 1) * res};
+  if (c1 < 0) c0 = 0, c1 = f.width - 1, r0 = 0, r1 = f.height - 1;
+  const double res = f.resolution;
+  return Box{f.origin.x + c0 * res, f.origin.y + r0 * res, f.origin.x + (c1 + 1) * res, f.origin.y + (r1 + 1) * res};
 }
 
 geometry_msgs::Point pt(double x, double y, double z) {

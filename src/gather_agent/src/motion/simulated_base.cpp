@@ -16,7 +16,7 @@ constexpr double kDetour = 1.2;  // a way via the home region at most this much 
 }  // namespace
 
 SimulatedBase::SimulatedBase(const OccupancyGrid& grid, GridAStar& paths, Point2 start, std::size_t max_legs,
-                             double speed, const fmm::FastMarching* home, const std::vector<uint8_t>* home_mask)
+                             double speed, const fmm::FastMarching* home, const Mask* home_mask)
     : grid_(grid),
       speed_(speed),
       paths_(paths),

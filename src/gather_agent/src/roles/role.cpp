@@ -49,10 +49,6 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
   const OccupancyGrid& grid = w.scenario.grid;
   const plan::PlanFile& pf = p.file;
   const std::string where = p.source.empty() ? "plan" : p.source;
-  if (p.width != grid.width() || p.height != grid.height())
-    throw Error(where, "label image is " + std::to_string(p.width) + "x" + std::to_string(p.height) +
-                           ", the scenario's map " + std::to_string(grid.width()) + "x" +
-                           std::to_string(grid.height()));
   const int n = static_cast<int>(pf.agents.size());
   if (n < 1 || n > kMaxTeam)
     throw Error(where, "a team of " + std::to_string(n) + " agents (1.." + std::to_string(kMaxTeam) + ")");
@@ -84,7 +80,7 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
   }
   for (const plan::CollectorRoute& r : pf.routes) {
     try {
-      routes.emplace_back(r, speed, period, grid, w.coverage);
+      routes.emplace_back(r, speed, period, w.coverage);
     } catch (const Error& e) {
       throw Error(where, e.what());
     }
@@ -122,13 +118,13 @@ const mission::RepairedPlan& TeamSetup::repaired(const int16_t* dead, std::size_
   key.erase(std::unique(key.begin(), key.end()), key.end());
   for (const auto& [set, repaired] : repaired_)
     if (set == key) return *repaired;
-  const std::size_t cells = static_cast<std::size_t>(plan.width) * static_cast<std::size_t>(plan.height);
+  const std::size_t cells = plan.labels.frame().size();
   if (plan.labels.size() == cells) {
     repaired_.emplace_back(key,
                            std::make_unique<mission::RepairedPlan>(mission::repair_plan(plan, key, params.repair)));
   } else {
     mission::MissionPlan full;
-    full.source = plan.source, full.file = plan.file, full.width = plan.width, full.height = plan.height;
+    full.source = plan.source, full.file = plan.file;
     if (reload_labels) full.labels = reload_labels();
     if (full.labels.size() != cells)
       throw RuntimeError("plan repair (internal error)", "the plan's label image was dropped");

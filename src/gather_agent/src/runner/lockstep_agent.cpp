@@ -95,8 +95,12 @@ bool LockstepAgent::take_plan(std::string* why) {
   fleet_.set_team(p.agents);
   // A repair (a repaired plan merges segments: docs/faults.md) reads the
   // label image again from the plan directory.
-  team_->reload_labels = [dir = plan_.dir]() { return mission::load_mission_plan(dir).labels; };
-  std::vector<int32_t>().swap(plan_.plan.labels);
+  team_->reload_labels = [dir = plan_.dir, frame = plan_.plan.labels.frame()]() {
+    LabelImage labels = mission::load_mission_plan(dir).labels;
+    labels.reframe(frame);
+    return labels;
+  };
+  plan_.plan.labels.release();
   malloc_trim(0);  // give back what loading the map and the plan used and freed
   return true;
 }

@@ -27,11 +27,11 @@ LoadedPlan load_plan(const std::string& plan_dir) {
     throw Error(yaml.string(), "names scenario " + l.plan.file.scenario + ", which does not exist");
   l.scenario = on_planning_grid(load_scenario(l.plan.file.scenario), l.plan.file.grid_factor);
   const OccupancyGrid& g = l.scenario.grid;
-  if (l.plan.width != g.width() || l.plan.height != g.height())
-    throw Error(yaml.string(), "its labels are " + std::to_string(l.plan.width) + "x" + std::to_string(l.plan.height) +
-                                   " cells, scenario " + l.plan.file.scenario + " on the plan's grid is " +
-                                   std::to_string(g.width()) + "x" + std::to_string(g.height()));
+  if (!l.plan.labels.frame().same_size(g.frame()))
+    throw Error(yaml.string(), "its labels are " + l.plan.labels.frame().size_text() + " cells, scenario " +
+                                   l.plan.file.scenario + " on the plan's grid is " + g.frame().size_text());
   mission::check_plan(l.plan, l.scenario.team.agents, g);
+  l.plan.labels.reframe(g.frame());
   return l;
 }
 

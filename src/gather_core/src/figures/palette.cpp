@@ -20,7 +20,8 @@ const std::vector<Rgb>& collector_palette() {
   return p;
 }
 
-std::vector<int> colour_segments(const std::vector<int32_t>& labels, int width, int height, int segments, int palette) {
+std::vector<int> colour_segments(const LabelImage& labels, int segments, int palette) {
+  const int width = labels.width(), height = labels.height();
   std::vector<std::set<int>> adj(static_cast<std::size_t>(segments));
   for (int r = 0; r < height; ++r)
     for (int c = 0; c < width; ++c) {

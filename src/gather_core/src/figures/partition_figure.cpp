@@ -96,8 +96,7 @@ cv::Mat scaled(const cv::Mat& img, double s) {
 
 cv::Mat partition_panel(const OccupancyGrid& g, const PartitionResult& part, Point2 oc, const std::string& caption) {
   const int w = g.width(), h = g.height();
-  const std::vector<int> colour =
-      colour_segments(part.labels, w, h, part.workers, static_cast<int>(fill_palette().size()));
+  const std::vector<int> colour = colour_segments(part.labels, part.workers, static_cast<int>(fill_palette().size()));
   cv::Mat img = base_image(g);
   for (int r = 0; r < h; ++r)
     for (int c = 0; c < w; ++c) {

@@ -31,9 +31,8 @@ cv::Vec3b to_vec(cv::Scalar s) {
 // Paints each reachable cell with colour_of(label), segment borders dark and
 // the OC's coverage slightly darker (so it reads as an area).
 template <typename ColourOf>
-void paint_segments(MapCanvas& canvas, const OccupancyGrid& g, const std::vector<int32_t>& labels,
-                    const std::vector<uint8_t>& coverage, ColourOf colour_of) {
-  const int w = g.width(), h = g.height();
+void paint_segments(MapCanvas& canvas, const LabelImage& labels, const Mask& coverage, ColourOf colour_of) {
+  const int w = labels.width(), h = labels.height();
   for (int r = 0; r < h; ++r)
     for (int c = 0; c < w; ++c) {
       const std::size_t i = static_cast<std::size_t>(r) * w + c;
@@ -68,10 +67,9 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
 
   // (a) Worker graph.
   {
-    const std::vector<int> colour =
-        colour_segments(labels, g.width(), g.height(), cfg.workers, static_cast<int>(pal.size()));
+    const std::vector<int> colour = colour_segments(labels, cfg.workers, static_cast<int>(pal.size()));
     MapCanvas canvas(g);
-    paint_segments(canvas, g, labels, ctx.coverage,
+    paint_segments(canvas, labels, ctx.coverage,
                    [&](int k) { return pal[static_cast<std::size_t>(colour[static_cast<std::size_t>(k - 1)])]; });
     int edges = 0;
     for (const auto& s : cfg.graph.segments)
@@ -111,7 +109,7 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
   // (b) Collector segments.
   {
     MapCanvas canvas(g);
-    paint_segments(canvas, g, labels, ctx.coverage, group_fill);
+    paint_segments(canvas, labels, ctx.coverage, group_fill);
     for (const auto& s : cfg.graph.segments) canvas.label(s.centroid_m, std::to_string(s.id), 0.35);
     canvas.oc(ctx.scenario.oc);
     canvas.save(dir + "/fig2_collector_segments.png", "(b) Collector segments S_col: " + what, group_legend);
@@ -119,7 +117,7 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
   // (c) Associations: routes, meeting areas, who delivers to whom.
   {
     MapCanvas canvas(g);
-    paint_segments(canvas, g, labels, ctx.coverage,
+    paint_segments(canvas, labels, ctx.coverage,
                    [&](int k) { return blend(group_fill(k), cv::Vec3b(255, 255, 255), 0.5); });
     for (const auto& s : cfg.graph.segments) {
       const int c = cfg.collector_of_segment[static_cast<std::size_t>(s.id - 1)];

@@ -75,7 +75,7 @@ ClearanceMap::ClearanceMap(const OccupancyGrid& grid) : grid_(grid) {
     std::copy(row, row + w, f.begin());
     dt1d(f.data(), w, row, v.data(), z.data());
   }
-  meters_.resize(grid.size());
+  meters_ = Field(grid.frame());
   const float res = static_cast<float>(grid.resolution());
   for (int r = 0; r < grid.height(); ++r)
     for (int c = 0; c < grid.width(); ++c)

@@ -43,8 +43,8 @@ OccupancyGrid coarsen(const OccupancyGrid& grid, int f) {
 namespace {
 
 // Share of the map's reachable cells next to coarse reachable space.
-double kept_share(const OccupancyGrid& grid, const std::vector<uint8_t>& reachable, std::size_t reachable_cells,
-                  const OccupancyGrid& coarse, const std::vector<uint8_t>& coarse_reachable, int f) {
+double kept_share(const OccupancyGrid& grid, const Mask& reachable, std::size_t reachable_cells,
+                  const OccupancyGrid& coarse, const Mask& coarse_reachable, int f) {
   std::size_t kept = 0;
   for (std::size_t i = 0; i < reachable.size(); ++i) {
     if (!reachable[i]) continue;
@@ -73,7 +73,7 @@ PlanningGrid choose_planning_grid(const OccupancyGrid& grid, Point2 oc, std::siz
   };
   while (blocks(f) > max_cells) ++f;
   const Cell oc_cell = grid.world_to_cell(oc);
-  const std::vector<uint8_t> reachable = reachable_from(grid, oc_cell);
+  const Mask reachable = reachable_from(grid, oc_cell);
   const std::size_t reachable_cells = static_cast<std::size_t>(std::count(reachable.begin(), reachable.end(), 1));
   auto oc_block_free = [&](int k) {  // without coarsening the whole map
     const Cell b{oc_cell.row / k * k, oc_cell.col / k * k};

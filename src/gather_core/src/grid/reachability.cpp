@@ -34,8 +34,8 @@ std::size_t flood(const OccupancyGrid& g, std::size_t seed, uint32_t label, std:
 
 }  // namespace
 
-std::vector<uint8_t> reachable_from(const OccupancyGrid& grid, Cell start) {
-  std::vector<uint8_t> mask(grid.size(), 0);
+Mask reachable_from(const OccupancyGrid& grid, Cell start) {
+  Mask mask(grid.frame(), 0);
   if (!grid.is_free(start)) return mask;
   std::vector<uint32_t> labels(grid.size(), 0);
   std::vector<std::size_t> stack;

@@ -20,16 +20,14 @@ MissionPlan load_mission_plan(const std::string& plan_path) {
   const fs::path png = yaml.parent_path() / m.file.labels_png;
   if (!fs::is_regular_file(png)) throw Error(png.string(), "no such label image (named by " + yaml.string() + ")");
   const Gray16Image img = read_gray16_png(png.string());
-  m.width = img.width;
-  m.height = img.height;
-  m.labels.assign(static_cast<std::size_t>(m.width) * m.height, 0);
-  for (int r = 0; r < m.height; ++r)
-    for (int c = 0; c < m.width; ++c) {
-      const int label = img.pixels[static_cast<std::size_t>(m.height - 1 - r) * m.width + c];
+  m.labels = LabelImage(GridFrame{img.width, img.height});
+  for (int r = 0; r < img.height; ++r)
+    for (int c = 0; c < img.width; ++c) {
+      const int label = img.pixels[static_cast<std::size_t>(img.height - 1 - r) * img.width + c];
       if (label > m.file.workers)
         throw Error(png.string(), "label " + std::to_string(label) + " exceeds the plan's " +
                                       std::to_string(m.file.workers) + " workers");
-      m.labels[static_cast<std::size_t>(r) * m.width + c] = label;
+      m.labels.at(Cell{r, c}) = label;
     }
   return m;
 }
@@ -38,10 +36,9 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
   const plan::PlanFile& pf = p.file;
   const std::string where = p.source.empty() ? "plan" : p.source;
   const int n = static_cast<int>(pf.agents.size());
-  if (p.width != grid.width() || p.height != grid.height())
-    throw Error(where, "label image is " + std::to_string(p.width) + "x" + std::to_string(p.height) +
-                           ", the scenario's planning grid " + std::to_string(grid.width()) + "x" +
-                           std::to_string(grid.height()));
+  if (!p.labels.frame().same_size(grid.frame()))
+    throw Error(where, "label image is " + p.labels.frame().size_text() + ", the scenario's planning grid " +
+                           grid.frame().size_text());
   if (n != team)
     throw Error(where, "plans " + std::to_string(n) + " agents, the scenario's team has " + std::to_string(team));
   if (pf.collectors < 0 || pf.workers < 1 || pf.collectors + pf.workers != n)

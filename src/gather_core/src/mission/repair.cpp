@@ -30,10 +30,9 @@ RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, 
   std::vector<int> owner(static_cast<std::size_t>(segments) + 1, -1);
   for (const plan::AgentAssignment& a : base.file.agents)
     if (!a.collector && a.segment >= 1 && a.segment <= segments) owner[static_cast<std::size_t>(a.segment)] = a.id;
-  std::vector<int32_t>& labels = out.plan.labels;
-  const int w = base.width, h = base.height;
-  if (static_cast<std::size_t>(w) * static_cast<std::size_t>(h) != labels.size())
-    throw RuntimeError("plan repair (internal error)", "label image size");
+  LabelImage& labels = out.plan.labels;
+  const int w = labels.width(), h = labels.height();
+  if (labels.frame().size() != labels.size()) throw RuntimeError("plan repair (internal error)", "label image size");
   std::vector<int64_t> cells(static_cast<std::size_t>(segments) + 1, 0);
   for (int32_t l : labels)
     if (l >= 1 && l <= segments) ++cells[static_cast<std::size_t>(l)];

@@ -18,7 +18,7 @@ constexpr double kTimeTolerance = 1e-3;
 }  // namespace
 
 RouteTimetable::RouteTimetable(const plan::CollectorRoute& route, double speed, double request_period,
-                               const OccupancyGrid& grid, const std::vector<uint8_t>& coverage)
+                               const Mask& coverage)
     : points_(route.waypoints), speed_(speed) {
   if (!(speed > 0)) throw Error("route " + std::to_string(route.collector), "speed must be > 0");
   if (!(request_period > 0)) throw Error("route " + std::to_string(route.collector), "request period must be > 0");
@@ -27,11 +27,11 @@ RouteTimetable::RouteTimetable(const plan::CollectorRoute& route, double speed, 
   schedule_ = plan::LoopSchedule(idle() ? 0.0 : length_ / speed_, request_period);
   if (idle()) return;
   auto in = [&](double s) {
-    const Cell c = grid.world_to_cell(position_at_arc(s));
-    return grid.contains(c) && coverage[grid.index(c)] != 0;
+    const Cell c = coverage.frame().world_to_cell(position_at_arc(s));
+    return coverage.frame().contains(c) && coverage.at(c) != 0;
   };
   // Sample at a quarter cell, then bisect every change of state.
-  const double step = 0.25 * grid.resolution();
+  const double step = 0.25 * coverage.frame().resolution;
   const int n = std::max(1, static_cast<int>(std::ceil(length_ / step)));
   bool inside = in(0.0);
   double open = inside ? 0.0 : -1.0;

@@ -76,12 +76,13 @@ MissionSimulator::MissionSimulator(const World& ctx, MissionPlan plan)
   const plan::PlanFile& pf = plan_.file;
   const std::string where = plan_.source.empty() ? "plan" : plan_.source;
   check_plan(plan_, static_cast<int>(pf.agents.size()), grid);
+  plan_.labels.reframe(grid.frame());
   speed_ = s.team.speed;
   period_ = pf.cycle_period_s;
   areas_ = area_weights(ctx, pf.area_tile_m);
   for (const plan::CollectorRoute& r : pf.routes) {
     try {
-      routes_.emplace_back(r, speed_, period_, grid, ctx.coverage);
+      routes_.emplace_back(r, speed_, period_, ctx.coverage);
     } catch (const Error& e) {
       throw Error(where, e.what());
     }

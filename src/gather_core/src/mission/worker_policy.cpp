@@ -36,7 +36,7 @@ SharedDistances::SharedDistances(const World& world, bool with_from_oc) : fm(wor
   fm.solve({fmm::Source::at_cell(world.oc_cell)}, so);
   std::vector<double> t;
   fm.copy_times(t);
-  from_oc.assign(t.begin(), t.end());
+  from_oc = Field(world.scenario.grid.frame(), std::vector<float>(t.begin(), t.end()));
 }
 
 int32_t WorkerPolicy::segment_index(Cell c) const {

@@ -254,7 +254,6 @@ void reconnect_label(int width, int32_t label, std::vector<int32_t>& labels) {
 
 void run_bap(const MethodInput& in, PartitionResult& out) {
   const OccupancyGrid& grid = in.grid;
-  const std::size_t n = grid.size();
   const std::size_t nw = static_cast<std::size_t>(in.workers);
 
   // Geodesic distance from the OC orders the wavefront starts.
@@ -271,13 +270,12 @@ void run_bap(const MethodInput& in, PartitionResult& out) {
 
   out.seeds.clear();
   if (f == 1) {
-    FrontGrowth growth(grid.width(), grid.height(), grid.resolution(), in.reachable);
+    FrontGrowth growth(in.reachable);
     std::vector<std::size_t> seeds;
-    const auto order = farthest_first(in.reachable, dist, grid.resolution() / 4.0);
-    sequential_fronts(growth, order, in.reachable_cells, in.workers, out.labels, seeds);
-    reconnect_label(grid.width(), in.workers, out.labels);
-    rebalance_areas(grid.width(), grid.height(), in.workers, out.labels, in.params.bap_balance_tolerance,
-                    in.params.bap_balance_passes);
+    const auto order = farthest_first(in.reachable.values(), dist, grid.resolution() / 4.0);
+    sequential_fronts(growth, order, in.reachable_cells, in.workers, out.labels.values(), seeds);
+    reconnect_label(grid.width(), in.workers, out.labels.values());
+    rebalance_areas(in.workers, out.labels, in.params.bap_balance_tolerance, in.params.bap_balance_passes);
     for (std::size_t s : seeds) out.seeds.push_back(grid.cell(s));
     return;
   }
@@ -302,26 +300,24 @@ void run_bap(const MethodInput& in, PartitionResult& out) {
   // Region: blocks at least half reachable (a block that straddles a thin
   // wall would join both sides), their largest 4-connected component.
   const uint32_t need = static_cast<uint32_t>((f * f + 1) / 2);
-  std::vector<uint8_t> region(cn, 0);
+  Mask region(GridFrame{cw, ch, grid.resolution() * f, grid.origin()});
   for (std::size_t b = 0; b < cn; ++b) region[b] = weight[b] >= need;
-  keep_largest_component(cw, ch, region);
+  keep_largest_component(cw, ch, region.values());
   std::size_t total = 0;
   for (std::size_t b = 0; b < cn; ++b) total += region[b] ? weight[b] : 0;
-  FrontGrowth growth(cw, ch, grid.resolution() * f, region);
+  FrontGrowth growth(region);
   growth.set_weights(weight);
   std::vector<int32_t> coarse_labels;
   std::vector<std::size_t> seeds;
-  sequential_fronts(growth, farthest_first(region, cdist, grid.resolution() * f / 4.0), total, in.workers,
+  sequential_fronts(growth, farthest_first(region.values(), cdist, grid.resolution() * f / 4.0), total, in.workers,
                     coarse_labels, seeds);
-  out.labels.assign(n, 0);
   for (int r = 0; r < grid.height(); ++r)
     for (int c = 0; c < grid.width(); ++c) {
       const std::size_t i = grid.index(Cell{r, c});
       if (in.reachable[i]) out.labels[i] = coarse_labels[static_cast<std::size_t>(r / f) * cw + c / f];
     }
-  reconnect(grid, in.reachable, in.workers, out.labels);
-  rebalance_areas(grid.width(), grid.height(), in.workers, out.labels, in.params.bap_balance_tolerance,
-                  in.params.bap_balance_passes);
+  reconnect(grid, in.reachable.values(), in.workers, out.labels.values());
+  rebalance_areas(in.workers, out.labels, in.params.bap_balance_tolerance, in.params.bap_balance_passes);
   for (std::size_t s : seeds) out.seeds.push_back(grid.cell(far_cell[s]));
 }
 

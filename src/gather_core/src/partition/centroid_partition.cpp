@@ -53,7 +53,7 @@ float rap_slowness(float clearance, const PartitionParams& p) {
 // A coarse copy of the reachable space: blocks of f x f cells.
 struct Coarse {
   int f = 1, width = 0, height = 0;
-  std::vector<uint8_t> region;      // coarse cells in the largest coarse component
+  Mask region;                      // coarse cells in the largest coarse component
   std::vector<float> clearance;     // [m] mean over the block's reachable cells
   std::vector<uint32_t> fine_cell;  // the block's reachable cell of largest clearance
   std::size_t cells = 0;
@@ -111,7 +111,7 @@ Coarse make_coarse(const MethodInput& in, int f) {
     }
     if (size > best_size) best_size = size, best_comp = id;
   }
-  c.region.assign(n, 0);
+  c.region = Mask(GridFrame{c.width, c.height, g.resolution() * f, g.origin()});
   for (std::size_t b = 0; b < n; ++b) c.region[b] = comp[b] == best_comp && best_comp ? 1 : 0;
   c.cells = best_size;
   return c;
@@ -130,9 +130,8 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
   while (c.f > 1 && c.cells < 4 * nw) c = make_coarse(in, c.f - 1);
   if (c.cells < nw) c = make_coarse(in, 1);  // f = 1: the coarse grid is the reachable space itself
   const std::size_t cn = c.region.size();
-  const double res = g.resolution() * c.f;
 
-  FrontGrowth coarse(c.width, c.height, res, c.region);
+  FrontGrowth coarse(c.region);
   if (rooms) {
     std::vector<float> slow(cn, 1.0f);
     for (std::size_t b = 0; b < cn; ++b) slow[b] = rap_slowness(c.clearance[b], p);
@@ -234,7 +233,7 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
   }
 
   // 3. Full-resolution labelling from the final centroids.
-  FrontGrowth fine(g.width(), g.height(), g.resolution(), in.reachable);
+  FrontGrowth fine(in.reachable);
   if (rooms) {
     std::vector<float> slow(g.size(), 1.0f);
     for (std::size_t i = 0; i < g.size(); ++i)
@@ -247,7 +246,7 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
     fronts[k] = FrontGrowth::Front{cell, delay[k]};
     out.seeds.push_back(g.cell(cell));
   }
-  fine.grow(fronts, out.labels);
+  fine.grow(fronts, out.labels.values());
 }
 
 }  // namespace

@@ -63,13 +63,13 @@ class BucketRing {
 
 }  // namespace
 
-FrontGrowth::FrontGrowth(int width, int height, double resolution, const std::vector<uint8_t>& region)
-    : width_(width),
-      height_(height),
-      stride_(static_cast<std::size_t>(width) + 2),
-      res_(static_cast<float>(resolution)) {
-  if (width <= 0 || height <= 0 || region.size() != static_cast<std::size_t>(width) * height)
-    throw Error("partition", "front growth: region mask does not match the map size");
+FrontGrowth::FrontGrowth(const Mask& region)
+    : width_(region.width()),
+      height_(region.height()),
+      stride_(static_cast<std::size_t>(region.width()) + 2),
+      res_(static_cast<float>(region.frame().resolution)) {
+  const int width = width_, height = height_;
+  if (width <= 0 || height <= 0) throw Error("partition", "front growth: the region mask is empty");
   const std::size_t n = stride_ * (static_cast<std::size_t>(height) + 2);
   region_.assign(n, 0);
   for (int r = 0; r < height; ++r) {

@@ -15,9 +15,9 @@ namespace partition {
 struct MethodInput {
   const OccupancyGrid& grid;
   Cell oc;
-  const std::vector<uint8_t>& reachable;  // row-major, 1 = reachable from the OC
+  const Mask& reachable;  // 1 = reachable from the OC
   std::size_t reachable_cells;
-  const std::vector<float>& clearance;  // row-major [m]
+  const Field& clearance;  // [m]
   int workers;
   unsigned seed;
   const PartitionParams& params;

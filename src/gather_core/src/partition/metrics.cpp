@@ -18,7 +18,7 @@ PartitionMetrics compute_metrics(const OccupancyGrid& grid, const PartitionResul
   m.runtime_ms = part.runtime_ms;
   const std::size_t n = grid.size();
   std::vector<double> cnt(nw, 0.0), sx(nw, 0.0), sy(nw, 0.0);
-  std::vector<uint8_t> region(n, 0);
+  Mask region(grid.frame());
   for (std::size_t i = 0; i < n; ++i) {
     const int32_t l = part.labels[i];
     if (l <= 0) continue;
@@ -54,10 +54,10 @@ PartitionMetrics compute_metrics(const OccupancyGrid& grid, const PartitionResul
     const double dy = static_cast<double>(row) - sy[l - 1] / cnt[l - 1];
     if (dx * dx + dy * dy < best[l - 1]) best[l - 1] = dx * dx + dy * dy, fronts[l - 1].cell = i;
   }
-  FrontGrowth growth(grid.width(), grid.height(), grid.resolution(), region);
+  FrontGrowth growth(region);
   std::vector<int32_t> labels;
   std::vector<float> times;
-  growth.grow(fronts, labels, &times, &part.labels);
+  growth.grow(fronts, labels, &times, &part.labels.values());
   std::vector<double> radius(nw, 0.0);
   for (std::size_t i = 0; i < n; ++i)
     if (labels[i] > 0 && std::isfinite(times[i]))
@@ -76,7 +76,7 @@ PartitionMetrics compute_metrics(const OccupancyGrid& grid, const PartitionResul
   return m;
 }
 
-std::vector<int32_t> load_gt_rooms(const std::string& gt_png, const OccupancyGrid& grid, int* rooms, int min_cells) {
+LabelImage load_gt_rooms(const std::string& gt_png, const OccupancyGrid& grid, int* rooms, int min_cells) {
   const MapImage img = read_map_image(gt_png);
   if (img.palette_indices && !img.palette_is_gray_ramp)
     throw Error(gt_png, "a palette PNG is not supported as ground truth; save it as RGB");
@@ -95,7 +95,8 @@ std::vector<int32_t> load_gt_rooms(const std::string& gt_png, const OccupancyGri
       for (int k = 0; k < colours; ++k) all = all && px[k] >= 250;
       white[static_cast<std::size_t>(h - 1 - r) * w + c] = all;
     }
-  std::vector<int32_t> comp(n, 0), out(n, 0);
+  std::vector<int32_t> comp(n, 0);
+  LabelImage out(grid.frame());
   std::vector<std::size_t> stack, members;
   int32_t id = 0, kept = 0;
   for (std::size_t s = 0; s < n; ++s) {
@@ -121,8 +122,10 @@ std::vector<int32_t> load_gt_rooms(const std::string& gt_png, const OccupancyGri
   return out;
 }
 
-RoomAgreement room_agreement(const std::vector<int32_t>& labels, const std::vector<int32_t>& rooms) {
-  if (labels.size() != rooms.size()) throw Error("partition", "room agreement: label and room images differ in size");
+RoomAgreement room_agreement(const LabelImage& labels, const LabelImage& rooms) {
+  if (!labels.frame().same_size(rooms.frame()))
+    throw Error("partition", "room agreement: the label image is " + labels.frame().size_text() + ", the rooms " +
+                                 rooms.frame().size_text());
   std::map<std::pair<int32_t, int32_t>, double> overlap;  // (room, segment) -> cells
   std::map<int32_t, double> room_size, seg_size;
   for (std::size_t i = 0; i < labels.size(); ++i) {

@@ -48,7 +48,7 @@ std::vector<Method> all_methods() {
   return out;
 }
 
-std::vector<float> clearance_map(const OccupancyGrid& grid) { return ClearanceMap(grid).values(); }
+Field clearance_map(const OccupancyGrid& grid) { return ClearanceMap(grid).values(); }
 
 namespace {
 
@@ -70,15 +70,13 @@ void check_workers(int workers, std::size_t count) {
                                  " free cells reachable from the OC");
 }
 
-PartitionResult run(const OccupancyGrid& grid, Cell oc, const std::vector<uint8_t>& reachable, std::size_t count,
-                    std::vector<float> clearance, Method method, int workers, unsigned seed,
-                    const PartitionParams& params) {
+PartitionResult run(const OccupancyGrid& grid, Cell oc, const Mask& reachable, std::size_t count, Field clearance,
+                    Method method, int workers, unsigned seed, const PartitionParams& params) {
   check_params(params);
   PartitionResult out;
   out.method = method;
   out.workers = workers;
-  out.width = grid.width();
-  out.height = grid.height();
+  out.labels = LabelImage(grid.frame());
   out.clearance = std::move(clearance);
   const MethodInput in{grid, oc, reachable, count, out.clearance, workers, seed, params};
   entry(method).run(in, out);
@@ -92,8 +90,8 @@ PartitionResult partition_area(const OccupancyGrid& grid, Cell oc, Method method
   const auto t0 = std::chrono::steady_clock::now();
   check_oc(grid, oc);
   if (workers < 1) throw Error("--workers", "N_w must be >= 1, got " + std::to_string(workers));
-  const std::vector<uint8_t> reachable = reachable_from(grid, oc);
-  const std::size_t count = count_reachable(reachable);
+  const Mask reachable = reachable_from(grid, oc);
+  const std::size_t count = count_reachable(reachable.values());
   check_workers(workers, count);
   PartitionResult out = run(grid, oc, reachable, count, clearance_map(grid), method, workers, seed, params);
   out.runtime_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -103,11 +101,9 @@ PartitionResult partition_area(const OccupancyGrid& grid, Cell oc, Method method
 PreparedArea prepare_area(const OccupancyGrid& grid, Cell oc) {
   check_oc(grid, oc);
   PreparedArea a;
-  a.width = grid.width();
-  a.height = grid.height();
   a.oc = oc;
   a.reachable = reachable_from(grid, oc);
-  a.reachable_cells = count_reachable(a.reachable);
+  a.reachable_cells = count_reachable(a.reachable.values());
   a.clearance = clearance_map(grid);
   return a;
 }
@@ -115,9 +111,9 @@ PreparedArea prepare_area(const OccupancyGrid& grid, Cell oc) {
 PartitionResult partition_area(const OccupancyGrid& grid, const PreparedArea& area, Method method, int workers,
                                unsigned seed, const PartitionParams& params) {
   const auto t0 = std::chrono::steady_clock::now();
-  if (area.width != grid.width() || area.height != grid.height() || area.reachable.size() != grid.size() ||
-      area.clearance.size() != grid.size())
-    throw Error("partition", "the prepared area does not match the map size");
+  if (area.reachable.frame() != grid.frame() || area.clearance.frame() != grid.frame())
+    throw Error("partition", "the prepared area (" + area.reachable.frame().size_text() +
+                                 ") is not on the map's frame (" + grid.frame().size_text() + ")");
   check_oc(grid, area.oc);
   if (workers < 1) throw Error("--workers", "N_w must be >= 1, got " + std::to_string(workers));
   check_workers(workers, area.reachable_cells);
@@ -145,13 +141,14 @@ void check_params(const PartitionParams& p) {
 void write_label_png(const std::string& path, const PartitionResult& part) {
   if (part.workers > 65535) throw Error(path, "more than 65535 segments do not fit a 16-bit PNG");
   Gray16Image img;
-  img.width = part.width;
-  img.height = part.height;
-  img.pixels.resize(part.labels.size());
-  for (int r = 0; r < part.height; ++r)
-    for (int c = 0; c < part.width; ++c)
-      img.pixels[static_cast<std::size_t>(r) * part.width + c] =
-          static_cast<uint16_t>(part.labels[static_cast<std::size_t>(part.height - 1 - r) * part.width + c]);
+  const LabelImage& labels = part.labels;
+  img.width = labels.width();
+  img.height = labels.height();
+  img.pixels.resize(labels.size());
+  for (int r = 0; r < img.height; ++r)
+    for (int c = 0; c < img.width; ++c)
+      img.pixels[static_cast<std::size_t>(r) * img.width + c] =
+          static_cast<uint16_t>(labels.at(Cell{img.height - 1 - r, c}));
   write_gray16_png(path, img);
 }
 

@@ -353,10 +353,9 @@ class Rebalancer {
 
 }  // namespace
 
-void rebalance_areas(int width, int height, int workers, std::vector<int32_t>& labels, double tolerance,
-                     int max_passes) {
+void rebalance_areas(int workers, LabelImage& labels, double tolerance, int max_passes) {
   if (workers < 2) return;
-  Rebalancer(width, height, workers, labels).run(tolerance, max_passes);
+  Rebalancer(labels.width(), labels.height(), workers, labels.values()).run(tolerance, max_passes);
 }
 
 }  // namespace partition

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <stdexcept>
 
 namespace gather {
 namespace {
@@ -13,15 +14,17 @@ constexpr float kDiag = 1.41421356f;
 
 }  // namespace
 
-GridAStar::GridAStar(const OccupancyGrid& grid, const std::vector<uint8_t>& traversable,
-                     const fmm::FastMarching* landmark)
+GridAStar::GridAStar(const OccupancyGrid& grid, const Mask& traversable, const fmm::FastMarching* landmark)
     : grid_(grid),
-      free_(traversable),
+      free_(traversable.values()),
       landmark_(landmark),
       inv_res_(static_cast<float>(1.0 / grid.resolution())),
       g_(grid.size(), 0.0f),
       stamp_(grid.size(), 0),
       dir_(grid.size(), 0) {
+  if (!traversable.frame().same_size(grid.frame()))
+    throw std::invalid_argument("A* traversable mask is " + traversable.frame().size_text() + ", the grid " +
+                                grid.frame().size_text());
   open_.reserve(std::max<std::size_t>(4096, grid.size() / 4));  // the open list of a search across the map fits
 }
 

@@ -96,8 +96,6 @@ namespace mission {
 MissionPlan mission_plan(const plan::PlanContext& ctx, const plan::ConfigurationPlan& cfg, unsigned seed) {
   MissionPlan m;
   m.file = plan::make_plan_file(ctx, cfg, "", seed);
-  m.width = cfg.partition.width;
-  m.height = cfg.partition.height;
   m.labels = cfg.partition.labels;
   return m;
 }

@@ -37,13 +37,12 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 
 PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_field(s.grid) {
   const OccupancyGrid& grid = s.grid;
-  prepared.width = grid.width();
-  prepared.height = grid.height();
   prepared.oc = oc_cell;
   prepared.reachable = reachable;
   prepared.reachable_cells = reachable_cells;
   prepared.clearance = clearance.values();
-  coverage_field.copy_times(coverage_distance);
+  coverage_distance = Raster<double>(grid.frame());
+  coverage_field.copy_times(coverage_distance.values());
   // The simulator's own table of distances from the OC's cell.
   oc_walk = mission::SharedDistances(*this).from_oc;
   for (std::size_t i = 0; i < coverage_distance.size(); ++i) {
@@ -53,8 +52,8 @@ PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_fi
     else
       farthest = std::max(farthest, coverage_distance[i]);
   }
-  route_speed.assign(grid.size(), 0.0);
-  roomy.assign(grid.size(), 0);
+  route_speed = Raster<double>(grid.frame(), 0.0);
+  roomy = Mask(grid.frame(), 0);
   for (std::size_t i = 0; i < grid.size(); ++i) {
     if (!reachable[i]) continue;
     // The margin of a half cell diagonal makes every point of a roomy cell,
@@ -63,7 +62,7 @@ PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_fi
         clearance.disc_free(grid.cell_center(grid.cell(i)), s.team.radius + 0.5 * std::sqrt(2.0) * grid.resolution());
     route_speed[i] = roomy[i] ? 1.0 : kTightSpeed;
   }
-  oc_field.set_speed(route_speed);
+  oc_field.set_speed(route_speed.values());
   fmm::SolveOptions from_oc;
   from_oc.labels = false;
   oc_field.solve({fmm::Source::at_point(s.oc)}, from_oc);
@@ -72,7 +71,7 @@ PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_fi
   area_tile = std::sqrt(std::max(reachable_area, grid.cell_area()) / std::max(1, s.team.agents));
   areas = mission::area_weights(*this, area_tile);
   for (const auto& [id, m2] : areas.area) tile_ids.push_back(id);
-  tile_of_cell.assign(grid.size(), -1);
+  tile_of_cell = LabelImage(grid.frame(), -1);
   for (std::size_t i = 0; i < grid.size(); ++i)
     if (reachable[i]) {
       const int64_t a = mission::area_of(grid.cell_center(grid.cell(i)), area_tile);
@@ -104,14 +103,13 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
 
   auto t0 = Clock::now();
   cfg.partition = partition::partition_area(s.grid, ctx.prepared, method, cfg.workers, opt.seed);
-  cfg.partition.clearance.clear();
-  cfg.partition.clearance.shrink_to_fit();
+  cfg.partition.clearance = Field();
   cfg.times.partition_ms = ms_since(t0);
 
   t0 = Clock::now();
   cfg.graph =
       build_worker_graph(s.grid, cfg.partition.labels, cfg.workers, ctx.coverage, ctx.coverage_distance, &ctx.roomy);
-  const std::vector<float> home_rank = segment_distances(ctx, cfg.partition.labels, cfg.graph, opt);
+  const Field home_rank = segment_distances(ctx, cfg.partition.labels, cfg.graph, opt);
   cfg.times.graph_ms = ms_since(t0);
   // The tiles of each segment (the areas of the refresh interval).
   {

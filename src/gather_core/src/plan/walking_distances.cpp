@@ -37,8 +37,8 @@ uint32_t float_bits(double d) {
 //    segment's window as the worker marches between its goals.
 // Returns each cell's rank in its segment by distance from that home, in
 // [0, 1) (row-major; -1 off the segments).
-std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<int32_t>& labels, WorkerGraph& graph,
-                                     const PlannerOptions& opt) {
+Field segment_distances(const PlanContext& ctx, const LabelImage& labels, WorkerGraph& graph,
+                        const PlannerOptions& opt) {
   constexpr std::size_t kQuantiles = 16;  // WorkerSegment::home_quantiles holds 17
   const auto pair_sources = static_cast<std::size_t>(opt.pair_sources);
   const OccupancyGrid& grid = ctx.scenario.grid;
@@ -48,7 +48,7 @@ std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<i
     if (k > 0 && static_cast<std::size_t>(k) <= cells.size() && ctx.reachable[i])
       cells[static_cast<std::size_t>(k - 1)].push_back(grid.cell(i));
   }
-  std::vector<float> rank(labels.size(), -1.0f);
+  Field rank(labels.frame(), -1.0f);
   std::vector<uint64_t> order;
   std::vector<double> sorted;     // distances of one segment's cells, ascending
   std::vector<double> pair;       // from one cell of a segment to its cells

@@ -7,9 +7,8 @@
 namespace gather {
 namespace plan {
 
-WorkerGraph build_worker_graph(const OccupancyGrid& grid, const std::vector<int32_t>& labels, int workers,
-                               const std::vector<uint8_t>& coverage, const std::vector<double>& coverage_distance,
-                               const std::vector<uint8_t>* roomy) {
+WorkerGraph build_worker_graph(const OccupancyGrid& grid, const LabelImage& labels, int workers, const Mask& coverage,
+                               const Raster<double>& coverage_distance, const Mask* roomy) {
   WorkerGraph g;
   g.segments.resize(static_cast<std::size_t>(workers));
   std::vector<double> sx(g.segments.size(), 0.0), sy(g.segments.size(), 0.0), sd(g.segments.size(), 0.0);

@@ -52,7 +52,7 @@ struct Style {
 struct Box {
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 };
-Box reachable_box(const OccupancyGrid& grid, const std::vector<uint8_t>& reachable);
+Box reachable_box(const Mask& reachable);
 
 // A point [m] at height z.
 geometry_msgs::Point pt(Point2 p, double z = 0.0);

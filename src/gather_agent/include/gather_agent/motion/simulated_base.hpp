@@ -30,7 +30,7 @@ class SimulatedBase : public MotionBackend {
   // the map.
   // `speed` [m/s]: the team speed the plan's times assume.
   SimulatedBase(const OccupancyGrid& grid, GridAStar& paths, Point2 start, std::size_t max_legs, double speed,
-                const fmm::FastMarching* home = nullptr, const std::vector<uint8_t>* home_mask = nullptr);
+                const fmm::FastMarching* home = nullptr, const Mask* home_mask = nullptr);
 
   void go(const Waypoint* legs, std::size_t n, double depart) override;
   void hold() override;
@@ -58,7 +58,7 @@ class SimulatedBase : public MotionBackend {
   double speed_;
   GridAStar& paths_;
   const fmm::FastMarching* home_;
-  const std::vector<uint8_t>* home_mask_;
+  const Mask* home_mask_;
   std::size_t max_legs_;
   Point2 pose_;
   double now_ = 0.0;

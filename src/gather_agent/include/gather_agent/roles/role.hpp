@@ -87,7 +87,7 @@ class TeamSetup {
   // (an agent process drops the image to save memory and reads it again
   // from the plan directory when a repair needs it: rarely).
   const mission::RepairedPlan& repaired(const int16_t* dead, std::size_t n);
-  std::function<std::vector<int32_t>()> reload_labels;
+  std::function<LabelImage()> reload_labels;
   // How long the OC waits without news of `agent` under `plan` (the
   // repaired one) before it declares it dead [s] (mission::silent_timeout).
   double silent_timeout(const mission::MissionPlan& plan, int agent) const;

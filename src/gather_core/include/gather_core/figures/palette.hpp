@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "gather_core/grid/raster.hpp"
+
 namespace gather {
 namespace figures {
 
@@ -23,7 +25,7 @@ const std::vector<Rgb>& collector_palette();
 // Colour index per segment (index k-1 for segment k) such that segments that
 // share an edge get different colours when `palette` colours suffice (greedy
 // colouring, most-connected segments first).
-std::vector<int> colour_segments(const std::vector<int32_t>& labels, int width, int height, int segments, int palette);
+std::vector<int> colour_segments(const LabelImage& labels, int segments, int palette);
 
 }  // namespace figures
 }  // namespace gather

@@ -1,7 +1,5 @@
 #pragma once
 // Clearance: how far each cell is from the nearest cell a robot cannot enter.
-#include <vector>
-
 #include "gather_core/grid/occupancy_grid.hpp"
 
 namespace gather {
@@ -22,12 +20,12 @@ class ClearanceMap {
   // True if a disc of `radius` [m] centred at p surely touches no blocked cell.
   bool disc_free(Point2 p, double radius) const { return free_distance(p) >= radius; }
 
-  const std::vector<float>& values() const { return meters_; }  // row-major [m]
+  const Field& values() const { return meters_; }  // [m], in the grid's frame
   const OccupancyGrid& grid() const { return grid_; }
 
  private:
   const OccupancyGrid& grid_;
-  std::vector<float> meters_;
+  Field meters_;
 };
 
 }  // namespace gather

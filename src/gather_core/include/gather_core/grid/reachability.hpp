@@ -7,9 +7,9 @@
 
 namespace gather {
 
-// 1 for every free cell 4-connected to `start`, 0 elsewhere. Empty mask of
-// zeros if `start` is not a free cell.
-std::vector<uint8_t> reachable_from(const OccupancyGrid& grid, Cell start);
+// In the grid's frame: 1 for every free cell 4-connected to `start`, 0
+// elsewhere. All zeros if `start` is not a free cell.
+Mask reachable_from(const OccupancyGrid& grid, Cell start);
 
 struct FreeSpaceSummary {
   std::size_t free_cells = 0;

@@ -14,10 +14,13 @@ namespace gather {
 namespace mission {
 
 struct MissionPlan {
-  std::string source;           // the plan.yaml it was read from ("" for a plan built in memory): errors name it
-  plan::PlanFile file;          // roles, routes, cycle_period_s, estimates
-  int width = 0, height = 0;    // of the label image [cells]
-  std::vector<int32_t> labels;  // row-major (row 0 = bottom), 0 = no segment, k = segment k
+  std::string source;   // the plan.yaml it was read from ("" for a plan built in memory): errors name it
+  plan::PlanFile file;  // roles, routes, cycle_period_s, estimates
+  // 0 = no segment, k = segment k. A plan built in memory has its grid's
+  // frame. One read from labels.png, which stores no placement, has the
+  // image's size, resolution 1 and origin 0 until it is reframed on the grid
+  // check_plan() accepted (the simulator and the agents' plan loader do).
+  LabelImage labels;
 };
 
 // Reads `plan_yaml` (or PLAN_DIR/plan.yaml when given a directory) and the

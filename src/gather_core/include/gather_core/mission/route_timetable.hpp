@@ -19,12 +19,11 @@ namespace mission {
 
 class RouteTimetable {
  public:
-  // `coverage`: row-major mask of the cells inside the OC's coverage.
+  // `coverage`: the cells inside the OC's coverage, in the grid's frame.
   // speed [m/s] > 0, request_period [s] > 0 (the OC's T). A route of fewer
   // than two waypoints or zero length is idle (it never moves and is never
   // met).
-  RouteTimetable(const plan::CollectorRoute& route, double speed, double request_period, const OccupancyGrid& grid,
-                 const std::vector<uint8_t>& coverage);
+  RouteTimetable(const plan::CollectorRoute& route, double speed, double request_period, const Mask& coverage);
 
   bool idle() const { return length_ <= 0.0; }
   double length() const { return length_; }                          // [m]

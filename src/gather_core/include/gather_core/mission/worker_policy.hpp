@@ -49,8 +49,8 @@ struct Spot {
 // simulator; an agent process has its own.
 struct SharedDistances {
   explicit SharedDistances(const World& world, bool from_oc = true);
-  fmm::FastMarching fm;        // unit speed, the whole map
-  std::vector<float> from_oc;  // [m] geodesic distance of every cell from the OC's cell (or empty)
+  fmm::FastMarching fm;  // unit speed, the whole map
+  Field from_oc;         // [m] geodesic distance of every cell from the OC's cell (or empty)
 };
 
 // When request `cycle` (issued at cycle * period [s]) reaches a worker of

@@ -23,10 +23,10 @@ struct World {
 
   const Scenario& scenario;
   Cell oc_cell;
-  std::vector<uint8_t> reachable;  // free cells 4-connected to the OC
+  Mask reachable;  // free cells 4-connected to the OC
   std::size_t reachable_cells = 0;
   double reachable_area = 0.0;        // [m^2]
-  std::vector<uint8_t> coverage;      // reachable cells linked to the OC by radio
+  Mask coverage;                      // reachable cells linked to the OC by radio
   std::vector<Cell> coverage_border;  // coverage cells next to a non-covered cell (or the map edge)
   // Labelled unit-speed march from coverage_border: the way back into the
   // coverage from any cell (time = distance [m]; label k = coverage_border[k]).

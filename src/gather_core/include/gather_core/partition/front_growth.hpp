@@ -17,14 +17,17 @@
 #include <cstdint>
 #include <vector>
 
+#include "gather_core/grid/raster.hpp"
+
 namespace gather {
 namespace partition {
 
 class FrontGrowth {
  public:
-  // `region`: row-major width*height mask (row 0 = bottom), 1 = the fronts may
-  // cover the cell. resolution [m/cell]. Unit speed: times are in metres.
-  FrontGrowth(int width, int height, double resolution, const std::vector<uint8_t>& region);
+  // `region`: 1 = the fronts may cover the cell; its frame gives the size and
+  // the resolution [m/cell]. Unit speed: times are in metres. Throws
+  // gather::Error on an empty frame.
+  explicit FrontGrowth(const Mask& region);
 
   // Slowness [s/m] per cell (row-major); empty = 1 everywhere. Must be > 0.
   void set_slowness(const std::vector<float>& slowness);

@@ -31,11 +31,11 @@ PartitionMetrics compute_metrics(const OccupancyGrid& grid, const PartitionResul
 // Ground-truth rooms: a room = 4-connected component of white pixels (all
 // colour channels >= 250, alpha ignored) of `gt_png`, a gray, gray+alpha,
 // RGB or RGBA PNG (or a PGM) of the map's size, image row 0 = top;
-// components under `min_cells` ignored. Returns row-major room ids (row 0 =
-// bottom, 0 = no room, 1..rooms). Throws gather::Error on a missing or
+// components under `min_cells` ignored. Returns room ids in the grid's frame
+// (0 = no room, 1..rooms). Throws gather::Error on a missing or
 // unreadable file, a palette PNG that is not a gray ramp, or a size mismatch.
-std::vector<int32_t> load_gt_rooms(const std::string& gt_png, const OccupancyGrid& grid, int* rooms = nullptr,
-                                   int min_cells = 50);
+LabelImage load_gt_rooms(const std::string& gt_png, const OccupancyGrid& grid, int* rooms = nullptr,
+                         int min_cells = 50);
 
 // Agreement with ground-truth rooms, counted over cells that are both in a
 // segment and in a room. Recall: per room, the share of it covered by its
@@ -49,7 +49,8 @@ struct RoomAgreement {
   double f1 = 0.0;
 };
 
-RoomAgreement room_agreement(const std::vector<int32_t>& labels, const std::vector<int32_t>& rooms);
+// Throws gather::Error when the two images are not the same size.
+RoomAgreement room_agreement(const LabelImage& labels, const LabelImage& rooms);
 
 }  // namespace partition
 }  // namespace gather

@@ -75,14 +75,12 @@ void check_params(const PartitionParams& params);
 
 struct PartitionResult {
   Method method = Method::kBap;
-  int workers = 0;  // N_w
-  int width = 0, height = 0;
-  std::vector<int32_t> labels;      // row-major (row 0 = bottom), 0 = no segment, k = segment k (1..N_w)
+  int workers = 0;                  // N_w
+  LabelImage labels;                // in the grid's frame: 0 = no segment, k = segment k (1..N_w)
   std::vector<Cell> seeds;          // per segment k-1: its final seed / wavefront start
   std::vector<Cell> initial_seeds;  // PAP/RAP: the centroid initialisation (Fig. 1b); BAP: empty
-  std::vector<float>
-      clearance;            // row-major [m] clearance_map(): distance to the nearest non-free cell (map edge = wall)
-  double runtime_ms = 0.0;  // wall time of partition_area()
+  Field clearance;                  // [m] clearance_map(): distance to the nearest non-free cell (map edge = wall)
+  double runtime_ms = 0.0;          // wall time of partition_area()
 };
 
 // Splits the free space reachable from `oc` [cell] into `workers` segments.
@@ -98,11 +96,10 @@ PartitionResult partition_area(const OccupancyGrid& grid, Cell oc, Method method
 // planner) prepares it once instead of once per partition (about a quarter
 // of a BAP on office_a).
 struct PreparedArea {
-  int width = 0, height = 0;
   Cell oc{};
-  std::vector<uint8_t> reachable;  // row-major, 1 = free and 4-connected to the OC
+  Mask reachable;  // in the grid's frame: 1 = free and 4-connected to the OC
   std::size_t reachable_cells = 0;
-  std::vector<float> clearance;  // clearance_map(grid)
+  Field clearance;  // [m] clearance_map(grid)
 };
 // Throws gather::Error when the OC is off the map or not free.
 PreparedArea prepare_area(const OccupancyGrid& grid, Cell oc);
@@ -113,9 +110,9 @@ PartitionResult partition_area(const OccupancyGrid& grid, const PreparedArea& ar
                                unsigned seed = 1, const PartitionParams& params = {});
 
 // Distance [m] from each cell centre to the nearest non-free cell centre
-// (row-major; 0 on non-free cells): ClearanceMap(grid).values(), the exact
-// Euclidean distance transform, where the map's edge counts as a wall.
-std::vector<float> clearance_map(const OccupancyGrid& grid);
+// (0 on non-free cells), in the grid's frame: ClearanceMap(grid).values(), the
+// exact Euclidean distance transform, where the map's edge counts as a wall.
+Field clearance_map(const OccupancyGrid& grid);
 
 // The label image as a 16-bit gray PNG of the map size (image row 0 = top):
 // 0 = no segment, k = segment k; what a plan's labels.png holds. Throws

@@ -16,13 +16,12 @@ namespace gather {
 
 class GridAStar {
  public:
-  // `traversable`: row-major, 1 where a path may go (e.g. the reachable
-  // cells). `landmark` (optional): a unit-speed distance field on the same
+  // `traversable`: 1 where a path may go (e.g. the reachable cells), of the
+  // grid's size (std::invalid_argument otherwise). `landmark` (optional): a unit-speed distance field on the same
   // grid (e.g. the distance to the OC's coverage); the difference of its
   // values is a second lower bound that makes long searches across a map of
   // rooms and corridors explore far fewer cells.
-  GridAStar(const OccupancyGrid& grid, const std::vector<uint8_t>& traversable,
-            const fmm::FastMarching* landmark = nullptr);
+  GridAStar(const OccupancyGrid& grid, const Mask& traversable, const fmm::FastMarching* landmark = nullptr);
 
   // Cell centres from `from`'s cell to `to`'s cell into `out` (cleared
   // first); false (out empty) when `to` cannot be reached or an end is not

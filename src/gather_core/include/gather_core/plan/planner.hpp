@@ -65,28 +65,28 @@ inline PlannerOptions grown_groups() {
 // plus what only planning needs.
 struct PlanContext : mission::World {
   explicit PlanContext(const Scenario& scenario);
-  std::vector<double> coverage_distance;  // [m] geodesic distance to the coverage, +inf unreachable
-  double farthest = 0.0;                  // [m] largest coverage_distance over reachable cells
-  double cycle_period = 0.0;              // [s] time between two OC requests
+  Raster<double> coverage_distance;  // [m] geodesic distance to the coverage, +inf unreachable
+  double farthest = 0.0;             // [m] largest coverage_distance over reachable cells
+  double cycle_period = 0.0;         // [s] time between two OC requests
   // [m] side of the square areas of the refresh interval: sqrt(reachable
   // area / team size), so about one area per robot whatever the configuration.
   double area_tile = 0.0;
-  mission::AreaWeights areas;         // the tiles of side area_tile and their reachable area
-  std::vector<int64_t> tile_ids;      // the keys of `areas`, ascending
-  std::vector<int32_t> tile_of_cell;  // row-major: index into tile_ids, -1 off the reachable space
+  mission::AreaWeights areas;     // the tiles of side area_tile and their reachable area
+  std::vector<int64_t> tile_ids;  // the keys of `areas`, ascending
+  LabelImage tile_of_cell;        // index into tile_ids, -1 off the reachable space
   ClearanceMap clearance;
   partition::PreparedArea prepared;  // reachability + clearance for the 27 partitions, computed once
   // Collector routes keep the robot radius from walls: they are marched on a
   // speed map that is 1 where a robot fits and kTightSpeed elsewhere (so a
   // route only squeezes through where there is no other way).
   static constexpr double kTightSpeed = 0.05;
-  std::vector<double> route_speed;  // row-major [m/s relative]
-  std::vector<uint8_t> roomy;       // 1 where the robot fits (route_speed == 1)
-  fmm::FastMarching oc_field;       // solved from the OC on route_speed: legs from/to the OC
+  Raster<double> route_speed;  // [relative] front speed of the routes' marches
+  Mask roomy;                  // 1 where the robot fits (route_speed == 1)
+  fmm::FastMarching oc_field;  // solved from the OC on route_speed: legs from/to the OC
   // [m] walking distance (unit speed on the reachable space) from the OC's
   // cell, where every worker starts the mission; +inf unreachable
   // (mission::SharedDistances::from_oc, the simulator's table).
-  std::vector<float> oc_walk;
+  Field oc_walk;
 };
 
 struct Estimates {

@@ -13,11 +13,11 @@ namespace plan {
 // Fills graph.segments' mean_home_distance, home_quantiles,
 // mean_oc_distance, oc_quantiles and mean_pair_distance (see
 // walking_distances.cpp); returns each cell's rank in its segment by
-// walking distance from that home, in [0, 1) (row-major; -1 off the
-// segments).
+// walking distance from that home, in [0, 1) (-1 off the segments), in the
+// labels' frame.
 // `opt`: pair_sources and home_box_margin_m.
-std::vector<float> segment_distances(const PlanContext& ctx, const std::vector<int32_t>& labels, WorkerGraph& graph,
-                                     const PlannerOptions& opt);
+Field segment_distances(const PlanContext& ctx, const LabelImage& labels, WorkerGraph& graph,
+                        const PlannerOptions& opt);
 
 }  // namespace plan
 }  // namespace gather

@@ -47,13 +47,12 @@ struct WorkerGraph {
   const WorkerSegment& segment(int id) const { return segments[static_cast<std::size_t>(id - 1)]; }
 };
 
-// `labels`: row-major partition labels (0 = none, 1..workers); `coverage`:
-// 1 on cells linked to the OC; `coverage_distance`: row-major geodesic
-// distance [m] to the coverage (+inf unreached). With `roomy` (1 where the
+// `labels`: partition labels (0 = none, 1..workers) in the grid's frame; `coverage`:
+// 1 on cells linked to the OC; `coverage_distance`: geodesic distance [m]
+// to the coverage (+inf unreached); all in the grid's frame. With `roomy` (1 where the
 // robot fits), the entry is the nearest such cell of the segment when it has one.
-WorkerGraph build_worker_graph(const OccupancyGrid& grid, const std::vector<int32_t>& labels, int workers,
-                               const std::vector<uint8_t>& coverage, const std::vector<double>& coverage_distance,
-                               const std::vector<uint8_t>* roomy = nullptr);
+WorkerGraph build_worker_graph(const OccupancyGrid& grid, const LabelImage& labels, int workers, const Mask& coverage,
+                               const Raster<double>& coverage_distance, const Mask* roomy = nullptr);
 
 }  // namespace plan
 }  // namespace gather

@@ -33,9 +33,9 @@ class RadioModel {
   // is linked to tx, 0 elsewhere. Writes into `mask` (resized to grid.size()),
   // so repeated calls reuse its memory.
   void coverage(Point2 tx, std::vector<uint8_t>& mask) const;
-  std::vector<uint8_t> coverage(Point2 tx) const {
-    std::vector<uint8_t> m;
-    coverage(tx, m);
+  Mask coverage(Point2 tx) const {
+    Mask m(grid_.frame());
+    coverage(tx, m.values());
     return m;
   }
 
