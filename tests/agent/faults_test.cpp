@@ -38,14 +38,15 @@ int a_worker(const mission::MissionPlan& plan, bool of_oc) {
 TEST(RepairPlan, ADeadWorkersSegmentGoesToItsSmallestLiveNeighbour) {
   const mission::MissionPlan& base = Office::get().bap0;
   const int dead = a_worker(base, true);
-  const int s = base.file.agents[static_cast<std::size_t>(dead)].segment;
+  const SegmentId seg = base.file.agents[static_cast<std::size_t>(dead)].segment;
+  const int s = seg.label();
   const mission::RepairedPlan r = mission::repair_plan(base, {dead}, mission::RepairMode::kMerge);
   EXPECT_EQ(cells_of(r.plan, s), 0);
   EXPECT_TRUE(r.dead[static_cast<std::size_t>(dead)]);
-  const int into_worker = r.worker_of_segment[static_cast<std::size_t>(s)];
+  const int into_worker = r.worker_of_segment[seg];
   ASSERT_GE(into_worker, 0);
   ASSERT_NE(into_worker, dead);
-  const int into = base.file.agents[static_cast<std::size_t>(into_worker)].segment;
+  const int into = base.file.agents[static_cast<std::size_t>(into_worker)].segment.label();
   EXPECT_EQ(cells_of(r.plan, into), cells_of(base, into) + cells_of(base, s));
   // No other neighbour of s is smaller than the one chosen.
   const int w = base.labels.width(), h = base.labels.height();
@@ -79,14 +80,14 @@ TEST(RepairPlan, NoneLeavesTheSegmentToNobodyAndTheSetOrderDoesNotMatter) {
   const mission::MissionPlan& base = Office::get().bap0;
   const int a = 3, b = 7;
   const mission::RepairedPlan none = mission::repair_plan(base, {a}, mission::RepairMode::kNone);
-  EXPECT_EQ(cells_of(none.plan, base.file.agents[a].segment), 0);
-  EXPECT_EQ(none.worker_of_segment[static_cast<std::size_t>(base.file.agents[a].segment)], -1);
+  EXPECT_EQ(cells_of(none.plan, base.file.agents[a].segment.label()), 0);
+  EXPECT_EQ(none.worker_of_segment[base.file.agents[a].segment], -1);
   const mission::RepairedPlan ab = mission::repair_plan(base, {a, b}, mission::RepairMode::kMerge);
   const mission::RepairedPlan ba = mission::repair_plan(base, {b, a, b}, mission::RepairMode::kMerge);
   EXPECT_EQ(ab.plan.labels, ba.plan.labels);
   EXPECT_EQ(ab.worker_of_segment, ba.worker_of_segment);
-  for (int seg = 1; seg <= base.file.workers; ++seg) {
-    const int o = ab.worker_of_segment[static_cast<std::size_t>(seg)];
+  for (SegmentId seg : segment_ids(base.file.workers)) {
+    const int o = ab.worker_of_segment[seg];
     if (o >= 0) {
       EXPECT_FALSE(ab.dead[static_cast<std::size_t>(o)]);
     }
@@ -183,7 +184,7 @@ TEST(Faults, ADeadWorkerIsDeclaredItsSegmentMergedItsGoalsLostWithItOnly) {
   EXPECT_LE(declared, kill_at + 3.0 * period + 1.0);  // 3 request periods unheard, for a worker of the OC
   const Counts c = counts(out);
   EXPECT_GT(c.lost, 0);
-  const int s = plan.file.agents[static_cast<std::size_t>(victim)].segment;
+  const int s = plan.file.agents[static_cast<std::size_t>(victim)].segment.label();
   const OccupancyGrid& grid = Office::get().scenario.grid;
   auto in_s = [&](const mission::GoalRecord& g) {
     return plan.labels[static_cast<std::size_t>(grid.index(grid.world_to_cell(g.point)))] == s;

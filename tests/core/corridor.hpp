@@ -48,9 +48,9 @@ inline mission::MissionPlan one_collector_plan(const Scenario& s, plan::Collecto
   p.method = "hand";
   p.collectors = 1, p.workers = 1, p.cycle_period_s = s.mission.period;
   p.area_tile_m = tile_m;
-  p.agents = {plan::AgentAssignment{0, true, 0, 0}, plan::AgentAssignment{1, false, 1, 0}};
+  p.agents = {plan::AgentAssignment{0, true, SegmentId(), 0}, plan::AgentAssignment{1, false, SegmentId(1), 0}};
   route.collector = 0;
-  route.segments = {1};
+  route.segments = {SegmentId(1)};
   route.period = route.length;  // [s] at the strips' 1 m/s
   p.routes = {route};
   return m;
@@ -59,7 +59,7 @@ inline mission::MissionPlan one_collector_plan(const Scenario& s, plan::Collecto
 inline mission::MissionPlan corridor_plan(const Scenario& s) {
   plan::CollectorRoute r;
   r.waypoints = {Point2{0.55, 0.25}, Point2{15.05, 0.25}, Point2{0.55, 0.25}};
-  r.meetings = {plan::MeetingArea{1, Point2{15.05, 0.25}, 14.5, {14.5}}};
+  r.meetings = {plan::MeetingArea{SegmentId(1), Point2{15.05, 0.25}, 14.5, {14.5}}};
   r.length = 29.0;
   r.coverage_entries = {26.95, 29.0};
   return one_collector_plan(s, r, 20.0);  // the whole corridor is one area of the refresh interval
@@ -70,7 +70,7 @@ inline mission::MissionPlan corridor_plan_without_collector(const Scenario& s) {
   mission::MissionPlan m = corridor_plan(s);
   m.file.collectors = 0;
   m.file.routes.clear();
-  m.file.agents = {plan::AgentAssignment{0, false, 1, -1}};
+  m.file.agents = {plan::AgentAssignment{0, false, SegmentId(1), -1}};
   return m;
 }
 
@@ -96,7 +96,7 @@ inline mission::MissionPlan lingering_plan(const Scenario& s) {
   const double y = 0.25;
   r.waypoints = {Point2{0.55, y},  Point2{30.05, y}, Point2{28.05, y}, Point2{30.05, y},
                  Point2{28.05, y}, Point2{30.05, y}, Point2{0.55, y}};
-  r.meetings = {plan::MeetingArea{1, Point2{10.05, y}, 9.5, {9.5, 28.5}}};
+  r.meetings = {plan::MeetingArea{SegmentId(1), Point2{10.05, y}, 9.5, {9.5, 28.5}}};
   r.length = 67.0;
   r.coverage_entries = {64.95, 67.0};
   return one_collector_plan(s, r, 40.0);

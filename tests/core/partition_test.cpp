@@ -221,7 +221,7 @@ TEST(Partition, ParamsOutsideTheirRangeNameTheField) {
 TEST(Partition, NeighbouringSegmentsGetDifferentColours) {
   const Scenario sc = load_scenario(repo("../shared/maps/ipa/lab_c_scan.scenario.yaml"));
   const PartitionResult p = partition_area(sc.grid, sc.grid.world_to_cell(sc.oc), Method::kPap, 20, 1);
-  const std::vector<int> colour = figures::colour_segments(p.labels, 20, 16);
+  const PerSegment<int> colour = figures::colour_segments(p.labels, 20, 16);
   const int w = p.labels.width(), h = p.labels.height();
   for (int r = 0; r + 1 < h; ++r)
     for (int c = 0; c + 1 < w; ++c) {
@@ -229,7 +229,7 @@ TEST(Partition, NeighbouringSegmentsGetDifferentColours) {
       for (std::size_t j : {i + 1, i + static_cast<std::size_t>(w)}) {
         const int32_t a = p.labels[i], b = p.labels[j];
         if (a > 0 && b > 0 && a != b) {
-          ASSERT_NE(colour[a - 1], colour[b - 1]);
+          ASSERT_NE(colour[SegmentId(a)], colour[SegmentId(b)]);
         }
       }
     }

@@ -45,14 +45,14 @@ TEST_F(PlanTest, EveryWorkerIsAssociatedExactlyOnce) {
   for (int nc = 0; nc <= 3; ++nc) {
     const auto cfg = plan::plan_configuration(*ctx_, partition::Method::kPap, nc);
     ASSERT_EQ(static_cast<int>(cfg.collector_of_segment.size()), cfg.workers);
-    std::multiset<int> served;
+    std::multiset<SegmentId> served;
     for (const auto& r : cfg.routes)
       for (const auto& m : r.meetings) served.insert(m.segment);
-    for (int k = 1; k <= cfg.workers; ++k) {
-      const int c = cfg.collector_of_segment[static_cast<std::size_t>(k - 1)];
+    for (SegmentId k : segment_ids(cfg.workers)) {
+      const int c = cfg.collector_of_segment[k];
       ASSERT_GE(c, -1);
       ASSERT_LT(c, nc);
-      EXPECT_EQ(served.count(k), c >= 0 ? 1u : 0u) << "segment " << k;
+      EXPECT_EQ(served.count(k), c >= 0 ? 1u : 0u) << k;
       if (c >= 0) {
         EXPECT_FALSE(cfg.graph.segment(k).touches_coverage);
       }
@@ -90,13 +90,13 @@ TEST_F(PlanTest, NoRouteIsLongerThanTheRequestPeriodAndTheDecisionNeverLowersThe
         }
         // The final routes serve the final association, and the estimate is
         // of that association (no estimate of a move that was undone).
-        std::multiset<int> served;
+        std::multiset<SegmentId> served;
         for (const auto& r : after.routes)
           for (const auto& meeting : r.meetings) served.insert(meeting.segment);
-        for (int k = 1; k <= after.workers; ++k) {
-          const int c = after.collector_of_segment[static_cast<std::size_t>(k - 1)];
+        for (SegmentId k : segment_ids(after.workers)) {
+          const int c = after.collector_of_segment[k];
           EXPECT_EQ(served.count(k), c >= 0 ? 1u : 0u);
-          EXPECT_EQ(after.estimates.workers[static_cast<std::size_t>(k - 1)].collector, c);
+          EXPECT_EQ(after.estimates.workers[k.index()].collector, c);
         }
       }
   EXPECT_GT(longer_before, 0) << "the grown groups never make a route longer than the period: nothing was tested";
@@ -125,13 +125,13 @@ TEST(PlanAssociationTest, AFarSegmentCheaperFromTheOcGoesToTheOc) {
   plan::PlannerOptions grown;
   grown.associate = false;
   const auto before = plan::plan_configuration(ctx, partition::Method::kBap, 1, grown);
-  int far = 0;
-  for (int k = 1; k <= before.workers; ++k)
-    if (before.collector_of_segment[static_cast<std::size_t>(k - 1)] == 0) far = k;
-  ASSERT_GT(far, 0) << "the grown groups give the collector no segment";
+  SegmentId far;
+  for (SegmentId k : segment_ids(before.workers))
+    if (before.collector_of_segment[k] == 0) far = k;
+  ASSERT_TRUE(far.valid()) << "the grown groups give the collector no segment";
   ASSERT_LE(before.routes[0].period, ctx.cycle_period);
   const auto after = plan::plan_configuration(ctx, partition::Method::kBap, 1);
-  EXPECT_EQ(after.collector_of_segment[static_cast<std::size_t>(far - 1)], -1);
+  EXPECT_EQ(after.collector_of_segment[far], -1);
   EXPECT_TRUE(after.routes[0].segments.empty());
   EXPECT_GT(plan::association_score(ctx, after.estimates), plan::association_score(ctx, before.estimates));
   EXPECT_LT(after.estimates.refresh_s, before.estimates.refresh_s);
@@ -181,7 +181,7 @@ TEST_F(PlanTest, SameSeedSamePlanAndFileRoundTrip) {
   ASSERT_EQ(read.agents.size(), 8u);
   EXPECT_TRUE(read.agents[0].collector);
   EXPECT_FALSE(read.agents[2].collector);
-  EXPECT_EQ(read.agents[2].segment, 1);
+  EXPECT_EQ(read.agents[2].segment, SegmentId(1));
   ASSERT_EQ(read.routes.size(), a.routes.size());
   EXPECT_EQ(read.routes[0].waypoints.size(), a.routes[0].waypoints.size());
 }
@@ -300,7 +300,7 @@ TEST(PlanEstimateTest, AnOcWorkersTourStartsAtItsHomeAndWalksOnTheMap) {
   const plan::PlanContext ctx(s);
   const auto cfg = plan::plan_configuration(ctx, partition::Method::kBap, 0);
   ASSERT_EQ(cfg.graph.segments.size(), 1u);
-  const plan::WorkerSegment& seg = cfg.graph.segments[0];
+  const plan::WorkerSegment& seg = cfg.graph.segment(SegmentId(1));
   // Home: the first covered cell of the segment (row-major), at x = 0.05;
   // the goal is uniform over x in [0, 20]: 10 m out on average, and back to
   // the coverage (x < 2.6) 17.4^2 / 2 / 20 = 7.57 m.
@@ -328,7 +328,7 @@ TEST(PlanEstimateTest, AGoalFartherThanAPeriodsWalkIsNeverMeasured) {
   const auto cfg = plan::plan_configuration(ctx, partition::Method::kBap, 0);
   ASSERT_EQ(cfg.estimates.workers.size(), 1u);
   // From x = 0.55: (0.55^2 + 19.45^2) / 2 / 20 = 9.47 m on average.
-  EXPECT_NEAR(cfg.graph.segments[0].mean_oc_distance, 9.47, 0.3);
+  EXPECT_NEAR(cfg.graph.segment(SegmentId(1)).mean_oc_distance, 9.47, 0.3);
   EXPECT_NEAR(cfg.estimates.workers[0].delivered_goals, 0.5275, 0.01);
 }
 

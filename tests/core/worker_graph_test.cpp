@@ -14,6 +14,12 @@ namespace gather {
 namespace plan {
 namespace {
 
+std::vector<SegmentId> ids(std::initializer_list<int> labels) {
+  std::vector<SegmentId> out;
+  for (int l : labels) out.push_back(SegmentId(l));
+  return out;
+}
+
 // A 27 x 3 strip at 0.1 m/cell cut into three segments of 9 columns
 // (1: columns 0-8, 2: 9-17, 3: 18-26); the OC's coverage is columns 0-4 and
 // the distance to it grows by 0.1 m a column beyond.
@@ -38,12 +44,12 @@ TEST(WorkerGraphTest, SegmentsOfAStripByHand) {
   const Strip s;
   const WorkerGraph g = build_worker_graph(s.grid, s.labels, 3, s.coverage, s.to_coverage);
   ASSERT_EQ(g.segments.size(), 3u);
-  EXPECT_EQ(g.segment(1).neighbours, (std::vector<int>{2}));
-  EXPECT_EQ(g.segment(2).neighbours, (std::vector<int>{1, 3}));
-  EXPECT_EQ(g.segment(3).neighbours, (std::vector<int>{2}));
+  EXPECT_EQ(g.segment(SegmentId(1)).neighbours, ids({2}));
+  EXPECT_EQ(g.segment(SegmentId(2)).neighbours, ids({1, 3}));
+  EXPECT_EQ(g.segment(SegmentId(3)).neighbours, ids({2}));
   for (int k = 1; k <= 3; ++k) {
-    const WorkerSegment& seg = g.segment(k);
-    EXPECT_EQ(seg.id, k);
+    const WorkerSegment& seg = g.segment(SegmentId(k));
+    EXPECT_EQ(seg.id, SegmentId(k));
     EXPECT_EQ(seg.cells, 27u);
     EXPECT_NEAR(seg.area, 0.27, 1e-12);
     EXPECT_EQ(seg.centroid.row, 1);
@@ -51,19 +57,19 @@ TEST(WorkerGraphTest, SegmentsOfAStripByHand) {
     EXPECT_NEAR(seg.centroid_m.x, 0.1 * (9 * (k - 1) + 4) + 0.05, 1e-12);
     EXPECT_NEAR(seg.centroid_m.y, 0.15, 1e-12);
   }
-  EXPECT_TRUE(g.segment(1).touches_coverage);
-  EXPECT_FALSE(g.segment(2).touches_coverage);
-  EXPECT_FALSE(g.segment(3).touches_coverage);
-  EXPECT_NEAR(g.segment(1).coverage_distance, 0.0, 1e-12);
-  EXPECT_NEAR(g.segment(2).coverage_distance, 0.5, 1e-12);  // column 9
-  EXPECT_NEAR(g.segment(3).coverage_distance, 1.4, 1e-12);  // column 18
+  EXPECT_TRUE(g.segment(SegmentId(1)).touches_coverage);
+  EXPECT_FALSE(g.segment(SegmentId(2)).touches_coverage);
+  EXPECT_FALSE(g.segment(SegmentId(3)).touches_coverage);
+  EXPECT_NEAR(g.segment(SegmentId(1)).coverage_distance, 0.0, 1e-12);
+  EXPECT_NEAR(g.segment(SegmentId(2)).coverage_distance, 0.5, 1e-12);  // column 9
+  EXPECT_NEAR(g.segment(SegmentId(3)).coverage_distance, 1.4, 1e-12);  // column 18
   // Mean over the columns: segment 1 (0 x 5 + 0.1..0.4) / 9, segment 2 at column 13.
-  EXPECT_NEAR(g.segment(1).mean_coverage_distance, 1.0 / 9.0, 1e-12);
-  EXPECT_NEAR(g.segment(2).mean_coverage_distance, 0.9, 1e-12);
-  EXPECT_NEAR(g.segment(3).mean_coverage_distance, 1.8, 1e-12);
+  EXPECT_NEAR(g.segment(SegmentId(1)).mean_coverage_distance, 1.0 / 9.0, 1e-12);
+  EXPECT_NEAR(g.segment(SegmentId(2)).mean_coverage_distance, 0.9, 1e-12);
+  EXPECT_NEAR(g.segment(SegmentId(3)).mean_coverage_distance, 1.8, 1e-12);
   // The entry is the first cell (row-major) nearest the coverage.
-  EXPECT_EQ(g.segment(2).entry.row, 0);
-  EXPECT_EQ(g.segment(2).entry.col, 9);
+  EXPECT_EQ(g.segment(SegmentId(2)).entry.row, 0);
+  EXPECT_EQ(g.segment(SegmentId(2)).entry.col, 9);
 }
 
 TEST(WorkerGraphTest, TheEntryIsARoomyCellWhenTheSegmentHasOne) {
@@ -71,10 +77,10 @@ TEST(WorkerGraphTest, TheEntryIsARoomyCellWhenTheSegmentHasOne) {
   Mask roomy(s.grid.frame(), 0);
   for (int c = 11; c < 27; ++c) roomy[s.grid.index(Cell{1, c})] = 1;  // the robot fits on row 1 from column 11
   const WorkerGraph g = build_worker_graph(s.grid, s.labels, 3, s.coverage, s.to_coverage, &roomy);
-  EXPECT_EQ(g.segment(2).entry.row, 1);
-  EXPECT_EQ(g.segment(2).entry.col, 11);
-  EXPECT_NEAR(g.segment(2).coverage_distance, 0.5, 1e-12);  // the distance is still the segment's own
-  EXPECT_EQ(g.segment(1).entry.col, 0);                     // no roomy cell: the nearest cell
+  EXPECT_EQ(g.segment(SegmentId(2)).entry.row, 1);
+  EXPECT_EQ(g.segment(SegmentId(2)).entry.col, 11);
+  EXPECT_NEAR(g.segment(SegmentId(2)).coverage_distance, 0.5, 1e-12);  // the distance is still the segment's own
+  EXPECT_EQ(g.segment(SegmentId(1)).entry.col, 0);                     // no roomy cell: the nearest cell
 }
 
 TEST(WorkerGraphTest, TheCentroidOfAnLShapedSegmentIsOneOfItsCells) {
@@ -85,12 +91,12 @@ TEST(WorkerGraphTest, TheCentroidOfAnLShapedSegmentIsOneOfItsCells) {
   const Mask coverage(grid.frame(), 0);
   const Raster<double> far(grid.frame(), std::numeric_limits<double>::infinity());
   const WorkerGraph g = build_worker_graph(grid, labels, 2, coverage, far);
-  const Cell c = g.segment(1).centroid;
+  const Cell c = g.segment(SegmentId(1)).centroid;
   EXPECT_EQ(labels[grid.index(c)], 1);  // the centre of mass (2.4, 2.4) is not in the L
   EXPECT_TRUE(c.row == 0 || c.col == 0);
-  EXPECT_EQ(g.segment(1).neighbours, (std::vector<int>{2}));
-  EXPECT_EQ(g.segment(1).coverage_distance, std::numeric_limits<double>::infinity());
-  EXPECT_EQ(g.segment(1).mean_coverage_distance, 0.0);  // unreached cells add nothing to the sum
+  EXPECT_EQ(g.segment(SegmentId(1)).neighbours, ids({2}));
+  EXPECT_EQ(g.segment(SegmentId(1)).coverage_distance, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(g.segment(SegmentId(1)).mean_coverage_distance, 0.0);  // unreached cells add nothing to the sum
 }
 
 }  // namespace

@@ -76,13 +76,13 @@ visualization_msgs::MarkerArray plan_markers(const agent::TeamSetup& team, const
   // Segments, coloured so that neighbours differ.
   const int segments = plan.file.workers;
   const auto& palette = figures::segment_palette();
-  const std::vector<int> colour = figures::colour_segments(plan.labels, segments, static_cast<int>(palette.size()));
+  const PerSegment<int> colour = figures::colour_segments(plan.labels, segments, static_cast<int>(palette.size()));
   Marker seg = marker(frame, stamp, "segments", 0, Marker::TRIANGLE_LIST);
   for (const Rect& r : label_rects(plan.labels)) {
     const double x0 = o.x + r.col0 * res, x1 = o.x + (r.col1 + 1) * res;
     const double y0 = o.y + r.row0 * res, y1 = o.y + (r.row1 + 1) * res;
     const std_msgs::ColorRGBA c =
-        rgba(palette[static_cast<std::size_t>(colour[static_cast<std::size_t>(r.label - 1)]) % palette.size()], 0.5f);
+        rgba(palette[static_cast<std::size_t>(colour[SegmentId(r.label)]) % palette.size()], 0.5f);
     for (const auto& p : {pt(x0, y0), pt(x1, y0), pt(x1, y1), pt(x0, y0), pt(x1, y1), pt(x0, y1)}) {
       seg.points.push_back(p);
       seg.colors.push_back(c);
@@ -171,13 +171,13 @@ visualization_msgs::MarkerArray plan_markers(const agent::TeamSetup& team, const
     out.markers.push_back(id);
 
     for (const plan::MeetingArea& m : route.meetings) {
-      Marker disc = marker(frame, stamp, "meetings", route.collector * 10000 + m.segment, Marker::CYLINDER);
+      Marker disc = marker(frame, stamp, "meetings", route.collector * 10000 + m.segment.label(), Marker::CYLINDER);
       disc.pose.position = pt(m.point.x, m.point.y, kZMeetings);
       disc.scale.x = disc.scale.y = style.unit * 2.2, disc.scale.z = 0.02;
       disc.color = style.collector(route.collector, 0.35f);
       out.markers.push_back(disc);
       Marker passes =
-          marker(frame, stamp, "meetings", 5000000 + route.collector * 10000 + m.segment, Marker::SPHERE_LIST);
+          marker(frame, stamp, "meetings", 5000000 + route.collector * 10000 + m.segment.label(), Marker::SPHERE_LIST);
       passes.scale.x = passes.scale.y = passes.scale.z = style.unit * 0.7;
       passes.color = style.collector(route.collector, 0.45f);
       passes.pose.position.z = kZMeetings;

@@ -18,9 +18,9 @@ CollectorRole::CollectorRole(TeamSetup& team, int agent, MotionBackend& motion)
   for (const plan::MeetingArea& m : r.meetings) {
     const int w = team.worker_of_segment(m.segment);
     if (w < 0 || team.assignment(w).delivers_to != collector_)
-      throw Error(team.plan.source.empty() ? "plan" : team.plan.source,
-                  "collector " + std::to_string(collector_) + " meets segment " + std::to_string(m.segment) +
-                      ", whose worker is not its own");
+      throw Error(team.plan.source.empty() ? "plan" : team.plan.source, "collector " + std::to_string(collector_) +
+                                                                            " meets " + to_string(m.segment) +
+                                                                            ", whose worker is not its own");
     workers_.push_back(Served{static_cast<int16_t>(w), m.arc_m, -1});
   }
   const std::size_t g = static_cast<std::size_t>(team.params.goals_per_request);

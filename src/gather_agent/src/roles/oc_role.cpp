@@ -36,7 +36,7 @@ OcRole::OcRole(TeamSetup& team, MotionBackend& station) : Role(kOc, station), te
     g.cycle = d.cycle;
     g.point = grid.cell_center(d.cell);
     g.segment = team.plan.labels[grid.index(d.cell)];
-    g.worker = g.segment > 0 ? team.worker_of_segment(g.segment) : -1;
+    g.worker = g.segment > 0 ? team.worker_of_segment(SegmentId(g.segment)) : -1;
     g.requested_at = -1.0;
     g.deadline = g.worker >= 0 ? team.deadline(g.worker, g.cycle) : std::numeric_limits<double>::infinity();
     goals_.push_back(g);
@@ -125,7 +125,7 @@ void OcRole::declare_dead(int16_t agent, double now, Outbox& out) {
     mission::GoalRecord& g = goals_[i];
     const bool was_unassigned = g.worker < 0;
     g.segment = repair_->plan.labels[cell_of_[i]];
-    g.worker = g.segment > 0 ? team_.worker_of_segment(g.segment) : -1;
+    g.worker = g.segment > 0 ? team_.worker_of_segment(SegmentId(g.segment)) : -1;
     g.deadline = g.worker < 0 || assigned(g.worker).delivers_to < 0 ? std::numeric_limits<double>::infinity()
                                                                     : team_.deadline(g.worker, g.cycle);
     if (g.worker < 0 && !was_unassigned) unassigned_.push_back(g.id);
@@ -165,7 +165,7 @@ bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
   bool new_owner = false;
   if (g.worker != item.by) {
     const int32_t now_in = repair_ ? repair_->plan.labels[cell_of_[static_cast<std::size_t>(item.key)]] : 0;
-    if (now_in <= 0 || team_.worker_of_segment(now_in) != item.by) return false;
+    if (now_in <= 0 || team_.worker_of_segment(SegmentId(now_in)) != item.by) return false;
     new_owner = true;
   }
   // Times a worker and a collector could have: after the request, not after now.

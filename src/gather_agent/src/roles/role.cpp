@@ -70,13 +70,13 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
 
   assignment_.assign(static_cast<std::size_t>(n), plan::AgentAssignment{});
   collector_agent_.assign(static_cast<std::size_t>(pf.collectors), -1);
-  worker_of_segment_.assign(static_cast<std::size_t>(pf.workers) + 1, -1);
+  worker_of_segment_ = PerSegment<int>(pf.workers, -1);
   for (const plan::AgentAssignment& a : pf.agents) {  // check_plan made sure these are all valid and distinct
     assignment_[static_cast<std::size_t>(a.id)] = a;
     if (a.collector)
       collector_agent_[static_cast<std::size_t>(a.delivers_to)] = a.id;
     else
-      worker_of_segment_[static_cast<std::size_t>(a.segment)] = a.id;
+      worker_of_segment_[a.segment] = a.id;
   }
   for (const plan::CollectorRoute& r : pf.routes) {
     try {

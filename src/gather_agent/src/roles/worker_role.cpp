@@ -64,7 +64,7 @@ WorkerRole::WorkerRole(TeamSetup& team, int agent, MotionBackend& motion)
   next_beacon_ = team.params.beacon_period * static_cast<double>(agent % 10) / 10.0;
   counters_.role = RoleKind::kWorker;
   counters_.id = agent;
-  const int segment = team.assignment(agent).segment;
+  const int segment = team.assignment(agent).segment.label();
   served_cells_ = std::count(team.plan.labels.begin(), team.plan.labels.end(), segment);
   if (policy_->collector() >= 0) {
     // As long as the OC waits before it declares a worker of that collector
@@ -133,7 +133,7 @@ void WorkerRole::repair(double now) {
     return;
   }
   const plan::AgentAssignment& a = r.plan.file.agents[static_cast<std::size_t>(id_)];
-  const int64_t cells = std::count(r.plan.labels.begin(), r.plan.labels.end(), a.segment);
+  const int64_t cells = std::count(r.plan.labels.begin(), r.plan.labels.end(), a.segment.label());
   const bool new_upstream = a.delivers_to != policy_->collector();
   if (!new_upstream && cells == served_cells_) return;
   const mission::RouteTimetable* route =

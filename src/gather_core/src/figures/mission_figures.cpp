@@ -147,12 +147,13 @@ void write_fig4_sync(const std::string& path, const plan::PlanContext& ctx, cons
                      const mission::MissionResult& result, int agent, double t0, double t1) {
   const OccupancyGrid& g = ctx.scenario.grid;
   const mission::MissionPlan& plan = sim.plan();
-  int collector = -1, segment = 0;
+  int collector = -1;
+  SegmentId segment;
   for (const auto& a : plan.file.agents)
     if (a.id == agent && !a.collector) collector = a.delivers_to, segment = a.segment;
   MapCanvas canvas(g);
   for (std::size_t i = 0; i < plan.labels.size(); ++i)
-    if (plan.labels[i] == segment) canvas.paint(g.cell(i), cv::Vec3b(215, 235, 250));
+    if (plan.labels[i] == segment.label()) canvas.paint(g.cell(i), cv::Vec3b(215, 235, 250));
   const cv::Scalar blue(200, 90, 20), red(30, 30, 210);
   fmm::FastMarching fm(g);
   const cv::Scalar window_colour(215, 205, 140), transfer_colour(60, 200, 60), rv_colour(120, 0, 120);

@@ -20,28 +20,28 @@ const std::vector<Rgb>& collector_palette() {
   return p;
 }
 
-std::vector<int> colour_segments(const LabelImage& labels, int segments, int palette) {
+PerSegment<int> colour_segments(const LabelImage& labels, int segments, int palette) {
   const int width = labels.width(), height = labels.height();
-  std::vector<std::set<int>> adj(static_cast<std::size_t>(segments));
+  PerSegment<std::set<SegmentId>> adj(segments);
   for (int r = 0; r < height; ++r)
     for (int c = 0; c < width; ++c) {
       const std::size_t i = static_cast<std::size_t>(r) * width + c;
-      const int32_t l = labels[i];
-      if (l <= 0) continue;
-      const int32_t right = c + 1 < width ? labels[i + 1] : 0;
-      const int32_t up = r + 1 < height ? labels[i + width] : 0;
-      for (int32_t m : {right, up})
-        if (m > 0 && m != l) adj[l - 1].insert(m - 1), adj[m - 1].insert(l - 1);
+      const SegmentId l(labels[i]);
+      if (!l.valid()) continue;
+      const SegmentId right(c + 1 < width ? labels[i + 1] : 0);
+      const SegmentId up(r + 1 < height ? labels[i + width] : 0);
+      for (SegmentId m : {right, up})
+        if (m.valid() && m != l) adj[l].insert(m), adj[m].insert(l);
     }
-  std::vector<int> order(static_cast<std::size_t>(segments));
-  for (int k = 0; k < segments; ++k) order[k] = k;
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return adj[a].size() > adj[b].size(); });
-  std::vector<int> colour(static_cast<std::size_t>(segments), -1);
+  std::vector<SegmentId> order;
+  for (SegmentId k : segment_ids(segments)) order.push_back(k);
+  std::stable_sort(order.begin(), order.end(), [&](SegmentId a, SegmentId b) { return adj[a].size() > adj[b].size(); });
+  PerSegment<int> colour(segments, -1);
   std::vector<int> used(static_cast<std::size_t>(palette), 0);
-  for (int k : order) {
+  for (SegmentId k : order) {
     std::vector<int> clash(static_cast<std::size_t>(palette), 0);
-    for (int m : adj[k])
-      if (colour[m] >= 0) ++clash[colour[m]];
+    for (SegmentId m : adj[k])
+      if (colour[m] >= 0) ++clash[static_cast<std::size_t>(colour[m])];
     // Fewest clashes first, then the least used colour (spreads the palette).
     int best = 0;
     for (int c = 1; c < palette; ++c)

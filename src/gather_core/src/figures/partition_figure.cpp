@@ -96,14 +96,14 @@ cv::Mat scaled(const cv::Mat& img, double s) {
 
 cv::Mat partition_panel(const OccupancyGrid& g, const PartitionResult& part, Point2 oc, const std::string& caption) {
   const int w = g.width(), h = g.height();
-  const std::vector<int> colour = colour_segments(part.labels, part.workers, static_cast<int>(fill_palette().size()));
+  const PerSegment<int> colour = colour_segments(part.labels, part.workers, static_cast<int>(fill_palette().size()));
   cv::Mat img = base_image(g);
   for (int r = 0; r < h; ++r)
     for (int c = 0; c < w; ++c) {
       const std::size_t i = static_cast<std::size_t>(h - 1 - r) * w + c;
       const int32_t l = part.labels[i];
       if (l <= 0) continue;
-      cv::Vec3b col = fill_palette()[static_cast<std::size_t>(colour[l - 1])];
+      cv::Vec3b col = fill_palette()[static_cast<std::size_t>(colour[SegmentId(l)])];
       // Segment borders (a 4-neighbour in another segment) drawn dark.
       const bool border = (c + 1 < w && part.labels[i + 1] > 0 && part.labels[i + 1] != l) ||
                           (c > 0 && part.labels[i - 1] > 0 && part.labels[i - 1] != l) ||

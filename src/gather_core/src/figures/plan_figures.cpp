@@ -41,7 +41,7 @@ void paint_segments(MapCanvas& canvas, const LabelImage& labels, const Mask& cov
       const bool border =
           (c + 1 < w && labels[i + 1] > 0 && labels[i + 1] != k) ||
           (r + 1 < h && labels[i + static_cast<std::size_t>(w)] > 0 && labels[i + static_cast<std::size_t>(w)] != k);
-      cv::Vec3b col = colour_of(k);
+      cv::Vec3b col = colour_of(SegmentId(k));
       if (coverage[i]) col = blend(col, cv::Vec3b(90, 90, 90), 0.28);
       canvas.paint(Cell{r, c}, border ? cv::Vec3b(70, 70, 70) : col);
     }
@@ -67,20 +67,19 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
 
   // (a) Worker graph.
   {
-    const std::vector<int> colour = colour_segments(labels, cfg.workers, static_cast<int>(pal.size()));
+    const PerSegment<int> colour = colour_segments(labels, cfg.workers, static_cast<int>(pal.size()));
     MapCanvas canvas(g);
-    paint_segments(canvas, labels, ctx.coverage,
-                   [&](int k) { return pal[static_cast<std::size_t>(colour[static_cast<std::size_t>(k - 1)])]; });
+    paint_segments(canvas, labels, ctx.coverage, [&](SegmentId k) { return pal[static_cast<std::size_t>(colour[k])]; });
     int edges = 0;
     for (const auto& s : cfg.graph.segments)
-      for (int m : s.neighbours)
-        if (m > s.id) {
+      for (SegmentId m : s.neighbours)
+        if (s.id < m) {
           canvas.polyline({s.centroid_m, cfg.graph.segment(m).centroid_m}, cv::Scalar(20, 20, 20), 2);
           ++edges;
         }
     for (const auto& s : cfg.graph.segments) {
       canvas.dot(s.centroid_m, cv::Scalar(255, 255, 255), dot);
-      canvas.label(s.centroid_m, std::to_string(s.id));
+      canvas.label(s.centroid_m, std::to_string(s.id.label()));
     }
     canvas.oc(ctx.scenario.oc);
     canvas.save(dir + "/fig2_graph.png",
@@ -91,8 +90,8 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
                  {LegendItem::kSquare, cv::Scalar(140, 140, 140), "OC coverage (darker)"}});
   }
   const cv::Vec3b direct_colour(205, 205, 205);
-  auto group_fill = [&](int k) {
-    const int c = cfg.collector_of_segment[static_cast<std::size_t>(k - 1)];
+  auto group_fill = [&](SegmentId k) {
+    const int c = cfg.collector_of_segment[k];
     return c < 0 ? direct_colour
                  : blend(to_vec(lines[static_cast<std::size_t>(c) % lines.size()]), cv::Vec3b(255, 255, 255), 0.55);
   };
@@ -110,7 +109,7 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
   {
     MapCanvas canvas(g);
     paint_segments(canvas, labels, ctx.coverage, group_fill);
-    for (const auto& s : cfg.graph.segments) canvas.label(s.centroid_m, std::to_string(s.id), 0.35);
+    for (const auto& s : cfg.graph.segments) canvas.label(s.centroid_m, std::to_string(s.id.label()), 0.35);
     canvas.oc(ctx.scenario.oc);
     canvas.save(dir + "/fig2_collector_segments.png", "(b) Collector segments S_col: " + what, group_legend);
   }
@@ -118,9 +117,9 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
   {
     MapCanvas canvas(g);
     paint_segments(canvas, labels, ctx.coverage,
-                   [&](int k) { return blend(group_fill(k), cv::Vec3b(255, 255, 255), 0.5); });
+                   [&](SegmentId k) { return blend(group_fill(k), cv::Vec3b(255, 255, 255), 0.5); });
     for (const auto& s : cfg.graph.segments) {
-      const int c = cfg.collector_of_segment[static_cast<std::size_t>(s.id - 1)];
+      const int c = cfg.collector_of_segment[s.id];
       if (c < 0) {
         canvas.polyline({s.centroid_m, ctx.scenario.oc}, cv::Scalar(0, 0, 200), 1, true);
         continue;

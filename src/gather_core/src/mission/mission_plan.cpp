@@ -51,8 +51,8 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
     throw Error(where, "cycle_period_s must be a finite value in (0, 1e6] s");
   if (!(pf.area_tile_m > 0 && pf.area_tile_m <= 1e6))
     throw Error(where, "area_tile_m must be a finite value in (0, 1e6] m");
-  std::vector<char> id_seen(static_cast<std::size_t>(n), 0), collector_seen(static_cast<std::size_t>(pf.collectors), 0),
-      segment_seen(static_cast<std::size_t>(pf.workers) + 1, 0);
+  std::vector<char> id_seen(static_cast<std::size_t>(n), 0), collector_seen(static_cast<std::size_t>(pf.collectors), 0);
+  PerSegment<char> segment_seen(pf.workers, 0);
   for (const plan::AgentAssignment& a : pf.agents) {
     const std::string who = "agent " + std::to_string(a.id);
     if (a.id < 0 || a.id >= n || id_seen[static_cast<std::size_t>(a.id)])
@@ -67,17 +67,17 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
       collector_seen[static_cast<std::size_t>(a.delivers_to)] = 1;
       continue;
     }
-    if (a.segment < 1 || a.segment > pf.workers || segment_seen[static_cast<std::size_t>(a.segment)])
+    if (!a.segment.within(pf.workers) || segment_seen[a.segment])
       throw Error(where, who + ": segment must be 1.." + std::to_string(pf.workers) + ", one worker each");
-    segment_seen[static_cast<std::size_t>(a.segment)] = 1;
+    segment_seen[a.segment] = 1;
     if (a.delivers_to < -1 || a.delivers_to >= pf.collectors)
       throw Error(where, who + ": collector must be -1 (the OC) or 0.." + std::to_string(pf.collectors - 1));
     if (a.delivers_to < 0) continue;
     const plan::CollectorRoute& r = pf.routes[static_cast<std::size_t>(a.delivers_to)];
     if (std::none_of(r.meetings.begin(), r.meetings.end(),
                      [&](const plan::MeetingArea& m) { return m.segment == a.segment; }))
-      throw Error(where, "collector " + std::to_string(a.delivers_to) + " has no meeting area for segment " +
-                             std::to_string(a.segment) + " (" + who + ")");
+      throw Error(where, "collector " + std::to_string(a.delivers_to) + " has no meeting area for " +
+                             to_string(a.segment) + " (" + who + ")");
   }
   const double x0 = grid.origin().x - 1.0, y0 = grid.origin().y - 1.0;
   const double x1 = grid.origin().x + grid.width() * grid.resolution() + 1.0;
@@ -100,12 +100,11 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
       throw Error(where, route + ": length_m is not finite or not the route's");
     for (double u : r.coverage_entries)
       if (!arc_ok(u)) throw Error(where, route + ": a coverage entry is not finite or off the route");
-    for (int seg : r.segments)
-      if (seg < 1 || seg > pf.workers)
-        throw Error(where, route + ": segment " + std::to_string(seg) + " does not exist");
+    for (SegmentId seg : r.segments)
+      if (!seg.within(pf.workers)) throw Error(where, route + ": " + to_string(seg) + " does not exist");
     for (const plan::MeetingArea& m : r.meetings) {
-      if (m.segment < 1 || m.segment > pf.workers)
-        throw Error(where, route + ": a meeting area's segment " + std::to_string(m.segment) + " does not exist");
+      if (!m.segment.within(pf.workers))
+        throw Error(where, route + ": a meeting area's " + to_string(m.segment) + " does not exist");
       if (!arc_ok(m.arc_m)) throw Error(where, route + ": a meeting area is not finite or off the route");
       for (double pass : m.passes)
         if (!arc_ok(pass)) throw Error(where, route + ": a pass is not finite or off the route");

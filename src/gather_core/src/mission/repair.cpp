@@ -29,7 +29,7 @@ RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, 
   // segments or dead workers not yet merged).
   std::vector<int> owner(static_cast<std::size_t>(segments) + 1, -1);
   for (const plan::AgentAssignment& a : base.file.agents)
-    if (!a.collector && a.segment >= 1 && a.segment <= segments) owner[static_cast<std::size_t>(a.segment)] = a.id;
+    if (!a.collector && a.segment.within(segments)) owner[static_cast<std::size_t>(a.segment.label())] = a.id;
   LabelImage& labels = out.plan.labels;
   const int w = labels.width(), h = labels.height();
   if (labels.frame().size() != labels.size()) throw RuntimeError("plan repair (internal error)", "label image size");
@@ -49,7 +49,7 @@ RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, 
     if (dying.collector) {
       for (plan::AgentAssignment& x : out.plan.file.agents)
         if (!x.collector && x.delivers_to == dying.delivers_to) x.delivers_to = -1;
-    } else if (dying.segment >= 1 && dying.segment <= segments) {
+    } else if (dying.segment.within(segments)) {
       waiting.push_back(a);
     }
   }
@@ -88,7 +88,7 @@ RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, 
       merged = false;
       for (std::size_t k = 0; k < waiting.size();) {
         const int32_t s =
-            now_label[static_cast<std::size_t>(base.file.agents[static_cast<std::size_t>(waiting[k])].segment)];
+            now_label[static_cast<std::size_t>(base.file.agents[static_cast<std::size_t>(waiting[k])].segment.label())];
         const int32_t into = neighbour(s);
         if (into > 0) {
           relabel(s, into);
@@ -101,14 +101,15 @@ RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, 
     }
   }
   for (int a : waiting) {  // no live neighbour, or kNone: nobody serves it
-    const int32_t s = now_label[static_cast<std::size_t>(base.file.agents[static_cast<std::size_t>(a)].segment)];
+    const int32_t s =
+        now_label[static_cast<std::size_t>(base.file.agents[static_cast<std::size_t>(a)].segment.label())];
     if (s >= 1) relabel(s, 0);
   }
-  out.worker_of_segment.assign(static_cast<std::size_t>(segments) + 1, -1);
-  for (int seg = 1; seg <= segments; ++seg) {
-    const int l = now_label[static_cast<std::size_t>(seg)];
+  out.worker_of_segment = PerSegment<int>(segments, -1);
+  for (SegmentId seg : segment_ids(segments)) {
+    const int l = now_label[static_cast<std::size_t>(seg.label())];
     const int o = l >= 1 ? owner[static_cast<std::size_t>(l)] : -1;
-    out.worker_of_segment[static_cast<std::size_t>(seg)] = o >= 0 && !out.dead[static_cast<std::size_t>(o)] ? o : -1;
+    out.worker_of_segment[seg] = o >= 0 && !out.dead[static_cast<std::size_t>(o)] ? o : -1;
   }
   return out;
 }

@@ -103,9 +103,8 @@ MissionResult MissionSimulator::run(const MissionOptions& opt) {
   Run run;
   run.cycles = opt.cycles;
   run.goals_of.assign(workers_.size(), std::vector<std::vector<int>>(static_cast<std::size_t>(opt.cycles)));
-  std::vector<int> worker_of_segment(static_cast<std::size_t>(plan_.file.workers) + 1, -1);
-  for (std::size_t i = 0; i < workers_.size(); ++i)
-    worker_of_segment[static_cast<std::size_t>(workers_[i].segment())] = static_cast<int>(i);
+  PerSegment<int> worker_of_segment(plan_.file.workers, -1);
+  for (std::size_t i = 0; i < workers_.size(); ++i) worker_of_segment[workers_[i].segment()] = static_cast<int>(i);
   auto add_goal = [&](int cycle, Cell cell) {
     GoalRecord g;
     g.id = static_cast<int>(run.goals.size());
@@ -114,7 +113,7 @@ MissionResult MissionSimulator::run(const MissionOptions& opt) {
     g.segment = plan_.labels[grid.index(cell)];
     g.requested_at = cycle * period_;
     g.deadline = (cycle + 1) * period_;
-    const int wi = g.segment > 0 ? worker_of_segment[static_cast<std::size_t>(g.segment)] : -1;
+    const int wi = g.segment > 0 ? worker_of_segment[SegmentId(g.segment)] : -1;
     if (wi >= 0) {
       g.worker = workers_[static_cast<std::size_t>(wi)].agent();
       run.goals_of[static_cast<std::size_t>(wi)][static_cast<std::size_t>(cycle)].push_back(g.id);

@@ -56,7 +56,7 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
   const std::string where = mp.source.empty() ? "plan" : mp.source;
   speed_ = world.scenario.team.speed;
   if (a.collector) throw Error(where, "agent " + std::to_string(a.id) + " is a collector, not a worker");
-  if (segment_ < 1 || segment_ > pf.workers) throw Error(where, "agent " + std::to_string(a.id) + ": bad segment");
+  if (!segment_.within(pf.workers)) throw Error(where, "agent " + std::to_string(a.id) + ": bad segment");
   if (collector_ >= pf.collectors) throw Error(where, "agent " + std::to_string(a.id) + ": bad collector");
   if (collector_ >= 0) {
     if (!route_) throw Error(where, "agent " + std::to_string(a.id) + ": no timetable of its collector");
@@ -64,8 +64,7 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
     const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
                                 [&](const plan::MeetingArea& x) { return x.segment == segment_; });
     if (m == r.meetings.end() || route_->idle())
-      throw Error(where, "collector " + std::to_string(collector_) + " has no meeting area for segment " +
-                             std::to_string(segment_));
+      throw Error(where, "collector " + std::to_string(collector_) + " has no meeting area for " + to_string(segment_));
     meeting_arc_ = m->arc_m;
     for (double pass : m->passes) {
       const Cell c = grid.world_to_cell(route_->position_at_arc(pass));
@@ -73,8 +72,7 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
       rendezvous_.push_back(c);
       rendezvous_arc_.push_back(pass);
     }
-    if (rendezvous_.empty())
-      throw Error(where, "segment " + std::to_string(segment_) + " has no reachable pass of its collector");
+    if (rendezvous_.empty()) throw Error(where, to_string(segment_) + " has no reachable pass of its collector");
     // Each pass's link window: from the pass along the route both ways while
     // the rendezvous point (where the worker waits) stays linked to the
     // collector, within one loop (the route starts and ends at the OC).
@@ -107,7 +105,7 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
     capacity_ = std::numeric_limits<std::size_t>::max();
   }
   for (std::size_t i = 0; i < mp.labels.size() && i < grid.size(); ++i)
-    if (mp.labels[i] == segment_ && world.reachable[i]) segment_cells_.push_back(grid.cell(i));
+    if (mp.labels[i] == segment_.label() && world.reachable[i]) segment_cells_.push_back(grid.cell(i));
   if (!segment_cells_.empty()) {
     int r0 = grid.height(), r1 = -1, c0 = grid.width(), c1 = -1;
     for (Cell c : segment_cells_)

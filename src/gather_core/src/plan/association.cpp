@@ -13,10 +13,10 @@ namespace plan {
 
 static constexpr double kInf = std::numeric_limits<double>::infinity();
 
-std::vector<int> segments_of(const ConfigurationPlan& cfg, int c) {
-  std::vector<int> segs;
+std::vector<SegmentId> segments_of(const ConfigurationPlan& cfg, int c) {
+  std::vector<SegmentId> segs;
   for (const WorkerSegment& seg : cfg.graph.segments)
-    if (cfg.collector_of_segment[static_cast<std::size_t>(seg.id - 1)] == c) segs.push_back(seg.id);
+    if (cfg.collector_of_segment[seg.id] == c) segs.push_back(seg.id);
   return segs;
 }
 
@@ -45,13 +45,14 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
   // undo() restores the state before the move.
   CollectorRoute saved_route;
   Estimates saved_estimates;
-  int saved_k = 0, saved_c = -1;
-  auto try_move = [&](int k) {
+  SegmentId saved_k;
+  int saved_c = -1;
+  auto try_move = [&](SegmentId k) {
     saved_k = k;
-    saved_c = cfg.collector_of_segment[static_cast<std::size_t>(k - 1)];
+    saved_c = cfg.collector_of_segment[k];
     saved_route = cfg.routes[static_cast<std::size_t>(saved_c)];
     saved_estimates = cfg.estimates;
-    cfg.collector_of_segment[static_cast<std::size_t>(k - 1)] = -1;
+    cfg.collector_of_segment[k] = -1;
     cfg.routes[static_cast<std::size_t>(saved_c)] =
         build_route(ctx, fm, cfg.graph, cfg.partition.labels, segments_of(cfg, saved_c), saved_c, opt);
     for (WorkerEstimate& w : cfg.estimates.workers)
@@ -61,7 +62,7 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
     return score(cfg.estimates, ctx);
   };
   auto undo = [&]() {
-    cfg.collector_of_segment[static_cast<std::size_t>(saved_k - 1)] = saved_c;
+    cfg.collector_of_segment[saved_k] = saved_c;
     cfg.routes[static_cast<std::size_t>(saved_c)] = saved_route;
     cfg.estimates = saved_estimates;
   };
@@ -71,15 +72,14 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
     bool known = false;
     double goals = 0.0, latency = 0.0, interval = 0.0;  // per cycle; [s]; [s]
   };
-  std::vector<OcAlternative> alternatives(cfg.graph.segments.size());
-  auto oc_alternative = [&](int segment) -> const OcAlternative& {
-    OcAlternative& a = alternatives[static_cast<std::size_t>(segment - 1)];
+  PerSegment<OcAlternative> alternatives(cfg.graph.segments.segments());
+  auto oc_alternative = [&](SegmentId segment) -> const OcAlternative& {
+    OcAlternative& a = alternatives[segment];
     if (a.known) return a;
     const WorkerSegment& seg = cfg.graph.segment(segment);
     const std::vector<double> pmf = goal_count_pmf(s.mission.goals_per_request, seg.area / ctx.reachable_area);
     const TourModel model = tour_model(seg, true, opt.tsp_constant);
-    const WorkerRun oc = run_oc_worker(model, first_trip(seg, model), pmf, v, T, cycles,
-                                       cfg.area_parts[static_cast<std::size_t>(segment - 1)]);
+    const WorkerRun oc = run_oc_worker(model, first_trip(seg, model), pmf, v, T, cycles, cfg.area_parts[segment]);
     a.known = true;
     a.goals = oc.delivered / cycles;
     a.latency = oc.delivered > 0 ? oc.refresh_sum / oc.delivered : 0.0;
@@ -99,7 +99,7 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
           s.planner.refresh == RefreshMetric::kInterval ? interval / n_workers : delivered * latency / goals;
       return s.planner.beta * delivered / G - s.planner.alpha * t / T;
     };
-    std::vector<std::pair<double, int>> gain;
+    std::vector<std::pair<double, SegmentId>> gain;
     for (const WorkerEstimate& w : cfg.estimates.workers) {
       if (w.collector < 0 || (only >= 0 && w.collector != only)) continue;
       const OcAlternative& oc = oc_alternative(w.segment);
@@ -114,17 +114,17 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
   // from the coverage (it usually shortens the route most).
   for (int c = 0; c < cfg.collectors; ++c) {
     while (cfg.routes[static_cast<std::size_t>(c)].period > T * (1.0 + 1e-9)) {
-      const std::vector<std::pair<double, int>> gain = ranked(c);
+      const std::vector<std::pair<double, SegmentId>> gain = ranked(c);
       if (gain.empty()) break;
-      std::vector<int> trials;
+      std::vector<SegmentId> trials;
       for (std::size_t i = 0; i < gain.size() && i < trials_per_step; ++i) trials.push_back(gain[i].second);
-      int farthest = gain.front().second;
+      SegmentId farthest = gain.front().second;
       for (const auto& [g, k] : gain)
         if (cfg.graph.segment(k).coverage_distance > cfg.graph.segment(farthest).coverage_distance) farthest = k;
       if (std::find(trials.begin(), trials.end(), farthest) == trials.end()) trials.push_back(farthest);
-      int best_k = trials.front();
+      SegmentId best_k = trials.front();
       double best = -kInf;
-      for (int k : trials) {
+      for (SegmentId k : trials) {
         const double j = try_move(k);
         undo();
         if (j > best) best = j, best_k = k;
@@ -135,15 +135,15 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
   }
   // 2. Decide, worker by worker, while a move raises J.
   for (double current = score(cfg.estimates, ctx);;) {
-    const std::vector<std::pair<double, int>> gain = ranked(-1);
-    int best_k = -1;
+    const std::vector<std::pair<double, SegmentId>> gain = ranked(-1);
+    SegmentId best_k;
     double best = current;
     for (std::size_t i = 0; i < gain.size() && i < trials_per_step; ++i) {
       const double j = try_move(gain[i].second);
       undo();
       if (j > best + 1e-12) best = j, best_k = gain[i].second;
     }
-    if (best_k < 0) break;
+    if (!best_k.valid()) break;
     current = try_move(best_k);
     ++cfg.moved_to_oc;
   }

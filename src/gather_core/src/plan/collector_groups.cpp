@@ -19,9 +19,8 @@ bool closer(const WorkerSegment& a, const WorkerSegment& b) {
 
 }  // namespace
 
-std::vector<int> group_segments(const WorkerGraph& graph, int collectors, const std::vector<double>& work) {
-  const std::size_t n = graph.segments.size();
-  std::vector<int> group(n, -1);
+PerSegment<int> group_segments(const WorkerGraph& graph, int collectors, const PerSegment<double>& work) {
+  PerSegment<int> group(graph.segments.segments(), -1);
   if (collectors <= 0) return group;
   std::vector<const WorkerSegment*> candidates;
   for (const WorkerSegment& s : graph.segments)
@@ -33,12 +32,12 @@ std::vector<int> group_segments(const WorkerGraph& graph, int collectors, const 
   // Seeds: the candidate nearest the coverage, then repeatedly the candidate
   // farthest from the seeds so far among the inner ring (candidates adjacent
   // to a direct segment, or all candidates if the ring is too small).
-  std::vector<uint8_t> direct(n + 1, 0);
-  for (const WorkerSegment& s : graph.segments) direct[static_cast<std::size_t>(s.id)] = s.touches_coverage;
+  PerSegment<uint8_t> direct(graph.segments.segments(), 0);
+  for (const WorkerSegment& s : graph.segments) direct[s.id] = s.touches_coverage;
   std::vector<const WorkerSegment*> ring;
   for (const WorkerSegment* s : candidates)
-    for (int m : s->neighbours)
-      if (direct[static_cast<std::size_t>(m)]) {
+    for (SegmentId m : s->neighbours)
+      if (direct[m]) {
         ring.push_back(s);
         break;
       }
@@ -58,8 +57,9 @@ std::vector<int> group_segments(const WorkerGraph& graph, int collectors, const 
   }
   std::vector<double> load(static_cast<std::size_t>(groups), 0.0);
   for (int g = 0; g < groups; ++g) {
-    group[static_cast<std::size_t>(seeds[static_cast<std::size_t>(g)]->id - 1)] = g;
-    load[static_cast<std::size_t>(g)] = work[static_cast<std::size_t>(seeds[static_cast<std::size_t>(g)]->id - 1)];
+    const SegmentId seed = seeds[static_cast<std::size_t>(g)]->id;
+    group[seed] = g;
+    load[static_cast<std::size_t>(g)] = work[seed];
   }
 
   // Growth: the least-loaded group that can grow takes its best neighbour.
@@ -73,10 +73,10 @@ std::vector<int> group_segments(const WorkerGraph& graph, int collectors, const 
     if (g_best < 0) break;
     const WorkerSegment* pick = nullptr;
     for (const WorkerSegment& s : graph.segments) {
-      if (group[static_cast<std::size_t>(s.id - 1)] != g_best) continue;
-      for (int m : s.neighbours) {
+      if (group[s.id] != g_best) continue;
+      for (SegmentId m : s.neighbours) {
         const WorkerSegment& cand = graph.segment(m);
-        if (cand.touches_coverage || group[static_cast<std::size_t>(m - 1)] >= 0) continue;
+        if (cand.touches_coverage || group[m] >= 0) continue;
         if (!pick || closer(cand, *pick)) pick = &cand;
       }
     }
@@ -84,21 +84,21 @@ std::vector<int> group_segments(const WorkerGraph& graph, int collectors, const 
       closed[static_cast<std::size_t>(g_best)] = 1;
       continue;
     }
-    group[static_cast<std::size_t>(pick->id - 1)] = g_best;
-    load[static_cast<std::size_t>(g_best)] += work[static_cast<std::size_t>(pick->id - 1)];
+    group[pick->id] = g_best;
+    load[static_cast<std::size_t>(g_best)] += work[pick->id];
   }
   // Candidates cut off from every group by direct segments.
   for (const WorkerSegment* s : candidates) {
-    if (group[static_cast<std::size_t>(s->id - 1)] >= 0) continue;
+    if (group[s->id] >= 0) continue;
     int g_best = 0;
     double best = std::numeric_limits<double>::infinity();
     for (const WorkerSegment& t : graph.segments) {
-      const int g = group[static_cast<std::size_t>(t.id - 1)];
+      const int g = group[t.id];
       if (g < 0) continue;
       const double d = centroid_distance(*s, t);
       if (d < best) best = d, g_best = g;
     }
-    group[static_cast<std::size_t>(s->id - 1)] = g_best;
+    group[s->id] = g_best;
   }
   return group;
 }

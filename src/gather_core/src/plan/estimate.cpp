@@ -303,16 +303,15 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
   const int cycles = std::max(1, s.mission.cycles);
   WorkerEstimate w;
   w.segment = seg.id;
-  w.collector = cfg.collector_of_segment[static_cast<std::size_t>(seg.id - 1)];
+  w.collector = cfg.collector_of_segment[seg.id];
   w.expected_goals = G * seg.area / ctx.reachable_area;
   const std::vector<double> pmf = goal_count_pmf(static_cast<int>(G), seg.area / ctx.reachable_area);
   WorkerRun run;
-  run.areas = cfg.area_parts[static_cast<std::size_t>(seg.id - 1)];  // no deliveries unless a run below finds some
+  run.areas = cfg.area_parts[seg.id];  // no deliveries unless a run below finds some
   if (w.collector < 0) {
     const TourModel model = tour_model(seg, true, c);
     w.tour_s = model.length(w.expected_goals) / v;
-    run = run_oc_worker(model, first_trip(seg, model), pmf, v, T, cycles,
-                        cfg.area_parts[static_cast<std::size_t>(seg.id - 1)]);
+    run = run_oc_worker(model, first_trip(seg, model), pmf, v, T, cycles, cfg.area_parts[seg.id]);
   } else {
     const CollectorRoute& r = cfg.routes[static_cast<std::size_t>(w.collector)];
     const auto m =
@@ -321,7 +320,7 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
     w.tour_s = model.length(w.expected_goals) / v;
     if (m != r.meetings.end())
       run = run_collector_worker(r, *m, contact_stretches(r, *m, seg.centroid_m, radio), model, pmf, v, T, cycles,
-                                 cfg.area_parts[static_cast<std::size_t>(seg.id - 1)], transfer_s(s, 1));
+                                 cfg.area_parts[seg.id], transfer_s(s, 1));
   }
   w.delivered_goals = run.delivered / cycles;
   w.refresh_s = run.delivered > 0 ? run.refresh_sum / run.delivered : 0.0;

@@ -30,10 +30,10 @@ PlanFile make_plan_file(const PlanContext& ctx, const ConfigurationPlan& cfg, co
   p.est_goals = cfg.estimates.goals;
   p.est_interval_s = cfg.estimates.interval_s;
   p.utility = cfg.utility;
-  for (int c = 0; c < cfg.collectors; ++c) p.agents.push_back(AgentAssignment{c, true, 0, c});
-  for (int k = 1; k <= cfg.workers; ++k)
+  for (int c = 0; c < cfg.collectors; ++c) p.agents.push_back(AgentAssignment{c, true, SegmentId(), c});
+  for (SegmentId k : segment_ids(cfg.workers))
     p.agents.push_back(
-        AgentAssignment{cfg.collectors + k - 1, false, k, cfg.collector_of_segment[static_cast<std::size_t>(k - 1)]});
+        AgentAssignment{cfg.collectors + static_cast<int>(k.index()), false, k, cfg.collector_of_segment[k]});
   p.routes = cfg.routes;
   p.workers_est = cfg.estimates.workers;
   return p;

@@ -16,6 +16,13 @@ namespace {
 
 void point(YAML::Emitter& y, Point2 p) { y << YAML::Flow << YAML::BeginSeq << p.x << p.y << YAML::EndSeq; }
 
+// The file names segments by their labels.
+std::vector<int> labels_of(const std::vector<SegmentId>& segments) {
+  std::vector<int> out;
+  for (SegmentId s : segments) out.push_back(s.label());
+  return out;
+}
+
 Point2 read_point(const yaml::Fields& f, const std::string& key) {
   const std::vector<double> v = f.required<std::vector<double>>(key);
   if (v.size() != 2) throw Error(f.file(), "'" + f.name(key) + "' must be [x, y]");
@@ -53,23 +60,23 @@ void write_plan_file(const std::string& path, const PlanFile& p) {
   y << YAML::Key << "agents" << YAML::Value << YAML::BeginSeq;
   for (const AgentAssignment& a : p.agents) {
     y << YAML::Flow << YAML::BeginMap << YAML::Key << "id" << YAML::Value << a.id << YAML::Key << "role" << YAML::Value
-      << (a.collector ? "collector" : "worker") << YAML::Key << "segment" << YAML::Value << a.segment << YAML::Key
-      << "collector" << YAML::Value << a.delivers_to << YAML::EndMap;
+      << (a.collector ? "collector" : "worker") << YAML::Key << "segment" << YAML::Value << a.segment.label()
+      << YAML::Key << "collector" << YAML::Value << a.delivers_to << YAML::EndMap;
   }
   y << YAML::EndSeq;
   y << YAML::Key << "routes" << YAML::Value << YAML::BeginSeq;
   for (const CollectorRoute& r : p.routes) {
     y << YAML::BeginMap;
     y << YAML::Key << "collector" << YAML::Value << r.collector;
-    y << YAML::Key << "segments" << YAML::Value << YAML::Flow << r.segments;
+    y << YAML::Key << "segments" << YAML::Value << YAML::Flow << labels_of(r.segments);
     y << YAML::Key << "length_m" << YAML::Value << r.length;
     y << YAML::Key << "period_s" << YAML::Value << r.period;
     y << YAML::Key << "min_clearance_m" << YAML::Value << r.min_clearance;
     y << YAML::Key << "coverage_entries_m" << YAML::Value << YAML::Flow << r.coverage_entries;
     y << YAML::Key << "meetings" << YAML::Value << YAML::BeginSeq;
     for (const MeetingArea& m : r.meetings) {
-      y << YAML::Flow << YAML::BeginMap << YAML::Key << "segment" << YAML::Value << m.segment << YAML::Key << "point"
-        << YAML::Value;
+      y << YAML::Flow << YAML::BeginMap << YAML::Key << "segment" << YAML::Value << m.segment.label() << YAML::Key
+        << "point" << YAML::Value;
       point(y, m.point);
       y << YAML::Key << "at_m" << YAML::Value << m.arc_m << YAML::Key << "passes_m" << YAML::Value << YAML::Flow
         << m.passes << YAML::EndMap;
@@ -82,10 +89,10 @@ void write_plan_file(const std::string& path, const PlanFile& p) {
   y << YAML::EndSeq;
   y << YAML::Key << "worker_estimates" << YAML::Value << YAML::BeginSeq;
   for (const WorkerEstimate& w : p.workers_est) {
-    y << YAML::Flow << YAML::BeginMap << YAML::Key << "segment" << YAML::Value << w.segment << YAML::Key << "collector"
-      << YAML::Value << w.collector << YAML::Key << "expected_goals" << YAML::Value << w.expected_goals << YAML::Key
-      << "delivered_goals" << YAML::Value << w.delivered_goals << YAML::Key << "tour_s" << YAML::Value << w.tour_s
-      << YAML::Key << "refresh_s" << YAML::Value << w.refresh_s << YAML::EndMap;
+    y << YAML::Flow << YAML::BeginMap << YAML::Key << "segment" << YAML::Value << w.segment.label() << YAML::Key
+      << "collector" << YAML::Value << w.collector << YAML::Key << "expected_goals" << YAML::Value << w.expected_goals
+      << YAML::Key << "delivered_goals" << YAML::Value << w.delivered_goals << YAML::Key << "tour_s" << YAML::Value
+      << w.tour_s << YAML::Key << "refresh_s" << YAML::Value << w.refresh_s << YAML::EndMap;
   }
   y << YAML::EndSeq << YAML::EndMap;
   std::error_code ec;
@@ -131,7 +138,7 @@ PlanFile read_plan_file(const std::string& path) {
     if (role != "collector" && role != "worker")
       throw Error(path, "'" + a.name("role") + "' must be collector or worker");
     x.collector = role == "collector";
-    x.segment = a.required<int>("segment");
+    x.segment = SegmentId(a.required<int>("segment"));
     x.delivers_to = a.required<int>("collector");
     p.agents.push_back(x);
   }
@@ -141,7 +148,7 @@ PlanFile read_plan_file(const std::string& path) {
              "waypoints"});
     CollectorRoute x;
     x.collector = r.required<int>("collector");
-    x.segments = r.required<std::vector<int>>("segments");
+    for (int label : r.required<std::vector<int>>("segments")) x.segments.push_back(SegmentId(label));
     x.length = r.required<double>("length_m");
     x.period = r.required<double>("period_s");
     x.min_clearance = r.required<double>("min_clearance_m");
@@ -149,8 +156,8 @@ PlanFile read_plan_file(const std::string& path) {
     const YAML::Node node = routes[p.routes.size()];
     for (const yaml::Fields& m : items(node, path, "meetings")) {
       m.allow({"segment", "point", "at_m", "passes_m"});
-      x.meetings.push_back(MeetingArea{m.required<int>("segment"), read_point(m, "point"), m.required<double>("at_m"),
-                                       m.required<std::vector<double>>("passes_m")});
+      x.meetings.push_back(MeetingArea{SegmentId(m.required<int>("segment")), read_point(m, "point"),
+                                       m.required<double>("at_m"), m.required<std::vector<double>>("passes_m")});
     }
     for (const auto& w : r.required<std::vector<std::vector<double>>>("waypoints")) {
       if (w.size() != 2) throw Error(path, "route waypoints must be [x, y]");
@@ -161,7 +168,7 @@ PlanFile read_plan_file(const std::string& path) {
   for (const yaml::Fields& w : items(root, path, "worker_estimates")) {
     w.allow({"segment", "collector", "expected_goals", "delivered_goals", "tour_s", "refresh_s"});
     WorkerEstimate x;
-    x.segment = w.required<int>("segment");
+    x.segment = SegmentId(w.required<int>("segment"));
     x.collector = w.required<int>("collector");
     x.expected_goals = w.required<double>("expected_goals");
     x.delivered_goals = w.required<double>("delivered_goals");

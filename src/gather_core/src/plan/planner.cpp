@@ -115,14 +115,14 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
   {
     const std::size_t tiles = ctx.tile_ids.size(), workers = static_cast<std::size_t>(cfg.workers);
     std::vector<int32_t> part(tiles * workers, -1);  // [segment][tile] -> index in area_parts[segment]
-    cfg.area_parts.assign(workers, {});
+    cfg.area_parts = PerSegment<std::vector<AreaDeliveries>>(cfg.workers);
     const double cell = s.grid.cell_area();
     for (std::size_t i = 0; i < cfg.partition.labels.size(); ++i) {
-      const int k = cfg.partition.labels[i];
+      const SegmentId k(cfg.partition.labels[i]);
       const int32_t t = ctx.tile_of_cell[i];
-      if (k <= 0 || k > cfg.workers || t < 0) continue;
-      std::vector<AreaDeliveries>& parts = cfg.area_parts[static_cast<std::size_t>(k - 1)];
-      int32_t& j = part[static_cast<std::size_t>(k - 1) * tiles + static_cast<std::size_t>(t)];
+      if (!k.valid() || k.label() > cfg.workers || t < 0) continue;
+      std::vector<AreaDeliveries>& parts = cfg.area_parts[k];
+      int32_t& j = part[k.index() * tiles + static_cast<std::size_t>(t)];
       if (j < 0)
         j = static_cast<int32_t>(parts.size()),
         parts.push_back(AreaDeliveries{ctx.tile_ids[static_cast<std::size_t>(t)]});
@@ -141,10 +141,10 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
   }
 
   t0 = Clock::now();
-  std::vector<double> work;
+  PerSegment<double> work(cfg.workers);
   for (const WorkerSegment& seg : cfg.graph.segments) {
     const double g = s.mission.goals_per_request * seg.area / ctx.reachable_area;
-    work.push_back(tour_model(seg, false, opt.tsp_constant).length(g) / s.team.speed);
+    work[seg.id] = tour_model(seg, false, opt.tsp_constant).length(g) / s.team.speed;
   }
   cfg.collector_of_segment = group_segments(cfg.graph, collectors, work);
   cfg.times.groups_ms = ms_since(t0);

@@ -82,7 +82,7 @@ std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
 // segments: geodesic legs from FMM, visiting order by mission::order_closed_tour,
 // polished with OMPL.
 CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const WorkerGraph& graph,
-                           const LabelImage& labels, const std::vector<int>& segments, int collector,
+                           const LabelImage& labels, const std::vector<SegmentId>& segments, int collector,
                            const PlannerOptions& opt) {
   const Scenario& s = ctx.scenario;
   const OccupancyGrid& grid = s.grid;
@@ -93,7 +93,7 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
     return route;
   }
   std::vector<Point2> pts{s.oc};
-  for (int k : segments) pts.push_back(grid.cell_center(graph.segment(k).entry));
+  for (SegmentId k : segments) pts.push_back(grid.cell_center(graph.segment(k).entry));
   const std::size_t n = pts.size();
   // Visiting order on straight-line distances (cheap, and the legs between
   // consecutive stops are short, so each leg's march stops early).
@@ -142,7 +142,7 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
   const std::vector<double> arc = fmm::path_arcs(route.waypoints);
   double from_m = 0.0;
   for (int stop : order) {
-    const int seg = segments[static_cast<std::size_t>(stop - 1)];
+    const SegmentId seg = segments[static_cast<std::size_t>(stop - 1)];
     const Point2 target = pts[static_cast<std::size_t>(stop)];
     MeetingArea m;
     m.segment = seg;
@@ -173,11 +173,9 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
     const int stride = std::max(1, static_cast<int>(std::lround(0.2 / grid.resolution())));
     const double step = 0.5;
     std::vector<double> open_since(segments.size(), -1.0);
-    std::vector<int> index_of(static_cast<std::size_t>(graph.segments.size()) + 1,
-                              -1);  // label -> position in `segments`
-    for (std::size_t i = 0; i < segments.size(); ++i)
-      index_of[static_cast<std::size_t>(segments[i])] = static_cast<int>(i);
-    auto seg_index = [&](int32_t label) { return label > 0 ? index_of[static_cast<std::size_t>(label)] : -1; };
+    PerSegment<int> index_of(graph.segments.segments(), -1);  // position in `segments`
+    for (std::size_t i = 0; i < segments.size(); ++i) index_of[segments[i]] = static_cast<int>(i);
+    auto seg_index = [&](int32_t label) { return label > 0 ? index_of[SegmentId(label)] : -1; };
     std::vector<uint8_t> near(segments.size());
     const double total = arc.back();
     for (double at = 0.0;; at = std::min(total, at + step)) {

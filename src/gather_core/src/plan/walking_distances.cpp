@@ -42,11 +42,10 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
   constexpr std::size_t kQuantiles = 16;  // WorkerSegment::home_quantiles holds 17
   const auto pair_sources = static_cast<std::size_t>(opt.pair_sources);
   const OccupancyGrid& grid = ctx.scenario.grid;
-  std::vector<std::vector<Cell>> cells(graph.segments.size());
+  PerSegment<std::vector<Cell>> cells(graph.segments.segments());
   for (std::size_t i = 0; i < labels.size() && i < grid.size(); ++i) {
-    const int k = labels[i];
-    if (k > 0 && static_cast<std::size_t>(k) <= cells.size() && ctx.reachable[i])
-      cells[static_cast<std::size_t>(k - 1)].push_back(grid.cell(i));
+    const SegmentId k(labels[i]);
+    if (k.valid() && k.label() <= cells.segments() && ctx.reachable[i]) cells[k].push_back(grid.cell(i));
   }
   Field rank(labels.frame(), -1.0f);
   std::vector<uint64_t> order;
@@ -81,7 +80,7 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     for (double t : out)
       if (t < kInf) sum += t, ++n;
   };
-  for (std::size_t k = 0; k < cells.size(); ++k) {
+  for (SegmentId k : segment_ids(cells.segments())) {
     WorkerSegment& seg = graph.segments[k];
     seg.mean_home_distance = seg.mean_coverage_distance;
     seg.mean_pair_distance = kSquarePairDistance * std::sqrt(seg.area);  // an open square's, until measured

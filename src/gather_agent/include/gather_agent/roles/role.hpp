@@ -70,7 +70,7 @@ class TeamSetup {
   int agents() const { return static_cast<int>(assignment_.size()); }
   const plan::AgentAssignment& assignment(int agent) const { return assignment_[static_cast<std::size_t>(agent)]; }
   int collector_agent(int collector) const { return collector_agent_[static_cast<std::size_t>(collector)]; }
-  int worker_of_segment(int segment) const { return worker_of_segment_[static_cast<std::size_t>(segment)]; }
+  int worker_of_segment(SegmentId segment) const { return worker_of_segment_[segment]; }
   // Link between two positions [m] (the free-space range first, cheap).
   bool linked(Point2 a, Point2 b) const;
   // Where agent `agent` waits before the mission (free cells next to the OC).
@@ -95,7 +95,7 @@ class TeamSetup {
  private:
   std::vector<plan::AgentAssignment> assignment_;  // by agent id
   std::vector<int> collector_agent_;               // agent id by collector index
-  std::vector<int> worker_of_segment_;             // agent id by segment, -1 none
+  PerSegment<int> worker_of_segment_;              // agent id by segment, -1 none
   std::vector<double> meeting_arc_;                // [m] by agent id (workers of collectors)
   std::vector<Point2> start_;
   double range_ = 0.0;

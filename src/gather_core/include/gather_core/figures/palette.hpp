@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "gather_core/grid/raster.hpp"
+#include "gather_core/segment_id.hpp"
 
 namespace gather {
 namespace figures {
@@ -22,10 +23,10 @@ const std::vector<Rgb>& segment_palette();
 // other; no black or grey (grey stands for "delivers to the OC").
 const std::vector<Rgb>& collector_palette();
 
-// Colour index per segment (index k-1 for segment k) such that segments that
+// Colour index per segment such that segments that
 // share an edge get different colours when `palette` colours suffice (greedy
 // colouring, most-connected segments first).
-std::vector<int> colour_segments(const LabelImage& labels, int segments, int palette);
+PerSegment<int> colour_segments(const LabelImage& labels, int segments, int palette);
 
 }  // namespace figures
 }  // namespace gather

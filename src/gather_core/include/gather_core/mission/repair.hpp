@@ -37,8 +37,8 @@ RepairMode parse_repair_mode(const std::string& text, const std::string& where);
 // Every label image of `base` must be of base.width x base.height.
 struct RepairedPlan {
   MissionPlan plan;
-  std::vector<uint8_t> dead;           // by agent id
-  std::vector<int> worker_of_segment;  // agent id by original segment (1..N_w), -1: nobody
+  std::vector<uint8_t> dead;          // by agent id
+  PerSegment<int> worker_of_segment;  // agent id by original segment, -1: nobody
 };
 RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, RepairMode mode);
 

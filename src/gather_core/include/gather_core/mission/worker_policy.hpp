@@ -108,7 +108,7 @@ class WorkerPolicy {
   WorkerPolicy(WorkerPolicy&&) noexcept;
 
   int agent() const { return agent_; }
-  int segment() const { return segment_; }
+  SegmentId segment() const { return segment_; }
   int collector() const { return collector_; }  // -1: delivers to the OC
   bool delivers_to_oc() const { return collector_ < 0; }
   const RouteTimetable* route() const { return route_; }
@@ -198,7 +198,9 @@ class WorkerPolicy {
   const World& world_;
   SharedDistances& shared_;
   const RouteTimetable* route_ = nullptr;
-  int agent_ = 0, segment_ = 0, collector_ = -1;
+  int agent_ = 0;
+  SegmentId segment_;
+  int collector_ = -1;
   double speed_ = 1.0;
   double meeting_arc_ = 0.0;
   std::vector<Cell> rendezvous_;                        // cells of its collector's passes next to its segment

@@ -11,12 +11,12 @@ namespace plan {
 // Segments that touch the OC's radio coverage deliver to the OC directly; the
 // others are grown into `collectors` groups from the OC outward: seeds are the
 // segments nearest the coverage, spread apart; then the group with the least
-// estimated work (`work` [s], index k-1 for segment k) takes its adjacent
+// estimated work (`work` [s] per segment) takes its adjacent
 // unassigned segment nearest the coverage, so groups stay connected and
 // balanced. Segments no group can reach through other segments go to the
 // group with the nearest centroid (connected through the OC area).
 // With collectors == 0 every segment goes to the OC. Deterministic.
-std::vector<int> group_segments(const WorkerGraph& graph, int collectors, const std::vector<double>& work);
+PerSegment<int> group_segments(const WorkerGraph& graph, int collectors, const PerSegment<double>& work);
 
 }  // namespace plan
 }  // namespace gather

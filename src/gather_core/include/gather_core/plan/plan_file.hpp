@@ -14,7 +14,7 @@ namespace plan {
 struct AgentAssignment {
   int id = 0;
   bool collector = false;
-  int segment = 0;       // workers: their segment 1..N_w; collectors: 0
+  SegmentId segment;     // workers: their segment 1..N_w; collectors: none (0)
   int delivers_to = -1;  // workers: their collector 0..N_c-1, or -1 = the OC; collectors: their own index
 };
 

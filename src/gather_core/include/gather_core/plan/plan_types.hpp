@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gather_core/grid/occupancy_grid.hpp"
+#include "gather_core/segment_id.hpp"
 
 namespace gather {
 namespace plan {
@@ -18,7 +19,7 @@ namespace plan {
 // segment's entry (where the request is handed over), and every stretch of the
 // route that passes next to the segment (where data can be handed over).
 struct MeetingArea {
-  int segment = 0;             // worker segment id
+  SegmentId segment;           // the worker segment it serves
   Point2 point;                // [m] on the route, next to the segment
   double arc_m = 0.0;          // [m] arc length of `point` from the route start
   std::vector<double> passes;  // [m] arc lengths of the middles of the stretches passing next to the segment
@@ -27,9 +28,9 @@ struct MeetingArea {
 // A collector's closed route: from the OC through its meeting areas and back
 // into the OC's coverage.
 struct CollectorRoute {
-  int collector = 0;              // 0..N_c-1
-  std::vector<int> segments;      // worker segments it serves, in visiting order
-  std::vector<Point2> waypoints;  // [m] polished, first and last at the OC
+  int collector = 0;                // 0..N_c-1
+  std::vector<SegmentId> segments;  // worker segments it serves, in visiting order
+  std::vector<Point2> waypoints;    // [m] polished, first and last at the OC
   std::vector<MeetingArea> meetings;
   double length = 0.0;                   // [m]
   double period = 0.0;                   // [s] length / speed
@@ -107,7 +108,7 @@ struct AreaDeliveries {
 };
 
 struct WorkerEstimate {
-  int segment = 0;
+  SegmentId segment;
   int collector = -1;                 // -1: delivers to the OC directly
   double expected_goals = 0.0;        // goals of one request falling in its segment
   double delivered_goals = 0.0;       // of those, measured within the cycle

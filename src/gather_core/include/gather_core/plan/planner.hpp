@@ -109,9 +109,9 @@ struct ConfigurationPlan {
   int workers = 0;
   partition::PartitionResult partition;
   WorkerGraph graph;
-  std::vector<int> collector_of_segment;                // index k-1: collector of segment k, -1 = the OC
-  std::vector<std::vector<AreaDeliveries>> area_parts;  // index k-1: the tiles of segment k (no deliveries)
-  int moved_to_oc = 0;                                  // segments the association step gave back to the OC
+  PerSegment<int> collector_of_segment;                // collector 0..N_c-1 of the segment, -1 = the OC
+  PerSegment<std::vector<AreaDeliveries>> area_parts;  // the tiles of each segment (no deliveries)
+  int moved_to_oc = 0;                                 // segments the association step gave back to the OC
   std::vector<CollectorRoute> routes;
   Estimates estimates;
   double utility = 0.0;

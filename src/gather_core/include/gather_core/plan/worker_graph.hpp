@@ -5,17 +5,18 @@
 #include <vector>
 
 #include "gather_core/grid/occupancy_grid.hpp"
+#include "gather_core/segment_id.hpp"
 
 namespace gather {
 namespace plan {
 
 struct WorkerSegment {
-  int id = 0;  // label 1..N_w
+  SegmentId id;
   std::size_t cells = 0;
-  double area = 0.0;            // [m^2]
-  Cell centroid;                // segment cell nearest to its centre of mass
-  Point2 centroid_m;            // [m]
-  std::vector<int> neighbours;  // ids of segments sharing a 4-neighbour border, ascending
+  double area = 0.0;                  // [m^2]
+  Cell centroid;                      // segment cell nearest to its centre of mass
+  Point2 centroid_m;                  // [m]
+  std::vector<SegmentId> neighbours;  // segments sharing a 4-neighbour border, ascending
   // Geodesic distance [m] from the OC's radio coverage to the segment's
   // nearest cell (0 when the segment overlaps the coverage), and that cell:
   // where the segment is cheapest to reach from the OC.
@@ -43,8 +44,8 @@ struct WorkerSegment {
 };
 
 struct WorkerGraph {
-  std::vector<WorkerSegment> segments;  // index k-1 holds segment k
-  const WorkerSegment& segment(int id) const { return segments[static_cast<std::size_t>(id - 1)]; }
+  PerSegment<WorkerSegment> segments;
+  const WorkerSegment& segment(SegmentId id) const { return segments[id]; }
 };
 
 // `labels`: partition labels (0 = none, 1..workers) in the grid's frame; `coverage`:
