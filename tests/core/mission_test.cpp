@@ -151,7 +151,7 @@ TEST(MissionMetricsTest, IntervalPerAreaByHand) {
   // are one area.
   auto goal = [](int segment, double x, double delivered_at) {
     GoalRecord g;
-    g.segment = segment, g.point = Point2{x, 1.0}, g.delivered_at = delivered_at;
+    g.segment = SegmentId(segment), g.point = Point2{x, 1.0}, g.delivered_at = delivered_at;
     return g;
   };
   mission::AreaWeights areas;
@@ -247,7 +247,7 @@ TEST(HandoverTest, ATransferThatNeedsTenSecondsPicksAPassWhereTheLinkLastsTenSec
     const mission::MissionPlan mp = testing_support::lingering_plan(s);
     const mission::RouteTimetable route(mp.file.routes[0], s.team.speed, s.mission.period, world.coverage);
     mission::SharedDistances shared(world);
-    mission::WorkerPolicy policy(world, mp, mp.file.agents[1], &route, shared, 4);
+    mission::WorkerPolicy policy(world, mp, mp.file.agents[1], &route, shared, 4, mission::ProtocolParams{});
     const double range = RadioModel(s.grid, s.radio).free_space_range();
     EXPECT_NEAR(policy.link_window(0).first, 9.5 - range, 0.1);
     EXPECT_NEAR(policy.link_window(0).second, 9.5 + range, 0.1);
@@ -284,6 +284,36 @@ TEST(HandoverTest, ATransferThatNeedsTenSecondsPicksAPassWhereTheLinkLastsTenSec
 // without a rate. One hand-over carries one goal (capacity 1): the second
 // goal is measured only once the first has gone; without a rate, on the
 // way out.
+TEST(HandoverTest, TheProtocolsSamplingStepsAreParametersWithRanges) {
+  Scenario s = testing_support::lingering_strip();
+  const mission::World world(s);
+  const mission::MissionPlan mp = testing_support::lingering_plan(s);
+  const mission::RouteTimetable route(mp.file.routes[0], s.team.speed, s.mission.period, world.coverage);
+  mission::SharedDistances shared(world);
+  mission::ProtocolParams coarse;
+  coarse.link_step_m = 0.7;
+  const mission::WorkerPolicy fine_policy(world, mp, mp.file.agents[1], &route, shared, 4, mission::ProtocolParams{});
+  const mission::WorkerPolicy coarse_policy(world, mp, mp.file.agents[1], &route, shared, 4, coarse);
+  // A coarser step finds a window no wider, and not the same to the decimetre.
+  const auto fine = fine_policy.link_window(0), wide = coarse_policy.link_window(0);
+  EXPECT_GE(wide.first, fine.first - 1e-9);
+  EXPECT_LE(wide.second, fine.second + 1e-9);
+  EXPECT_GT((wide.first - fine.first) + (fine.second - wide.second), 0.05);
+  mission::ProtocolParams bad;
+  bad.link_step_m = 0.0;
+  try {
+    mission::WorkerPolicy refused(world, mp, mp.file.agents[1], &route, shared, 4, bad);
+    FAIL() << "link_step_m = 0 was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("link_step_m = 0 must be in [0.01, 1] m"), std::string::npos) << e.what();
+  }
+  mission::MissionSimulator sim(world, mp);
+  MissionOptions opt;
+  opt.cycles = 1;
+  opt.link_probe_s = 0.0;
+  EXPECT_THROW(sim.run(opt), Error);
+}
+
 TEST(HandoverTest, TheSimulatorHandsOverAfterTheTransferTime) {
   for (const double bitrate : {1000.0, 0.0}) {
     Scenario s = testing_support::lingering_strip();

@@ -227,6 +227,30 @@ TEST_F(PlanTest, OptionsOutsideTheirRangeNameTheField) {
   opt.tsp_constant = std::nan("");
   EXPECT_THROW(plan::check_options(opt), Error);
   EXPECT_NO_THROW(plan::check_options(plan::PlannerOptions{}));
+  opt = plan::PlannerOptions{};
+  opt.pass_radius_m = 0.05;
+  EXPECT_THROW(plan::check_options(opt), Error);
+}
+
+TEST_F(PlanTest, ThePassRadiusDecidesWhereARoutePassesNextToASegment) {
+  // The grown groups (routes that serve segments); a 10 cm radius leaves
+  // the route fewer and shorter stretches next to its segments.
+  plan::PlannerOptions grown, narrow;
+  grown.associate = narrow.associate = false;
+  narrow.pass_radius_m = 0.1;
+  const auto base = plan::plan_configuration(*ctx_, partition::Method::kPap, 2, grown);
+  const auto far = plan::plan_configuration(*ctx_, partition::Method::kPap, 2, narrow);
+  std::size_t passes_base = 0, passes_far = 0;
+  bool differ = false;
+  ASSERT_EQ(base.routes.size(), far.routes.size());
+  for (std::size_t r = 0; r < base.routes.size(); ++r)
+    for (std::size_t m = 0; m < base.routes[r].meetings.size() && m < far.routes[r].meetings.size(); ++m) {
+      passes_base += base.routes[r].meetings[m].passes.size();
+      passes_far += far.routes[r].meetings[m].passes.size();
+      differ = differ || base.routes[r].meetings[m].passes != far.routes[r].meetings[m].passes;
+    }
+  EXPECT_GT(passes_base, 0u);
+  EXPECT_TRUE(differ) << "a 10 cm radius gives the same passes as a 1 m one";
 }
 
 }  // namespace

@@ -35,8 +35,8 @@ OcRole::OcRole(TeamSetup& team, MotionBackend& station) : Role(kOc, station), te
     g.id = static_cast<int>(goals_.size());
     g.cycle = d.cycle;
     g.point = grid.cell_center(d.cell);
-    g.segment = team.plan.labels[grid.index(d.cell)];
-    g.worker = g.segment > 0 ? team.worker_of_segment(SegmentId(g.segment)) : -1;
+    g.segment = SegmentId(team.plan.labels[grid.index(d.cell)]);
+    g.worker = g.segment.valid() ? team.worker_of_segment(g.segment) : -1;
     g.requested_at = -1.0;
     g.deadline = g.worker >= 0 ? team.deadline(g.worker, g.cycle) : std::numeric_limits<double>::infinity();
     goals_.push_back(g);
@@ -124,8 +124,8 @@ void OcRole::declare_dead(int16_t agent, double now, Outbox& out) {
   for (std::size_t i = requested(); i < goals_.size(); ++i) {
     mission::GoalRecord& g = goals_[i];
     const bool was_unassigned = g.worker < 0;
-    g.segment = repair_->plan.labels[cell_of_[i]];
-    g.worker = g.segment > 0 ? team_.worker_of_segment(SegmentId(g.segment)) : -1;
+    g.segment = SegmentId(repair_->plan.labels[cell_of_[i]]);
+    g.worker = g.segment.valid() ? team_.worker_of_segment(g.segment) : -1;
     g.deadline = g.worker < 0 || assigned(g.worker).delivers_to < 0 ? std::numeric_limits<double>::infinity()
                                                                     : team_.deadline(g.worker, g.cycle);
     if (g.worker < 0 && !was_unassigned) unassigned_.push_back(g.id);

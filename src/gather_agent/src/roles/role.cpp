@@ -64,6 +64,8 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
   if (params.goals_per_request < 0) throw Error(where, "goals per request must be >= 0");
   if (!(params.silent_intervals >= 1.5 && params.silent_intervals <= 100.0))
     throw Error("--silent-intervals", "must be in [1.5, 100], got " + std::to_string(params.silent_intervals));
+  require_in_range(params.ask_after, 0, 60, "mission params", "ask_after", " s");
+  mission::check_params(params.protocol);
   if (params.data_capacity == 0)
     params.data_capacity = std::max<std::size_t>(64, 4 * static_cast<std::size_t>(params.goals_per_request));
   if (params.notice_capacity == 0) params.notice_capacity = params.data_capacity;

@@ -25,8 +25,7 @@ int trace_id() {
 #define TRACE(...) \
   if (id_ == trace_id()) std::fprintf(stderr, __VA_ARGS__)
 
-constexpr double kEps = 1e-9;      // [s] as the simulator's time tolerance
-constexpr double kAskAfter = 0.5;  // [s] after a request is due without it: ask the OC
+constexpr double kEps = 1e-9;  // [s] as the simulator's time tolerance
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Room for this many goals of one request in a worker's segment before its
@@ -46,7 +45,7 @@ WorkerRole::WorkerRole(TeamSetup& team, int agent, MotionBackend& motion)
           team.assignment(agent).delivers_to >= 0
               ? &team.routes[static_cast<std::size_t>(team.assignment(agent).delivers_to)]
               : nullptr,
-          *team.distances, initial_goals(team))),
+          *team.distances, initial_goals(team), team.params.protocol)),
       custody_(team.params.data_capacity, team.params.notice_capacity) {
   if (policy_->collector() >= 0) upstream_ = static_cast<int16_t>(team.collector_agent(policy_->collector()));
   const std::size_t g = static_cast<std::size_t>(team.params.goals_per_request);
@@ -138,8 +137,8 @@ void WorkerRole::repair(double now) {
   if (!new_upstream && cells == served_cells_) return;
   const mission::RouteTimetable* route =
       a.delivers_to >= 0 ? &team_.routes[static_cast<std::size_t>(a.delivers_to)] : nullptr;
-  auto fresh =
-      std::make_unique<mission::WorkerPolicy>(team_.world, r.plan, a, route, *team_.distances, policy_->max_goals());
+  auto fresh = std::make_unique<mission::WorkerPolicy>(team_.world, r.plan, a, route, *team_.distances,
+                                                       policy_->max_goals(), team_.params.protocol);
   fresh->reserve_all();
   // The current request's goals, in the same order: the plan under way
   // refers to them by their local index.
@@ -487,8 +486,8 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
   // the OC says is newest; waiting for a request that is due (and whose
   // broadcast it may have missed), it asks too.
   const bool settling = phase_ == Phase::kSettling && !(heard_oc_ && oc_newest_ <= newest_request());
-  const bool overdue = (phase_ == Phase::kWaiting || phase_ == Phase::kStart) && now >= due_time() + kAskAfter &&
-                       !(request_.complete() && request_.id > resolved_);
+  const bool overdue = (phase_ == Phase::kWaiting || phase_ == Phase::kStart) &&
+                       now >= due_time() + team_.params.ask_after && !(request_.complete() && request_.id > resolved_);
   if (oc_worker && (settling || overdue) && now - last_hello_ >= resend) {
     state(kOc);
     last_hello_ = now;

@@ -270,7 +270,7 @@ RunOutcome TeamRunner::run() {
               where += " held by " + std::to_string(i - 1) + "(" + item_kind_name(c->item(k).kind) + ")";
       const Role& w = *units_[static_cast<std::size_t>(g.worker) + 1].role;
       std::fprintf(stderr, "unresolved goal %d cycle %d worker %d seg %d deadline %.1f:%s worker knows %d phase %d\n",
-                   g.id, g.cycle, g.worker, g.segment, g.deadline, where.c_str(), w.newest_request(),
+                   g.id, g.cycle, g.worker, g.segment.label(), g.deadline, where.c_str(), w.newest_request(),
                    w.kind() == RoleKind::kWorker ? static_cast<int>(static_cast<const WorkerRole&>(w).phase()) : -1);
     }
   }

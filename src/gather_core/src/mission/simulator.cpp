@@ -26,7 +26,6 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kEps = 1e-9;           // [s] time tolerance
 constexpr int kMaxDecisions = 1000000;  // per worker: a loop that long is a bug
-constexpr double kLinkProbe = 1.0;      // [s] between two radio link checks of a walking or waiting worker
 
 // An internal invariant broke (a bug, not bad input): exit status 1.
 [[noreturn]] void bug(const std::string& what) { throw RuntimeError("mission (internal error)", what); }
@@ -36,6 +35,7 @@ constexpr double kLinkProbe = 1.0;      // [s] between two radio link checks of 
 // State of one run shared by the workers' timelines.
 struct MissionSimulator::Run {
   int cycles = 0;
+  double link_probe_s = 1.0;  // MissionOptions::link_probe_s
   std::vector<GoalRecord> goals;
   std::vector<std::vector<std::vector<int>>> goals_of;  // [worker index][cycle] goal ids
   std::vector<Leg> legs;
@@ -69,7 +69,7 @@ void learn(WorkerPolicy& p, const std::vector<GoalRecord>& goals, const std::vec
 
 MissionSimulator::~MissionSimulator() = default;
 
-MissionSimulator::MissionSimulator(const World& ctx, MissionPlan plan)
+MissionSimulator::MissionSimulator(const World& ctx, MissionPlan plan, const ProtocolParams& protocol)
     : ctx_(ctx), plan_(std::move(plan)), radio_(ctx.scenario.grid, ctx.scenario.radio) {
   const Scenario& s = ctx.scenario;
   const OccupancyGrid& grid = s.grid;
@@ -92,16 +92,18 @@ MissionSimulator::MissionSimulator(const World& ctx, MissionPlan plan)
   for (const plan::AgentAssignment& a : pf.agents) {
     if (a.collector) continue;
     const RouteTimetable* route = a.delivers_to >= 0 ? &routes_[static_cast<std::size_t>(a.delivers_to)] : nullptr;
-    workers_.emplace_back(ctx, plan_, a, route, *shared_, max_goals);
+    workers_.emplace_back(ctx, plan_, a, route, *shared_, max_goals, protocol);
   }
 }
 
 MissionResult MissionSimulator::run(const MissionOptions& opt) {
   const auto t_start = std::chrono::steady_clock::now();
   if (opt.cycles < 1) throw Error("mission", "cycles must be >= 1");
+  require_in_range(opt.link_probe_s, 0.01, 10, "mission options", "link_probe_s", " s");
   const OccupancyGrid& grid = ctx_.scenario.grid;
   Run run;
   run.cycles = opt.cycles;
+  run.link_probe_s = opt.link_probe_s;
   run.goals_of.assign(workers_.size(), std::vector<std::vector<int>>(static_cast<std::size_t>(opt.cycles)));
   PerSegment<int> worker_of_segment(plan_.file.workers, -1);
   for (std::size_t i = 0; i < workers_.size(); ++i) worker_of_segment[workers_[i].segment()] = static_cast<int>(i);
@@ -110,10 +112,10 @@ MissionResult MissionSimulator::run(const MissionOptions& opt) {
     g.id = static_cast<int>(run.goals.size());
     g.cycle = cycle;
     g.point = grid.cell_center(cell);
-    g.segment = plan_.labels[grid.index(cell)];
+    g.segment = SegmentId(plan_.labels[grid.index(cell)]);
     g.requested_at = cycle * period_;
     g.deadline = (cycle + 1) * period_;
-    const int wi = g.segment > 0 ? worker_of_segment[SegmentId(g.segment)] : -1;
+    const int wi = g.segment.valid() ? worker_of_segment[g.segment] : -1;
     if (wi >= 0) {
       g.worker = workers_[static_cast<std::size_t>(wi)].agent();
       run.goals_of[static_cast<std::size_t>(wi)][static_cast<std::size_t>(cycle)].push_back(g.id);
@@ -194,7 +196,7 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
     carried.clear();
   };
   // The collector also takes the data whenever the radio link holds on the
-  // way (not only at the planned pass): probed every kLinkProbe seconds while
+  // way (not only at the planned pass): probed every MissionOptions::link_probe_s while
   // the worker walks from `from` to `to` during [t0, t1] or waits (from ==
   // to); its position along a walk is interpolated on the straight line. A
   // hand-over of n goals needs the link to hold for transfer_s(n) from when
@@ -218,7 +220,7 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
       return std::hypot(p.x - c.x, p.y - c.y) <= link_range && radio_.linked(p, c);
     };
     const double need = transfer_s(ctx_.scenario, carried.size());
-    const int steps = std::max(1, static_cast<int>(std::ceil((t1 - t0) / kLinkProbe)));
+    const int steps = std::max(1, static_cast<int>(std::ceil((t1 - t0) / run.link_probe_s)));
     for (int i = 0; i <= steps; ++i) {
       const double at = t0 + (t1 - t0) * i / steps;
       if (!linked_at(at)) {

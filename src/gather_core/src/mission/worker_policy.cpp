@@ -22,7 +22,6 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kEps = 1e-9;            // [s] time tolerance
 constexpr std::size_t kMaxLandings = 8;  // per OC worker: landing tables kept; beyond, march each time
-constexpr double kLinkStep = 0.1;        // [m] of route between two samples of a rendezvous' link window
 
 // An internal invariant broke (a bug, not bad input): exit status 1.
 [[noreturn]] void bug(const std::string& what) { throw RuntimeError("mission (internal error)", what); }
@@ -39,6 +38,10 @@ SharedDistances::SharedDistances(const World& world, bool with_from_oc) : fm(wor
   from_oc = Field(world.scenario.grid.frame(), std::vector<float>(t.begin(), t.end()));
 }
 
+void check_params(const ProtocolParams& p) {
+  require_in_range(p.link_step_m, 0.01, 1, "protocol params", "link_step_m", " m");
+}
+
 int32_t WorkerPolicy::segment_index(Cell c) const {
   const int r = c.row - box_origin_.row, q = c.col - box_origin_.col;
   if (r < 0 || q < 0 || r >= box_height_ || q >= box_width_) return -1;
@@ -49,11 +52,13 @@ WorkerPolicy::~WorkerPolicy() = default;
 WorkerPolicy::WorkerPolicy(WorkerPolicy&&) noexcept = default;
 
 WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan::AgentAssignment& a,
-                           const RouteTimetable* route, SharedDistances& shared, std::size_t max_goals)
+                           const RouteTimetable* route, SharedDistances& shared, std::size_t max_goals,
+                           const ProtocolParams& protocol)
     : world_(world), shared_(shared), route_(route), agent_(a.id), segment_(a.segment), collector_(a.delivers_to) {
   const OccupancyGrid& grid = world.scenario.grid;
   const plan::PlanFile& pf = mp.file;
   const std::string where = mp.source.empty() ? "plan" : mp.source;
+  check_params(protocol);
   speed_ = world.scenario.team.speed;
   if (a.collector) throw Error(where, "agent " + std::to_string(a.id) + " is a collector, not a worker");
   if (!segment_.within(pf.workers)) throw Error(where, "agent " + std::to_string(a.id) + ": bad segment");
@@ -88,9 +93,10 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
       const double s0 = rendezvous_arc_[k];
       double lo = s0, hi = s0;
       if (linked(s0)) {
-        while (lo > 0.0 && linked(std::max(0.0, lo - kLinkStep))) lo = std::max(0.0, lo - kLinkStep);
-        while (hi < route_->length() && linked(std::min(route_->length(), hi + kLinkStep)))
-          hi = std::min(route_->length(), hi + kLinkStep);
+        const double step = protocol.link_step_m;
+        while (lo > 0.0 && linked(std::max(0.0, lo - step))) lo = std::max(0.0, lo - step);
+        while (hi < route_->length() && linked(std::min(route_->length(), hi + step)))
+          hi = std::min(route_->length(), hi + step);
       }
       link_window_.emplace_back(lo, hi);
       longest = std::max(longest, (hi - lo) / route_->speed());

@@ -87,6 +87,7 @@ void check_options(const PlannerOptions& opt) {
   require_in_range(opt.association_trials, 1, 64, where, "association_trials");
   require_in_range(opt.pair_sources, 1, 64, where, "pair_sources");
   require_in_range(opt.home_box_margin_m, 0, 1000, where, "home_box_margin_m", " m");
+  require_in_range(opt.pass_radius_m, 0.1, 10, where, "pass_radius_m", " m");
 }
 
 ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method method, int collectors,

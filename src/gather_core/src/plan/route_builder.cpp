@@ -163,13 +163,13 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
     route.meetings.push_back(m);
     route.segments.push_back(seg);
   }
-  // Passes: stretches of the route within kPassRadius of a served segment's
-  // cells, sampled every half metre; each stretch counts once, at its middle.
+  // Passes: stretches of the route within PlannerOptions::pass_radius_m of a
+  // served segment's cells, sampled every half metre; each stretch counts
+  // once, at its middle.
   {
-    constexpr double kPassRadius = 1.0;  // [m] a worker this close hands data over on the move
-    const int rc = std::max(1, static_cast<int>(std::ceil(kPassRadius / grid.resolution())));
-    // The disc is probed every ~0.2 m, not every cell: 1 m +- 0.2 m is close
-    // enough for "next to", at a twentieth of the lookups on 5 cm maps.
+    const int rc = std::max(1, static_cast<int>(std::ceil(opt.pass_radius_m / grid.resolution())));
+    // The disc is probed every ~0.2 m, not every cell: the radius +- 0.2 m is
+    // close enough for "next to", at a twentieth of the lookups on 5 cm maps.
     const int stride = std::max(1, static_cast<int>(std::lround(0.2 / grid.resolution())));
     const double step = 0.5;
     std::vector<double> open_since(segments.size(), -1.0);

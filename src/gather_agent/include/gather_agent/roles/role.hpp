@@ -36,6 +36,12 @@ struct MissionParams {
   std::size_t notice_capacity = 0;  // custody buffer: notices (0: as data_capacity)
   double beacon_period = 1.0;       // [s] agent state broadcast
   double resend_after = 1.0;        // [s] in contact without an ack: send again
+  // [s] after a request is due without it, a worker of the OC asks the OC
+  // for it, range [0, 60].
+  double ask_after = 0.5;
+  // The workers' decisions (mission::WorkerPolicy): the same as the
+  // simulator's for the agents to match it.
+  mission::ProtocolParams protocol;
   // Faults (docs/faults.md): what becomes of a dead worker's segment, and
   // the OC's liveness timeout in units of an agent's contact interval
   // (mission::silent_timeout), [1.5, 100].

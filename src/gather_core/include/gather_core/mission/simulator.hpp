@@ -38,7 +38,7 @@ struct GoalRecord {
   int id = 0;
   int cycle = 0;              // the request it belongs to
   Point2 point;               // [m] (a cell centre)
-  int segment = 0;            // 0: in no segment (never measured, expires)
+  SegmentId segment;          // of the goal's cell; none: in no segment (never measured, expires)
   int worker = -1;            // agent id of the segment's worker
   double requested_at = 0.0;  // [s]
   double deadline = 0.0;      // [s] the next request: unmeasured by then = expired
@@ -97,6 +97,9 @@ struct MissionOptions {
   int goals_per_request = -1;  // -1: the scenario's mission.goals_per_request
   // Tests: fixed goals (cycle, point [m]) instead of random ones.
   std::vector<std::pair<int, Point2>> fixed_goals;
+  // [s] between two radio link checks of a walking or waiting worker (the
+  // simulator's stand-in for an agent's check every tick), range [0.01, 10].
+  double link_probe_s = 1.0;
 };
 
 struct MissionResult {
@@ -137,8 +140,10 @@ AreaWeights area_weights(const World& world, double tile);
 class MissionSimulator {
  public:
   // Keeps references to ctx (and its scenario). Throws gather::Error when the
-  // plan does not fit the scenario (label image size, roles, routes).
-  MissionSimulator(const World& ctx, MissionPlan plan);
+  // plan does not fit the scenario (label image size, roles, routes) or
+  // `protocol` is out of its ranges. The agents compared with this simulator
+  // must run with the same `protocol`.
+  MissionSimulator(const World& ctx, MissionPlan plan, const ProtocolParams& protocol = {});
   ~MissionSimulator();
 
   // Runs `options.cycles` requests and drains the data measured meanwhile.

@@ -53,6 +53,17 @@ struct SharedDistances {
   Field from_oc;         // [m] geodesic distance of every cell from the OC's cell (or empty)
 };
 
+// The protocol's tuning that changes decisions: every worker of a team, in
+// the simulator and in the agents, must run with the same values.
+struct ProtocolParams {
+  // [m] of route between two samples of a rendezvous' link window (the arcs
+  // around a pass over which the radio link holds). Range [0.01, 1].
+  double link_step_m = 0.1;
+};
+// Throws gather::Error("protocol params", "<field> = <value> must be in
+// <range>") for a field outside its range.
+void check_params(const ProtocolParams& params);
+
 // When request `cycle` (issued at cycle * period [s]) reaches a worker of
 // the collector driving `route`, whose meeting area is at arc `meeting_arc`
 // [m]: the collector has it when next inside the OC's coverage at or after
@@ -101,9 +112,11 @@ class WorkerPolicy {
   // timetable (nullptr for a worker of the OC); it must outlive the policy,
   // as must `world` and `shared`. Throws gather::Error (naming "plan") when
   // the plan does not fit: a bad segment or collector, no meeting area or no
-  // reachable pass of the collector next to the segment.
+  // reachable pass of the collector next to the segment, or `protocol` out
+  // of its ranges.
   WorkerPolicy(const World& world, const MissionPlan& plan, const plan::AgentAssignment& agent,
-               const RouteTimetable* route, SharedDistances& shared, std::size_t max_goals);
+               const RouteTimetable* route, SharedDistances& shared, std::size_t max_goals,
+               const ProtocolParams& protocol);
   ~WorkerPolicy();
   WorkerPolicy(WorkerPolicy&&) noexcept;
 
@@ -117,7 +130,8 @@ class WorkerPolicy {
   double meeting_arc() const { return meeting_arc_; }  // [m] on the route
   // The arcs [m] of the route around rendezvous r's pass over which the
   // radio link between the rendezvous point and the collector holds without
-  // a break (sampled every kLinkStep metres; docs/simulator.md, "Hand-over").
+  // a break (sampled every ProtocolParams::link_step_m; docs/simulator.md,
+  // "Hand-over").
   std::pair<double, double> link_window(int r) const { return link_window_[static_cast<std::size_t>(r)]; }
   // Most goals one hand-over can carry: the longest link window, less the
   // guard, over one goal's transfer time (max_goals when transfers are

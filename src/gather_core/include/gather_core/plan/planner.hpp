@@ -44,6 +44,10 @@ struct PlannerOptions {
   // around its segment and its home grown by this margin [m] (the whole map
   // when a cell is not reached in it), range [0, 1000].
   double home_box_margin_m = 3.0;
+  // Routes: a stretch of a collector's route within this distance [m] of a
+  // served segment's cells is a pass, where its worker hands data over on
+  // the move, range [0.1, 10].
+  double pass_radius_m = 1.0;
 };
 
 // Throws gather::Error("planner options", "<field> = <value> must be in
