@@ -234,6 +234,12 @@ TEST(MissionTest, OneExpiryRuleForWorkersOfTheOcToo) {
   EXPECT_NEAR(mission::request_deadline(37.0, 41.0, 10.0), 41.0, 1e-12);  // superseded earlier
 }
 
+// The simulator executes it: the goal measured at 4.5 s reaches the
+// collector 10 s of link later (the worker walks alongside it, so the link
+// holds from the measurement on: taken on the way at 14.5 s); instantly
+// without a rate. One hand-over carries one goal (capacity 1): the second
+// goal is measured only once the first has gone; without a rate, on the
+// way out.
 TEST(HandoverTest, TheSimulatorHandsOverAfterTheTransferTime) {
   for (const double bitrate : {1000.0, 0.0}) {
     Scenario s = testing_support::lingering_strip();

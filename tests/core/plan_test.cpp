@@ -232,14 +232,15 @@ TEST_F(PlanTest, OptionsOutsideTheirRangeNameTheField) {
 }
 
 TEST_F(PlanTest, ThePassRadiusDecidesWhereARoutePassesNextToASegment) {
-  // The grown groups (routes that serve segments); a 10 cm radius leaves
-  // the route fewer and shorter stretches next to its segments.
+  // The grown groups (routes that serve segments). With a 10 cm radius a
+  // stretch is where the route runs over the segment's own cells: still
+  // found (not only the meeting point, the fallback), but elsewhere.
   plan::PlannerOptions grown, narrow;
   grown.associate = narrow.associate = false;
   narrow.pass_radius_m = 0.1;
   const auto base = plan::plan_configuration(*ctx_, partition::Method::kPap, 2, grown);
   const auto far = plan::plan_configuration(*ctx_, partition::Method::kPap, 2, narrow);
-  std::size_t passes_base = 0, passes_far = 0;
+  std::size_t passes_base = 0, passes_far = 0, found_far = 0;
   bool differ = false;
   ASSERT_EQ(base.routes.size(), far.routes.size());
   for (std::size_t r = 0; r < base.routes.size(); ++r)
@@ -247,8 +248,12 @@ TEST_F(PlanTest, ThePassRadiusDecidesWhereARoutePassesNextToASegment) {
       passes_base += base.routes[r].meetings[m].passes.size();
       passes_far += far.routes[r].meetings[m].passes.size();
       differ = differ || base.routes[r].meetings[m].passes != far.routes[r].meetings[m].passes;
+      const plan::MeetingArea& narrow_meeting = far.routes[r].meetings[m];
+      found_far += narrow_meeting.passes != std::vector<double>{narrow_meeting.arc_m};
     }
   EXPECT_GT(passes_base, 0u);
+  EXPECT_GT(passes_far, 0u);
+  EXPECT_GT(found_far, 0u) << "a 10 cm radius finds no stretch over any served segment";
   EXPECT_TRUE(differ) << "a 10 cm radius gives the same passes as a 1 m one";
 }
 

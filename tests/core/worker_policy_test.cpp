@@ -62,12 +62,8 @@ TEST(HandoverTest, ATransferThatNeedsTenSecondsPicksAPassWhereTheLinkLastsTenSec
   }
 }
 
-// The simulator executes it: the goal measured at 4.5 s reaches the
-// collector 10 s of link later (the worker walks alongside it, so the link
-// holds from the measurement on: taken on the way at 14.5 s); instantly
-// without a rate. One hand-over carries one goal (capacity 1): the second
-// goal is measured only once the first has gone; without a rate, on the
-// way out.
+// The protocol's tuning (ProtocolParams) and the simulator's link checks
+// (MissionOptions::link_probe_s) are parameters with ranges.
 TEST(HandoverTest, TheProtocolsSamplingStepsAreParametersWithRanges) {
   Scenario s = testing_support::lingering_strip();
   const mission::World world(s);

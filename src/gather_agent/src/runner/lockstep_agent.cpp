@@ -97,6 +97,8 @@ bool LockstepAgent::take_plan(std::string* why) {
   // label image again from the plan directory.
   team_->reload_labels = [dir = plan_.dir, frame = plan_.plan.labels.frame()]() {
     LabelImage labels = mission::load_mission_plan(dir).labels;
+    if (!labels.frame().same_size(frame))
+      throw RuntimeError(dir, "labels.png is now " + labels.frame().size_text() + ", it was " + frame.size_text());
     labels.reframe(frame);
     return labels;
   };

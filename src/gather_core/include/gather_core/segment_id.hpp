@@ -4,6 +4,7 @@
 // start at 0. SegmentId and PerSegment<T> keep the two apart, so that the
 // label-to-index shift is written once, here, and a table of segments cannot
 // be indexed by a collector, an agent or a raw count by mistake.
+#include <cassert>
 #include <cstddef>
 #include <ostream>
 #include <string>
@@ -51,8 +52,14 @@ class PerSegment {
   std::size_t size() const { return values_.size(); }
   bool empty() const { return values_.empty(); }
   // The segment's entry; `s` must be in 1..segments().
-  T& operator[](SegmentId s) { return values_[s.index()]; }
-  const T& operator[](SegmentId s) const { return values_[s.index()]; }
+  T& operator[](SegmentId s) {
+    assert(s.within(segments()));
+    return values_[s.index()];
+  }
+  const T& operator[](SegmentId s) const {
+    assert(s.within(segments()));
+    return values_[s.index()];
+  }
 
   typename std::vector<T>::iterator begin() { return values_.begin(); }
   typename std::vector<T>::iterator end() { return values_.end(); }

@@ -32,7 +32,7 @@ RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, 
     if (!a.collector && a.segment.within(segments)) owner[static_cast<std::size_t>(a.segment.label())] = a.id;
   LabelImage& labels = out.plan.labels;
   const int w = labels.width(), h = labels.height();
-  if (labels.frame().size() != labels.size()) throw RuntimeError("plan repair (internal error)", "label image size");
+  if (!labels.filled()) throw RuntimeError("plan repair (internal error)", "label image size");
   std::vector<int64_t> cells(static_cast<std::size_t>(segments) + 1, 0);
   for (int32_t l : labels)
     if (l >= 1 && l <= segments) ++cells[static_cast<std::size_t>(l)];

@@ -69,7 +69,8 @@ FrontGrowth::FrontGrowth(const Mask& region)
       stride_(static_cast<std::size_t>(region.width()) + 2),
       res_(static_cast<float>(region.frame().resolution)) {
   const int width = width_, height = height_;
-  if (width <= 0 || height <= 0) throw Error("partition", "front growth: the region mask is empty");
+  if (width <= 0 || height <= 0 || !region.filled())
+    throw Error("partition", "front growth: the region mask is empty or holds no value per cell");
   const std::size_t n = stride_ * (static_cast<std::size_t>(height) + 2);
   region_.assign(n, 0);
   for (int r = 0; r < height; ++r) {

@@ -123,7 +123,7 @@ LabelImage load_gt_rooms(const std::string& gt_png, const OccupancyGrid& grid, i
 }
 
 RoomAgreement room_agreement(const LabelImage& labels, const LabelImage& rooms) {
-  if (!labels.frame().same_size(rooms.frame()))
+  if (!labels.frame().same_size(rooms.frame()) || !labels.filled() || !rooms.filled())
     throw Error("partition", "room agreement: the label image is " + labels.frame().size_text() + ", the rooms " +
                                  rooms.frame().size_text());
   std::map<std::pair<int32_t, int32_t>, double> overlap;  // (room, segment) -> cells

@@ -111,7 +111,8 @@ PreparedArea prepare_area(const OccupancyGrid& grid, Cell oc) {
 PartitionResult partition_area(const OccupancyGrid& grid, const PreparedArea& area, Method method, int workers,
                                unsigned seed, const PartitionParams& params) {
   const auto t0 = std::chrono::steady_clock::now();
-  if (area.reachable.frame() != grid.frame() || area.clearance.frame() != grid.frame())
+  if (area.reachable.frame() != grid.frame() || area.clearance.frame() != grid.frame() || !area.reachable.filled() ||
+      !area.clearance.filled())
     throw Error("partition", "the prepared area (" + area.reachable.frame().size_text() +
                                  ") is not on the map's frame (" + grid.frame().size_text() + ")");
   check_oc(grid, area.oc);

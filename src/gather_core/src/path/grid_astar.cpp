@@ -22,7 +22,7 @@ GridAStar::GridAStar(const OccupancyGrid& grid, const Mask& traversable, const f
       g_(grid.size(), 0.0f),
       stamp_(grid.size(), 0),
       dir_(grid.size(), 0) {
-  if (!traversable.frame().same_size(grid.frame()))
+  if (!traversable.frame().same_size(grid.frame()) || !traversable.filled())
     throw std::invalid_argument("A* traversable mask is " + traversable.frame().size_text() + ", the grid " +
                                 grid.frame().size_text());
   open_.reserve(std::max<std::size_t>(4096, grid.size() / 4));  // the open list of a search across the map fits

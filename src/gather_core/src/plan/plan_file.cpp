@@ -19,6 +19,7 @@ void point(YAML::Emitter& y, Point2 p) { y << YAML::Flow << YAML::BeginSeq << p.
 // The file names segments by their labels.
 std::vector<int> labels_of(const std::vector<SegmentId>& segments) {
   std::vector<int> out;
+  out.reserve(segments.size());
   for (SegmentId s : segments) out.push_back(s.label());
   return out;
 }

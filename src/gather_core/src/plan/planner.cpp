@@ -71,7 +71,7 @@ PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_fi
   area_tile = std::sqrt(std::max(reachable_area, grid.cell_area()) / std::max(1, s.team.agents));
   areas = mission::area_weights(*this, area_tile);
   for (const auto& [id, m2] : areas.area) tile_ids.push_back(id);
-  tile_of_cell = LabelImage(grid.frame(), -1);
+  tile_of_cell = Raster<int32_t>(grid.frame(), -1);
   for (std::size_t i = 0; i < grid.size(); ++i)
     if (reachable[i]) {
       const int64_t a = mission::area_of(grid.cell_center(grid.cell(i)), area_tile);

@@ -171,6 +171,9 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
     // The disc is probed every ~0.2 m, not every cell: the radius +- 0.2 m is
     // close enough for "next to", at a twentieth of the lookups on 5 cm maps.
     const int stride = std::max(1, static_cast<int>(std::lround(0.2 / grid.resolution())));
+    // Offsets are multiples of the stride, so the centre cell is always probed
+    // (a radius under the stride probes the centre alone).
+    const int from = -(rc / stride) * stride;
     const double step = 0.5;
     std::vector<double> open_since(segments.size(), -1.0);
     PerSegment<int> index_of(graph.segments.segments(), -1);  // position in `segments`
@@ -182,8 +185,8 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
       const Point2 p = fmm::point_at_arc(route.waypoints, arc, at);
       std::fill(near.begin(), near.end(), 0);
       const Cell c = grid.world_to_cell(p);
-      for (int dr = -rc; dr <= rc; dr += stride)
-        for (int dc = -rc; dc <= rc; dc += stride) {
+      for (int dr = from; dr <= rc; dr += stride)
+        for (int dc = from; dc <= rc; dc += stride) {
           const Cell q{c.row + dr, c.col + dc};
           if (!grid.contains(q) || dr * dr + dc * dc > rc * rc) continue;
           const int k = seg_index(labels[grid.index(q)]);

@@ -5,6 +5,8 @@
 // motion to make (commands to its MotionBackend). No LCM, no ROS, no
 // threads, no wall clock inside: the same roles run in one process
 // (runner/team_runner) and one process per robot (gather_agent).
+// Units: every time (`now`, `t`, `at`, deadlines) is mission time [s] since
+// the first request; positions are map coordinates [m].
 #include <cstddef>
 #include <cstdint>
 #include <functional>

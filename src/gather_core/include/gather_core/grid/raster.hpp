@@ -83,6 +83,8 @@ class Raster {
   int height() const { return frame_.height; }
   std::size_t size() const { return values_.size(); }
   bool empty() const { return values_.empty(); }
+  // One value per cell of the frame (false once released).
+  bool filled() const { return values_.size() == frame_.size(); }
 
   T& operator[](std::size_t i) { return values_[i]; }
   const T& operator[](std::size_t i) const { return values_[i]; }

@@ -34,7 +34,7 @@ RepairMode parse_repair_mode(const std::string& text, const std::string& where);
 // - the workers of a dead collector deliver to the OC;
 // - dead agents keep their entries in plan.file.agents (ids stay 0..N-1);
 //   `dead` flags them.
-// Every label image of `base` must be of base.width x base.height.
+// `base` must hold its label image (labels.filled(): not released).
 struct RepairedPlan {
   MissionPlan plan;
   std::vector<uint8_t> dead;          // by agent id

@@ -182,7 +182,8 @@ class MissionSimulator {
 // which goals of it reached the OC (times closer than 1 ms are one
 // delivery); its interval is the mean gap between consecutive deliveries,
 // or the whole mission (cycles x period) when it had fewer than two.
-// Returns {the mean over the areas weighted by their reachable area (the
+// `period` [s] between requests. Returns [s] {the mean over the areas
+// weighted by their reachable area (the
 // interval at a random point of the reachable space: a sliver of a tile at
 // a wall weighs little), the largest area interval}.
 std::pair<double, double> interval_stats(const std::vector<GoalRecord>& goals, int cycles, double period,
@@ -193,7 +194,7 @@ std::pair<double, double> interval_stats(const std::vector<GoalRecord>& goals, i
 // dropped, pending or carried -> lost with an agent; never twice) and that
 // requested = delivered + carried + pending + expired + dropped + lost at the
 // end of every cycle and at the end of the run, and
-// returns the per-cycle stats.
+// returns the per-cycle stats (requests every `period` [s]).
 // Throws gather::Error on any violation.
 std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles, double period);
 

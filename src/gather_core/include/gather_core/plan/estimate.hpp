@@ -32,7 +32,7 @@ struct WorkerRun {
 // has none.
 double mean_interval(const std::vector<AreaDeliveries>& areas, double horizon);
 
-// P(n goals of G in a segment holding share p of the space), n = 0..G (the
+// P(n goals of G in a segment holding share p in [0, 1] of the space), n = 0..G (the
 // tail beyond a 1e-9 remainder dropped).
 std::vector<double> goal_count_pmf(int G, double p);
 
@@ -53,8 +53,9 @@ void combine(Estimates& e, const PlanContext& ctx);
 // Every worker's estimate of cfg, combined.
 Estimates estimate(const PlanContext& ctx, const ConfigurationPlan& cfg, const PlannerOptions& opt);
 
-// J = (beta N / G - alpha T_refresh / T) / (alpha + beta): how well a
-// configuration serves the OC, for decisions inside one configuration.
+// J = (beta N / G - alpha T_refresh / T) / (alpha + beta) (dimensionless):
+// how well a configuration serves the OC, for decisions inside one
+// configuration.
 double score(const Estimates& e, const PlanContext& ctx);
 
 }  // namespace plan

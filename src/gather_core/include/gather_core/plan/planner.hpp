@@ -77,7 +77,7 @@ struct PlanContext : mission::World {
   double area_tile = 0.0;
   mission::AreaWeights areas;     // the tiles of side area_tile and their reachable area
   std::vector<int64_t> tile_ids;  // the keys of `areas`, ascending
-  LabelImage tile_of_cell;        // index into tile_ids, -1 off the reachable space
+  Raster<int32_t> tile_of_cell;   // index into tile_ids, -1 off the reachable space
   ClearanceMap clearance;
   partition::PreparedArea prepared;  // reachability + clearance for the 27 partitions, computed once
   // Collector routes keep the robot radius from walls: they are marched on a

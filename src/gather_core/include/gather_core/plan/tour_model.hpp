@@ -97,7 +97,7 @@ TourModel first_trip(const WorkerSegment& seg, TourModel m);
 // The tour model of a segment's goals, from where its worker starts them:
 // its home in the OC's coverage, back to the coverage (OC workers), or the
 // segment's entry and back to it (workers of collectors). `c`: the tour
-// constant (PlannerOptions::tsp_constant).
+// constant (PlannerOptions::tsp_constant, dimensionless).
 TourModel tour_model(const WorkerSegment& seg, bool from_coverage, double c);
 
 }  // namespace plan
