@@ -83,7 +83,7 @@ test-plain: deps
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --test-dir $(PLAIN) --output-on-failure -j$(JOBS) --timeout 600
 	$(PYTHON) tests/fuzz/fuzz_smoke.py --gather $(PLAIN)/gather_core/gather --agent $(PLAIN)/gather_agent \
-	  --cases $(FUZZ_CASES) --seed 1 --keep results/fuzz
+	  --cases $(FUZZ_CASES) --seed 1 --jobs $(JOBS) --keep results/fuzz
 
 # Every bad input gives one line naming the file and exit status 2, from every
 # binary: bad scenarios, and bad plan directories.

@@ -23,6 +23,8 @@ Prints one line per failing case (with the input kept under --keep DIR) and a
 summary; exits 1 if any case failed.
 """
 import argparse
+import collections
+import concurrent.futures
 import os
 import random
 import re
@@ -256,8 +258,9 @@ class Fuzzer:
                         "--out", os.path.join(d, "fmm.csv")] + extra
         return kind, argv, d
 
-    def run_case(self, n):
-        kind, argv, d = self.make_case(n)
+    def run_case(self, n, case):
+        """Runs one case made by make_case (in any thread); returns its verdict."""
+        kind, argv, d = case
         t0 = time.monotonic()
         with tempfile.TemporaryFile() as fo, tempfile.TemporaryFile() as fe:
             p = subprocess.Popen(argv, stdout=fo, stderr=fe, stdin=subprocess.DEVNULL, cwd=d,
@@ -297,16 +300,23 @@ class Fuzzer:
             why = "exit 2 with %d lines on stderr (one expected): %s" % (len(lines), " | ".join(lines)[:300])
         elif status == 2 and LIBRARY_TEXT.search(lines[0]):
             why = "exit 2 with a library's exception text, not a validated error: " + lines[0][:300]
-        self.kinds[kind] = self.kinds.get(kind, 0) + 1
-        self.statuses[status] = self.statuses.get(status, 0) + 1
+        report = ""
         if why:
-            self.failures += 1
             keep = os.path.join(self.a.keep, "case%04d" % n)
             shutil.rmtree(keep, ignore_errors=True)
             shutil.copytree(d, keep)
-            print("FAIL case %d (%s, %.1f s): %s\n     %s\n     input kept in %s" % (
-                n, kind, time.monotonic() - t0, why[:400], " ".join(argv)[:300], keep), flush=True)
+            report = "FAIL case %d (%s, %.1f s): %s\n     %s\n     input kept in %s" % (
+                n, kind, time.monotonic() - t0, why[:400], " ".join(argv)[:300], keep)
         shutil.rmtree(d, ignore_errors=True)
+        return kind, status, report
+
+    def count(self, verdict):
+        kind, status, report = verdict
+        self.kinds[kind] = self.kinds.get(kind, 0) + 1
+        self.statuses[status] = self.statuses.get(status, 0) + 1
+        if report:
+            self.failures += 1
+            print(report, flush=True)
 
 
 def main():
@@ -316,13 +326,24 @@ def main():
     ap.add_argument("--cases", type=int, default=300)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--keep", default="results/fuzz")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                    help="cases run at once (the cases and their order do not depend on it)")
     a = ap.parse_args()
     a.gather, a.agent, a.keep = os.path.abspath(a.gather), os.path.abspath(a.agent), os.path.abspath(a.keep)
     t0 = time.monotonic()
     f = Fuzzer(a)
     try:
-        for n in range(a.cases):
-            f.run_case(n)
+        # Cases are made one after another from the one seeded generator (so
+        # the same seed gives the same cases whatever --jobs is) and run
+        # `jobs` at a time; verdicts are counted and printed in case order.
+        with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
+            running = collections.deque()
+            for n in range(a.cases):
+                running.append(pool.submit(f.run_case, n, f.make_case(n)))
+                while len(running) > 2 * max(1, a.jobs):
+                    f.count(running.popleft().result())
+            while running:
+                f.count(running.popleft().result())
     finally:
         shutil.rmtree(f.tmp, ignore_errors=True)
     print("fuzz smoke: %d cases (%s; exit status %s), seed %d, %.0f s: %d failed" % (
