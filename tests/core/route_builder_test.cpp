@@ -1,0 +1,93 @@
+// plan/route_builder: a collector's closed route on the corridor, where its
+// length, meeting point, passes and coverage entries can be worked out.
+#include "gather_core/plan/route_builder.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "corridor.hpp"
+#include "gather_core/plan/planner.hpp"
+#include "gather_core/plan/worker_graph.hpp"
+
+namespace gather {
+namespace plan {
+namespace {
+
+// The corridor (20 m x 0.5 m, the OC at x = 0.55 m, its coverage x < 2.6 m)
+// in two segments: 1 = x < 10 m, 2 = the rest.
+struct TwoHalves {
+  Scenario scenario = testing_support::corridor();
+  PlanContext ctx{scenario};
+  LabelImage labels{scenario.grid.frame()};
+  WorkerGraph graph;
+  TwoHalves() {
+    for (int r = 0; r < labels.height(); ++r)
+      for (int c = 0; c < labels.width(); ++c) labels.at(Cell{r, c}) = c < 100 ? 1 : 2;
+    graph = build_worker_graph(scenario.grid, labels, 2, ctx.coverage, ctx.coverage_distance, &ctx.roomy);
+  }
+  CollectorRoute route(const std::vector<SegmentId>& segments) {
+    fmm::FastMarching fm = ctx.oc_field;
+    return build_route(ctx, fm, graph, labels, segments, 0, PlannerOptions{});
+  }
+};
+
+TEST(RouteBuilderTest, OutToTheFarHalfAndBack) {
+  TwoHalves h;
+  const CollectorRoute r = h.route({SegmentId(2)});
+  ASSERT_GE(r.waypoints.size(), 2u);
+  EXPECT_NEAR(r.waypoints.front().x, 0.55, 1e-9);
+  EXPECT_NEAR(r.waypoints.back().x, 0.55, 1e-9);
+  ASSERT_EQ(r.segments, std::vector<SegmentId>{SegmentId(2)});
+  // Segment 2's entry is its cell nearest the coverage: column 100 (x = 10.05 m).
+  const Point2 entry = h.scenario.grid.cell_center(h.graph.segment(SegmentId(2)).entry);
+  EXPECT_NEAR(entry.x, 10.05, 1e-9);
+  EXPECT_NEAR(r.length, 2.0 * (10.05 - 0.55), 0.3);
+  EXPECT_NEAR(r.period, r.length / h.scenario.team.speed, 1e-9);
+  ASSERT_EQ(r.meetings.size(), 1u);
+  const MeetingArea& m = r.meetings[0];
+  EXPECT_EQ(m.segment, SegmentId(2));
+  EXPECT_NEAR(m.point.x, 10.05, 0.15);
+  EXPECT_NEAR(m.arc_m, 10.05 - 0.55, 0.2);
+  // The route runs over segment 2 only around its turn: one stretch.
+  ASSERT_EQ(m.passes.size(), 1u);
+  EXPECT_NEAR(m.passes[0], m.arc_m, 1.0);
+  // Uploads are counted at the first waypoint back inside the coverage: on
+  // a straight corridor that is the OC itself, the route's end.
+  ASSERT_EQ(r.coverage_entries.size(), 1u);
+  EXPECT_DOUBLE_EQ(r.coverage_entries[0], r.length);
+  EXPECT_GT(r.min_clearance, 0.0);
+}
+
+TEST(RouteBuilderTest, ACollectorWithoutSegmentsStaysAtTheOc) {
+  TwoHalves h;
+  const CollectorRoute r = h.route({});
+  ASSERT_EQ(r.waypoints.size(), 1u);
+  EXPECT_NEAR(r.waypoints[0].x, 0.55, 1e-9);
+  EXPECT_TRUE(r.meetings.empty());
+  EXPECT_EQ(r.length, 0.0);
+}
+
+TEST(RouteBuilderTest, ServingBothHalvesMeetsThemInVisitingOrder) {
+  TwoHalves h;
+  const CollectorRoute r = h.route({SegmentId(1), SegmentId(2)});
+  // Both ways round are as long (out to x = 10 m and back): either order,
+  // but the meetings follow it and the route's segments name it.
+  ASSERT_EQ(r.meetings.size(), 2u);
+  ASSERT_EQ(r.segments.size(), 2u);
+  EXPECT_NE(r.segments[0], r.segments[1]);
+  for (std::size_t i = 0; i < 2; ++i) EXPECT_EQ(r.meetings[i].segment, r.segments[i]);
+  EXPECT_LE(r.meetings[0].arc_m, r.meetings[1].arc_m);
+  // Out and back, plus the step aside to segment 1's entry by the OC.
+  EXPECT_NEAR(r.length, 2.0 * (10.05 - 0.55), 1.0);
+  for (const MeetingArea& m : r.meetings)
+    for (double p : m.passes) {
+      EXPECT_GE(p, 0.0);
+      EXPECT_LE(p, r.length + 1e-9);
+    }
+}
+
+}  // namespace
+}  // namespace plan
+}  // namespace gather
