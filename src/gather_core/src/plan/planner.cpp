@@ -121,7 +121,7 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
     for (std::size_t i = 0; i < cfg.partition.labels.size(); ++i) {
       const SegmentId k(cfg.partition.labels[i]);
       const int32_t t = ctx.tile_of_cell[i];
-      if (!k.valid() || k.label() > cfg.workers || t < 0) continue;
+      if (!k.within(cfg.workers) || t < 0) continue;
       std::vector<AreaDeliveries>& parts = cfg.area_parts[k];
       int32_t& j = part[k.index() * tiles + static_cast<std::size_t>(t)];
       if (j < 0)

@@ -45,7 +45,7 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
   PerSegment<std::vector<Cell>> cells(graph.segments.segments());
   for (std::size_t i = 0; i < labels.size() && i < grid.size(); ++i) {
     const SegmentId k(labels[i]);
-    if (k.valid() && k.label() <= cells.segments() && ctx.reachable[i]) cells[k].push_back(grid.cell(i));
+    if (k.within(cells.segments()) && ctx.reachable[i]) cells[k].push_back(grid.cell(i));
   }
   Field rank(labels.frame(), -1.0f);
   std::vector<uint64_t> order;
