@@ -147,7 +147,8 @@ bench-signing: build
 	tools/netns-run bench/signing_bench.sh $(G)
 
 # A refactor changes no result: plan.yaml, report.csv (timings aside) and
-# goals.csv of office and office_a from REF's gather and from this tree's.
+# goals.csv of office and office_a (their best plans, and two plans with
+# collectors at work) from REF's gather and from this tree's.
 identity-check: build
 	@test -n "$(REF)" || { echo "usage: make identity-check REF=<commit>" >&2; exit 2; }
 	tools/build-ref $(REF) build/identity_ref $(JOBS)

@@ -10,6 +10,10 @@ sweep) must give the same plan.yaml and the same report.csv apart from its
 timing columns (*_ms) and the same labels.png pixels (the PNG encoder may
 differ), and `gather sim` of that plan (3 seeds x 10 cycles)
 and `gather run` (in one process, 1 seed x 3 cycles) the same goals.csv.
+Both sweeps' best plans use no collector, so two plans with collectors are
+compared too: office_a pap:4 (the end-to-end tests' plan: two workers of
+collectors) and office pap:4 with the association off (every segment off
+the coverage served by a collector).
 Prints one line per file and exits 1 on any difference.
 """
 import argparse
@@ -23,8 +27,13 @@ import tempfile
 from PIL import Image
 
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
-SCENARIOS = [os.path.join(REPO, "maps", "office.scenario.yaml"),
-             os.path.join(REPO, "..", "shared", "maps", "ipa", "office_a.scenario.yaml")]
+OFFICE = os.path.join(REPO, "maps", "office.scenario.yaml")
+OFFICE_A = os.path.join(REPO, "..", "shared", "maps", "ipa", "office_a.scenario.yaml")
+# (name, scenario, extra `gather plan` arguments)
+CASES = [("office", OFFICE, []),
+         ("office_a", OFFICE_A, []),
+         ("office_a_pap4", OFFICE_A, ["--config", "pap:4"]),
+         ("office_pap4_grown", OFFICE, ["--config", "pap:4", "--association", "off"])]
 
 
 def run(argv):
@@ -46,9 +55,9 @@ def label_pixels(path):
     return "%s %s %s" % (img.mode, img.size, bytes(img.tobytes()).hex())
 
 
-def outputs(gather, scenario, d):
+def outputs(gather, scenario, plan_args, d):
     plan = os.path.join(d, "plan")
-    run([gather, "plan", scenario, "--out", plan])
+    run([gather, "plan", scenario, "--out", plan] + plan_args)
     run([gather, "sim", plan, "--cycles", "10", "--seeds", "3", "--out", os.path.join(d, "sim")])
     run([gather, "run", plan, "--cycles", "3", "--out", os.path.join(d, "run")])
     return {"plan.yaml": open(os.path.join(plan, "plan.yaml")).read(),
@@ -65,10 +74,9 @@ def main():
     a = ap.parse_args()
     tmp = tempfile.mkdtemp(prefix="gather_identity_")
     differ = 0
-    for scenario in SCENARIOS:
-        name = os.path.basename(scenario).replace(".scenario.yaml", "")
-        before = outputs(a.before, scenario, os.path.join(tmp, name, "before"))
-        after = outputs(a.after, scenario, os.path.join(tmp, name, "after"))
+    for name, scenario, plan_args in CASES:
+        before = outputs(a.before, scenario, plan_args, os.path.join(tmp, name, "before"))
+        after = outputs(a.after, scenario, plan_args, os.path.join(tmp, name, "after"))
         for f in before:
             same = before[f] == after[f]
             differ += not same
