@@ -29,24 +29,24 @@ int64_t cells_of(const mission::MissionPlan& p, int32_t label) {
 }
 
 // The first worker of `plan` (of the OC when `of_oc`, else of a collector).
-int a_worker(const mission::MissionPlan& plan, bool of_oc) {
+AgentId a_worker(const mission::MissionPlan& plan, bool of_oc) {
   for (const plan::AgentAssignment& a : plan.file.agents)
-    if (!a.collector && (a.delivers_to < 0) == of_oc) return a.id;
-  return -1;
+    if (!a.collector && !a.delivers_to.valid() == of_oc) return a.id;
+  return AgentId();
 }
 
 TEST(RepairPlan, ADeadWorkersSegmentGoesToItsSmallestLiveNeighbour) {
   const mission::MissionPlan& base = Office::get().bap0;
-  const int dead = a_worker(base, true);
-  const SegmentId seg = base.file.agents[static_cast<std::size_t>(dead)].segment;
+  const AgentId dead = a_worker(base, true);
+  const SegmentId seg = base.file.agents[dead].segment;
   const int s = seg.label();
   const mission::RepairedPlan r = mission::repair_plan(base, {dead}, mission::RepairMode::kMerge);
   EXPECT_EQ(cells_of(r.plan, s), 0);
-  EXPECT_TRUE(r.dead[static_cast<std::size_t>(dead)]);
-  const int into_worker = r.worker_of_segment[seg];
-  ASSERT_GE(into_worker, 0);
+  EXPECT_TRUE(r.dead[dead]);
+  const AgentId into_worker = r.worker_of_segment[seg];
+  ASSERT_TRUE(into_worker.valid());
   ASSERT_NE(into_worker, dead);
-  const int into = base.file.agents[static_cast<std::size_t>(into_worker)].segment.label();
+  const int into = base.file.agents[into_worker].segment.label();
   EXPECT_EQ(cells_of(r.plan, into), cells_of(base, into) + cells_of(base, s));
   // No other neighbour of s is smaller than the one chosen.
   const int w = base.labels.width(), h = base.labels.height();
@@ -72,46 +72,47 @@ TEST(RepairPlan, ADeadWorkersSegmentGoesToItsSmallestLiveNeighbour) {
     if (base.labels[i] != s) {
       EXPECT_EQ(r.plan.labels[i], base.labels[i]);
     }
-  for (std::size_t a = 0; a < base.file.agents.size(); ++a)
+  for (AgentId a : ids<AgentId>(base.file.agents.count()))
     EXPECT_EQ(r.plan.file.agents[a].delivers_to, base.file.agents[a].delivers_to);
 }
 
 TEST(RepairPlan, NoneLeavesTheSegmentToNobodyAndTheSetOrderDoesNotMatter) {
   const mission::MissionPlan& base = Office::get().bap0;
-  const int a = 3, b = 7;
+  const AgentId a(3), b(7);
   const mission::RepairedPlan none = mission::repair_plan(base, {a}, mission::RepairMode::kNone);
   EXPECT_EQ(cells_of(none.plan, base.file.agents[a].segment.label()), 0);
-  EXPECT_EQ(none.worker_of_segment[base.file.agents[a].segment], -1);
+  EXPECT_FALSE(none.worker_of_segment[base.file.agents[a].segment].valid());
   const mission::RepairedPlan ab = mission::repair_plan(base, {a, b}, mission::RepairMode::kMerge);
   const mission::RepairedPlan ba = mission::repair_plan(base, {b, a, b}, mission::RepairMode::kMerge);
   EXPECT_EQ(ab.plan.labels, ba.plan.labels);
   EXPECT_EQ(ab.worker_of_segment, ba.worker_of_segment);
   for (SegmentId seg : segment_ids(base.file.workers)) {
-    const int o = ab.worker_of_segment[seg];
-    if (o >= 0) {
-      EXPECT_FALSE(ab.dead[static_cast<std::size_t>(o)]);
+    const AgentId o = ab.worker_of_segment[seg];
+    if (o.valid()) {
+      EXPECT_FALSE(ab.dead[o]);
     }
   }
 }
 
 // The collector of `plan` with the most workers.
-int busiest_collector(const mission::MissionPlan& plan) {
-  std::vector<int> n(static_cast<std::size_t>(plan.file.collectors), 0);
+CollectorId busiest_collector(const mission::MissionPlan& plan) {
+  PerCollector<int> n(plan.file.collectors, 0);
   for (const plan::AgentAssignment& a : plan.file.agents)
-    if (!a.collector && a.delivers_to >= 0) ++n[static_cast<std::size_t>(a.delivers_to)];
-  return static_cast<int>(std::max_element(n.begin(), n.end()) - n.begin());
+    if (!a.collector && a.delivers_to.valid()) ++n[a.delivers_to];
+  return CollectorId::at_index(static_cast<std::size_t>(std::max_element(n.begin(), n.end()) - n.begin()));
 }
 
 TEST(RepairPlan, ADeadCollectorsWorkersDeliverToTheOc) {
   const mission::MissionPlan& base = Office::get().pap4;
-  const int c = busiest_collector(base);  // collector c is agent c
-  const mission::RepairedPlan r = mission::repair_plan(base, {c}, mission::RepairMode::kMerge);
+  const CollectorId c = busiest_collector(base);
+  const AgentId driver = mission::collector_agents(base.file)[c];
+  const mission::RepairedPlan r = mission::repair_plan(base, {driver}, mission::RepairMode::kMerge);
   int moved = 0;
-  for (std::size_t a = 0; a < base.file.agents.size(); ++a) {
+  for (AgentId a : ids<AgentId>(base.file.agents.count())) {
     const plan::AgentAssignment& before = base.file.agents[a];
     const plan::AgentAssignment& after = r.plan.file.agents[a];
     if (!before.collector && before.delivers_to == c) {
-      EXPECT_EQ(after.delivers_to, -1);
+      EXPECT_FALSE(after.delivers_to.valid());
       ++moved;
     } else {
       EXPECT_EQ(after.delivers_to, before.delivers_to);
@@ -172,7 +173,8 @@ TEST(Faults, NoFaultNoDeclarationEvenWithALossyRadio) {
 
 TEST(Faults, ADeadWorkerIsDeclaredItsSegmentMergedItsGoalsLostWithItOnly) {
   const mission::MissionPlan& plan = Office::get().bap0;
-  const int victim = a_worker(plan, true);
+  const AgentId worker = a_worker(plan, true);
+  const int victim = worker.value();
   const double period = plan.file.cycle_period_s;
   const double kill_at = 2.5 * period;
   const RunOutcome out = run(plan, 10, 1, {{victim, kill_at}});
@@ -184,7 +186,7 @@ TEST(Faults, ADeadWorkerIsDeclaredItsSegmentMergedItsGoalsLostWithItOnly) {
   EXPECT_LE(declared, kill_at + 3.0 * period + 1.0);  // 3 request periods unheard, for a worker of the OC
   const Counts c = counts(out);
   EXPECT_GT(c.lost, 0);
-  const int s = plan.file.agents[static_cast<std::size_t>(victim)].segment.label();
+  const int s = plan.file.agents[worker].segment.label();
   const OccupancyGrid& grid = Office::get().scenario.grid;
   auto in_s = [&](const mission::GoalRecord& g) {
     return plan.labels[static_cast<std::size_t>(grid.index(grid.world_to_cell(g.point)))] == s;
@@ -192,12 +194,12 @@ TEST(Faults, ADeadWorkerIsDeclaredItsSegmentMergedItsGoalsLostWithItOnly) {
   int after_in_s = 0, after_in_s_delivered = 0;
   for (const mission::GoalRecord& g : out.result.goals) {
     if (g.state == mission::GoalState::kLostWithAgent) {
-      EXPECT_EQ(g.worker, victim) << "goal " << g.id;
-      EXPECT_LE(g.requested_at, declared) << "goal " << g.id;
+      EXPECT_EQ(g.worker, worker) << g.id;
+      EXPECT_LE(g.requested_at, declared) << g.id;
     }
     if (g.requested_at > declared && in_s(g)) {
       ++after_in_s;
-      EXPECT_NE(g.worker, victim);
+      EXPECT_NE(g.worker, worker);
       after_in_s_delivered += g.state == mission::GoalState::kDelivered;
     }
   }
@@ -209,7 +211,7 @@ TEST(Faults, ADeadWorkerIsDeclaredItsSegmentMergedItsGoalsLostWithItOnly) {
   ASSERT_TRUE(none.completed) << none.failure;
   for (const mission::GoalRecord& g : none.result.goals)
     if (g.requested_at > declared && in_s(g)) {
-      EXPECT_EQ(g.state, mission::GoalState::kExpired) << "goal " << g.id;
+      EXPECT_EQ(g.state, mission::GoalState::kExpired) << g.id;
     }
 }
 
@@ -218,7 +220,8 @@ TEST(Faults, ADeadCollectorsWorkersComeToTheOcAndOnlyItsCargoIsLost) {
   const double period = plan.file.cycle_period_s;
   const RunOutcome base = run(plan, 10, 1, {});
   ASSERT_TRUE(base.completed) << base.failure;
-  const int victim = busiest_collector(plan);
+  const CollectorId collector = busiest_collector(plan);
+  const int victim = mission::collector_agents(plan.file)[collector].value();
   const RunOutcome out = run(plan, 10, 1, {{victim, 3.3 * period}}, 0.2);
   ASSERT_TRUE(out.completed) << out.failure;
   ASSERT_EQ(out.declared_dead.size(), 1u) << "agent " << out.declared_dead[1].first;
@@ -227,8 +230,8 @@ TEST(Faults, ADeadCollectorsWorkersComeToTheOcAndOnlyItsCargoIsLost) {
   // Its workers deliver to the OC themselves after that.
   int direct = 0;
   for (const mission::GoalRecord& g : out.result.goals)
-    if (g.requested_at > declared && g.state == mission::GoalState::kDelivered && g.worker >= 0 &&
-        plan.file.agents[static_cast<std::size_t>(g.worker)].delivers_to == victim) {
+    if (g.requested_at > declared && g.state == mission::GoalState::kDelivered && g.worker.valid() &&
+        plan.file.agents[g.worker].delivers_to == collector) {
       EXPECT_EQ(g.delivered_by, g.worker);
       ++direct;
     }
@@ -240,7 +243,7 @@ TEST(Faults, ADeadCollectorsWorkersComeToTheOcAndOnlyItsCargoIsLost) {
 
 TEST(Faults, AWorkerOfACollectorDiesUnderLossAndTheMissionGoesOn) {
   const mission::MissionPlan& plan = Office::get().pap4;
-  const int victim = a_worker(plan, false);
+  const int victim = a_worker(plan, false).value();
   const RunOutcome base = run(plan, 10, 3, {});
   const RunOutcome out = run(plan, 10, 3, {{victim, 4.1 * plan.file.cycle_period_s}}, 0.2);
   ASSERT_TRUE(out.completed) << out.failure;

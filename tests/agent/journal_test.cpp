@@ -44,8 +44,8 @@ TEST(Journal, WhatIsSyncedComesBackOnReplay) {
   const std::string p = temp_dir("replay") + "/a.journal";
   Progress prog;
   prog.resolved = 3, prog.measured = 11, prog.expired = 2, prog.dead = {4};
-  prog.learned = {{40, Cell{5, 6}, 100.0}, {41, Cell{7, 8}, 100.0}};
-  prog.known = {41};
+  prog.learned = {{GoalId(40), Cell{5, 6}, 100.0}, {GoalId(41), Cell{7, 8}, 100.0}};
+  prog.known = {GoalId(41)};
   {
     Journal j(p, 7, 99);
     j.reset();
@@ -73,7 +73,7 @@ TEST(Journal, WhatIsSyncedComesBackOnReplay) {
   EXPECT_EQ(s.progress.dead, std::vector<int16_t>{4});
   ASSERT_EQ(s.progress.learned.size(), 2u);
   EXPECT_EQ(s.progress.learned[1].cell.col, 8);
-  EXPECT_EQ(s.progress.known, std::vector<int32_t>{41});
+  EXPECT_EQ(s.progress.known, std::vector<GoalId>{GoalId(41)});
   ASSERT_TRUE(s.have_pose);
   EXPECT_DOUBLE_EQ(s.pose.y, 2.5);
   EXPECT_EQ(s.records, 10u);
@@ -192,7 +192,7 @@ TEST(Restart, AWorkerCarryingDataCrashesAndItsDataStillArrivesOnce) {
   const mission::MissionPlan& plan = o.pap4;
   int victim = -1;
   for (const plan::AgentAssignment& a : plan.file.agents)
-    if (!a.collector && a.delivers_to >= 0 && victim < 0) victim = a.id;
+    if (!a.collector && a.delivers_to.valid() && victim < 0) victim = a.id.value();
   ASSERT_GE(victim, 0);
   // When does it first carry data (after the first minute)? The same run,
   // without a restart, up to then.
@@ -225,7 +225,7 @@ TEST(Restart, AWorkerCarryingDataCrashesAndItsDataStillArrivesOnce) {
   for (int32_t key : carried) {
     const mission::GoalRecord& g = out.result.goals[static_cast<std::size_t>(key)];
     EXPECT_EQ(g.state, mission::GoalState::kDelivered) << "goal " << key << " carried at the crash";
-    EXPECT_EQ(g.measured_by, victim);
+    EXPECT_EQ(g.measured_by, AgentId(victim));
   }
   int64_t measured = 0, delivered = 0;
   for (const AgentSummary& a : out.agents) measured += a.report.measured;

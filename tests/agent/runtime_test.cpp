@@ -194,7 +194,7 @@ Message request(int32_t id, int32_t first, std::vector<Point2> goals, const Occu
 TEST(WorkerRole, MeasuresHandsOverInContactResendsALostAckAndReportsExpiry) {
   CorridorTeam c(3);
   const OccupancyGrid& grid = c.scenario.grid;
-  Stepper w{make_agent(*c.team, 1)};
+  Stepper w{make_agent(*c.team, AgentId(1))};
   // Request 0 from the OC: goals at x = 5.05 (4.5 m from the OC) and 19.05.
   w.step(0.0, {request(0, 0, {{5.05, 0.25}, {19.05, 0.25}}, grid, kOc, kBroadcast)});
   auto& role = static_cast<WorkerRole&>(*w.unit.role);
@@ -213,7 +213,7 @@ TEST(WorkerRole, MeasuresHandsOverInContactResendsALostAckAndReportsExpiry) {
   EXPECT_EQ(data->data.items[0].key, 0);
   // Measured on arrival: it heard the request at t = 0.1 s and walked from
   // its start pose at 1 m/s.
-  const double walk = 5.05 - c.team->start_pose(1).x;
+  const double walk = 5.05 - c.team->start_pose(AgentId(1)).x;
   EXPECT_NEAR(data->data.items[0].at, 0.1 + walk, 0.15);
   const double first = t;
   // No ack: sent again after resend_after (1 s) while in contact.
@@ -238,7 +238,7 @@ TEST(CollectorRole, AcksStoresOnceRefusesWhenFullDeliversInCoverageRelaysRequest
   CorridorTeam c(2);
   c.team->params.data_capacity = 2;
   const OccupancyGrid& grid = c.scenario.grid;
-  Stepper k{make_agent(*c.team, 0)};
+  Stepper k{make_agent(*c.team, AgentId(0))};
   k.step(0.0, {request(0, 0, {{19.05, 0.25}}, grid, kOc, kBroadcast)});
   // Its worker's data at t = 5 s (both at x ~ 5.5 m): acked, picked up now.
   Message d = message(Kind::kData, 1, 0, 0, Point2{5.5, 0.25});
@@ -295,12 +295,12 @@ TEST(OcRole, DeliversOnceCountsDuplicatesAcksAllAndExpiresSkippedRequests) {
   d.data.items[0].picked_up_by = 0, d.data.items[0].picked_up_at = 5.0;
   oc.step(27.0, {d});
   auto& role = static_cast<OcRole&>(*oc.unit.role);
-  EXPECT_TRUE(role.resolved(0));
+  EXPECT_TRUE(role.resolved(GoalId(0)));
   EXPECT_EQ(role.duplicate_items(), 1);
   ASSERT_NE(oc.sent(Kind::kAck), nullptr);
   EXPECT_EQ(oc.sent(Kind::kAck)->ack.count, 2u);
   EXPECT_EQ(role.goals()[0].delivered_at, 27.0);
-  EXPECT_EQ(role.goals()[0].delivered_by, 0);
+  EXPECT_EQ(role.goals()[0].delivered_by, AgentId(0));
   // Request 1 is issued at 100 s; worker 1 reports it never reached it.
   oc.step(100.0);
   Message s = message(Kind::kData, 0, kOc, 1, Point2{1.0, 0.25});
@@ -309,7 +309,7 @@ TEST(OcRole, DeliversOnceCountsDuplicatesAcksAllAndExpiresSkippedRequests) {
   DataItem bogus = measured(99, 1, 1.0);  // no such goal
   s.data.count = 2, s.data.items[0] = skip, s.data.items[1] = bogus;
   oc.step(150.0, {s});
-  EXPECT_TRUE(role.resolved(2));
+  EXPECT_TRUE(role.resolved(GoalId(2)));
   EXPECT_EQ(role.goals()[2].state, mission::GoalState::kExpired);
   EXPECT_EQ(role.goals()[2].expired_at, 143.5);
   EXPECT_EQ(role.invalid_items(), 1);
@@ -327,7 +327,7 @@ TEST(TeamRunner, CorridorTimesAreTheSimulatorsUpToTicks) {
   ASSERT_EQ(g.size(), 3u);
   // The simulator's workers start at the OC (x = 0.55 m); this one at its
   // start pose, and hears request 0 a tick after it is issued.
-  const double start = 0.1 - (c.team->start_pose(1).x - 0.55);
+  const double start = 0.1 - (c.team->start_pose(AgentId(1)).x - 0.55);
   EXPECT_NEAR(g[0].measured_at, 4.5 + start, 0.15);
   EXPECT_NEAR(g[0].picked_up_at, g[0].measured_at, 0.3);
   EXPECT_NEAR(g[0].delivered_at, 26.95, 0.3);
@@ -357,7 +357,7 @@ TEST(TeamRunner, HandOverTakesItsTransferTimeAsInTheSimulator) {
   ASSERT_TRUE(out.completed) << out.failure;
   const auto& g = out.result.goals;
   ASSERT_EQ(g.size(), 2u);
-  const double start = 0.1 - (team.start_pose(1).x - 0.55);
+  const double start = 0.1 - (team.start_pose(AgentId(1)).x - 0.55);
   EXPECT_NEAR(g[0].measured_at, 4.5 + start, 0.15);
   EXPECT_NEAR(g[0].picked_up_at, g[0].measured_at + 10.0, 0.3);  // the simulator: 14.5 s
   EXPECT_GT(g[1].measured_at, g[0].picked_up_at);
@@ -497,7 +497,7 @@ TEST(OcRole, AGoalInNoSegmentExpiresWhenTheNextRequestIsDue) {
   c.team = std::make_unique<TeamSetup>(c.world, c.plan, c.params);
   const RunOutcome out = TeamRunner(*c.team, RunOptions{}).run();
   ASSERT_TRUE(out.completed) << out.failure;
-  EXPECT_EQ(out.result.goals[1].worker, -1);
+  EXPECT_FALSE(out.result.goals[1].worker.valid());
   EXPECT_EQ(out.result.goals[1].state, mission::GoalState::kExpired);
   EXPECT_DOUBLE_EQ(out.result.goals[1].expired_at, 100.0);
 }
@@ -505,7 +505,7 @@ TEST(OcRole, AGoalInNoSegmentExpiresWhenTheNextRequestIsDue) {
 TEST(WorkerRole, IgnoresARequestLargerThanTheMissionsOwn) {
   CorridorTeam c(3);  // goals_per_request 4
   const OccupancyGrid& grid = c.scenario.grid;
-  Stepper w{make_agent(*c.team, 1)};
+  Stepper w{make_agent(*c.team, AgentId(1))};
   std::vector<Point2> five = {{3.05, 0.25}, {4.05, 0.25}, {5.05, 0.25}, {6.05, 0.25}, {7.05, 0.25}};
   w.step(0.0, {request(0, 0, five, grid, kOc, kBroadcast)});
   EXPECT_EQ(static_cast<WorkerRole&>(*w.unit.role).phase(), WorkerRole::Phase::kStart);

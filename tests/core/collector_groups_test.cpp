@@ -31,23 +31,30 @@ WorkerGraph two_arms() {
   return g;
 }
 
+// The collector of each segment as plain numbers (-1: the OC).
+std::vector<int> groups(const WorkerGraph& graph, int collectors, const PerSegment<double>& work) {
+  std::vector<int> out;
+  for (CollectorId c : group_segments(graph, collectors, work)) out.push_back(c.value());
+  return out;
+}
+
 TEST(CollectorGroupsTest, NoCollectorsSendsEverySegmentToTheOc) {
-  EXPECT_EQ(group_segments(two_arms(), 0, PerSegment<double>(5, 1.0)).values(), (std::vector<int>{-1, -1, -1, -1, -1}));
+  EXPECT_EQ(groups(two_arms(), 0, PerSegment<double>(5, 1.0)), (std::vector<int>{-1, -1, -1, -1, -1}));
 }
 
 TEST(CollectorGroupsTest, OneCollectorPerArmAndTheOcKeepsWhatTouchesItsCoverage) {
-  EXPECT_EQ(group_segments(two_arms(), 2, PerSegment<double>(5, 1.0)).values(), (std::vector<int>{-1, 0, 0, 1, 1}));
+  EXPECT_EQ(groups(two_arms(), 2, PerSegment<double>(5, 1.0)), (std::vector<int>{-1, 0, 0, 1, 1}));
 }
 
 TEST(CollectorGroupsTest, OneCollectorTakesBothArmsThroughTheOcArea) {
   // The east arm cannot be reached through segments from the west seed: it
   // joins the group of the nearest centroid.
-  EXPECT_EQ(group_segments(two_arms(), 1, PerSegment<double>(5, 1.0)).values(), (std::vector<int>{-1, 0, 0, 0, 0}));
+  EXPECT_EQ(groups(two_arms(), 1, PerSegment<double>(5, 1.0)), (std::vector<int>{-1, 0, 0, 0, 0}));
 }
 
 TEST(CollectorGroupsTest, MoreCollectorsThanSegmentsToServe) {
   // Four segments to serve, eight collectors: one segment each, collectors 4-7 idle.
-  const std::vector<int> g = group_segments(two_arms(), 8, PerSegment<double>(5, 1.0)).values();
+  const std::vector<int> g = groups(two_arms(), 8, PerSegment<double>(5, 1.0));
   EXPECT_EQ(g[0], -1);
   std::vector<int> served(g.begin() + 1, g.end());
   std::sort(served.begin(), served.end());
@@ -62,9 +69,9 @@ TEST(CollectorGroupsTest, TheLeastLoadedGroupGrowsFirst) {
       PerSegment<WorkerSegment>({segment(1, 0, 0.0, {2, 4}), segment(2, -2, 1.0, {1, 6}), segment(3, -9, 9.0, {}),
                                  segment(4, 2, 1.5, {1, 6}), segment(5, 9, 9.0, {}), segment(6, 0, 8.0, {2, 4})});
   // Segments 3 and 5 border nothing: each joins the group of the nearest centroid.
-  const std::vector<int> west_heavy = group_segments(g, 2, PerSegment<double>({1, 10, 1, 1, 1, 1})).values();
+  const std::vector<int> west_heavy = groups(g, 2, PerSegment<double>({1, 10, 1, 1, 1, 1}));
   EXPECT_EQ(west_heavy[5], 1) << "the east group (lighter) takes segment 6";
-  const std::vector<int> east_heavy = group_segments(g, 2, PerSegment<double>({1, 1, 1, 10, 1, 1})).values();
+  const std::vector<int> east_heavy = groups(g, 2, PerSegment<double>({1, 1, 1, 10, 1, 1}));
   EXPECT_EQ(east_heavy[5], 0) << "the west group (lighter) takes segment 6";
   EXPECT_EQ(west_heavy[2], 0);
   EXPECT_EQ(west_heavy[4], 1);

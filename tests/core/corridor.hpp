@@ -48,8 +48,9 @@ inline mission::MissionPlan one_collector_plan(const Scenario& s, plan::Collecto
   p.method = "hand";
   p.collectors = 1, p.workers = 1, p.cycle_period_s = s.mission.period;
   p.area_tile_m = tile_m;
-  p.agents = {plan::AgentAssignment{0, true, SegmentId(), 0}, plan::AgentAssignment{1, false, SegmentId(1), 0}};
-  route.collector = 0;
+  p.agents = {plan::AgentAssignment{AgentId(0), true, SegmentId(), CollectorId(0)},
+              plan::AgentAssignment{AgentId(1), false, SegmentId(1), CollectorId(0)}};
+  route.collector = CollectorId(0);
   route.segments = {SegmentId(1)};
   route.period = route.length;  // [s] at the strips' 1 m/s
   p.routes = {route};
@@ -70,7 +71,7 @@ inline mission::MissionPlan corridor_plan_without_collector(const Scenario& s) {
   mission::MissionPlan m = corridor_plan(s);
   m.file.collectors = 0;
   m.file.routes.clear();
-  m.file.agents = {plan::AgentAssignment{0, false, SegmentId(1), -1}};
+  m.file.agents = {plan::AgentAssignment{AgentId(0), false, SegmentId(1), CollectorId()}};
   return m;
 }
 

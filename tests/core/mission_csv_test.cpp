@@ -25,12 +25,12 @@ std::string first_line(const std::string& text) { return text.substr(0, text.fin
 // the next request (20 s). Requests every 10 s, two cycles.
 std::vector<GoalRecord> two_goals() {
   GoalRecord a;
-  a.id = 0, a.cycle = 0, a.point = Point2{1.0, 2.0}, a.segment = SegmentId(3), a.worker = 3;
+  a.id = GoalId(0), a.cycle = 0, a.point = Point2{1.0, 2.0}, a.segment = SegmentId(3), a.worker = AgentId(3);
   a.requested_at = 0.0, a.deadline = 10.0;
-  a.measured_at = 4.5, a.measured_by = 3, a.picked_up_at = 6.0, a.picked_up_by = 0;
-  a.delivered_at = 9.25, a.delivered_by = 0, a.state = GoalState::kDelivered;
+  a.measured_at = 4.5, a.measured_by = AgentId(3), a.picked_up_at = 6.0, a.picked_up_by = AgentId(0);
+  a.delivered_at = 9.25, a.delivered_by = AgentId(0), a.state = GoalState::kDelivered;
   GoalRecord b;
-  b.id = 1, b.cycle = 1, b.point = Point2{-1.5, 0.25}, b.segment = SegmentId(2), b.worker = 2;
+  b.id = GoalId(1), b.cycle = 1, b.point = Point2{-1.5, 0.25}, b.segment = SegmentId(2), b.worker = AgentId(2);
   b.requested_at = 10.0, b.deadline = 20.0, b.expired_at = 20.0, b.state = GoalState::kExpired;
   return {a, b};
 }

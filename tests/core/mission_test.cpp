@@ -54,7 +54,7 @@ const GoalRecord& goal_at(const MissionResult& r, double x, int cycle) {
 void check_invariants(const MissionResult& r, int cycles, int collectors) {
   ASSERT_EQ(static_cast<int>(r.cycles.size()), cycles);
   int delivered = 0;
-  std::set<int> ids;
+  std::set<GoalId> ids;
   for (const GoalRecord& g : r.goals) {
     EXPECT_TRUE(ids.insert(g.id).second);
     if (g.measured_at >= 0) {
@@ -70,7 +70,7 @@ void check_invariants(const MissionResult& r, int cycles, int collectors) {
       EXPECT_GE(g.picked_up_at, g.measured_at - 1e-3);
       EXPECT_GE(g.delivered_at, g.picked_up_at);
       EXPECT_EQ(g.delivered_by, g.picked_up_by);
-      EXPECT_LT(g.picked_up_by, collectors);
+      EXPECT_LT(g.picked_up_by.value(), collectors);  // collector k is agent k
     } else if (g.delivered_at >= 0) {
       EXPECT_GE(g.delivered_at, g.measured_at);
       EXPECT_EQ(g.delivered_by, g.measured_by);
@@ -94,7 +94,7 @@ TEST(MissionTest, CorridorDeliveryTimesAreExact) {
   const Scenario s = corridor();
   const plan::PlanContext ctx(s);
   MissionSimulator sim(ctx, corridor_plan(s));
-  const auto& iv = sim.route(0).coverage_intervals();
+  const auto& iv = sim.route(CollectorId(0)).coverage_intervals();
   ASSERT_EQ(iv.size(), 2u);
   EXPECT_NEAR(iv[0].second, 2.05, 1e-5);
   EXPECT_NEAR(iv[1].first, 26.95, 1e-5);
@@ -111,7 +111,7 @@ TEST(MissionTest, CorridorDeliveryTimesAreExact) {
   EXPECT_NEAR(a.measured_at, 4.5, 1e-3);
   EXPECT_NEAR(a.picked_up_at, 4.5, 1e-3);
   EXPECT_NEAR(a.delivered_at, 26.95, 1e-3);
-  EXPECT_EQ(a.delivered_by, 0);
+  EXPECT_EQ(a.delivered_by, AgentId(0));
   // B lies beyond the pass: measured at 16.5 s (the collector is 4 m away,
   // driving back), back at the pass at 18.5 s; the collector's next loop
   // (t = 29 s) comes within radio range of the pass at 43.5 s - range.
@@ -403,6 +403,7 @@ TEST_F(MissionOfficeTest, VideoHasEveryFrameAndReadsBack) {
 
 TEST(MissionAccountingTest, BrokenHistoriesAreCaught) {
   GoalRecord g;
+  g.id = GoalId(0);  // goal 0 of the run
   g.deadline = 10.0;
   g.measured_at = 2.0;
   g.delivered_at = 1.0;  // before it was measured
@@ -412,6 +413,7 @@ TEST(MissionAccountingTest, BrokenHistoriesAreCaught) {
   g.delivered_at = -1.0;  // measured, never delivered: data dropped
   EXPECT_THROW(mission::account({g}, 1, 10.0), Error);
   GoalRecord e;
+  e.id = GoalId(0);
   e.deadline = 10.0;
   e.expired_at = 10.0;
   EXPECT_NO_THROW(mission::account({e}, 1, 10.0));

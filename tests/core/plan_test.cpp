@@ -48,11 +48,11 @@ TEST_F(PlanTest, EveryWorkerIsAssociatedExactlyOnce) {
     for (const auto& r : cfg.routes)
       for (const auto& m : r.meetings) served.insert(m.segment);
     for (SegmentId k : segment_ids(cfg.workers)) {
-      const int c = cfg.collector_of_segment[k];
-      ASSERT_GE(c, -1);
-      ASSERT_LT(c, nc);
-      EXPECT_EQ(served.count(k), c >= 0 ? 1u : 0u) << k;
-      if (c >= 0) {
+      const CollectorId c = cfg.collector_of_segment[k];
+      ASSERT_GE(c.value(), -1);
+      ASSERT_LT(c.value(), nc);
+      EXPECT_EQ(served.count(k), c.valid() ? 1u : 0u) << k;
+      if (c.valid()) {
         EXPECT_FALSE(cfg.graph.segment(k).touches_coverage);
       }
     }
@@ -93,8 +93,8 @@ TEST_F(PlanTest, NoRouteIsLongerThanTheRequestPeriodAndTheDecisionNeverLowersThe
         for (const auto& r : after.routes)
           for (const auto& meeting : r.meetings) served.insert(meeting.segment);
         for (SegmentId k : segment_ids(after.workers)) {
-          const int c = after.collector_of_segment[k];
-          EXPECT_EQ(served.count(k), c >= 0 ? 1u : 0u);
+          const CollectorId c = after.collector_of_segment[k];
+          EXPECT_EQ(served.count(k), c.valid() ? 1u : 0u);
           EXPECT_EQ(after.estimates.workers[k.index()].collector, c);
         }
       }
@@ -126,12 +126,12 @@ TEST(PlanAssociationTest, AFarSegmentCheaperFromTheOcGoesToTheOc) {
   const auto before = plan::plan_configuration(ctx, partition::Method::kBap, 1, grown);
   SegmentId far;
   for (SegmentId k : segment_ids(before.workers))
-    if (before.collector_of_segment[k] == 0) far = k;
+    if (before.collector_of_segment[k] == CollectorId(0)) far = k;
   ASSERT_TRUE(far.valid()) << "the grown groups give the collector no segment";
-  ASSERT_LE(before.routes[0].period, ctx.cycle_period);
+  ASSERT_LE(before.routes[CollectorId(0)].period, ctx.cycle_period);
   const auto after = plan::plan_configuration(ctx, partition::Method::kBap, 1);
-  EXPECT_EQ(after.collector_of_segment[far], -1);
-  EXPECT_TRUE(after.routes[0].segments.empty());
+  EXPECT_EQ(after.collector_of_segment[far], CollectorId());
+  EXPECT_TRUE(after.routes[CollectorId(0)].segments.empty());
   EXPECT_GT(plan::association_score(ctx, after.estimates), plan::association_score(ctx, before.estimates));
   EXPECT_LT(after.estimates.refresh_s, before.estimates.refresh_s);
 }
@@ -139,8 +139,8 @@ TEST(PlanAssociationTest, AFarSegmentCheaperFromTheOcGoesToTheOc) {
 TEST_F(PlanTest, NoCollectorsSendsEveryWorkerToTheOc) {
   const auto cfg = plan::plan_configuration(*ctx_, partition::Method::kBap, 0);
   EXPECT_TRUE(cfg.routes.empty());
-  for (int c : cfg.collector_of_segment) EXPECT_EQ(c, -1);
-  for (const auto& w : cfg.estimates.workers) EXPECT_EQ(w.collector, -1);
+  for (CollectorId c : cfg.collector_of_segment) EXPECT_FALSE(c.valid());
+  for (const auto& w : cfg.estimates.workers) EXPECT_FALSE(w.collector.valid());
 }
 
 TEST_F(PlanTest, SweepUtilitiesAreInUnitRangeAndTheBestIsTheMaximum) {
@@ -178,11 +178,11 @@ TEST_F(PlanTest, SameSeedSamePlanAndFileRoundTrip) {
   EXPECT_EQ(read.method, "rap");
   EXPECT_EQ(read.collectors, 2);
   ASSERT_EQ(read.agents.size(), 8u);
-  EXPECT_TRUE(read.agents[0].collector);
-  EXPECT_FALSE(read.agents[2].collector);
-  EXPECT_EQ(read.agents[2].segment, SegmentId(1));
+  EXPECT_TRUE(read.agents[AgentId(0)].collector);
+  EXPECT_FALSE(read.agents[AgentId(2)].collector);
+  EXPECT_EQ(read.agents[AgentId(2)].segment, SegmentId(1));
   ASSERT_EQ(read.routes.size(), a.routes.size());
-  EXPECT_EQ(read.routes[0].waypoints.size(), a.routes[0].waypoints.size());
+  EXPECT_EQ(read.routes[CollectorId(0)].waypoints.size(), a.routes[CollectorId(0)].waypoints.size());
 }
 
 TEST_F(PlanTest, BadRequestsAreClearErrors) {
@@ -243,7 +243,7 @@ TEST_F(PlanTest, ThePassRadiusDecidesWhereARoutePassesNextToASegment) {
   std::size_t passes_base = 0, passes_far = 0, found_far = 0;
   bool differ = false;
   ASSERT_EQ(base.routes.size(), far.routes.size());
-  for (std::size_t r = 0; r < base.routes.size(); ++r)
+  for (CollectorId r : ids<CollectorId>(base.routes.count()))
     for (std::size_t m = 0; m < base.routes[r].meetings.size() && m < far.routes[r].meetings.size(); ++m) {
       passes_base += base.routes[r].meetings[m].passes.size();
       passes_far += far.routes[r].meetings[m].passes.size();

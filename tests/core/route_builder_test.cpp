@@ -29,7 +29,7 @@ struct TwoHalves {
   }
   CollectorRoute route(const std::vector<SegmentId>& segments) {
     fmm::FastMarching fm = ctx.oc_field;
-    return build_route(ctx, fm, graph, labels, segments, 0, PlannerOptions{});
+    return build_route(ctx, fm, graph, labels, segments, CollectorId(0), PlannerOptions{});
   }
 };
 

@@ -29,16 +29,16 @@ TEST(HandoverTest, ATransferThatNeedsTenSecondsPicksAPassWhereTheLinkLastsTenSec
     s.radio.bitrate_bps = bitrate;
     const mission::World world(s);
     const mission::MissionPlan mp = testing_support::lingering_plan(s);
-    const mission::RouteTimetable route(mp.file.routes[0], s.team.speed, s.mission.period, world.coverage);
+    const mission::RouteTimetable route(mp.file.routes[CollectorId(0)], s.team.speed, s.mission.period, world.coverage);
     mission::SharedDistances shared(world);
-    mission::WorkerPolicy policy(world, mp, mp.file.agents[1], &route, shared, 4, mission::ProtocolParams{});
+    mission::WorkerPolicy policy(world, mp, mp.file.agents[AgentId(1)], &route, shared, 4, mission::ProtocolParams{});
     const double range = RadioModel(s.grid, s.radio).free_space_range();
     EXPECT_NEAR(policy.link_window(0).first, 9.5 - range, 0.1);
     EXPECT_NEAR(policy.link_window(0).second, 9.5 + range, 0.1);
     EXPECT_NEAR(policy.link_window(1).first, 28.5 - range, 0.1);
     EXPECT_NEAR(policy.link_window(1).second, 37.5 + 1.0 + range, 0.1);  // out of range on the way home
     EXPECT_EQ(policy.handover_capacity(), bitrate > 0 ? 1u : std::numeric_limits<std::size_t>::max());
-    const mission::KnownGoal goal{0, s.grid.world_to_cell(Point2{5.05, 0.25}), 200.0};
+    const mission::KnownGoal goal{GoalId(0), s.grid.world_to_cell(Point2{5.05, 0.25}), 200.0};
     policy.learn(&goal, 1);
     const int known[] = {0};
     const auto d = policy.decide(mission::Spot{world.oc_cell}, 0.0, known, 1, 0, false);
@@ -68,12 +68,13 @@ TEST(HandoverTest, TheProtocolsSamplingStepsAreParametersWithRanges) {
   Scenario s = testing_support::lingering_strip();
   const mission::World world(s);
   const mission::MissionPlan mp = testing_support::lingering_plan(s);
-  const mission::RouteTimetable route(mp.file.routes[0], s.team.speed, s.mission.period, world.coverage);
+  const mission::RouteTimetable route(mp.file.routes[CollectorId(0)], s.team.speed, s.mission.period, world.coverage);
   mission::SharedDistances shared(world);
   mission::ProtocolParams coarse;
   coarse.link_step_m = 0.7;
-  const mission::WorkerPolicy fine_policy(world, mp, mp.file.agents[1], &route, shared, 4, mission::ProtocolParams{});
-  const mission::WorkerPolicy coarse_policy(world, mp, mp.file.agents[1], &route, shared, 4, coarse);
+  const mission::WorkerPolicy fine_policy(world, mp, mp.file.agents[AgentId(1)], &route, shared, 4,
+                                          mission::ProtocolParams{});
+  const mission::WorkerPolicy coarse_policy(world, mp, mp.file.agents[AgentId(1)], &route, shared, 4, coarse);
   // A coarser step finds a window no wider, and not the same to the decimetre.
   const auto fine = fine_policy.link_window(0), wide = coarse_policy.link_window(0);
   EXPECT_GE(wide.first, fine.first - 1e-9);
@@ -82,7 +83,7 @@ TEST(HandoverTest, TheProtocolsSamplingStepsAreParametersWithRanges) {
   mission::ProtocolParams bad;
   bad.link_step_m = 0.0;
   try {
-    mission::WorkerPolicy refused(world, mp, mp.file.agents[1], &route, shared, 4, bad);
+    mission::WorkerPolicy refused(world, mp, mp.file.agents[AgentId(1)], &route, shared, 4, bad);
     FAIL() << "link_step_m = 0 was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("link_step_m = 0 must be in [0.01, 1] m"), std::string::npos) << e.what();

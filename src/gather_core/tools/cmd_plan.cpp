@@ -100,11 +100,12 @@ int plan(int argc, char** argv) {
               "goals", "U", "plan [ms]");
   for (std::size_t i = 0; i < sweep.configs.size(); ++i) {
     const auto& c = sweep.configs[i];
-    std::printf("%-6s %3d %3d %3d %12.1f %13.1f %8.2f %8.3f %9.0f%s\n", partition::method_name(c.method), c.collectors,
-                c.workers,
-                static_cast<int>(std::count(c.collector_of_segment.begin(), c.collector_of_segment.end(), -1)),
-                c.estimates.refresh_s, c.estimates.interval_s, c.estimates.goals, c.utility, c.times.total(),
-                static_cast<int>(i) == sweep.best ? "  <- best" : "");
+    std::printf(
+        "%-6s %3d %3d %3d %12.1f %13.1f %8.2f %8.3f %9.0f%s\n", partition::method_name(c.method), c.collectors,
+        c.workers,
+        static_cast<int>(std::count(c.collector_of_segment.begin(), c.collector_of_segment.end(), CollectorId())),
+        c.estimates.refresh_s, c.estimates.interval_s, c.estimates.goals, c.utility, c.times.total(),
+        static_cast<int>(i) == sweep.best ? "  <- best" : "");
   }
   plan::StageTimes sum;
   for (const auto& c : sweep.configs) {

@@ -61,7 +61,7 @@ ConfigOutput simulate(mission::MissionSimulator& sim, int cycles, int seed0, int
     for (const mission::TimeBudget& b : sim.time_budgets(r)) {
       char line[256];
       std::snprintf(line, sizeof line, "%s,%d,%u,%d,%s,%.3f,%.3f,%.3f\n", pf.method.c_str(), pf.collectors, opt.seed,
-                    b.agent, b.role, b.measuring_s, b.commuting_s, b.waiting_s);
+                    b.agent.value(), b.role, b.measuring_s, b.commuting_s, b.waiting_s);
       out.roles += line;
     }
     out.runs.refresh_s.push_back(r.refresh_mean_s);
@@ -84,11 +84,11 @@ void write_fig4(const std::string& dir, const plan::PlanContext& ctx, mission::M
   opt.cycles = cycles;
   opt.seed = static_cast<unsigned>(seed);
   const mission::MissionResult r = sim.run(opt);
-  int agent = -1;
+  AgentId agent;  // the first worker of a collector, else the first worker
   for (const auto& a : sim.plan().file.agents)
-    if (!a.collector && (agent < 0 || a.delivers_to >= 0)) {
+    if (!a.collector && (!agent.valid() || a.delivers_to.valid())) {
       agent = a.id;
-      if (a.delivers_to >= 0) break;
+      if (a.delivers_to.valid()) break;
     }
   const double t1 = std::min(r.mission_s, 3.0 * r.period_s);
   figures::write_fig4_sync(dir + "/fig4_sync.png", ctx, sim, r, agent, 0.0, t1);

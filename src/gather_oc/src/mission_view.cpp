@@ -29,7 +29,7 @@ MissionView::MissionView(const agent::TeamSetup& team, const Style& style, std::
       yaw_(static_cast<std::size_t>(team.agents()), 0.0),
       last_pose_(static_cast<std::size_t>(team.agents())),
       box_(reachable_box(team.world.reachable)) {
-  for (int a = 0; a < team.agents(); ++a) last_pose_[static_cast<std::size_t>(a)] = team.start_pose(a);
+  for (AgentId a : ids<AgentId>(team.agents())) last_pose_[a.index()] = team.start_pose(a);
 }
 
 void MissionView::take(const agent::ViewEvents& events, const agent::OcRole& oc) {
@@ -40,8 +40,8 @@ void MissionView::take(const agent::ViewEvents& events, const agent::OcRole& oc)
   handovers_.insert(handovers_.end(), events.handovers.begin(), events.handovers.end());
 }
 
-int MissionView::goal_state(const agent::OcRole& oc, int id) const {
-  const mission::GoalRecord& g = oc.goals()[static_cast<std::size_t>(id)];
+int MissionView::goal_state(const agent::OcRole& oc, GoalId id) const {
+  const mission::GoalRecord& g = oc.goals()[id.index()];
   if (g.delivered_at >= 0) return kDelivered;
   if (g.dropped_at >= 0) return kDropped;
   if (g.expired_at >= 0) return kExpired;
@@ -53,9 +53,7 @@ int MissionView::goal_state(const agent::OcRole& oc, int id) const {
       default: return kExpired;
     }
   }
-  if (g.measured_at >= 0 ||
-      (static_cast<std::size_t>(id) < measured_.size() && measured_[static_cast<std::size_t>(id)]))
-    return kCarried;
+  if (g.measured_at >= 0 || (id.index() < measured_.size() && measured_[id.index()])) return kCarried;
   return kPending;
 }
 
@@ -99,24 +97,24 @@ visualization_msgs::MarkerArray MissionView::team_markers(const std::vector<agen
 
   for (const agent::Reply& r : agents) {
     // As the OC runs the plan now (a dead collector's workers deliver to it).
-    const plan::AgentAssignment& as =
-        ledger ? ledger->current_plan().file.agents[static_cast<std::size_t>(r.agent)] : team_.assignment(r.agent);
+    const AgentId agent(r.agent);
+    const plan::AgentAssignment& as = ledger ? ledger->current_plan().file.agents[agent] : team_.assignment(agent);
     const bool collector = as.collector;
     Marker m = marker(frame_, stamp, "agents", r.agent, collector ? Marker::CUBE : Marker::CYLINDER);
     m.pose.position = pt(r.pose, kZAgents);
     m.scale.x = m.scale.y = u * (collector ? 1.1 : 1.0);
     m.scale.z = u * 0.3;
-    const bool dead = ledger && ledger->declared_dead_at(r.agent) >= 0;
-    m.color = !started              ? style_.waiting
-              : dead                ? style_.dead
-              : as.delivers_to >= 0 ? style_.collector(as.delivers_to)
-                                    : style_.oc_worker;
+    const bool dead = ledger && ledger->declared_dead_at(agent) >= 0;
+    m.color = !started                 ? style_.waiting
+              : dead                   ? style_.dead
+              : as.delivers_to.valid() ? style_.collector(as.delivers_to)
+                                       : style_.oc_worker;
     out.markers.push_back(m);
     Marker id = marker(frame_, stamp, "agent_ids", r.agent, Marker::TEXT_VIEW_FACING);
     id.pose.position = pt(Point2{r.pose.x + u * 0.9, r.pose.y + u * 0.9}, kZLabels);
     id.scale.z = u * 1.1;
     id.color = style_.label;
-    id.text = collector ? "C" + std::to_string(as.delivers_to) + " (" + std::to_string(r.agent) + ")"
+    id.text = collector ? "C" + std::to_string(as.delivers_to.value()) + " (" + std::to_string(r.agent) + ")"
                         : std::to_string(r.agent);
     if (dead) id.text += " dead";
     out.markers.push_back(id);
@@ -147,7 +145,7 @@ visualization_msgs::MarkerArray MissionView::goal_markers(const agent::OcRole& o
   while (first > 0 && oc.goals()[first - 1].cycle >= newest - 1) --first;
   for (std::size_t i = first; i < n; ++i) {
     const mission::GoalRecord& g = oc.goals()[i];
-    const int s = goal_state(oc, static_cast<int>(i));
+    const int s = goal_state(oc, GoalId::at_index(i));
     if (g.cycle < newest - 1 && s != kCarried) continue;
     lists[static_cast<std::size_t>(s)].points.push_back(pt(g.point));
   }
@@ -169,11 +167,11 @@ visualization_msgs::MarkerArray MissionView::path_markers(const std::vector<agen
   visualization_msgs::MarkerArray out;
   for (const agent::Reply& r : agents) {
     shown_path_[static_cast<std::size_t>(r.agent)] = r.path_revision;
-    const plan::AgentAssignment& as = team_.assignment(r.agent);
+    const plan::AgentAssignment& as = team_.assignment(AgentId(r.agent));
     if (as.collector) continue;  // its route is on /gather/plan_markers
     Marker m = marker(frame_, stamp, "paths", r.agent, Marker::LINE_STRIP);
     m.scale.x = style_.unit * 0.12;
-    m.color = as.delivers_to >= 0 ? style_.collector(as.delivers_to, 0.75f) : rgba(0.1f, 0.1f, 0.1f, 0.6f);
+    m.color = as.delivers_to.valid() ? style_.collector(as.delivers_to, 0.75f) : rgba(0.1f, 0.1f, 0.1f, 0.6f);
     m.pose.position.z = kZPaths;
     for (const Point2& p : r.path) m.points.push_back(pt(p));
     if (m.points.size() < 2) m.action = Marker::DELETE, m.points.clear();
@@ -208,19 +206,19 @@ gather_msgs::AgentStates MissionView::agent_states(const std::vector<agent::Repl
   out.header.frame_id = frame_;
   out.header.stamp = stamp;
   for (const agent::Reply& r : agents) {
-    const plan::AgentAssignment& as = team_.assignment(r.agent);
+    const plan::AgentAssignment& as = team_.assignment(AgentId(r.agent));
     gather_msgs::AgentState s;
     s.id = r.agent;
     s.role = as.collector ? gather_msgs::AgentState::COLLECTOR : gather_msgs::AgentState::WORKER;
     s.role_name = as.collector ? "collector" : "worker";
-    s.collector =
-        static_cast<int16_t>(!as.collector && as.delivers_to >= 0 ? team_.collector_agent(as.delivers_to) : -1);
+    s.collector = static_cast<int16_t>(
+        !as.collector && as.delivers_to.valid() ? team_.collector_agent(as.delivers_to).value() : -1);
     s.phase = as.collector ? "route" : agent::WorkerRole::phase_name(r.phase);
     s.x = r.pose.x, s.y = r.pose.y;
     s.measured = static_cast<int32_t>(r.report.measured);
     s.carried = r.carried;
     s.pending = static_cast<int32_t>(r.report.pending);
-    s.delivered = static_cast<int32_t>(oc.delivered_by(r.agent));
+    s.delivered = static_cast<int32_t>(oc.delivered_by(AgentId(r.agent)));
     s.expired = static_cast<int32_t>(r.report.expired);
     s.dropped = static_cast<int32_t>(r.report.dropped);
     s.sent = r.link.sent, s.received = r.link.received, s.gated = r.link.gated, s.lost = r.link.lost;
@@ -231,7 +229,7 @@ gather_msgs::AgentStates MissionView::agent_states(const std::vector<agent::Repl
 
 void MissionView::add(Totals& t, const agent::OcRole& oc, std::size_t goal) const {
   ++t.requested;
-  switch (goal_state(oc, static_cast<int>(goal))) {
+  switch (goal_state(oc, GoalId::at_index(goal))) {
     case kDelivered: {
       const mission::GoalRecord& g = oc.goals()[goal];
       ++t.delivered;
@@ -272,7 +270,7 @@ void MissionView::settle(const agent::OcRole& oc) {
   const std::size_t n = oc.requested();
   // A goal declared lost with an agent may still be recovered by a
   // survivor: final only once the mission is over.
-  while (settled_ < n && oc.resolved(static_cast<int32_t>(settled_)) &&
+  while (settled_ < n && oc.resolved(GoalId::at_index(settled_)) &&
          (over_ || goals[settled_].state != mission::GoalState::kLostWithAgent)) {
     const mission::GoalRecord& g = goals[settled_];
     if (g.cycle != row_cycle_) {
@@ -307,7 +305,7 @@ gather_msgs::MissionStatus MissionView::status(const agent::OcRole& oc, const st
   s.requested = static_cast<uint32_t>(oc.requested());
   Totals open;  // the goals past the cursor
   for (std::size_t i = settled_; i < oc.requested(); ++i) {
-    const int st = goal_state(oc, static_cast<int>(i));
+    const int st = goal_state(oc, GoalId::at_index(i));
     if (st == kPending) ++s.pending;
     if (st == kCarried) ++s.carried;
     add(open, oc, i);

@@ -155,29 +155,29 @@ visualization_msgs::MarkerArray plan_markers(const agent::TeamSetup& team, const
   // Routes, their ids and the meeting areas.
   for (const plan::CollectorRoute& route : plan.file.routes) {
     const std_msgs::ColorRGBA c = style.collector(route.collector);
-    Marker line = marker(frame, stamp, "routes", route.collector, Marker::LINE_STRIP);
+    const int k = route.collector.value();  // marker ids
+    Marker line = marker(frame, stamp, "routes", k, Marker::LINE_STRIP);
     line.scale.x = style.unit * 0.3;
     line.color = c;
     line.pose.position.z = kZRoutes;
     for (const Point2& p : route.waypoints) line.points.push_back(pt(p.x, p.y));
     if (line.points.size() >= 2) out.markers.push_back(line);
 
-    Marker id = marker(frame, stamp, "route_ids", route.collector, Marker::TEXT_VIEW_FACING);
+    Marker id = marker(frame, stamp, "route_ids", k, Marker::TEXT_VIEW_FACING);
     const Point2 mid = point_at(route.waypoints, route.length * 0.5);
     id.pose.position = pt(mid.x, mid.y + style.unit, kZLabels);
     id.scale.z = style.unit * 1.3;
     id.color = c;
-    id.text = "C" + std::to_string(route.collector);
+    id.text = "C" + std::to_string(k);
     out.markers.push_back(id);
 
     for (const plan::MeetingArea& m : route.meetings) {
-      Marker disc = marker(frame, stamp, "meetings", route.collector * 10000 + m.segment.label(), Marker::CYLINDER);
+      Marker disc = marker(frame, stamp, "meetings", k * 10000 + m.segment.label(), Marker::CYLINDER);
       disc.pose.position = pt(m.point.x, m.point.y, kZMeetings);
       disc.scale.x = disc.scale.y = style.unit * 2.2, disc.scale.z = 0.02;
       disc.color = style.collector(route.collector, 0.35f);
       out.markers.push_back(disc);
-      Marker passes =
-          marker(frame, stamp, "meetings", 5000000 + route.collector * 10000 + m.segment.label(), Marker::SPHERE_LIST);
+      Marker passes = marker(frame, stamp, "meetings", 5000000 + k * 10000 + m.segment.label(), Marker::SPHERE_LIST);
       passes.scale.x = passes.scale.y = passes.scale.z = style.unit * 0.7;
       passes.color = style.collector(route.collector, 0.45f);
       passes.pose.position.z = kZMeetings;
@@ -205,8 +205,8 @@ void legend(visualization_msgs::MarkerArray& out, const Style& style, const Box&
       {"delivered", Marker::CUBE, style.goal_delivered},
       {"expired", Marker::CUBE, style.goal_expired},
       {"lost with agent", Marker::CUBE, style.goal_lost},
-      {"collector", Marker::CUBE, style.collector(0)},
-      {"its worker", Marker::CYLINDER, style.collector(0)},
+      {"collector", Marker::CUBE, style.collector(CollectorId(0))},
+      {"its worker", Marker::CYLINDER, style.collector(CollectorId(0))},
       {"OC worker", Marker::CYLINDER, style.oc_worker},
       {"radio link", Marker::LINE_LIST, style.link},
       {"hand-over", Marker::LINE_LIST, style.handover},

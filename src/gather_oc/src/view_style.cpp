@@ -18,9 +18,9 @@ Style::Style(const OccupancyGrid& map) {
   unit = std::clamp(side / 90.0, 0.15, 5.0);
 }
 
-std_msgs::ColorRGBA Style::collector(int index, float a) const {
+std_msgs::ColorRGBA Style::collector(CollectorId collector, float a) const {
   const auto& p = figures::collector_palette();
-  return rgba(p[static_cast<std::size_t>(std::max(index, 0)) % p.size()], a);
+  return rgba(p[static_cast<std::size_t>(std::max(collector.value(), 0)) % p.size()], a);
 }
 
 Box reachable_box(const Mask& reachable) {

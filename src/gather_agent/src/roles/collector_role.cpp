@@ -8,28 +8,27 @@
 namespace gather {
 namespace agent {
 
-CollectorRole::CollectorRole(TeamSetup& team, int agent, MotionBackend& motion)
-    : Role(static_cast<int16_t>(agent), motion),
+CollectorRole::CollectorRole(TeamSetup& team, AgentId agent, MotionBackend& motion)
+    : Role(static_cast<int16_t>(agent.value()), motion),
       team_(team),
       collector_(team.assignment(agent).delivers_to),
-      route_(team.routes[static_cast<std::size_t>(team.assignment(agent).delivers_to)]),
+      route_(team.routes[team.assignment(agent).delivers_to]),
       custody_(team.params.data_capacity, team.params.notice_capacity) {
-  const plan::CollectorRoute& r = team.plan.file.routes[static_cast<std::size_t>(collector_)];
+  const plan::CollectorRoute& r = team.plan.file.routes[collector_];
   for (const plan::MeetingArea& m : r.meetings) {
-    const int w = team.worker_of_segment(m.segment);
-    if (w < 0 || team.assignment(w).delivers_to != collector_)
-      throw Error(team.plan.source.empty() ? "plan" : team.plan.source, "collector " + std::to_string(collector_) +
-                                                                            " meets " + to_string(m.segment) +
-                                                                            ", whose worker is not its own");
-    workers_.push_back(Served{static_cast<int16_t>(w), m.arc_m, -1});
+    const AgentId w = team.worker_of_segment(m.segment);
+    if (!w.valid() || team.assignment(w).delivers_to != collector_)
+      throw Error(team.plan.source.empty() ? "plan" : team.plan.source,
+                  to_string(collector_) + " meets " + to_string(m.segment) + ", whose worker is not its own");
+    workers_.push_back(Served{static_cast<int16_t>(w.value()), m.arc_m, -1});
   }
   const std::size_t g = static_cast<std::size_t>(team.params.goals_per_request);
   parts_.resize(std::max<std::size_t>(1, (g + kRequestPartGoals - 1) / kRequestPartGoals));
   acks_.reserve(kMaxBatch);
   dead_.reserve(kMaxDead);
-  next_beacon_ = team.params.beacon_period * static_cast<double>(agent % 10) / 10.0;
+  next_beacon_ = team.params.beacon_period * static_cast<double>(agent.value() % 10) / 10.0;
   counters_.role = RoleKind::kCollector;
-  counters_.id = agent;
+  counters_.id = agent.value();
   motion.follow(route_);
 }
 

@@ -32,26 +32,26 @@ OcRole::OcRole(TeamSetup& team, MotionBackend& station) : Role(kOc, station), te
   goals_.reserve(drawn.size());
   for (const mission::DrawnGoal& d : drawn) {
     mission::GoalRecord g;
-    g.id = static_cast<int>(goals_.size());
+    g.id = GoalId::at_index(goals_.size());
     g.cycle = d.cycle;
     g.point = grid.cell_center(d.cell);
     g.segment = SegmentId(team.plan.labels[grid.index(d.cell)]);
-    g.worker = g.segment.valid() ? team.worker_of_segment(g.segment) : -1;
+    g.worker = g.segment.valid() ? team.worker_of_segment(g.segment) : AgentId();
     g.requested_at = -1.0;
-    g.deadline = g.worker >= 0 ? team.deadline(g.worker, g.cycle) : std::numeric_limits<double>::infinity();
+    g.deadline = g.worker.valid() ? team.deadline(g.worker, g.cycle) : std::numeric_limits<double>::infinity();
     goals_.push_back(g);
     cell_of_.push_back(static_cast<uint32_t>(grid.index(d.cell)));
   }
   resolved_.assign(goals_.size(), 0);
   issued_at_.assign(static_cast<std::size_t>(team.params.cycles), 0.0);
-  answered_at_.assign(static_cast<std::size_t>(team.agents()), -std::numeric_limits<double>::infinity());
+  answered_at_.assign(team.agents(), -std::numeric_limits<double>::infinity());
   for (const mission::GoalRecord& g : goals_)
-    if (g.worker < 0) unassigned_.push_back(g.id);
-  delivered_by_.assign(static_cast<std::size_t>(team.agents()), 0);
+    if (!g.worker.valid()) unassigned_.push_back(g.id);
+  delivered_by_.assign(team.agents(), 0);
   acks_.reserve(kMaxBatch);
-  heard_.assign(static_cast<std::size_t>(team.agents()), 0.0);  // the team starts next to the OC
-  declared_at_.assign(static_cast<std::size_t>(team.agents()), -1.0);
-  grace_until_.assign(static_cast<std::size_t>(team.agents()), 0.0);
+  heard_.assign(team.agents(), 0.0);  // the team starts next to the OC
+  declared_at_.assign(team.agents(), -1.0);
+  grace_until_.assign(team.agents(), 0.0);
   dead_.reserve(kMaxDead);
 }
 
@@ -100,59 +100,59 @@ bool OcRole::open(std::size_t goal) {
   return true;
 }
 
-void OcRole::declare_dead(int16_t agent, double now, Outbox& out) {
+void OcRole::declare_dead(AgentId agent, double now, Outbox& out) {
   const plan::AgentAssignment before = assigned(agent);
-  std::vector<uint8_t> served_by_it(static_cast<std::size_t>(team_.agents()), 0);  // whose goals it had
-  served_by_it[static_cast<std::size_t>(agent)] = 1;
+  PerAgent<uint8_t> served_by_it(team_.agents(), 0);  // whose goals it had
+  served_by_it[agent] = 1;
   if (before.collector)
-    for (int a = 0; a < team_.agents(); ++a)
-      if (!assigned(a).collector && assigned(a).delivers_to == before.delivers_to)
-        served_by_it[static_cast<std::size_t>(a)] = 1;
-  dead_.push_back(agent);
-  declared_at_[static_cast<std::size_t>(agent)] = now;
+    for (AgentId a : ids<AgentId>(team_.agents()))
+      if (!assigned(a).collector && assigned(a).delivers_to == before.delivers_to) served_by_it[a] = 1;
+  dead_.push_back(static_cast<int16_t>(agent.value()));
+  declared_at_[agent] = now;
   repair_ = &team_.repaired(dead_.data(), dead_.size());
   // What was its own is declared lost now: the goals of the requests issued
   // so far that it (a worker) or its workers (a collector) had not resolved.
   // News from a survivor that still holds one overrides this (open()).
   for (std::size_t i = 0; i < requested(); ++i) {
     mission::GoalRecord& g = goals_[i];
-    if (resolved_[i] || g.worker < 0 || !served_by_it[static_cast<std::size_t>(g.worker)]) continue;
+    if (resolved_[i] || !g.worker.valid() || !served_by_it[g.worker]) continue;
     g.lost_at = now;
     resolve(g, mission::GoalState::kLostWithAgent);
   }
   // The requests to come go by the repaired plan.
   for (std::size_t i = requested(); i < goals_.size(); ++i) {
     mission::GoalRecord& g = goals_[i];
-    const bool was_unassigned = g.worker < 0;
+    const bool was_unassigned = !g.worker.valid();
     g.segment = SegmentId(repair_->plan.labels[cell_of_[i]]);
-    g.worker = g.segment.valid() ? team_.worker_of_segment(g.segment) : -1;
-    g.deadline = g.worker < 0 || assigned(g.worker).delivers_to < 0 ? std::numeric_limits<double>::infinity()
-                                                                    : team_.deadline(g.worker, g.cycle);
-    if (g.worker < 0 && !was_unassigned) unassigned_.push_back(g.id);
+    g.worker = g.segment.valid() ? team_.worker_of_segment(g.segment) : AgentId();
+    g.deadline = !g.worker.valid() || !assigned(g.worker).delivers_to.valid() ? std::numeric_limits<double>::infinity()
+                                                                              : team_.deadline(g.worker, g.cycle);
+    if (!g.worker.valid() && !was_unassigned) unassigned_.push_back(g.id);
   }
   // Workers that now deliver to the OC: as long to come as they had to be
   // heard of before (they learn of it by their own timeout, then walk).
-  for (int a = 0; a < team_.agents(); ++a)
-    if (!repair_->dead[static_cast<std::size_t>(a)] && served_by_it[static_cast<std::size_t>(a)])
-      grace_until_[static_cast<std::size_t>(a)] = now + team_.silent_timeout(team_.plan, a);
+  for (AgentId a : ids<AgentId>(team_.agents()))
+    if (!repair_->dead[a] && served_by_it[a]) grace_until_[a] = now + team_.silent_timeout(team_.plan, a);
   if (issued_ > 0) issue(issued_ - 1, kBroadcast, now, out);  // the news, to whoever is in the coverage
 }
 
 void OcRole::resolve(mission::GoalRecord& g, mission::GoalState state) {
   g.state = state;
-  resolved_[static_cast<std::size_t>(g.id)] = 1;
+  resolved_[g.id.index()] = 1;
   ++resolved_count_;
 }
 
-bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
+bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
+  // The worker that measured it (expired, skipped), as the item names it.
+  if (item.by < 0 || item.by >= team_.agents()) return false;
+  const AgentId by(item.by);
   if (item.kind == ItemKind::kSkipped) {
     const int c = skipped_request(item.key);
-    if (c < 0 || c >= issued_ || item.by < 0 || item.by >= team_.agents() || skipped_worker(item.key) != item.by)
-      return false;
+    if (c < 0 || c >= issued_ || skipped_worker(item.key) != item.by) return false;
     if (!(item.at >= issued_at_[static_cast<std::size_t>(c)] - 1e-6) || !(item.at <= now + 1e-6)) return false;
     for (std::size_t i = first_[static_cast<std::size_t>(c)]; i < first_[static_cast<std::size_t>(c) + 1]; ++i) {
       mission::GoalRecord& g = goals_[i];
-      if (g.worker != item.by || !open(i)) continue;
+      if (g.worker != by || !open(i)) continue;
       g.expired_at = std::max(item.at, g.requested_at);
       resolve(g, mission::GoalState::kExpired);
     }
@@ -163,9 +163,9 @@ bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
   // Its worker, or the one whose segment its cell is in since a repair (a
   // request issued before the repair, learned after it).
   bool new_owner = false;
-  if (g.worker != item.by) {
+  if (g.worker != by) {
     const int32_t now_in = repair_ ? repair_->plan.labels[cell_of_[static_cast<std::size_t>(item.key)]] : 0;
-    if (now_in <= 0 || team_.worker_of_segment(SegmentId(now_in)) != item.by) return false;
+    if (now_in <= 0 || team_.worker_of_segment(SegmentId(now_in)) != by) return false;
     new_owner = true;
   }
   // Times a worker and a collector could have: after the request, not after now.
@@ -182,20 +182,21 @@ bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
   // issued to; measured_by says who measured it).
   if (new_owner)
     g.deadline =
-        assigned(item.by).delivers_to < 0 ? std::numeric_limits<double>::infinity() : team_.deadline(item.by, g.cycle);
+        !assigned(by).delivers_to.valid() ? std::numeric_limits<double>::infinity() : team_.deadline(by, g.cycle);
   switch (item.kind) {
     case ItemKind::kMeasured:
       // A worker of a collector that brings its own data works for the OC
       // (it found its collector silent before the OC declared it dead): its
       // deadline started when it learned the request, as for every worker
       // of the OC, which the OC's record could not know at the issue.
-      if (item.at > g.deadline && item.picked_up_by < 0 && sender == item.by &&
-          team_.assignment(sender).delivers_to >= 0)
+      if (item.at > g.deadline && item.picked_up_by < 0 && sender == by && team_.assignment(sender).delivers_to.valid())
         g.deadline = std::numeric_limits<double>::infinity();
-      g.measured_at = item.at, g.measured_by = item.by;
-      g.picked_up_at = item.picked_up_at, g.picked_up_by = item.picked_up_by;
+      g.measured_at = item.at, g.measured_by = by;
+      g.picked_up_at = item.picked_up_at;
+      g.picked_up_by =
+          item.picked_up_by >= 0 && item.picked_up_by < team_.agents() ? AgentId(item.picked_up_by) : AgentId();
       g.delivered_at = now, g.delivered_by = sender;
-      ++delivered_by_[static_cast<std::size_t>(sender)];
+      ++delivered_by_[sender];
       resolve(g, mission::GoalState::kDelivered);
       break;
     case ItemKind::kExpired:
@@ -203,7 +204,7 @@ bool OcRole::apply(const DataItem& item, int16_t sender, double now) {
       resolve(g, mission::GoalState::kExpired);
       break;
     case ItemKind::kDropped:
-      g.measured_at = item.at, g.measured_by = item.by;
+      g.measured_at = item.at, g.measured_by = by;
       g.dropped_at = item.at;
       resolve(g, mission::GoalState::kDropped);
       break;
@@ -225,7 +226,7 @@ void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox
   // A goal in no worker's segment (a plan whose labels leave reachable cells
   // out) expires when the next request is due, as in the simulator.
   for (std::size_t k = 0; k < unassigned_.size();) {
-    mission::GoalRecord& g = goals_[static_cast<std::size_t>(unassigned_[k])];
+    mission::GoalRecord& g = goals_[unassigned_[k].index()];
     const double due = (g.cycle + 1) * team_.period;
     if (g.cycle < issued_ && now >= due - 1e-9) {
       g.expired_at = due;
@@ -238,14 +239,14 @@ void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox
   }
   for (std::size_t i = 0; i < n; ++i) {
     const Message& m = *inbox[i];
-    const int16_t s = m.h.sender;
-    if (s < 0 || s >= team_.agents()) continue;
-    heard_[static_cast<std::size_t>(s)] = now;
+    if (m.h.sender < 0 || m.h.sender >= team_.agents()) continue;
+    const AgentId s(m.h.sender);
+    heard_[s] = now;
     if (m.h.kind == Kind::kState && assigned(s).collector)  // its news of its workers
       for (std::size_t k = 0; k < std::min<std::size_t>(m.state.heard_count, kMaxHeard); ++k) {
-        const int16_t w = m.state.heard_agent[k];
-        if (w >= 0 && w < team_.agents() && m.state.heard_at[k] <= now)
-          heard_[static_cast<std::size_t>(w)] = std::max(heard_[static_cast<std::size_t>(w)], m.state.heard_at[k]);
+        const AgentId w(m.state.heard_agent[k]);
+        if (w.within(team_.agents()) && m.state.heard_at[k] <= now)
+          heard_[w] = std::max(heard_[w], m.state.heard_at[k]);
       }
     const bool addressed = m.h.dest == kOc;
     if (addressed && m.h.kind == Kind::kData) {
@@ -255,12 +256,12 @@ void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox
         if (!apply(m.data.items[k], s, now)) ++invalid_;
         acks_.push_back(m.data.items[k].key);  // acked either way: its sender lets go
       }
-      if (Message* a = send(out, Kind::kAck, s, now)) {
+      if (Message* a = send(out, Kind::kAck, m.h.sender, now)) {
         a->ack.count = static_cast<uint16_t>(acks_.size());
         std::copy(acks_.begin(), acks_.end(), a->ack.keys);
       }
     } else if (addressed && m.h.kind == Kind::kState) {
-      if (Message* a = send(out, Kind::kAck, s, now)) a->ack.count = 0;  // "heard you"
+      if (Message* a = send(out, Kind::kAck, m.h.sender, now)) a->ack.count = 0;  // "heard you"
     }
     // Collectors and workers of the OC take requests from the OC: one that
     // lacks the newest gets it, at once when it asked (data, hello), else
@@ -269,28 +270,25 @@ void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox
     // any agent that asks (a worker whose collector went silent comes to
     // the OC before the OC's repair says so).
     const plan::AgentAssignment& a = assigned(s);
-    const bool from_oc = a.collector || a.delivers_to < 0 || addressed;
+    const bool from_oc = a.collector || !a.delivers_to.valid() || addressed;
     const bool lags = m.h.request < issued_ - 1 || m.h.dead < dead_.size();
-    double& answered = answered_at_[static_cast<std::size_t>(s)];
+    double& answered = answered_at_[s];
     if (from_oc && issued_ > 0 && lags &&
         ((addressed && answered < now) || now - answered >= team_.params.resend_after)) {
       answered = now;
-      issue(issued_ - 1, s, now, out);
+      issue(issued_ - 1, m.h.sender, now, out);
     }
   }
   // An agent unheard for longer than its timeout is declared dead.
-  for (int a = 0; a < team_.agents(); ++a) {
-    if (declared_at_[static_cast<std::size_t>(a)] >= 0 || dead_.size() >= static_cast<std::size_t>(kMaxDead)) continue;
+  for (AgentId a : ids<AgentId>(team_.agents())) {
+    if (declared_at_[a] >= 0 || dead_.size() >= static_cast<std::size_t>(kMaxDead)) continue;
     // A collector's worker is heard of through its collector: its silence
     // counts up to the collector's latest report (a silent collector is
     // declared first, and its workers then get their grace).
     const plan::AgentAssignment& as = assigned(a);
-    const double news = !as.collector && as.delivers_to >= 0
-                            ? std::min(now, heard_[static_cast<std::size_t>(team_.collector_agent(as.delivers_to))])
-                            : now;
-    if (news - heard_[static_cast<std::size_t>(a)] > team_.silent_timeout(current_plan(), a) &&
-        now > grace_until_[static_cast<std::size_t>(a)])
-      declare_dead(static_cast<int16_t>(a), now, out);
+    const double news =
+        !as.collector && as.delivers_to.valid() ? std::min(now, heard_[team_.collector_agent(as.delivers_to)]) : now;
+    if (news - heard_[a] > team_.silent_timeout(current_plan(), a) && now > grace_until_[a]) declare_dead(a, now, out);
   }
 }
 

@@ -53,10 +53,10 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
   if (n < 1 || n > kMaxTeam)
     throw Error(where, "a team of " + std::to_string(n) + " agents (1.." + std::to_string(kMaxTeam) + ")");
   mission::check_plan(p, w.scenario.team.agents, w.scenario.grid);
-  for (std::size_t k = 0; k < pf.agents.size(); ++k)  // the plan's loader sorts them; repairs index them so
-    if (pf.agents[k].id != static_cast<int>(k))
-      throw Error(where, "agents must be listed by id (agent " + std::to_string(pf.agents[k].id) + " is entry " +
-                             std::to_string(k) + ")");
+  for (AgentId k : ids<AgentId>(n))  // the plan's loader sorts them; repairs index them so
+    if (pf.agents[k].id != k)
+      throw Error(where, "agents must be listed by id (" + to_string(pf.agents[k].id) + " is entry " +
+                             std::to_string(k.value()) + ")");
   period = pf.cycle_period_s;
   speed = w.scenario.team.speed;
   if (!(period > 0) || !std::isfinite(period)) throw Error(where, "cycle_period_s must be > 0");
@@ -70,16 +70,11 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
     params.data_capacity = std::max<std::size_t>(64, 4 * static_cast<std::size_t>(params.goals_per_request));
   if (params.notice_capacity == 0) params.notice_capacity = params.data_capacity;
 
-  assignment_.assign(static_cast<std::size_t>(n), plan::AgentAssignment{});
-  collector_agent_.assign(static_cast<std::size_t>(pf.collectors), -1);
-  worker_of_segment_ = PerSegment<int>(pf.workers, -1);
-  for (const plan::AgentAssignment& a : pf.agents) {  // check_plan made sure these are all valid and distinct
-    assignment_[static_cast<std::size_t>(a.id)] = a;
-    if (a.collector)
-      collector_agent_[static_cast<std::size_t>(a.delivers_to)] = a.id;
-    else
-      worker_of_segment_[a.segment] = a.id;
-  }
+  assignment_ = pf.agents;  // check_plan made sure these are all valid and distinct, and by id
+  collector_agent_ = mission::collector_agents(pf);
+  worker_of_segment_ = PerSegment<AgentId>(pf.workers);
+  for (const plan::AgentAssignment& a : pf.agents)
+    if (!a.collector) worker_of_segment_[a.segment] = a.id;
   for (const plan::CollectorRoute& r : pf.routes) {
     try {
       routes.emplace_back(r, speed, period, w.coverage);
@@ -87,17 +82,17 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
       throw Error(where, e.what());
     }
   }
-  meeting_arc_.assign(static_cast<std::size_t>(n), 0.0);
+  meeting_arc_.assign(n, 0.0);
   for (const plan::AgentAssignment& a : pf.agents) {
-    if (a.collector || a.delivers_to < 0) continue;
-    const plan::CollectorRoute& r = pf.routes[static_cast<std::size_t>(a.delivers_to)];
+    if (a.collector || !a.delivers_to.valid()) continue;
+    const plan::CollectorRoute& r = pf.routes[a.delivers_to];
     const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
                                 [&](const plan::MeetingArea& x) { return x.segment == a.segment; });
-    meeting_arc_[static_cast<std::size_t>(a.id)] = m->arc_m;  // check_plan: there is one
+    meeting_arc_[a.id] = m->arc_m;  // check_plan: there is one
   }
   distances = std::make_unique<mission::SharedDistances>(w, /*from_oc=*/false);  // agents start at their start poses
   paths = std::make_unique<GridAStar>(grid, w.reachable, &w.coverage_field);
-  start_ = start_poses(grid, w.scenario.oc, n);
+  start_ = PerAgent<Point2>(start_poses(grid, w.scenario.oc, n));
   range_ = radio.free_space_range();
 }
 
@@ -105,17 +100,19 @@ bool TeamSetup::linked(Point2 a, Point2 b) const {
   return std::hypot(a.x - b.x, a.y - b.y) <= range_ && radio.linked(a, b);
 }
 
-double TeamSetup::deadline(int agent, int cycle) const {
+double TeamSetup::deadline(AgentId agent, int cycle) const {
   const plan::AgentAssignment& a = assignment(agent);
-  if (a.collector || a.delivers_to < 0) return std::numeric_limits<double>::infinity();
-  const mission::RouteTimetable& r = routes[static_cast<std::size_t>(a.delivers_to)];
-  const double arc = meeting_arc_[static_cast<std::size_t>(agent)];
+  if (a.collector || !a.delivers_to.valid()) return std::numeric_limits<double>::infinity();
+  const mission::RouteTimetable& r = routes[a.delivers_to];
+  const double arc = meeting_arc_[agent];
   return mission::request_deadline(mission::request_reaches_worker(r, arc, cycle, period),
                                    mission::request_reaches_worker(r, arc, cycle + 1, period), period);
 }
 
 const mission::RepairedPlan& TeamSetup::repaired(const int16_t* dead, std::size_t n) {
-  std::vector<int> key(dead, dead + n);
+  std::vector<AgentId> key;
+  key.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) key.emplace_back(dead[i]);
   std::sort(key.begin(), key.end());
   key.erase(std::unique(key.begin(), key.end()), key.end());
   for (const auto& [set, repaired] : repaired_)
@@ -136,13 +133,13 @@ const mission::RepairedPlan& TeamSetup::repaired(const int16_t* dead, std::size_
   return *repaired_.back().second;
 }
 
-double TeamSetup::silent_timeout(const mission::MissionPlan& p, int agent) const {
-  const plan::AgentAssignment& a = p.file.agents[static_cast<std::size_t>(agent)];
-  if (a.delivers_to < 0)
+double TeamSetup::silent_timeout(const mission::MissionPlan& p, AgentId agent) const {
+  const plan::AgentAssignment& a = p.file.agents[agent];
+  if (!a.delivers_to.valid())
     return mission::silent_timeout(mission::Liveness::kOcWorker, period, 0.0, params.silent_intervals);
   // An idle collector's route has no period (it stays at the OC): at least
   // a request period.
-  const double loop = std::max(routes[static_cast<std::size_t>(a.delivers_to)].period(), period);
+  const double loop = std::max(routes[a.delivers_to].period(), period);
   return mission::silent_timeout(a.collector ? mission::Liveness::kCollector : mission::Liveness::kCollectorWorker,
                                  period, loop, params.silent_intervals);
 }

@@ -37,17 +37,15 @@ std::size_t initial_goals(const TeamSetup& team) {
 
 }  // namespace
 
-WorkerRole::WorkerRole(TeamSetup& team, int agent, MotionBackend& motion)
-    : Role(static_cast<int16_t>(agent), motion),
+WorkerRole::WorkerRole(TeamSetup& team, AgentId agent, MotionBackend& motion)
+    : Role(static_cast<int16_t>(agent.value()), motion),
       team_(team),
       policy_(std::make_unique<mission::WorkerPolicy>(
           team.world, team.plan, team.assignment(agent),
-          team.assignment(agent).delivers_to >= 0
-              ? &team.routes[static_cast<std::size_t>(team.assignment(agent).delivers_to)]
-              : nullptr,
+          team.assignment(agent).delivers_to.valid() ? &team.routes[team.assignment(agent).delivers_to] : nullptr,
           *team.distances, initial_goals(team), team.params.protocol)),
       custody_(team.params.data_capacity, team.params.notice_capacity) {
-  if (policy_->collector() >= 0) upstream_ = static_cast<int16_t>(team.collector_agent(policy_->collector()));
+  if (!policy_->delivers_to_oc()) upstream_ = static_cast<int16_t>(team.collector_agent(policy_->collector()).value());
   const std::size_t g = static_cast<std::size_t>(team.params.goals_per_request);
   request_.mine.reserve(initial_goals(team));
   scratch_.reserve(initial_goals(team));
@@ -57,28 +55,30 @@ WorkerRole::WorkerRole(TeamSetup& team, int agent, MotionBackend& motion)
   leg_goal_.resize(g + 2);
   policy_->reserve_all();  // no allocation in the control step after this
   if (motion.max_legs() < g + 2)
-    throw Error("agent " + std::to_string(agent), "its motion backend takes " + std::to_string(motion.max_legs()) +
-                                                      " legs, a plan may need " + std::to_string(g + 2));
+    throw Error(to_string(agent), "its motion backend takes " + std::to_string(motion.max_legs()) +
+                                      " legs, a plan may need " + std::to_string(g + 2));
   // Beacons spread over the period, so they do not all go out in one tick.
-  next_beacon_ = team.params.beacon_period * static_cast<double>(agent % 10) / 10.0;
+  next_beacon_ = team.params.beacon_period * static_cast<double>(agent.value() % 10) / 10.0;
   counters_.role = RoleKind::kWorker;
-  counters_.id = agent;
+  counters_.id = agent.value();
   const int segment = team.assignment(agent).segment.label();
   served_cells_ = std::count(team.plan.labels.begin(), team.plan.labels.end(), segment);
-  if (policy_->collector() >= 0) {
+  if (!policy_->delivers_to_oc()) {
     // As long as the OC waits before it declares a worker of that collector
     // dead: a live worker hears its collector at least once a loop and a
     // request (it may tour through a pass), so silence for that long means
     // the collector is gone (the OC, which declares the collector sooner,
     // answers a worker that comes to it all the same).
-    const double loop = std::max(team.routes[static_cast<std::size_t>(policy_->collector())].period(), team.period);
+    const double loop = std::max(team.routes[policy_->collector()].period(), team.period);
     suspect_after_ =
         mission::silent_timeout(mission::Liveness::kCollectorWorker, team.period, loop, team.params.silent_intervals);
   }
   dead_.reserve(kMaxDead);
 }
 
-double WorkerRole::deadline(int cycle) const { return policy_->delivers_to_oc() ? kInf : team_.deadline(id_, cycle); }
+double WorkerRole::deadline(int cycle) const {
+  return policy_->delivers_to_oc() ? kInf : team_.deadline(policy_->agent(), cycle);
+}
 
 void WorkerRole::progress(Progress& out) const {
   out.resolved = resolved_;
@@ -110,11 +110,11 @@ void WorkerRole::restore(const DataItem* items, std::size_t n, const Progress& p
   policy_->reserve(scratch_.size());
   policy_->learn(scratch_.data(), scratch_.size());
   known_.clear();
-  for (int32_t id : p.known) {
+  for (GoalId id : p.known) {
     bool found = false;
     for (std::size_t i = 0; i < scratch_.size() && !found; ++i)
       if (scratch_[i].id == id) known_.push_back(static_cast<int>(i)), found = true;
-    if (!found) notice(ItemKind::kExpired, id, now);
+    if (!found) notice(ItemKind::kExpired, id.value(), now);
   }
   phase_ = resolved_ >= 0 ? Phase::kReady : Phase::kStart;
   ++progress_version_;
@@ -124,19 +124,18 @@ void WorkerRole::repair(double now) {
   std::vector<int16_t> set(dead_);
   if (suspected_ >= 0) set.push_back(suspected_);
   const mission::RepairedPlan& r = team_.repaired(set.data(), set.size());
-  if (r.dead[static_cast<std::size_t>(id_)]) {  // declared dead while alive: it stops for good
+  if (r.dead[policy_->agent()]) {  // declared dead while alive: it stops for good
     retired_ = true;
     motion_.hold();
     phase_ = Phase::kDone;
     TRACE("%.1f retired: declared dead\n", now);
     return;
   }
-  const plan::AgentAssignment& a = r.plan.file.agents[static_cast<std::size_t>(id_)];
+  const plan::AgentAssignment& a = r.plan.file.agents[policy_->agent()];
   const int64_t cells = std::count(r.plan.labels.begin(), r.plan.labels.end(), a.segment.label());
   const bool new_upstream = a.delivers_to != policy_->collector();
   if (!new_upstream && cells == served_cells_) return;
-  const mission::RouteTimetable* route =
-      a.delivers_to >= 0 ? &team_.routes[static_cast<std::size_t>(a.delivers_to)] : nullptr;
+  const mission::RouteTimetable* route = a.delivers_to.valid() ? &team_.routes[a.delivers_to] : nullptr;
   auto fresh = std::make_unique<mission::WorkerPolicy>(team_.world, r.plan, a, route, *team_.distances,
                                                        policy_->max_goals(), team_.params.protocol);
   fresh->reserve_all();
@@ -147,8 +146,9 @@ void WorkerRole::repair(double now) {
   fresh->learn(scratch_.data(), scratch_.size());
   policy_ = std::move(fresh);
   served_cells_ = cells;
-  upstream_ = route ? static_cast<int16_t>(team_.collector_agent(a.delivers_to)) : kOc;
-  TRACE("%.1f repaired: segment cells %lld, delivers to %d\n", now, static_cast<long long>(cells), a.delivers_to);
+  upstream_ = route ? static_cast<int16_t>(team_.collector_agent(a.delivers_to).value()) : kOc;
+  TRACE("%.1f repaired: segment cells %lld, delivers to %d\n", now, static_cast<long long>(cells),
+        a.delivers_to.value());
   if (new_upstream && phase_ != Phase::kMoving) phase_ = Phase::kReady;  // decide again, for the OC
   if (new_upstream) heard_oc_ = false, last_hello_ = -kInf, transfer_since_ = -1.0;
 }
@@ -197,7 +197,7 @@ void WorkerRole::on_request(const RequestPart& part, int16_t) {
     if (cell >= grid.size() || !policy_->in_segment(grid.cell(cell))) continue;
     const int64_t index = static_cast<int64_t>(part.part) * kRequestPartGoals + k;
     if (index >= part.total) break;
-    const int32_t goal = part.first_goal + static_cast<int32_t>(index);
+    const GoalId goal(part.first_goal + static_cast<int32_t>(index));
     request_.mine.push_back(mission::KnownGoal{goal, grid.cell(cell), 0.0});
   }
 }
@@ -218,17 +218,17 @@ void WorkerRole::notice(ItemKind kind, int32_t key, double at) {
 }
 
 void WorkerRole::measure(int local, double at) {
-  const int32_t goal = policy_->goal(static_cast<std::size_t>(local)).id;
+  const GoalId goal = policy_->goal(static_cast<std::size_t>(local)).id;
   const auto it = std::find(known_.begin(), known_.end(), local);
   if (it == known_.end()) return;  // expired meanwhile (within the deadline's tolerance): its notice is out
   known_.erase(it);
   ++progress_version_;
   if (custody_.data_full()) {
-    notice(ItemKind::kDropped, goal, at);  // the measurement has no room: reported, never silently lost
+    notice(ItemKind::kDropped, goal.value(), at);  // the measurement has no room: reported, never silently lost
     return;
   }
   DataItem item;
-  item.key = goal, item.kind = ItemKind::kMeasured, item.by = id_, item.at = at;
+  item.key = goal.value(), item.kind = ItemKind::kMeasured, item.by = id_, item.at = at;
   custody_.put(item);
   ++counters_.measured;
   measured_in_step_.push_back(goal);
@@ -253,7 +253,7 @@ void WorkerRole::expire_overdue(double now) {
   for (std::size_t i = 0; i < known_.size();) {
     const mission::KnownGoal& g = policy_->goal(static_cast<std::size_t>(known_[i]));
     if (g.deadline <= now + kEps) {
-      notice(ItemKind::kExpired, g.id, g.deadline);
+      notice(ItemKind::kExpired, g.id.value(), g.deadline);
       known_.erase(known_.begin() + static_cast<long>(i));
     } else {
       ++i;
@@ -301,7 +301,7 @@ void WorkerRole::decide(double now) {
     // deadline, as after a collector's restart that lost a request).
     for (int c = resolved_ + 1; c < request_.id; ++c)
       notice(ItemKind::kSkipped, skipped_key(c, id_), oc_worker ? now : std::min(now, deadline(c)));
-    for (int local : known_) notice(ItemKind::kExpired, policy_->goal(static_cast<std::size_t>(local)).id, now);
+    for (int local : known_) notice(ItemKind::kExpired, policy_->goal(static_cast<std::size_t>(local)).id.value(), now);
     known_.clear();
     const double due = oc_worker ? mission::request_deadline(now, kInf, team_.period) : deadline(request_.id);
     scratch_.assign(request_.mine.begin(), request_.mine.end());

@@ -84,11 +84,12 @@ void encode_progress(std::vector<uint8_t>& out, const Progress& p) {
   for (int16_t d : p.dead) put_raw(out, d);
   put_raw(out, static_cast<uint32_t>(p.learned.size()));
   for (const mission::KnownGoal& g : p.learned) {
-    put_raw(out, g.id), put_raw(out, static_cast<int32_t>(g.cell.row)), put_raw(out, static_cast<int32_t>(g.cell.col));
+    put_raw(out, static_cast<int32_t>(g.id.value())), put_raw(out, static_cast<int32_t>(g.cell.row)),
+        put_raw(out, static_cast<int32_t>(g.cell.col));
     put_raw(out, g.deadline);
   }
   put_raw(out, static_cast<uint32_t>(p.known.size()));
-  for (int32_t k : p.known) put_raw(out, k);
+  for (GoalId k : p.known) put_raw(out, static_cast<int32_t>(k.value()));
 }
 
 bool decode_progress(const uint8_t* at, const uint8_t* end, Progress& p) {
@@ -102,15 +103,18 @@ bool decode_progress(const uint8_t* at, const uint8_t* end, Progress& p) {
   if (!get_raw(at, end, n) || n > kMaxRequestParts * kRequestPartGoals) return false;
   p.learned.resize(n);
   for (mission::KnownGoal& g : p.learned) {
-    int32_t row = 0, col = 0;
-    if (!get_raw(at, end, g.id) || !get_raw(at, end, row) || !get_raw(at, end, col) || !get_raw(at, end, g.deadline))
+    int32_t id = 0, row = 0, col = 0;
+    if (!get_raw(at, end, id) || !get_raw(at, end, row) || !get_raw(at, end, col) || !get_raw(at, end, g.deadline))
       return false;
-    g.cell = Cell{row, col};
+    g.id = GoalId(id), g.cell = Cell{row, col};
   }
   if (!get_raw(at, end, n) || n > kMaxRequestParts * kRequestPartGoals) return false;
   p.known.resize(n);
-  for (int32_t& k : p.known)
-    if (!get_raw(at, end, k)) return false;
+  for (GoalId& k : p.known) {
+    int32_t id = 0;
+    if (!get_raw(at, end, id)) return false;
+    k = GoalId(id);
+  }
   return at == end;
 }
 

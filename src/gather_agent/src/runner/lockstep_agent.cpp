@@ -73,14 +73,14 @@ bool LockstepAgent::take_plan(std::string* why) {
   try {
     team_ = std::make_unique<TeamSetup>(*world_, plan_.plan, p.params);
     gate_ = std::make_unique<RangeGate>(*team_, p.loss, p.loss_seed);
-    unit_ = make_agent(*team_, id_);
+    unit_ = make_agent(*team_, AgentId(id_));
     if (!journal_dir_.empty()) {
       journal_ = std::make_unique<JournalKeeper>(journal_path(journal_dir_, id_), id_, journal_run_id(team_->params));
       rejoin_state_ = journal_->open(rejoin_);
       if (rejoin_ && !rejoin_state_.matched)
         throw Error(journal_path(journal_dir_, id_), "--rejoin: no journal of this agent and mission to replay");
       // Where it was; what it held and how far it got come back at its first tick.
-      if (rejoin_) unit_ = make_agent(*team_, id_, rejoin_state_.have_pose ? &rejoin_state_.pose : nullptr);
+      if (rejoin_) unit_ = make_agent(*team_, AgentId(id_), rejoin_state_.have_pose ? &rejoin_state_.pose : nullptr);
       journal_->bind(*unit_.role);
     }
   } catch (const std::exception& e) {  // its plan cannot be run as the OC asks: refuse it
@@ -161,9 +161,9 @@ void LockstepAgent::step(const Tick& tick) {
       if (c->item(i).kind == ItemKind::kMeasured) reply_.keys.push_back(c->item(i).key);
   // For the OC's views: what it measured, and its path when that changed.
   reply_.measured_goals.clear();
-  if (const std::vector<int32_t>* m = role.measured_in_step())
-    reply_.measured_goals.insert(reply_.measured_goals.end(), m->begin(),
-                                 m->begin() + static_cast<std::ptrdiff_t>(std::min(m->size(), kReplyMaxPoints)));
+  if (const std::vector<GoalId>* m = role.measured_in_step())
+    for (std::size_t i = 0; i < std::min(m->size(), kReplyMaxPoints); ++i)
+      reply_.measured_goals.push_back((*m)[i].value());
   reply_.path.clear();
   if (unit_.motion->path_revision() != reply_.path_revision) {
     reply_.path_revision = unit_.motion->path_revision();

@@ -42,9 +42,9 @@ LockstepMaster::LockstepMaster(TeamSetup& team, LcmFleet& fleet, uint64_t digest
     throw Error("--rate", "must be > 0 with the wall clock (mission seconds per wall second)");
   fleet_.set_team(team.agents());
   last_.assign(static_cast<std::size_t>(team.agents()), Reply{});
-  for (int a = 0; a < team.agents(); ++a) {  // until the agent says otherwise: the plan's role, its start
-    Reply& r = last_[static_cast<std::size_t>(a)];
-    r.agent = static_cast<int16_t>(a);
+  for (AgentId a : ids<AgentId>(team.agents())) {  // until the agent says otherwise: the plan's role, its start
+    Reply& r = last_[a.index()];
+    r.agent = static_cast<int16_t>(a.value());
     r.role = r.report.role = team.assignment(a).collector ? RoleKind::kCollector : RoleKind::kWorker;
     r.pose = team.start_pose(a);
   }
@@ -108,7 +108,7 @@ void LockstepMaster::restart(int a, ShutdownSignal* signal) {
 }
 
 bool LockstepMaster::oc_role_dead(int agent) const {
-  return static_cast<const OcRole&>(*oc_.role).declared_dead_at(agent) >= 0;
+  return static_cast<const OcRole&>(*oc_.role).declared_dead_at(AgentId(agent)) >= 0;
 }
 
 void LockstepMaster::collect_replies(int64_t tick, ReplyStatus want, double timeout_s, ShutdownSignal* signal) {
@@ -366,7 +366,7 @@ RunOutcome LockstepMaster::finish() {
   for (const Reply& r : last_) {
     AgentSummary s;
     s.id = r.agent, s.role = r.role, s.report = r.report, s.link = r.link, s.auth = r.auth, s.carried = r.carried;
-    s.delivered = oc().delivered_by(r.agent);
+    s.delivered = oc().delivered_by(AgentId(r.agent));
     out.agents.push_back(s);
   }
   out.oc_link = link_;
@@ -378,7 +378,7 @@ RunOutcome LockstepMaster::finish() {
   out.recovered = oc().recovered();
   out.kills = options_.kills;
   out.restarts = options_.restarts;
-  for (int16_t a : oc().dead()) out.declared_dead.emplace_back(a, oc().declared_dead_at(a));
+  for (int16_t a : oc().dead()) out.declared_dead.emplace_back(a, oc().declared_dead_at(AgentId(a)));
   if (!out.completed) {
     out.failure = "mission not finished at t = " + std::to_string(out.end_s) + " s (limit " + std::to_string(limit_) +
                   " s): " + std::to_string(oc().requested() - oc().resolved_count()) + " of " +

@@ -189,14 +189,14 @@ void append_fault_rows(std::string& out, const plan::PlanFile& plan, unsigned se
   }
   char line[256];
   for (const auto& [a, t] : rows) {
-    const plan::AgentAssignment& x = plan.agents[static_cast<std::size_t>(a)];
+    const plan::AgentAssignment& x = plan.agents[AgentId(a)];
     bool restarted = false;
     for (const Kill& k : run.restarts) restarted = restarted || k.agent == a;
     std::snprintf(line, sizeof line, "%s,%d,%u,%d,%s,%.3f,%.3f,%d,%lld\n", plan.method.c_str(), plan.collectors, seed,
                   a,
-                  x.collector         ? "collector"
-                  : x.delivers_to < 0 ? "oc_worker"
-                                      : "collector_worker",
+                  x.collector              ? "collector"
+                  : !x.delivers_to.valid() ? "oc_worker"
+                                           : "collector_worker",
                   t.first, t.second, restarted ? 1 : 0, static_cast<long long>(run.recovered));
     out += line;
   }

@@ -12,10 +12,10 @@
 namespace gather {
 namespace agent {
 
-AgentUnit make_agent(TeamSetup& team, int agent, const Point2* at) {
-  if (agent < 0 || agent >= team.agents())
+AgentUnit make_agent(TeamSetup& team, AgentId agent, const Point2* at) {
+  if (!agent.within(team.agents()))
     throw Error(team.plan.source.empty() ? "plan" : team.plan.source,
-                "agent " + std::to_string(agent) + " is not in the team of " + std::to_string(team.agents()));
+                to_string(agent) + " is not in the team of " + std::to_string(team.agents()));
   AgentUnit u;
   const Point2 start = at ? *at : team.start_pose(agent);
   if (team.assignment(agent).collector) {
@@ -40,17 +40,17 @@ AgentUnit make_oc(TeamSetup& team) {
 void check_conservation(const OcRole& oc, int64_t measured_total, std::vector<int32_t>& custody, double now) {
   std::sort(custody.begin(), custody.end());
   custody.erase(std::unique(custody.begin(), custody.end()), custody.end());
-  auto delivered_goal = [&](int32_t key) {
-    return oc.resolved(key) && oc.goals()[static_cast<std::size_t>(key)].state == mission::GoalState::kDelivered;
+  auto delivered_goal = [&](GoalId goal) {
+    return oc.resolved(goal) && oc.goals()[goal.index()].state == mission::GoalState::kDelivered;
   };
   // Carried: in someone's custody (a dead agent's too) and not delivered;
   // the OC may already have declared it lost with an agent.
   int64_t carried = 0, lost_carried = 0;
   for (int32_t key : custody) {
-    if (key < 0 || static_cast<std::size_t>(key) >= oc.goals().size() || delivered_goal(key)) continue;
+    const GoalId goal(key);  // a measured item's key is its goal
+    if (!goal.within(static_cast<int>(oc.goals().size())) || delivered_goal(goal)) continue;
     ++carried;
-    lost_carried +=
-        oc.resolved(key) && oc.goals()[static_cast<std::size_t>(key)].state == mission::GoalState::kLostWithAgent;
+    lost_carried += oc.resolved(goal) && oc.goals()[goal.index()].state == mission::GoalState::kLostWithAgent;
   }
   int64_t delivered = 0, expired = 0, dropped = 0, lost = 0;
   for (const mission::GoalRecord& g : oc.goals()) {

@@ -72,12 +72,12 @@ void check_lost_goals(const OcRole& oc, const std::vector<const Role*>& roles, c
   }
   for (const mission::GoalRecord& g : oc.goals()) {
     if (g.state != mission::GoalState::kLostWithAgent) continue;
-    const bool own = g.worker >= 0 && gone[static_cast<std::size_t>(g.worker)];
-    if (!held_by_gone[static_cast<std::size_t>(g.id)] && !own && !skips_held.count({g.cycle, g.worker}))
-      throw RuntimeError("faults", "goal " + std::to_string(g.id) +
+    const bool own = g.worker.valid() && gone[g.worker.index()];
+    if (!held_by_gone[g.id.index()] && !own && !skips_held.count({g.cycle, g.worker.value()}))
+      throw RuntimeError("faults", to_string(g.id) +
                                        " was declared lost with an agent, but no dead agent "
                                        "had it (worker " +
-                                       std::to_string(g.worker) + ")");
+                                       std::to_string(g.worker.value()) + ")");
   }
 }
 
@@ -115,7 +115,7 @@ std::vector<AgentSummary> summarize(const OcRole& oc, const std::vector<const Ro
     s.report = roles[i]->report();
     s.link = links[i];
     if (const Custody* c = roles[i]->custody()) s.carried = static_cast<int64_t>(c->data());
-    s.delivered = oc.delivered_by(s.id);
+    s.delivered = oc.delivered_by(AgentId(s.id));
     out.push_back(s);
   }
   return out;
@@ -128,7 +128,7 @@ TeamRunner::TeamRunner(TeamSetup& team, const RunOptions& options)
   if (!(options_.loss >= 0.0) || !(options_.loss < 1.0))
     throw Error("--loss", "must be in [0, 1), got " + std::to_string(options_.loss));
   units_.push_back(make_oc(team));
-  for (int a = 0; a < team.agents(); ++a) units_.push_back(make_agent(team, a));
+  for (AgentId a : ids<AgentId>(team.agents())) units_.push_back(make_agent(team, a));
   for (std::size_t i = 0; i < units_.size(); ++i) outboxes_.emplace_back(options_.outbox);
   links_.assign(units_.size(), LinkCounters{});
   seq_.assign(units_.size(), 0);
@@ -209,7 +209,7 @@ bool TeamRunner::tick() {
   bool held = false;
   for (std::size_t i = 1; i < units_.size(); ++i) {
     const Role& r = *units_[i].role;
-    if (killed_[i] || r.retired() || oc().declared_dead_at(static_cast<int>(i) - 1) >= 0) continue;
+    if (killed_[i] || r.retired() || oc().declared_dead_at(AgentId::at_index(i - 1)) >= 0) continue;
     held = held || (r.custody() && r.custody()->size() > 0) || still_owes(r.report(), oc());
   }
   return !(oc().done() && !held) && t < limit_;
@@ -223,7 +223,7 @@ void TeamRunner::restart(std::size_t i, double t) {
   journals_[i].reset();  // the old life's file handle
   auto keeper = std::make_unique<JournalKeeper>(journal_path(options_.journal_dir, a), a, journal_run_id(team_.params));
   const JournalState s = keeper->open(true);
-  units_[i] = make_agent(team_, a, s.have_pose ? &s.pose : nullptr);
+  units_[i] = make_agent(team_, AgentId(a), s.have_pose ? &s.pose : nullptr);
   keeper->bind(*units_[i].role);  // first: what restore() adds (expiry notices) is journaled too
   units_[i].role->restore(s.custody.data(), s.custody.size(), s.progress, t);
   int measured = 0;
@@ -258,19 +258,21 @@ RunOutcome TeamRunner::run() {
   out.kills = options_.kills;
   out.restarts = options_.restarts;
   out.restored = restored_;
-  for (int16_t a : oc().dead()) out.declared_dead.emplace_back(a, oc().declared_dead_at(a));
+  for (int16_t a : oc().dead()) out.declared_dead.emplace_back(a, oc().declared_dead_at(AgentId(a)));
   if (!out.completed && std::getenv("GATHER_DEBUG")) {
     for (const mission::GoalRecord& g : oc().goals()) {
-      if (static_cast<std::size_t>(g.id) >= oc().requested() || oc().resolved(g.id)) continue;
+      if (g.id.index() >= oc().requested() || oc().resolved(g.id)) continue;
       std::string where;
       for (std::size_t i = 1; i < units_.size(); ++i)
         if (const Custody* c = units_[i].role->custody())
           for (std::size_t k = 0; k < c->size(); ++k)
-            if (c->item(k).key == g.id)
+            if (c->item(k).key == g.id.value())
               where += " held by " + std::to_string(i - 1) + "(" + item_kind_name(c->item(k).kind) + ")";
-      const Role& w = *units_[static_cast<std::size_t>(g.worker) + 1].role;
+      if (!g.worker.valid()) continue;
+      const Role& w = *units_[g.worker.index() + 1].role;
       std::fprintf(stderr, "unresolved goal %d cycle %d worker %d seg %d deadline %.1f:%s worker knows %d phase %d\n",
-                   g.id, g.cycle, g.worker, g.segment.label(), g.deadline, where.c_str(), w.newest_request(),
+                   g.id.value(), g.cycle, g.worker.value(), g.segment.label(), g.deadline, where.c_str(),
+                   w.newest_request(),
                    w.kind() == RoleKind::kWorker ? static_cast<int>(static_cast<const WorkerRole&>(w).phase()) : -1);
     }
   }
@@ -282,7 +284,7 @@ RunOutcome TeamRunner::run() {
   }
   std::vector<uint8_t> gone(static_cast<std::size_t>(team_.agents()), 0);
   for (std::size_t i = 1; i < units_.size(); ++i)
-    gone[i - 1] = killed_[i] || units_[i].role->retired() || oc().declared_dead_at(static_cast<int>(i) - 1) >= 0;
+    gone[i - 1] = killed_[i] || units_[i].role->retired() || oc().declared_dead_at(AgentId::at_index(i - 1)) >= 0;
   check_lost_goals(oc(), roles, gone);
   out.result = mission::mission_result(oc().goals(), team_.params.cycles, team_.period, out.wall_ms, team_.areas);
   return out;

@@ -144,10 +144,10 @@ void write_fig3(const std::string& dir, const std::vector<ConfigRuns>& runs, con
 }
 
 void write_fig4_sync(const std::string& path, const plan::PlanContext& ctx, const mission::MissionSimulator& sim,
-                     const mission::MissionResult& result, int agent, double t0, double t1) {
+                     const mission::MissionResult& result, AgentId agent, double t0, double t1) {
   const OccupancyGrid& g = ctx.scenario.grid;
   const mission::MissionPlan& plan = sim.plan();
-  int collector = -1;
+  CollectorId collector;
   SegmentId segment;
   for (const auto& a : plan.file.agents)
     if (a.id == agent && !a.collector) collector = a.delivers_to, segment = a.segment;
@@ -159,7 +159,7 @@ void write_fig4_sync(const std::string& path, const plan::PlanContext& ctx, cons
   const cv::Scalar window_colour(215, 205, 140), transfer_colour(60, 200, 60), rv_colour(120, 0, 120);
   const double v = ctx.scenario.team.speed;
   const mission::WorkerPolicy* policy = sim.worker(agent);
-  if (collector >= 0 && policy) {
+  if (collector.valid() && policy) {
     // Under the routes: where the collector is linked to each of the
     // worker's rendezvous points (the passes' link windows).
     const mission::RouteTimetable& route = sim.route(collector);
@@ -171,7 +171,7 @@ void write_fig4_sync(const std::string& path, const plan::PlanContext& ctx, cons
       canvas.polyline(stretch, window_colour, 9);
     }
   }
-  if (collector >= 0) canvas.polyline(route_between(sim.route(collector), t0, t1, v), red, 2);
+  if (collector.valid()) canvas.polyline(route_between(sim.route(collector), t0, t1, v), red, 2);
   for (const mission::Leg& leg : result.legs) {
     if (leg.agent != agent || leg.t1 < t0 || leg.t0 > t1) continue;
     canvas.polyline(leg_path(fm, g, leg), blue, 2);
@@ -199,11 +199,11 @@ void write_fig4_sync(const std::string& path, const plan::PlanContext& ctx, cons
   if (ctx.scenario.radio.bitrate_bps > 0)
     std::snprintf(caption, sizeof caption,
                   "Fig. 4a: worker %d (blue) and its collector %d (red), t = %.0f..%.0f s; a goal takes %.2f s of link",
-                  agent, collector, t0, t1, transfer_s(ctx.scenario, 1));
+                  agent.value(), collector.value(), t0, t1, transfer_s(ctx.scenario, 1));
   else
     std::snprintf(caption, sizeof caption,
-                  "Fig. 4a: worker %d (blue) and its collector %d (red), t = %.0f..%.0f s; instant hand-over", agent,
-                  collector, t0, t1);
+                  "Fig. 4a: worker %d (blue) and its collector %d (red), t = %.0f..%.0f s; instant hand-over",
+                  agent.value(), collector.value(), t0, t1);
   canvas.save(path, caption,
               {{LegendItem::kLine, blue, "worker"},
                {LegendItem::kLine, red, "collector"},
@@ -226,8 +226,7 @@ class MissionRenderer {
       : ctx_(ctx), sim_(sim), result_(result), base_(ctx.scenario.grid), fm_(ctx.scenario.grid) {
     const mission::MissionPlan& plan = sim.plan();
     paint_segments(base_, ctx, plan);
-    for (int c = 0; c < plan.file.collectors; ++c)
-      base_.polyline(plan.file.routes[static_cast<std::size_t>(c)].waypoints, colour(c), 2);
+    for (const plan::CollectorRoute& r : plan.file.routes) base_.polyline(r.waypoints, colour(r.collector.value()), 2);
     for (std::size_t i = 0; i < result.legs.size(); ++i) legs_of_[result.legs[i].agent].push_back(i);
   }
 
@@ -247,13 +246,14 @@ class MissionRenderer {
     }
     for (const auto& a : plan.file.agents) {
       if (a.collector) {
-        const cv::Point q = canvas.px(sim_.route(a.id).position(t));
+        const cv::Point q = canvas.px(sim_.route(a.delivers_to).position(t));
         const int half = 6;
-        cv::rectangle(canvas.image(), q - cv::Point(half, half), q + cv::Point(half, half), colour(a.id), cv::FILLED);
+        cv::rectangle(canvas.image(), q - cv::Point(half, half), q + cv::Point(half, half),
+                      colour(a.delivers_to.value()), cv::FILLED);
         cv::rectangle(canvas.image(), q - cv::Point(half, half), q + cv::Point(half, half), cv::Scalar(0, 0, 0), 1);
         continue;
       }
-      canvas.dot(worker_at(a.id, t), a.delivers_to >= 0 ? colour(a.delivers_to) : cv::Scalar(0, 0, 0), 6);
+      canvas.dot(worker_at(a.id, t), a.delivers_to.valid() ? colour(a.delivers_to.value()) : cv::Scalar(0, 0, 0), 6);
     }
     canvas.oc(ctx_.scenario.oc);
     char caption[256];
@@ -274,7 +274,7 @@ class MissionRenderer {
     return lines[static_cast<std::size_t>(collector) % lines.size()];
   }
 
-  Point2 worker_at(int agent, double t) {
+  Point2 worker_at(AgentId agent, double t) {
     Point2 p = ctx_.scenario.grid.cell_center(ctx_.oc_cell);
     for (std::size_t i : legs_of_[agent]) {
       const mission::Leg& leg = result_.legs[i];
@@ -302,7 +302,7 @@ class MissionRenderer {
   const mission::MissionResult& result_;
   MapCanvas base_;
   fmm::FastMarching fm_;
-  std::map<int, std::vector<std::size_t>> legs_of_;                                   // agent -> its legs in time order
+  std::map<AgentId, std::vector<std::size_t>> legs_of_;                               // agent -> its legs in time order
   std::map<std::size_t, std::pair<std::vector<Point2>, std::vector<double>>> paths_;  // leg -> path, its arcs
 };
 

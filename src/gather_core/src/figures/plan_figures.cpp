@@ -91,9 +91,8 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
   }
   const cv::Vec3b direct_colour(205, 205, 205);
   auto group_fill = [&](SegmentId k) {
-    const int c = cfg.collector_of_segment[k];
-    return c < 0 ? direct_colour
-                 : blend(to_vec(lines[static_cast<std::size_t>(c) % lines.size()]), cv::Vec3b(255, 255, 255), 0.55);
+    const CollectorId c = cfg.collector_of_segment[k];
+    return !c.valid() ? direct_colour : blend(to_vec(lines[c.index() % lines.size()]), cv::Vec3b(255, 255, 255), 0.55);
   };
   std::vector<LegendItem> group_legend;
   for (int c = 0; c < cfg.collectors; ++c) {
@@ -119,18 +118,17 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
     paint_segments(canvas, labels, ctx.coverage,
                    [&](SegmentId k) { return blend(group_fill(k), cv::Vec3b(255, 255, 255), 0.5); });
     for (const auto& s : cfg.graph.segments) {
-      const int c = cfg.collector_of_segment[s.id];
-      if (c < 0) {
+      const CollectorId c = cfg.collector_of_segment[s.id];
+      if (!c.valid()) {
         canvas.polyline({s.centroid_m, ctx.scenario.oc}, cv::Scalar(0, 0, 200), 1, true);
         continue;
       }
-      const auto& r = cfg.routes[static_cast<std::size_t>(c)];
+      const auto& r = cfg.routes[c];
       for (const auto& m : r.meetings)
-        if (m.segment == s.id)
-          canvas.polyline({s.centroid_m, m.point}, lines[static_cast<std::size_t>(c) % lines.size()], 1, true);
+        if (m.segment == s.id) canvas.polyline({s.centroid_m, m.point}, lines[c.index() % lines.size()], 1, true);
     }
     for (const auto& r : cfg.routes) {
-      const cv::Scalar& col = lines[static_cast<std::size_t>(r.collector) % lines.size()];
+      const cv::Scalar& col = lines[r.collector.index() % lines.size()];
       canvas.polyline(r.waypoints, col, 3);
       for (const auto& m : r.meetings) canvas.dot(m.point, col, dot);
     }
@@ -138,8 +136,8 @@ void write_plan_figures(const std::string& dir, const plan::PlanContext& ctx, co
     canvas.oc(ctx.scenario.oc);
     std::vector<LegendItem> legend;
     for (const auto& r : cfg.routes)
-      legend.push_back({LegendItem::kLine, lines[static_cast<std::size_t>(r.collector) % lines.size()],
-                        "route " + std::to_string(r.collector + 1) + fmt(" (%.0f s)", r.period)});
+      legend.push_back({LegendItem::kLine, lines[r.collector.index() % lines.size()],
+                        "route " + std::to_string(r.collector.value() + 1) + fmt(" (%.0f s)", r.period)});
     legend.push_back({LegendItem::kCircle, cv::Scalar(120, 120, 120), "meeting area"});
     legend.push_back({LegendItem::kCircle, cv::Scalar(255, 255, 255), "worker (centroid)"});
     legend.push_back({LegendItem::kLine, cv::Scalar(0, 0, 200), "delivers to OC (dashed)"});

@@ -46,7 +46,7 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
   for (std::size_t i = 0; i < goals.size(); ++i) {
     const GoalRecord& g = goals[i];
     const int id = static_cast<int>(i);
-    if (g.id != id) broken("goal ids are not their index");
+    if (g.id != GoalId(id)) broken("goal ids are not their index");
     if (g.cycle < 0 || g.cycle >= cycles) broken("goal " + std::to_string(id) + " of cycle " + std::to_string(g.cycle));
     events.push_back({g.requested_at, kRequest, id});
     if (g.measured_at >= 0) events.push_back({g.measured_at, kMeasure, id});
@@ -58,7 +58,7 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
     if (g.measured_at >= 0 && g.expired_at >= 0) broken("goal " + std::to_string(id) + " both measured and expired");
     if (g.measured_at >= 0 && g.measured_at > g.deadline + 1e-9)
       broken("goal " + std::to_string(id) + " measured at " + std::to_string(g.measured_at) + " s by " +
-             std::to_string(g.measured_by) + ", after its deadline " + std::to_string(g.deadline) + " s");
+             to_string(g.measured_by) + ", after its deadline " + std::to_string(g.deadline) + " s");
   }
   std::sort(events.begin(), events.end(), [](const Event& a, const Event& b) {
     if (a.t != b.t) return a.t < b.t;
@@ -133,7 +133,7 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
   check("end of run");
   for (const GoalRecord& g : goals)
     if ((g.lost_at >= 0) != (g.state == GoalState::kLostWithAgent))
-      broken("goal " + std::to_string(g.id) + " has a lost_at but is " + goal_state_name(g.state));
+      broken(to_string(g.id) + " has a lost_at but is " + goal_state_name(g.state));
   if (pending != 0 || on_workers + on_collectors != 0)
     broken("end of run: " + std::to_string(pending) + " goals pending and " +
            std::to_string(on_workers + on_collectors) + " still carried (data must never be dropped)");

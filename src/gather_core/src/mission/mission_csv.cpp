@@ -24,9 +24,10 @@ void append_goal_rows(std::string& out, const RunLabel& run, const std::vector<G
   char line[640];
   for (const GoalRecord& g : goals) {
     std::snprintf(line, sizeof line, "%s,%d,%u,%d,%d,%.3f,%.3f,%d,%d,%.3f,%.3f,%d,%.3f,%d,%.3f,%d,%s,%.3f\n",
-                  run.method.c_str(), run.collectors, run.seed, g.id, g.cycle, g.point.x, g.point.y, g.segment.label(),
-                  g.worker, g.requested_at, g.measured_at, g.measured_by, g.picked_up_at, g.picked_up_by,
-                  g.delivered_at, g.delivered_by, goal_state_name(g.state), g.lost_at);
+                  run.method.c_str(), run.collectors, run.seed, g.id.value(), g.cycle, g.point.x, g.point.y,
+                  g.segment.label(), g.worker.value(), g.requested_at, g.measured_at, g.measured_by.value(),
+                  g.picked_up_at, g.picked_up_by.value(), g.delivered_at, g.delivered_by.value(),
+                  goal_state_name(g.state), g.lost_at);
     out += line;
   }
 }

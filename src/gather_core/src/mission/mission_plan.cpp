@@ -51,42 +51,43 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
     throw Error(where, "cycle_period_s must be a finite value in (0, 1e6] s");
   if (!(pf.area_tile_m > 0 && pf.area_tile_m <= 1e6))
     throw Error(where, "area_tile_m must be a finite value in (0, 1e6] m");
-  std::vector<char> id_seen(static_cast<std::size_t>(n), 0), collector_seen(static_cast<std::size_t>(pf.collectors), 0);
+  PerAgent<char> id_seen(n, 0);
+  PerCollector<char> collector_seen(pf.collectors, 0);
   PerSegment<char> segment_seen(pf.workers, 0);
   for (const plan::AgentAssignment& a : pf.agents) {
-    const std::string who = "agent " + std::to_string(a.id);
-    if (a.id < 0 || a.id >= n || id_seen[static_cast<std::size_t>(a.id)])
+    const std::string who = to_string(a.id);
+    if (!a.id.within(n) || id_seen[a.id])
       throw Error(where, who + ": ids must be 0.." + std::to_string(n - 1) + ", once each");
-    id_seen[static_cast<std::size_t>(a.id)] = 1;
-    if (a.collector != (a.id < pf.collectors))
+    id_seen[a.id] = 1;
+    if (a.collector != (a.id.value() < pf.collectors))
       throw Error(where, who + ": agents 0.." + std::to_string(pf.collectors - 1) +
                              " must be the collectors, the others workers");
     if (a.collector) {
-      if (a.delivers_to != a.id || collector_seen[static_cast<std::size_t>(a.delivers_to)])
+      // Collector k is agent k (the plan's convention).
+      if (a.delivers_to.value() != a.id.value() || collector_seen[a.delivers_to])
         throw Error(where, who + ": a collector's index must be its own id");
-      collector_seen[static_cast<std::size_t>(a.delivers_to)] = 1;
+      collector_seen[a.delivers_to] = 1;
       continue;
     }
     if (!a.segment.within(pf.workers) || segment_seen[a.segment])
       throw Error(where, who + ": segment must be 1.." + std::to_string(pf.workers) + ", one worker each");
     segment_seen[a.segment] = 1;
-    if (a.delivers_to < -1 || a.delivers_to >= pf.collectors)
+    if (a.delivers_to.value() < -1 || a.delivers_to.value() >= pf.collectors)
       throw Error(where, who + ": collector must be -1 (the OC) or 0.." + std::to_string(pf.collectors - 1));
-    if (a.delivers_to < 0) continue;
-    const plan::CollectorRoute& r = pf.routes[static_cast<std::size_t>(a.delivers_to)];
+    if (!a.delivers_to.valid()) continue;
+    const plan::CollectorRoute& r = pf.routes[a.delivers_to];
     if (std::none_of(r.meetings.begin(), r.meetings.end(),
                      [&](const plan::MeetingArea& m) { return m.segment == a.segment; }))
-      throw Error(where, "collector " + std::to_string(a.delivers_to) + " has no meeting area for " +
-                             to_string(a.segment) + " (" + who + ")");
+      throw Error(where,
+                  to_string(a.delivers_to) + " has no meeting area for " + to_string(a.segment) + " (" + who + ")");
   }
   const double x0 = grid.origin().x - 1.0, y0 = grid.origin().y - 1.0;
   const double x1 = grid.origin().x + grid.width() * grid.resolution() + 1.0;
   const double y1 = grid.origin().y + grid.height() * grid.resolution() + 1.0;
-  for (std::size_t c = 0; c < pf.routes.size(); ++c) {
+  for (CollectorId c : ids<CollectorId>(pf.routes.count())) {
     const plan::CollectorRoute& r = pf.routes[c];
-    const std::string route = "route of collector " + std::to_string(c);
-    if (r.collector != static_cast<int>(c))
-      throw Error(where, route + ": its collector index must be " + std::to_string(c));
+    const std::string route = "route of " + to_string(c);
+    if (r.collector != c) throw Error(where, route + ": its collector index must be " + std::to_string(c.value()));
     double polyline = 0.0;
     for (std::size_t i = 0; i < r.waypoints.size(); ++i) {
       const Point2& q = r.waypoints[i];
@@ -110,6 +111,13 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
         if (!arc_ok(pass)) throw Error(where, route + ": a pass is not finite or off the route");
     }
   }
+}
+
+PerCollector<AgentId> collector_agents(const plan::PlanFile& pf) {
+  PerCollector<AgentId> out(pf.collectors);
+  for (const plan::AgentAssignment& a : pf.agents)
+    if (a.collector && a.delivers_to.within(out.count())) out[a.delivers_to] = a.id;
+  return out;
 }
 
 }  // namespace mission

@@ -17,17 +17,17 @@ RepairMode parse_repair_mode(const std::string& text, const std::string& where) 
   throw Error(where, "must be merge or none, got '" + quote_input(text) + "'");
 }
 
-RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, RepairMode mode) {
+RepairedPlan repair_plan(const MissionPlan& base, const std::vector<AgentId>& dead, RepairMode mode) {
   RepairedPlan out;
   out.plan = base;
   const int n = static_cast<int>(base.file.agents.size());
   const int segments = base.file.workers;
-  out.dead.assign(static_cast<std::size_t>(n), 0);
-  for (int a : dead)
-    if (a >= 0 && a < n) out.dead[static_cast<std::size_t>(a)] = 1;
+  out.dead.assign(n, 0);
+  for (AgentId a : dead)
+    if (a.within(n)) out.dead[a] = 1;
   // Owner of each label as it is now (labels only ever name live workers'
-  // segments or dead workers not yet merged).
-  std::vector<int> owner(static_cast<std::size_t>(segments) + 1, -1);
+  // segments or dead workers not yet merged); by label, 0 = no segment.
+  std::vector<AgentId> owner(static_cast<std::size_t>(segments) + 1);
   for (const plan::AgentAssignment& a : base.file.agents)
     if (!a.collector && a.segment.within(segments)) owner[static_cast<std::size_t>(a.segment.label())] = a.id;
   LabelImage& labels = out.plan.labels;
@@ -42,13 +42,13 @@ RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, 
 
   // Collectors first; then the dead workers, in passes: one whose segment
   // touches no live worker's now may touch one after a neighbour merged.
-  std::vector<int> waiting;  // dead workers whose segment is not merged yet
-  for (int a = 0; a < n; ++a) {
-    if (!out.dead[static_cast<std::size_t>(a)]) continue;
-    const plan::AgentAssignment& dying = base.file.agents[static_cast<std::size_t>(a)];
+  std::vector<AgentId> waiting;  // dead workers whose segment is not merged yet
+  for (AgentId a : ids<AgentId>(n)) {
+    if (!out.dead[a]) continue;
+    const plan::AgentAssignment& dying = base.file.agents[a];
     if (dying.collector) {
       for (plan::AgentAssignment& x : out.plan.file.agents)
-        if (!x.collector && x.delivers_to == dying.delivers_to) x.delivers_to = -1;
+        if (!x.collector && x.delivers_to == dying.delivers_to) x.delivers_to = CollectorId();
     } else if (dying.segment.within(segments)) {
       waiting.push_back(a);
     }
@@ -77,8 +77,8 @@ RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, 
     int32_t into = 0;
     int64_t best = std::numeric_limits<int64_t>::max();
     for (int l = 1; l <= segments; ++l) {
-      const int o = owner[static_cast<std::size_t>(l)];
-      if (!touches[static_cast<std::size_t>(l)] || o < 0 || out.dead[static_cast<std::size_t>(o)]) continue;
+      const AgentId o = owner[static_cast<std::size_t>(l)];
+      if (!touches[static_cast<std::size_t>(l)] || !o.valid() || out.dead[o]) continue;
       if (cells[static_cast<std::size_t>(l)] < best) best = cells[static_cast<std::size_t>(l)], into = l;
     }
     return into;
@@ -87,8 +87,7 @@ RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, 
     for (bool merged = true; merged && !waiting.empty();) {
       merged = false;
       for (std::size_t k = 0; k < waiting.size();) {
-        const int32_t s =
-            now_label[static_cast<std::size_t>(base.file.agents[static_cast<std::size_t>(waiting[k])].segment.label())];
+        const int32_t s = now_label[static_cast<std::size_t>(base.file.agents[waiting[k]].segment.label())];
         const int32_t into = neighbour(s);
         if (into > 0) {
           relabel(s, into);
@@ -100,16 +99,15 @@ RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, 
       }
     }
   }
-  for (int a : waiting) {  // no live neighbour, or kNone: nobody serves it
-    const int32_t s =
-        now_label[static_cast<std::size_t>(base.file.agents[static_cast<std::size_t>(a)].segment.label())];
+  for (AgentId a : waiting) {  // no live neighbour, or kNone: nobody serves it
+    const int32_t s = now_label[static_cast<std::size_t>(base.file.agents[a].segment.label())];
     if (s >= 1) relabel(s, 0);
   }
-  out.worker_of_segment = PerSegment<int>(segments, -1);
+  out.worker_of_segment = PerSegment<AgentId>(segments);
   for (SegmentId seg : segment_ids(segments)) {
     const int l = now_label[static_cast<std::size_t>(seg.label())];
-    const int o = l >= 1 ? owner[static_cast<std::size_t>(l)] : -1;
-    out.worker_of_segment[seg] = o >= 0 && !out.dead[static_cast<std::size_t>(o)] ? o : -1;
+    const AgentId o = l >= 1 ? owner[static_cast<std::size_t>(l)] : AgentId();
+    out.worker_of_segment[seg] = o.valid() && !out.dead[o] ? o : AgentId();
   }
   return out;
 }

@@ -20,8 +20,9 @@ constexpr double kTimeTolerance = 1e-3;
 RouteTimetable::RouteTimetable(const plan::CollectorRoute& route, double speed, double request_period,
                                const Mask& coverage)
     : points_(route.waypoints), speed_(speed) {
-  if (!(speed > 0)) throw Error("route " + std::to_string(route.collector), "speed must be > 0");
-  if (!(request_period > 0)) throw Error("route " + std::to_string(route.collector), "request period must be > 0");
+  if (!(speed > 0)) throw Error("route " + std::to_string(route.collector.value()), "speed must be > 0");
+  if (!(request_period > 0))
+    throw Error("route " + std::to_string(route.collector.value()), "request period must be > 0");
   arc_ = fmm::path_arcs(points_);
   length_ = points_.size() >= 2 ? arc_.back() : 0.0;
   schedule_ = plan::LoopSchedule(idle() ? 0.0 : length_ / speed_, request_period);
@@ -54,7 +55,8 @@ RouteTimetable::RouteTimetable(const plan::CollectorRoute& route, double speed, 
     prev = s;
   }
   if (inside) inside_.emplace_back(open, length_);
-  if (inside_.empty()) throw Error("route " + std::to_string(route.collector), "never enters the OC's coverage");
+  if (inside_.empty())
+    throw Error("route " + std::to_string(route.collector.value()), "never enters the OC's coverage");
 }
 
 Point2 RouteTimetable::position_at_arc(double s) const { return fmm::point_at_arc(points_, arc_, s); }

@@ -37,7 +37,7 @@ struct MissionSimulator::Run {
   int cycles = 0;
   double link_probe_s = 1.0;  // MissionOptions::link_probe_s
   std::vector<GoalRecord> goals;
-  std::vector<std::vector<std::vector<int>>> goals_of;  // [worker index][cycle] goal ids
+  std::vector<std::vector<std::vector<GoalId>>> goals_of;  // [worker index][cycle] its goals
   std::vector<Leg> legs;
   std::vector<KnownGoal> scratch;  // a request as a worker learns it
 };
@@ -53,11 +53,11 @@ void drop_expired(std::vector<int>& known, const WorkerPolicy& p, double t) {
 }
 
 // The worker learns request `ids` (goal ids of its segment) from the run's records.
-void learn(WorkerPolicy& p, const std::vector<GoalRecord>& goals, const std::vector<int>& ids,
+void learn(WorkerPolicy& p, const std::vector<GoalRecord>& goals, const std::vector<GoalId>& ids,
            const OccupancyGrid& grid, std::vector<KnownGoal>& scratch, std::vector<int>& known) {
   scratch.clear();
-  for (int id : ids) {
-    const GoalRecord& g = goals[static_cast<std::size_t>(id)];
+  for (GoalId id : ids) {
+    const GoalRecord& g = goals[id.index()];
     scratch.push_back(KnownGoal{g.id, grid.world_to_cell(g.point), g.deadline});
   }
   p.learn(scratch.data(), scratch.size());
@@ -87,11 +87,12 @@ MissionSimulator::MissionSimulator(const World& ctx, MissionPlan plan, const Pro
       throw Error(where, e.what());
     }
   }
+  collector_agents_ = collector_agents(pf);
   shared_ = std::make_unique<SharedDistances>(ctx);
   const std::size_t max_goals = static_cast<std::size_t>(std::max(0, s.mission.goals_per_request));
   for (const plan::AgentAssignment& a : pf.agents) {
     if (a.collector) continue;
-    const RouteTimetable* route = a.delivers_to >= 0 ? &routes_[static_cast<std::size_t>(a.delivers_to)] : nullptr;
+    const RouteTimetable* route = a.delivers_to.valid() ? &routes_[a.delivers_to] : nullptr;
     workers_.emplace_back(ctx, plan_, a, route, *shared_, max_goals, protocol);
   }
 }
@@ -104,12 +105,12 @@ MissionResult MissionSimulator::run(const MissionOptions& opt) {
   Run run;
   run.cycles = opt.cycles;
   run.link_probe_s = opt.link_probe_s;
-  run.goals_of.assign(workers_.size(), std::vector<std::vector<int>>(static_cast<std::size_t>(opt.cycles)));
+  run.goals_of.assign(workers_.size(), std::vector<std::vector<GoalId>>(static_cast<std::size_t>(opt.cycles)));
   PerSegment<int> worker_of_segment(plan_.file.workers, -1);
   for (std::size_t i = 0; i < workers_.size(); ++i) worker_of_segment[workers_[i].segment()] = static_cast<int>(i);
   auto add_goal = [&](int cycle, Cell cell) {
     GoalRecord g;
-    g.id = static_cast<int>(run.goals.size());
+    g.id = GoalId::at_index(run.goals.size());
     g.cycle = cycle;
     g.point = grid.cell_center(cell);
     g.segment = SegmentId(plan_.labels[grid.index(cell)]);
@@ -147,8 +148,7 @@ MissionResult MissionSimulator::run(const MissionOptions& opt) {
       simulate_collector_worker(w, run);
   }
   for (GoalRecord& g : run.goals) {
-    if (g.measured_at < 0 && !std::isfinite(g.deadline))
-      bug("goal " + std::to_string(g.id) + " neither measured nor expired");
+    if (g.measured_at < 0 && !std::isfinite(g.deadline)) bug(to_string(g.id) + " neither measured nor expired");
     if (g.measured_at < 0)
       g.expired_at = g.deadline, g.state = GoalState::kExpired;
     else
@@ -172,14 +172,15 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
   // requests that arrive together leave only the newest.
   for (int c = 0; c < run.cycles; ++c) {
     const double until = w.deadline(c, period_);
-    for (int id : mine[static_cast<std::size_t>(c)]) run.goals[static_cast<std::size_t>(id)].deadline = until;
+    for (GoalId id : mine[static_cast<std::size_t>(c)]) run.goals[id.index()].deadline = until;
   }
 
   Cell pos = ctx_.oc_cell;
   double t = 0.0;
   int next_req = 0;
-  std::vector<int> known;          // local indices of unmeasured goals of the current request
-  std::vector<int> carried;        // goal ids measured and not yet handed over
+  std::vector<int> known;       // local indices of unmeasured goals of the current request
+  std::vector<GoalId> carried;  // measured and not yet handed over
+  const AgentId collector = collector_agents_[w.collector()];
   int at_rv = -1;                  // the rendezvous the worker stands at, -1 elsewhere
   bool at_meeting = false;         // it stands at its meeting point
   double no_meeting_before = 0.0;  // [s] after a failed hand-over: the next try is a later pass
@@ -187,11 +188,11 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
   // time inside the OC's coverage.
   auto hand_over = [&](double at) {
     const double drop = route.next_coverage_time(at);
-    for (int id : carried) {
-      GoalRecord& g = run.goals[static_cast<std::size_t>(id)];
-      if (g.picked_up_at >= 0 || g.delivered_at >= 0) bug("goal " + std::to_string(id) + " handed over twice");
-      g.picked_up_at = at, g.picked_up_by = w.collector();
-      g.delivered_at = drop, g.delivered_by = w.collector();
+    for (GoalId id : carried) {
+      GoalRecord& g = run.goals[id.index()];
+      if (g.picked_up_at >= 0 || g.delivered_at >= 0) bug(to_string(id) + " handed over twice");
+      g.picked_up_at = at, g.picked_up_by = collector;
+      g.delivered_at = drop, g.delivered_by = collector;
     }
     carried.clear();
   };
@@ -247,7 +248,7 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
     return -1.0;
   };
   for (int step = 0;; ++step) {
-    if (step > kMaxDecisions) bug("worker " + std::to_string(w.agent()) + " does not terminate");
+    if (step > kMaxDecisions) bug("worker " + std::to_string(w.agent().value()) + " does not terminate");
     drop_expired(known, w, t);
     while (next_req < run.cycles && w.learn_time(next_req, period_) <= t + kEps) {
       // Older goals are past their deadline by now (learn time >= request time).
@@ -277,8 +278,8 @@ void MissionSimulator::simulate_collector_worker(std::size_t wi, Run& run) {
     double clock = t;
     for (std::size_t i = 0; i < dec.k; ++i) {
       const int o = dec.tour[i];
-      GoalRecord& g = run.goals[static_cast<std::size_t>(w.goal(static_cast<std::size_t>(o)).id)];
-      if (g.measured_at >= 0) bug("goal " + std::to_string(g.id) + " measured twice");
+      GoalRecord& g = run.goals[w.goal(static_cast<std::size_t>(o)).id.index()];
+      if (g.measured_at >= 0) bug(to_string(g.id) + " measured twice");
       g.measured_at = dec.at[i], g.measured_by = w.agent();
       run.legs.push_back(Leg{w.agent(), clock, dec.at[i], here, g.point, true});
       pick_up_on_the_way(here, g.point, clock, dec.at[i]);
@@ -313,17 +314,18 @@ void MissionSimulator::simulate_oc_worker(std::size_t wi, Run& run) {
   // (in the coverage), or until it learns a newer one: request_deadline; it
   // measures what it can in time, then comes back.
   for (const auto& ids : mine)
-    for (int id : ids) run.goals[static_cast<std::size_t>(id)].deadline = kInf;
+    for (GoalId id : ids) run.goals[id.index()].deadline = kInf;
 
   Cell pos = ctx_.oc_cell;
   double t = 0.0;
   int next_req = 0;
-  std::vector<int> known, carried;
+  std::vector<int> known;  // local indices of unmeasured goals of the current request
+  std::vector<GoalId> carried;
   bool at_landing = false;  // pos is where the worker came back into the coverage
   auto deliver = [&]() {
-    for (int id : carried) {
-      GoalRecord& g = run.goals[static_cast<std::size_t>(id)];
-      if (g.delivered_at >= 0) bug("goal " + std::to_string(id) + " delivered twice");
+    for (GoalId id : carried) {
+      GoalRecord& g = run.goals[id.index()];
+      if (g.delivered_at >= 0) bug(to_string(id) + " delivered twice");
       g.delivered_at = t, g.delivered_by = w.agent();
     }
     carried.clear();
@@ -335,15 +337,15 @@ void MissionSimulator::simulate_oc_worker(std::size_t wi, Run& run) {
     at_landing = true;
   };
   for (int step = 0;; ++step) {
-    if (step > kMaxDecisions) bug("worker " + std::to_string(w.agent()) + " does not terminate");
+    if (step > kMaxDecisions) bug("worker " + std::to_string(w.agent().value()) + " does not terminate");
     drop_expired(known, w, t);
     if (ctx_.covered(pos)) {
       deliver();
       while (next_req < run.cycles && next_req * period_ <= t + kEps) {
         // The newer request supersedes what is left of the older one.
-        for (int i : known) run.goals[static_cast<std::size_t>(w.goal(static_cast<std::size_t>(i)).id)].deadline = t;
-        for (int id : mine[static_cast<std::size_t>(next_req)])
-          run.goals[static_cast<std::size_t>(id)].deadline = request_deadline(t, kInf, period_);
+        for (int i : known) run.goals[w.goal(static_cast<std::size_t>(i)).id.index()].deadline = t;
+        for (GoalId id : mine[static_cast<std::size_t>(next_req)])
+          run.goals[id.index()].deadline = request_deadline(t, kInf, period_);
         learn(w, run.goals, mine[static_cast<std::size_t>(next_req)], grid, run.scratch, known);
         ++next_req;
       }
@@ -368,8 +370,8 @@ void MissionSimulator::simulate_oc_worker(std::size_t wi, Run& run) {
     Point2 here = grid.cell_center(pos);
     for (std::size_t i = 0; i < dec.k; ++i) {
       const int o = dec.tour[i];
-      GoalRecord& g = run.goals[static_cast<std::size_t>(w.goal(static_cast<std::size_t>(o)).id)];
-      if (g.measured_at >= 0) bug("goal " + std::to_string(g.id) + " measured twice");
+      GoalRecord& g = run.goals[w.goal(static_cast<std::size_t>(o)).id.index()];
+      if (g.measured_at >= 0) bug(to_string(g.id) + " measured twice");
       g.measured_at = dec.at[i], g.measured_by = w.agent();
       run.legs.push_back(Leg{w.agent(), t, dec.at[i], here, g.point, true});
       here = g.point, t = dec.at[i], pos = w.goal(static_cast<std::size_t>(o)).cell, at_landing = false;
@@ -384,12 +386,11 @@ void MissionSimulator::simulate_oc_worker(std::size_t wi, Run& run) {
 std::vector<TimeBudget> MissionSimulator::time_budgets(const MissionResult& result) const {
   const double horizon = result.mission_s;
   // The workers' legs, summed in one pass: [agent] = {measuring, commuting}.
-  std::vector<std::pair<double, double>> walked(plan_.file.agents.size() + 1, {0.0, 0.0});
+  PerAgent<std::pair<double, double>> walked(plan_.file.agents.count(), {0.0, 0.0});
   for (const Leg& l : result.legs) {
-    if (l.agent < 0 || static_cast<std::size_t>(l.agent) >= walked.size() || l.t0 >= horizon) continue;
+    if (!l.agent.within(walked.count()) || l.t0 >= horizon) continue;
     const double d = std::max(0.0, std::min(l.t1, horizon) - l.t0);
-    (l.to_goal ? walked[static_cast<std::size_t>(l.agent)].first : walked[static_cast<std::size_t>(l.agent)].second) +=
-        d;
+    (l.to_goal ? walked[l.agent].first : walked[l.agent].second) += d;
   }
   std::vector<TimeBudget> out;
   for (const auto& a : plan_.file.agents) {
@@ -399,14 +400,13 @@ std::vector<TimeBudget> MissionSimulator::time_budgets(const MissionResult& resu
       b.role = "collector";
       // Driving: the loops of the timetable that fall in [0, horizon].
       // (Stepping half a loop past a departure always reaches the next one.)
-      const plan::LoopSchedule& s = routes_[static_cast<std::size_t>(a.delivers_to)].schedule();
+      const plan::LoopSchedule& s = routes_[a.delivers_to].schedule();
       if (!s.idle())
         for (double t = s.next_departure(0.0); t < horizon; t = s.next_departure(t + 0.5 * s.travel()))
           b.commuting_s += std::min(s.travel(), horizon - t);
     } else {
-      b.role = a.delivers_to >= 0 ? "collector_worker" : "oc_worker";
-      if (a.id >= 0 && static_cast<std::size_t>(a.id) < walked.size())
-        std::tie(b.measuring_s, b.commuting_s) = walked[static_cast<std::size_t>(a.id)];
+      b.role = a.delivers_to.valid() ? "collector_worker" : "oc_worker";
+      if (a.id.within(walked.count())) std::tie(b.measuring_s, b.commuting_s) = walked[a.id];
     }
     b.waiting_s = std::max(0.0, horizon - b.measuring_s - b.commuting_s);
     out.push_back(b);

@@ -60,16 +60,16 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
   const std::string where = mp.source.empty() ? "plan" : mp.source;
   check_params(protocol);
   speed_ = world.scenario.team.speed;
-  if (a.collector) throw Error(where, "agent " + std::to_string(a.id) + " is a collector, not a worker");
-  if (!segment_.within(pf.workers)) throw Error(where, "agent " + std::to_string(a.id) + ": bad segment");
-  if (collector_ >= pf.collectors) throw Error(where, "agent " + std::to_string(a.id) + ": bad collector");
-  if (collector_ >= 0) {
-    if (!route_) throw Error(where, "agent " + std::to_string(a.id) + ": no timetable of its collector");
-    const plan::CollectorRoute& r = pf.routes[static_cast<std::size_t>(collector_)];
+  if (a.collector) throw Error(where, to_string(a.id) + " is a collector, not a worker");
+  if (!segment_.within(pf.workers)) throw Error(where, to_string(a.id) + ": bad segment");
+  if (collector_.value() >= pf.collectors) throw Error(where, to_string(a.id) + ": bad collector");
+  if (collector_.valid()) {
+    if (!route_) throw Error(where, to_string(a.id) + ": no timetable of its collector");
+    const plan::CollectorRoute& r = pf.routes[collector_];
     const auto m = std::find_if(r.meetings.begin(), r.meetings.end(),
                                 [&](const plan::MeetingArea& x) { return x.segment == segment_; });
     if (m == r.meetings.end() || route_->idle())
-      throw Error(where, "collector " + std::to_string(collector_) + " has no meeting area for " + to_string(segment_));
+      throw Error(where, to_string(collector_) + " has no meeting area for " + to_string(segment_));
     meeting_arc_ = m->arc_m;
     for (double pass : m->passes) {
       const Cell c = grid.world_to_cell(route_->position_at_arc(pass));
@@ -131,7 +131,7 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
 
   solve_options_.labels = false;
   source_.resize(1);
-  if (collector_ >= 0) {
+  if (collector_.valid()) {
     std::vector<Cell> targets = segment_cells_;
     const std::size_t m = targets.size();
     targets.insert(targets.end(), rendezvous_.begin(), rendezvous_.end());
@@ -242,13 +242,13 @@ void WorkerPolicy::march_in_window(Cell from, const std::vector<Cell>& targets, 
 
 void WorkerPolicy::learn(const KnownGoal* goals, std::size_t n) {
   if (n > max_goals_)
-    throw Error("mission", "worker " + std::to_string(agent_) + ": " + std::to_string(n) +
+    throw Error("mission", "worker " + std::to_string(agent_.value()) + ": " + std::to_string(n) +
                                " goals in a request, at most " + std::to_string(max_goals_));
   const OccupancyGrid& grid = world_.scenario.grid;
   for (std::size_t i = 0; i < n; ++i) {
     const Cell c = goals[i].cell;
     if (!grid.contains(c) || segment_index(c) < 0)
-      throw Error("mission", "worker " + std::to_string(agent_) + ": goal " + std::to_string(goals[i].id) +
+      throw Error("mission", "worker " + std::to_string(agent_.value()) + ": " + to_string(goals[i].id) +
                                  " is not in its segment");
   }
   const std::size_t nr = rendezvous_.size();
@@ -466,7 +466,7 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
       const std::size_t r = static_cast<std::size_t>(std::min_element(position_to_rv_.begin(), position_to_rv_.end()) -
                                                      position_to_rv_.begin());
       if (!(position_to_rv_[r] < kInf))
-        bug("worker " + std::to_string(agent_) + " cannot reach any pass of its collector");
+        bug("worker " + std::to_string(agent_.value()) + " cannot reach any pass of its collector");
       d.action = Action::kGoToRendezvous;
       d.rendezvous = static_cast<int>(r);
       d.arrive = t + position_to_rv_[r] / speed_;
@@ -495,7 +495,7 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
     }
   }
   // (The load never exceeds capacity_, which the longest window holds.)
-  if (!(meet.done < kInf)) bug("worker " + std::to_string(agent_) + " cannot reach any pass of its collector");
+  if (!(meet.done < kInf)) bug("worker " + std::to_string(agent_.value()) + " cannot reach any pass of its collector");
   const std::size_t rv = static_cast<std::size_t>(meet.rv);
   const double dist = k == 0 ? position_to_rv_[rv] : from_[static_cast<std::size_t>(tour_[k - 1]) * stride_ + n_ + rv];
   d.action = Action::kWork;
@@ -510,7 +510,7 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
 std::pair<Cell, double> WorkerPolicy::way_back(Cell from) const {
   const double dist = world_.coverage_field.time(from);
   const int label = world_.coverage_field.label(from);
-  if (!(dist < kInf) || label < 0) bug("worker " + std::to_string(agent_) + " cannot reach the OC's coverage");
+  if (!(dist < kInf) || label < 0) bug("worker " + std::to_string(agent_.value()) + " cannot reach the OC's coverage");
   return {world_.coverage_border[static_cast<std::size_t>(label)], dist};
 }
 

@@ -13,7 +13,7 @@ namespace plan {
 
 static constexpr double kInf = std::numeric_limits<double>::infinity();
 
-std::vector<SegmentId> segments_of(const ConfigurationPlan& cfg, int c) {
+std::vector<SegmentId> segments_of(const ConfigurationPlan& cfg, CollectorId c) {
   std::vector<SegmentId> segs;
   for (const WorkerSegment& seg : cfg.graph.segments)
     if (cfg.collector_of_segment[seg.id] == c) segs.push_back(seg.id);
@@ -46,14 +46,14 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
   CollectorRoute saved_route;
   Estimates saved_estimates;
   SegmentId saved_k;
-  int saved_c = -1;
+  CollectorId saved_c;
   auto try_move = [&](SegmentId k) {
     saved_k = k;
     saved_c = cfg.collector_of_segment[k];
-    saved_route = cfg.routes[static_cast<std::size_t>(saved_c)];
+    saved_route = cfg.routes[saved_c];
     saved_estimates = cfg.estimates;
-    cfg.collector_of_segment[k] = -1;
-    cfg.routes[static_cast<std::size_t>(saved_c)] =
+    cfg.collector_of_segment[k] = CollectorId();
+    cfg.routes[saved_c] =
         build_route(ctx, fm, cfg.graph, cfg.partition.labels, segments_of(cfg, saved_c), saved_c, opt);
     for (WorkerEstimate& w : cfg.estimates.workers)
       if (w.segment == k || w.collector == saved_c)
@@ -63,7 +63,7 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
   };
   auto undo = [&]() {
     cfg.collector_of_segment[saved_k] = saved_c;
-    cfg.routes[static_cast<std::size_t>(saved_c)] = saved_route;
+    cfg.routes[saved_c] = saved_route;
     cfg.estimates = saved_estimates;
   };
   // A segment's worker delivering to the OC: its estimate depends on no
@@ -88,8 +88,8 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
   };
   // The most promising moves first: by how much a worker's own share of J
   // would grow if it delivered to the OC. Only workers of collector `only`
-  // (-1: of any collector).
-  auto ranked = [&](int only) {
+  // (none: of any collector).
+  auto ranked = [&](CollectorId only) {
     const double goals = std::max(1e-9, cfg.estimates.goals);
     // Latency: the worker's goal-weighted part of the mean; interval: its
     // part of the mean over segments.
@@ -101,7 +101,7 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
     };
     std::vector<std::pair<double, SegmentId>> gain;
     for (const WorkerEstimate& w : cfg.estimates.workers) {
-      if (w.collector < 0 || (only >= 0 && w.collector != only)) continue;
+      if (!w.collector.valid() || (only.valid() && w.collector != only)) continue;
       const OcAlternative& oc = oc_alternative(w.segment);
       gain.emplace_back(share(oc.goals, oc.latency, oc.interval) - share(w.delivered_goals, w.refresh_s, w.interval_s),
                         w.segment);
@@ -112,8 +112,8 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
   const auto trials_per_step = static_cast<std::size_t>(opt.association_trials);  // moves fully re-estimated per step
   // 1. Balance: the best of the promising moves and of the one farthest
   // from the coverage (it usually shortens the route most).
-  for (int c = 0; c < cfg.collectors; ++c) {
-    while (cfg.routes[static_cast<std::size_t>(c)].period > T * (1.0 + 1e-9)) {
+  for (CollectorId c : ids<CollectorId>(cfg.collectors)) {
+    while (cfg.routes[c].period > T * (1.0 + 1e-9)) {
       const std::vector<std::pair<double, SegmentId>> gain = ranked(c);
       if (gain.empty()) break;
       std::vector<SegmentId> trials;
@@ -135,7 +135,7 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
   }
   // 2. Decide, worker by worker, while a move raises J.
   for (double current = score(cfg.estimates, ctx);;) {
-    const std::vector<std::pair<double, SegmentId>> gain = ranked(-1);
+    const std::vector<std::pair<double, SegmentId>> gain = ranked(CollectorId());
     SegmentId best_k;
     double best = current;
     for (std::size_t i = 0; i < gain.size() && i < trials_per_step; ++i) {

@@ -19,13 +19,14 @@ bool closer(const WorkerSegment& a, const WorkerSegment& b) {
 
 }  // namespace
 
-PerSegment<int> group_segments(const WorkerGraph& graph, int collectors, const PerSegment<double>& work) {
-  PerSegment<int> group(graph.segments.segments(), -1);
-  if (collectors <= 0) return group;
+PerSegment<CollectorId> group_segments(const WorkerGraph& graph, int collectors, const PerSegment<double>& work) {
+  PerSegment<CollectorId> out(graph.segments.segments());
+  if (collectors <= 0) return out;
   std::vector<const WorkerSegment*> candidates;
   for (const WorkerSegment& s : graph.segments)
     if (!s.touches_coverage) candidates.push_back(&s);
-  if (candidates.empty()) return group;
+  if (candidates.empty()) return out;
+  PerSegment<int> group(graph.segments.segments(), -1);  // the group (collector) 0.. of each segment, -1 none
   std::sort(candidates.begin(), candidates.end(),
             [](const WorkerSegment* a, const WorkerSegment* b) { return closer(*a, *b); });
 
@@ -100,7 +101,8 @@ PerSegment<int> group_segments(const WorkerGraph& graph, int collectors, const P
     }
     group[s->id] = g_best;
   }
-  return group;
+  for (const WorkerSegment& s : graph.segments) out[s.id] = CollectorId(group[s.id]);
+  return out;
 }
 
 }  // namespace plan

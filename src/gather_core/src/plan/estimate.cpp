@@ -308,12 +308,12 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
   const std::vector<double> pmf = goal_count_pmf(static_cast<int>(G), seg.area / ctx.reachable_area);
   WorkerRun run;
   run.areas = cfg.area_parts[seg.id];  // no deliveries unless a run below finds some
-  if (w.collector < 0) {
+  if (!w.collector.valid()) {
     const TourModel model = tour_model(seg, true, c);
     w.tour_s = model.length(w.expected_goals) / v;
     run = run_oc_worker(model, first_trip(seg, model), pmf, v, T, cycles, cfg.area_parts[seg.id]);
   } else {
-    const CollectorRoute& r = cfg.routes[static_cast<std::size_t>(w.collector)];
+    const CollectorRoute& r = cfg.routes[w.collector];
     const auto m =
         std::find_if(r.meetings.begin(), r.meetings.end(), [&](const MeetingArea& a) { return a.segment == seg.id; });
     const TourModel model = tour_model(seg, false, c);

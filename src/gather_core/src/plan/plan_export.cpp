@@ -30,10 +30,12 @@ PlanFile make_plan_file(const PlanContext& ctx, const ConfigurationPlan& cfg, co
   p.est_goals = cfg.estimates.goals;
   p.est_interval_s = cfg.estimates.interval_s;
   p.utility = cfg.utility;
-  for (int c = 0; c < cfg.collectors; ++c) p.agents.push_back(AgentAssignment{c, true, SegmentId(), c});
+  // Collector k is agent k; the worker of segment k is agent N_c + k - 1.
+  for (CollectorId c : ids<CollectorId>(cfg.collectors))
+    p.agents.push_back(AgentAssignment{AgentId(c.value()), true, SegmentId(), c});
   for (SegmentId k : segment_ids(cfg.workers))
     p.agents.push_back(
-        AgentAssignment{cfg.collectors + static_cast<int>(k.index()), false, k, cfg.collector_of_segment[k]});
+        AgentAssignment{AgentId(cfg.collectors + static_cast<int>(k.index())), false, k, cfg.collector_of_segment[k]});
   p.routes = cfg.routes;
   p.workers_est = cfg.estimates.workers;
   return p;
@@ -47,7 +49,7 @@ void write_sweep_report(const std::string& path, const SweepResult& sweep) {
   char line[512];
   for (const auto& c : sweep.configs) {
     const int oc_workers =
-        static_cast<int>(std::count(c.collector_of_segment.begin(), c.collector_of_segment.end(), -1));
+        static_cast<int>(std::count(c.collector_of_segment.begin(), c.collector_of_segment.end(), CollectorId()));
     const int active = static_cast<int>(
         std::count_if(c.routes.begin(), c.routes.end(), [](const CollectorRoute& r) { return !r.segments.empty(); }));
     std::snprintf(line, sizeof line, "%s,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.4f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f\n",

@@ -60,15 +60,15 @@ void write_plan_file(const std::string& path, const PlanFile& p) {
     << "goals" << YAML::Value << p.est_goals << YAML::Key << "utility" << YAML::Value << p.utility << YAML::EndMap;
   y << YAML::Key << "agents" << YAML::Value << YAML::BeginSeq;
   for (const AgentAssignment& a : p.agents) {
-    y << YAML::Flow << YAML::BeginMap << YAML::Key << "id" << YAML::Value << a.id << YAML::Key << "role" << YAML::Value
-      << (a.collector ? "collector" : "worker") << YAML::Key << "segment" << YAML::Value << a.segment.label()
-      << YAML::Key << "collector" << YAML::Value << a.delivers_to << YAML::EndMap;
+    y << YAML::Flow << YAML::BeginMap << YAML::Key << "id" << YAML::Value << a.id.value() << YAML::Key << "role"
+      << YAML::Value << (a.collector ? "collector" : "worker") << YAML::Key << "segment" << YAML::Value
+      << a.segment.label() << YAML::Key << "collector" << YAML::Value << a.delivers_to.value() << YAML::EndMap;
   }
   y << YAML::EndSeq;
   y << YAML::Key << "routes" << YAML::Value << YAML::BeginSeq;
   for (const CollectorRoute& r : p.routes) {
     y << YAML::BeginMap;
-    y << YAML::Key << "collector" << YAML::Value << r.collector;
+    y << YAML::Key << "collector" << YAML::Value << r.collector.value();
     y << YAML::Key << "segments" << YAML::Value << YAML::Flow << labels_of(r.segments);
     y << YAML::Key << "length_m" << YAML::Value << r.length;
     y << YAML::Key << "period_s" << YAML::Value << r.period;
@@ -91,9 +91,9 @@ void write_plan_file(const std::string& path, const PlanFile& p) {
   y << YAML::Key << "worker_estimates" << YAML::Value << YAML::BeginSeq;
   for (const WorkerEstimate& w : p.workers_est) {
     y << YAML::Flow << YAML::BeginMap << YAML::Key << "segment" << YAML::Value << w.segment.label() << YAML::Key
-      << "collector" << YAML::Value << w.collector << YAML::Key << "expected_goals" << YAML::Value << w.expected_goals
-      << YAML::Key << "delivered_goals" << YAML::Value << w.delivered_goals << YAML::Key << "tour_s" << YAML::Value
-      << w.tour_s << YAML::Key << "refresh_s" << YAML::Value << w.refresh_s << YAML::EndMap;
+      << "collector" << YAML::Value << w.collector.value() << YAML::Key << "expected_goals" << YAML::Value
+      << w.expected_goals << YAML::Key << "delivered_goals" << YAML::Value << w.delivered_goals << YAML::Key << "tour_s"
+      << YAML::Value << w.tour_s << YAML::Key << "refresh_s" << YAML::Value << w.refresh_s << YAML::EndMap;
   }
   y << YAML::EndSeq << YAML::EndMap;
   std::error_code ec;
@@ -134,13 +134,13 @@ PlanFile read_plan_file(const std::string& path) {
   for (const yaml::Fields& a : items(root, path, "agents")) {
     a.allow({"id", "role", "segment", "collector"});
     AgentAssignment x;
-    x.id = a.required<int>("id");
+    x.id = AgentId(a.required<int>("id"));
     const std::string role = a.required<std::string>("role");
     if (role != "collector" && role != "worker")
       throw Error(path, "'" + a.name("role") + "' must be collector or worker");
     x.collector = role == "collector";
     x.segment = SegmentId(a.required<int>("segment"));
-    x.delivers_to = a.required<int>("collector");
+    x.delivers_to = CollectorId(a.required<int>("collector"));
     p.agents.push_back(x);
   }
   const YAML::Node routes = root["routes"];
@@ -148,7 +148,7 @@ PlanFile read_plan_file(const std::string& path) {
     r.allow({"collector", "segments", "length_m", "period_s", "min_clearance_m", "coverage_entries_m", "meetings",
              "waypoints"});
     CollectorRoute x;
-    x.collector = r.required<int>("collector");
+    x.collector = CollectorId(r.required<int>("collector"));
     for (int label : r.required<std::vector<int>>("segments")) x.segments.push_back(SegmentId(label));
     x.length = r.required<double>("length_m");
     x.period = r.required<double>("period_s");
@@ -170,7 +170,7 @@ PlanFile read_plan_file(const std::string& path) {
     w.allow({"segment", "collector", "expected_goals", "delivered_goals", "tour_s", "refresh_s"});
     WorkerEstimate x;
     x.segment = SegmentId(w.required<int>("segment"));
-    x.collector = w.required<int>("collector");
+    x.collector = CollectorId(w.required<int>("collector"));
     x.expected_goals = w.required<double>("expected_goals");
     x.delivered_goals = w.required<double>("delivered_goals");
     x.tour_s = w.required<double>("tour_s");

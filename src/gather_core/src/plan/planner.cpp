@@ -152,7 +152,7 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
 
   t0 = Clock::now();
   fmm::FastMarching fm = ctx.oc_field;  // a copy already on the route speed map
-  for (int c = 0; c < collectors; ++c)
+  for (CollectorId c : ids<CollectorId>(collectors))
     cfg.routes.push_back(build_route(ctx, fm, cfg.graph, cfg.partition.labels, segments_of(cfg, c), c, opt));
   cfg.times.routes_ms = ms_since(t0);
 

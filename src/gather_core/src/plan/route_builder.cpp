@@ -82,7 +82,7 @@ std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
 // segments: geodesic legs from FMM, visiting order by mission::order_closed_tour,
 // polished with OMPL.
 CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const WorkerGraph& graph,
-                           const LabelImage& labels, const std::vector<SegmentId>& segments, int collector,
+                           const LabelImage& labels, const std::vector<SegmentId>& segments, CollectorId collector,
                            const PlannerOptions& opt) {
   const Scenario& s = ctx.scenario;
   const OccupancyGrid& grid = s.grid;

@@ -67,7 +67,7 @@ class MissionView {
   // The view's state of goal `id` (for tests): 0 pending, 1 carried, 2 delivered, 3 expired, 4 dropped,
   // 5 lost with an agent (final only at the mission's end: a survivor may
   // still resolve it).
-  int goal_state(const agent::OcRole& oc, int id) const;
+  int goal_state(const agent::OcRole& oc, GoalId id) const;
 
  private:
   // Moves the cursor past the goals resolved since (goals resolve in no

@@ -11,6 +11,7 @@
 
 #include "gather_core/figures/palette.hpp"
 #include "gather_core/grid/occupancy_grid.hpp"
+#include "gather_core/ids.hpp"
 
 namespace gather {
 namespace view {
@@ -42,8 +43,8 @@ struct Style {
   std_msgs::ColorRGBA link = rgba(0.45f, 0.45f, 0.5f, 0.4f);
   std_msgs::ColorRGBA handover = rgba(0.0f, 0.85f, 0.3f);
 
-  // A collector's colour (by collector index), its workers' too.
-  std_msgs::ColorRGBA collector(int index, float a = 1.0f) const;
+  // A collector's colour, its workers' too.
+  std_msgs::ColorRGBA collector(CollectorId collector, float a = 1.0f) const;
 };
 
 // Where the team can be: the bounding box [m] of the cells reachable from

@@ -18,14 +18,14 @@ namespace agent {
 class CollectorRole : public Role {
  public:
   // Collector `agent` of team.plan (its route is team.routes[its index]).
-  CollectorRole(TeamSetup& team, int agent, MotionBackend& motion);
+  CollectorRole(TeamSetup& team, AgentId agent, MotionBackend& motion);
 
   void step(double now, const Message* const* inbox, std::size_t n, Outbox& out) override;
   RoleKind kind() const override { return RoleKind::kCollector; }
   RoleReport report() const override;
   const Custody* custody() const override { return &custody_; }
   int32_t newest_request() const override { return complete_ ? request_id_ : -1; }
-  int collector() const { return collector_; }
+  CollectorId collector() const { return collector_; }
   void restore(const DataItem* items, std::size_t n, const Progress& progress, double now) override;
   // Declared dead while alive (its messages were lost): it stops for good.
   bool retired() const override { return retired_; }
@@ -43,7 +43,7 @@ class CollectorRole : public Role {
   Served* served(int16_t agent);
 
   TeamSetup& team_;
-  int collector_ = 0;
+  CollectorId collector_;
   const mission::RouteTimetable& route_;
   Custody custody_;
   std::vector<Served> workers_;

@@ -29,15 +29,15 @@ class OcRole : public Role {
   // Goals of the requests issued so far (ids 0 .. requested() - 1).
   std::size_t requested() const;
   const std::vector<mission::GoalRecord>& goals() const { return goals_; }
-  bool resolved(int32_t goal) const { return resolved_[static_cast<std::size_t>(goal)] != 0; }
+  bool resolved(GoalId goal) const { return resolved_[goal.index()] != 0; }
   std::size_t resolved_count() const { return resolved_count_; }
   int64_t invalid_items() const { return invalid_; }
   int64_t duplicate_items() const { return duplicates_; }
-  // Items each agent delivered (by agent id).
-  int64_t delivered_by(int agent) const { return delivered_by_[static_cast<std::size_t>(agent)]; }
+  // Items each agent delivered.
+  int64_t delivered_by(AgentId agent) const { return delivered_by_[agent]; }
   // Faults (docs/faults.md): when the OC declared each agent dead (-1: it
   // did not), and goals it had declared lost that a survivor resolved later.
-  double declared_dead_at(int agent) const { return declared_at_[static_cast<std::size_t>(agent)]; }
+  double declared_dead_at(AgentId agent) const { return declared_at_[agent]; }
   int64_t recovered() const { return recovered_; }
   // The plan the OC runs now (the original until it declares a death).
   const mission::MissionPlan& current_plan() const { return repair_ ? repair_->plan : team_.plan; }
@@ -46,36 +46,34 @@ class OcRole : public Role {
   void issue(int cycle, int16_t dest, double now, Outbox& out);
   // Applies one item from `sender` at `now`; false if it names no goal of
   // this mission (it is acked all the same, so its sender lets go).
-  bool apply(const DataItem& item, int16_t sender, double now);
+  bool apply(const DataItem& item, AgentId sender, double now);
   void resolve(mission::GoalRecord& g, mission::GoalState state);
   // A goal resolved by news from an agent: unresolved, or declared lost
   // with an agent (the news overrides that; counted as recovered).
   bool open(std::size_t goal);
-  const plan::AgentAssignment& assigned(int agent) const {
-    return current_plan().file.agents[static_cast<std::size_t>(agent)];
-  }
+  const plan::AgentAssignment& assigned(AgentId agent) const { return current_plan().file.agents[agent]; }
   // Declares `agent` dead at `now`: repairs the plan, declares lost what was
   // its own (docs/faults.md), and tells whoever is in the coverage.
-  void declare_dead(int16_t agent, double now, Outbox& out);
+  void declare_dead(AgentId agent, double now, Outbox& out);
 
   TeamSetup& team_;
   std::vector<std::size_t> first_;          // first goal id of each cycle's request, and the total at the end
   std::vector<mission::GoalRecord> goals_;  // every cycle's, drawn up front; requested_at set at the issue
   std::vector<uint32_t> cell_of_;           // grid index of each goal's cell
   std::vector<uint8_t> resolved_;
-  std::vector<int32_t> unassigned_;  // goals in no worker's segment, not yet expired
-  std::vector<double> issued_at_;    // [s] by cycle
+  std::vector<GoalId> unassigned_;  // goals in no worker's segment, not yet expired
+  std::vector<double> issued_at_;   // [s] by cycle
   std::size_t resolved_count_ = 0;
   int issued_ = 0;
-  std::vector<double> answered_at_;  // [s] by agent: last time it was passed the newest request
-  std::vector<int64_t> delivered_by_;
+  PerAgent<double> answered_at_;  // [s] last time it was passed the newest request
+  PerAgent<int64_t> delivered_by_;
   std::vector<int32_t> acks_;
   int64_t invalid_ = 0, duplicates_ = 0;
   // Liveness: the latest news of each agent [s] (its own messages, or a
   // collector's report of its worker), and the repair in force.
-  std::vector<double> heard_;
-  std::vector<double> declared_at_;
-  std::vector<double> grace_until_;  // [s] no declaration before (workers moved to the OC)
+  PerAgent<double> heard_;
+  PerAgent<double> declared_at_;
+  PerAgent<double> grace_until_;  // [s] no declaration before (workers moved to the OC)
   const mission::RepairedPlan* repair_ = nullptr;
   int64_t recovered_ = 0;
 };

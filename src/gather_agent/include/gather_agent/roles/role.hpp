@@ -70,27 +70,30 @@ class TeamSetup {
   double period = 0.0;  // [s] between two requests
   double speed = 0.0;   // [m/s]
   RadioModel radio;
-  std::vector<mission::RouteTimetable> routes;  // by collector index
+  PerCollector<mission::RouteTimetable> routes;
   std::unique_ptr<mission::SharedDistances> distances;
   std::unique_ptr<GridAStar> paths;  // A* on the reachable cells, for the simulated bases
   mission::AreaWeights areas;        // of the refresh interval (plan.yaml's area_tile_m)
 
-  int agents() const { return static_cast<int>(assignment_.size()); }
-  const plan::AgentAssignment& assignment(int agent) const { return assignment_[static_cast<std::size_t>(agent)]; }
-  int collector_agent(int collector) const { return collector_agent_[static_cast<std::size_t>(collector)]; }
-  int worker_of_segment(SegmentId segment) const { return worker_of_segment_[segment]; }
+  int agents() const { return assignment_.count(); }
+  const plan::AgentAssignment& assignment(AgentId agent) const { return assignment_[agent]; }
+  // The agent that drives `collector` (mission::collector_agents).
+  AgentId collector_agent(CollectorId collector) const { return collector_agent_[collector]; }
+  // The worker of `segment` (none: no worker).
+  AgentId worker_of_segment(SegmentId segment) const { return worker_of_segment_[segment]; }
   // Link between two positions [m] (the free-space range first, cheap).
   bool linked(Point2 a, Point2 b) const;
   // Where agent `agent` waits before the mission (free cells next to the OC).
-  Point2 start_pose(int agent) const { return start_[static_cast<std::size_t>(agent)]; }
+  Point2 start_pose(AgentId agent) const { return start_[agent]; }
   // Deadline [s] of a goal of request `cycle` for worker `agent` of a
   // collector (mission::request_deadline); +inf for workers of the OC, whose
   // deadline starts when they learn the request.
-  double deadline(int agent, int cycle) const;
+  double deadline(AgentId agent, int cycle) const;
 
   // The plan the survivors execute once the agents in dead[0..n) are dead
   // (mission::repair_plan with params.repair), computed once per set of
   // dead agents and kept (agents learn the same sets in the same order).
+  // `dead` as the messages carry them (RequestPart::dead).
   // Needs the plan's label image: plan.labels, or what reload_labels gives
   // (an agent process drops the image to save memory and reads it again
   // from the plan directory when a repair needs it: rarely).
@@ -98,16 +101,16 @@ class TeamSetup {
   std::function<LabelImage()> reload_labels;
   // How long the OC waits without news of `agent` under `plan` (the
   // repaired one) before it declares it dead [s] (mission::silent_timeout).
-  double silent_timeout(const mission::MissionPlan& plan, int agent) const;
+  double silent_timeout(const mission::MissionPlan& plan, AgentId agent) const;
 
  private:
-  std::vector<plan::AgentAssignment> assignment_;  // by agent id
-  std::vector<int> collector_agent_;               // agent id by collector index
-  PerSegment<int> worker_of_segment_;              // agent id by segment, -1 none
-  std::vector<double> meeting_arc_;                // [m] by agent id (workers of collectors)
-  std::vector<Point2> start_;
+  PerAgent<plan::AgentAssignment> assignment_;
+  PerCollector<AgentId> collector_agent_;
+  PerSegment<AgentId> worker_of_segment_;  // none: no worker
+  PerAgent<double> meeting_arc_;           // [m] (workers of collectors)
+  PerAgent<Point2> start_;
   double range_ = 0.0;
-  std::vector<std::pair<std::vector<int>, std::unique_ptr<mission::RepairedPlan>>> repaired_;
+  std::vector<std::pair<std::vector<AgentId>, std::unique_ptr<mission::RepairedPlan>>> repaired_;
 };
 
 // Messages a step sends, at most `capacity` (the rest is refused and counted).
@@ -152,7 +155,7 @@ struct Progress {
   int64_t measured = 0, dropped = 0, expired = 0, skipped = 0;  // its counters
   std::vector<int16_t> dead;                                    // the OC's declarations it knows
   std::vector<mission::KnownGoal> learned;  // the request it works on: its goals here, in learning order
-  std::vector<int32_t> known;               // ids of those not yet measured or expired
+  std::vector<GoalId> known;                // those not yet measured or expired
 };
 
 class Role {
@@ -195,7 +198,7 @@ class Role {
 
   // Goals this role measured (and stored) in its last step, for views: the
   // OC's picture of which goals are being carried (nullptr: never any).
-  virtual const std::vector<int32_t>* measured_in_step() const { return nullptr; }
+  virtual const std::vector<GoalId>* measured_in_step() const { return nullptr; }
 
   int16_t id() const { return id_; }
   MotionBackend& motion() { return motion_; }

@@ -19,13 +19,13 @@ class WorkerRole : public Role {
  public:
   // Worker `agent` of team.plan. Throws gather::Error when the plan gives it
   // no segment, or its collector no meeting area for it.
-  WorkerRole(TeamSetup& team, int agent, MotionBackend& motion);
+  WorkerRole(TeamSetup& team, AgentId agent, MotionBackend& motion);
 
   void step(double now, const Message* const* inbox, std::size_t n, Outbox& out) override;
   RoleKind kind() const override { return RoleKind::kWorker; }
   RoleReport report() const override;
   const Custody* custody() const override { return &custody_; }
-  const std::vector<int32_t>* measured_in_step() const override { return &measured_in_step_; }
+  const std::vector<GoalId>* measured_in_step() const override { return &measured_in_step_; }
   int32_t newest_request() const override { return std::max(resolved_, request_.complete() ? request_.id : -1); }
 
   enum class Phase { kStart, kReady, kMoving, kAtPass, kSettling, kWaiting, kDone };
@@ -79,10 +79,10 @@ class WorkerRole : public Role {
   Custody custody_;
   int16_t upstream_ = kOc;
   Phase phase_ = Phase::kStart;
-  Incoming request_;                       // newest request received (maybe not yet learned)
-  int32_t resolved_ = -1;                  // every request up to this one is learned or skipped
-  std::vector<int32_t> measured_in_step_;  // goal ids measured in the last step
-  std::vector<int> known_;                 // local indices of the learned request's unmeasured goals
+  Incoming request_;                      // newest request received (maybe not yet learned)
+  int32_t resolved_ = -1;                 // every request up to this one is learned or skipped
+  std::vector<GoalId> measured_in_step_;  // goals measured in the last step
+  std::vector<int> known_;                // local indices of the learned request's unmeasured goals
   // The plan being executed.
   std::vector<Waypoint> legs_;
   std::vector<int> leg_goal_;  // local goal index per leg, -1 for the pass / landing

@@ -23,7 +23,7 @@ struct AgentUnit {
 // Agent `agent` of team.plan, at its start pose (or at `at`: a restarted
 // agent where it was). Throws gather::Error when the plan gives it no
 // workable assignment.
-AgentUnit make_agent(TeamSetup& team, int agent, const Point2* at = nullptr);
+AgentUnit make_agent(TeamSetup& team, AgentId agent, const Point2* at = nullptr);
 // The OC at the scenario's OC position.
 AgentUnit make_oc(TeamSetup& team);
 

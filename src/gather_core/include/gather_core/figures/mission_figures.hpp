@@ -40,7 +40,7 @@ void write_fig3(const std::string& dir, const std::vector<ConfigRuns>& runs, con
 // Fig. 4a: the trajectory of worker `agent` and of its collector during
 // [t0, t1] [s] on the map (worker blue, collector red; meetings marked).
 void write_fig4_sync(const std::string& path, const plan::PlanContext& ctx, const mission::MissionSimulator& sim,
-                     const mission::MissionResult& result, int agent, double t0, double t1);
+                     const mission::MissionResult& result, AgentId agent, double t0, double t1);
 
 // Fig. 4b: the mission at time t [s]: OC, segments, collector routes,
 // collectors (squares) and workers (discs, coloured by their collector; black

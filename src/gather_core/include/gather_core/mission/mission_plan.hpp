@@ -40,5 +40,10 @@ MissionPlan load_mission_plan(const std::string& plan_path);
 // ("plan" for a plan built in memory) and the agent or route at fault.
 void check_plan(const MissionPlan& plan, int team, const OccupancyGrid& grid);
 
+// The agent that drives each collector 0..N_c-1 of `plan` (check_plan made
+// it collector k = agent k; a message to a worker's collector goes to this
+// agent). None for a collector no agent drives (a plan check_plan refuses).
+PerCollector<AgentId> collector_agents(const plan::PlanFile& plan);
+
 }  // namespace mission
 }  // namespace gather

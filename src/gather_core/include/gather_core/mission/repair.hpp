@@ -37,10 +37,10 @@ RepairMode parse_repair_mode(const std::string& text, const std::string& where);
 // `base` must hold its label image (labels.filled(): not released).
 struct RepairedPlan {
   MissionPlan plan;
-  std::vector<uint8_t> dead;          // by agent id
-  PerSegment<int> worker_of_segment;  // agent id by original segment, -1: nobody
+  PerAgent<uint8_t> dead;                 // 1: dead
+  PerSegment<AgentId> worker_of_segment;  // by original segment; none: nobody
 };
-RepairedPlan repair_plan(const MissionPlan& base, const std::vector<int>& dead, RepairMode mode);
+RepairedPlan repair_plan(const MissionPlan& base, const std::vector<AgentId>& dead, RepairMode mode);
 
 // How long the OC waits without news of an agent before it declares it
 // dead [s] (docs/faults.md, "Liveness"): `intervals` times the longest a

@@ -35,19 +35,19 @@ enum class GoalState : uint8_t { kPending, kCarried, kDelivered, kExpired, kDrop
 const char* goal_state_name(GoalState s);
 
 struct GoalRecord {
-  int id = 0;
+  GoalId id;
   int cycle = 0;              // the request it belongs to
   Point2 point;               // [m] (a cell centre)
   SegmentId segment;          // of the goal's cell; none: in no segment (never measured, expires)
-  int worker = -1;            // agent id of the segment's worker
+  AgentId worker;             // the segment's worker
   double requested_at = 0.0;  // [s]
   double deadline = 0.0;      // [s] the next request: unmeasured by then = expired
   double measured_at = -1.0;  // [s], -1 = never
-  int measured_by = -1;
-  double picked_up_at = -1.0;  // [s] handed to a collector, -1 = never (OC workers deliver themselves)
-  int picked_up_by = -1;
+  AgentId measured_by;
+  double picked_up_at = -1.0;             // [s] handed to a collector, -1 = never (OC workers deliver themselves)
+  AgentId picked_up_by;                   // the collector's agent
   double delivered_at = -1.0;             // [s] inside the OC's coverage, -1 = never
-  int delivered_by = -1;                  // agent that brought it into coverage
+  AgentId delivered_by;                   // agent that brought it into coverage
   double expired_at = -1.0;               // [s] = deadline when never measured
   double dropped_at = -1.0;               // [s] measured, but no buffer had room for its data (agent runtime only)
   double lost_at = -1.0;                  // [s] declared lost with a dead agent (agent runtime only)
@@ -75,7 +75,7 @@ struct CycleStats {
 // the FMM geodesic during [t0, t1] (t1 = t0 + length / speed) and then stays
 // at `to` until the next leg starts. Collectors have none (see RouteTimetable).
 struct Leg {
-  int agent = 0;
+  AgentId agent;
   double t0 = 0.0, t1 = 0.0;  // [s]
   Point2 from, to;            // [m]
   bool to_goal = false;       // it ends where the agent measures a goal (else: commuting)
@@ -86,7 +86,7 @@ struct Leg {
 // they are), commute (to a pass, a meeting point, the coverage) or wait;
 // collectors drive their route (commuting) or wait at the OC.
 struct TimeBudget {
-  int agent = 0;
+  AgentId agent;
   const char* role = "";  // "collector", "collector_worker" or "oc_worker"
   double measuring_s = 0.0, commuting_s = 0.0, waiting_s = 0.0;
 };
@@ -153,9 +153,9 @@ class MissionSimulator {
   const MissionPlan& plan() const { return plan_; }
   // Each agent's time budget in `result` (a run of this simulator).
   std::vector<TimeBudget> time_budgets(const MissionResult& result) const;
-  const RouteTimetable& route(int collector) const { return routes_[static_cast<std::size_t>(collector)]; }
+  const RouteTimetable& route(CollectorId collector) const { return routes_[collector]; }
   // The decisions of worker `agent` (nullptr for a collector or no such agent).
-  const WorkerPolicy* worker(int agent) const {
+  const WorkerPolicy* worker(AgentId agent) const {
     for (const WorkerPolicy& w : workers_)
       if (w.agent() == agent) return &w;
     return nullptr;
@@ -171,7 +171,8 @@ class MissionSimulator {
   double speed_ = 1.0;
   double period_ = 1.0;
   RadioModel radio_;
-  std::vector<RouteTimetable> routes_;
+  PerCollector<RouteTimetable> routes_;
+  PerCollector<AgentId> collector_agents_;  // who drives each collector (mission::collector_agents)
   std::unique_ptr<SharedDistances> shared_;
   std::vector<WorkerPolicy> workers_;  // the decisions of each worker, shared with the agents' worker role
   AreaWeights areas_;                  // of the refresh interval

@@ -28,7 +28,7 @@ namespace mission {
 
 // A goal of the worker's current request as the worker knows it.
 struct KnownGoal {
-  int32_t id = 0;
+  GoalId id;
   Cell cell;
   double deadline = 0.0;  // [s] unmeasured by then = expired
 };
@@ -120,10 +120,10 @@ class WorkerPolicy {
   ~WorkerPolicy();
   WorkerPolicy(WorkerPolicy&&) noexcept;
 
-  int agent() const { return agent_; }
+  AgentId agent() const { return agent_; }
   SegmentId segment() const { return segment_; }
-  int collector() const { return collector_; }  // -1: delivers to the OC
-  bool delivers_to_oc() const { return collector_ < 0; }
+  CollectorId collector() const { return collector_; }  // none: delivers to the OC
+  bool delivers_to_oc() const { return !collector_.valid(); }
   const RouteTimetable* route() const { return route_; }
   const std::vector<Cell>& rendezvous() const { return rendezvous_; }
   Point2 rendezvous_point(int r) const;
@@ -212,9 +212,9 @@ class WorkerPolicy {
   const World& world_;
   SharedDistances& shared_;
   const RouteTimetable* route_ = nullptr;
-  int agent_ = 0;
+  AgentId agent_;
   SegmentId segment_;
-  int collector_ = -1;
+  CollectorId collector_;
   double speed_ = 1.0;
   double meeting_arc_ = 0.0;
   std::vector<Cell> rendezvous_;                        // cells of its collector's passes next to its segment

@@ -11,7 +11,7 @@ namespace gather {
 namespace plan {
 
 // The segments collector c serves, ascending.
-std::vector<SegmentId> segments_of(const ConfigurationPlan& cfg, int c);
+std::vector<SegmentId> segments_of(const ConfigurationPlan& cfg, CollectorId c);
 
 // Balances the routes and moves workers to the OC while that raises the
 // score J (see association.cpp); rebuilds the routes it changes (with `fm`,

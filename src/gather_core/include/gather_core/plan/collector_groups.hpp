@@ -2,6 +2,7 @@
 // Collector groups (seed Fig. 2b): the worker segments each collector serves.
 #include <vector>
 
+#include "gather_core/ids.hpp"
 #include "gather_core/plan/worker_graph.hpp"
 
 namespace gather {
@@ -16,7 +17,7 @@ namespace plan {
 // balanced. Segments no group can reach through other segments go to the
 // group with the nearest centroid (connected through the OC area).
 // With collectors == 0 every segment goes to the OC. Deterministic.
-PerSegment<int> group_segments(const WorkerGraph& graph, int collectors, const PerSegment<double>& work);
+PerSegment<CollectorId> group_segments(const WorkerGraph& graph, int collectors, const PerSegment<double>& work);
 
 }  // namespace plan
 }  // namespace gather

@@ -12,10 +12,10 @@ namespace gather {
 namespace plan {
 
 struct AgentAssignment {
-  int id = 0;
+  AgentId id;
   bool collector = false;
-  SegmentId segment;     // workers: their segment 1..N_w; collectors: none (0)
-  int delivers_to = -1;  // workers: their collector 0..N_c-1, or -1 = the OC; collectors: their own index
+  SegmentId segment;        // workers: their segment 1..N_w; collectors: none (0)
+  CollectorId delivers_to;  // workers: their collector 0..N_c-1, or none = the OC; collectors: their own index
 };
 
 struct PlanFile {
@@ -33,8 +33,8 @@ struct PlanFile {
   double est_goals = 0.0;
   double est_interval_s = 0.0;
   double utility = 0.0;
-  std::vector<AgentAssignment> agents;
-  std::vector<CollectorRoute> routes;
+  PerAgent<AgentAssignment> agents;  // by id once check_plan accepted them (the reader sorts them by id)
+  PerCollector<CollectorRoute> routes;
   std::vector<WorkerEstimate> workers_est;
 };
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gather_core/grid/occupancy_grid.hpp"
+#include "gather_core/ids.hpp"
 #include "gather_core/segment_id.hpp"
 
 namespace gather {
@@ -28,7 +29,7 @@ struct MeetingArea {
 // A collector's closed route: from the OC through its meeting areas and back
 // into the OC's coverage.
 struct CollectorRoute {
-  int collector = 0;                // 0..N_c-1
+  CollectorId collector;            // 0..N_c-1
   std::vector<SegmentId> segments;  // worker segments it serves, in visiting order
   std::vector<Point2> waypoints;    // [m] polished, first and last at the OC
   std::vector<MeetingArea> meetings;
@@ -109,7 +110,7 @@ struct AreaDeliveries {
 
 struct WorkerEstimate {
   SegmentId segment;
-  int collector = -1;                 // -1: delivers to the OC directly
+  CollectorId collector;              // none: delivers to the OC directly
   double expected_goals = 0.0;        // goals of one request falling in its segment
   double delivered_goals = 0.0;       // of those, measured within the cycle
   double tour_s = 0.0;                // [s] time to measure all its goals (tour + approach)

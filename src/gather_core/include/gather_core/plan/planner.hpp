@@ -113,10 +113,10 @@ struct ConfigurationPlan {
   int workers = 0;
   partition::PartitionResult partition;
   WorkerGraph graph;
-  PerSegment<int> collector_of_segment;                // collector 0..N_c-1 of the segment, -1 = the OC
+  PerSegment<CollectorId> collector_of_segment;        // collector 0..N_c-1 of the segment, none = the OC
   PerSegment<std::vector<AreaDeliveries>> area_parts;  // the tiles of each segment (no deliveries)
   int moved_to_oc = 0;                                 // segments the association step gave back to the OC
-  std::vector<CollectorRoute> routes;
+  PerCollector<CollectorRoute> routes;
   Estimates estimates;
   double utility = 0.0;
   StageTimes times;

@@ -16,7 +16,7 @@ namespace plan {
 // route speed map (a copy of ctx.oc_field), reused from route to route. A
 // collector without segments stays at the OC (one waypoint).
 CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const WorkerGraph& graph,
-                           const LabelImage& labels, const std::vector<SegmentId>& segments, int collector,
+                           const LabelImage& labels, const std::vector<SegmentId>& segments, CollectorId collector,
                            const PlannerOptions& opt);
 
 }  // namespace plan
