@@ -16,8 +16,8 @@ namespace {
 template <class Table, class Index, class = void>
 struct indexable : std::false_type {};
 template <class Table, class Index>
-struct indexable<Table, Index, std::void_t<decltype(std::declval<Table&>()[std::declval<Index>()])>>
-    : std::true_type {};
+struct indexable<Table, Index, std::void_t<decltype(std::declval<Table&>()[std::declval<Index>()])>> : std::true_type {
+};
 
 // The point of the types: a collector is not an agent, an agent not a goal,
 // and none of them a bare number, unless the code says so.

@@ -231,6 +231,78 @@ TEST_F(PlanTest, OptionsOutsideTheirRangeNameTheField) {
   EXPECT_THROW(plan::check_options(opt), Error);
 }
 
+// Every tuning field of PlannerOptions is refused out of its range with one
+// line naming it, and changes what it says it changes (none is dead).
+TEST_F(PlanTest, TheTuningFieldsHaveRangesAndEachChangesThePlan) {
+  const struct {
+    const char* message;
+    void (*set)(plan::PlannerOptions&);
+  } bad[] = {
+      {"pass_step_m = 0.01 must be in [0.05, 5] m", [](plan::PlannerOptions& o) { o.pass_step_m = 0.01; }},
+      {"pass_probe_m = 2 must be in [0.01, 1] m", [](plan::PlannerOptions& o) { o.pass_probe_m = 2.0; }},
+      {"tight_speed = 0 must be in (0, 1]", [](plan::PlannerOptions& o) { o.tight_speed = 0.0; }},
+      {"contact_step_m = 0 must be in [0.05, 5] m", [](plan::PlannerOptions& o) { o.contact_step_m = 0.0; }},
+      {"lateness_bins = 4 must be in [8, 4096]", [](plan::PlannerOptions& o) { o.lateness_bins = 4; }},
+      {"delivery_samples = 0 must be in [1, 256]", [](plan::PlannerOptions& o) { o.delivery_samples = 0; }},
+      {"window_margin_m = -1 must be in [0, 100] m", [](plan::PlannerOptions& o) { o.protocol.window_margin_m = -1; }},
+  };
+  for (const auto& b : bad) {
+    plan::PlannerOptions opt;
+    b.set(opt);
+    try {
+      plan::check_options(opt);
+      ADD_FAILURE() << b.message << ": accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(b.message), std::string::npos) << e.what();
+    }
+  }
+  // A context is built with its tight_speed: options with another are refused.
+  plan::PlannerOptions tight;
+  tight.tight_speed = 0.5;
+  EXPECT_THROW(plan::plan_configuration(*ctx_, partition::Method::kBap, 1, tight), Error);
+
+  // Each field moves the plan of the grown groups (collectors at work, and
+  // workers of the OC): its routes or its estimates.
+  plan::PlannerOptions base;
+  base.associate = false;
+  auto fingerprint = [](const plan::ConfigurationPlan& c) {
+    std::vector<double> f{c.estimates.refresh_s, c.estimates.interval_s, c.estimates.goals};
+    for (const plan::CollectorRoute& r : c.routes) {
+      f.push_back(r.length);
+      for (const plan::MeetingArea& m : r.meetings) f.insert(f.end(), m.passes.begin(), m.passes.end());
+    }
+    return f;
+  };
+  const auto reference = fingerprint(plan::plan_configuration(*ctx_, partition::Method::kPap, 2, base));
+  const struct {
+    const char* field;
+    void (*set)(plan::PlannerOptions&);
+  } changes[] = {
+      {"pass_step_m", [](plan::PlannerOptions& o) { o.pass_step_m = 2.0; }},
+      {"pass_probe_m", [](plan::PlannerOptions& o) { o.pass_probe_m = 0.6; }},
+      {"contact_step_m", [](plan::PlannerOptions& o) { o.contact_step_m = 3.0; }},
+      {"lateness_bins", [](plan::PlannerOptions& o) { o.lateness_bins = 8; }},
+      {"delivery_samples", [](plan::PlannerOptions& o) { o.delivery_samples = 1; }},
+      {"protocol.window_margin_m", [](plan::PlannerOptions& o) { o.protocol.window_margin_m = 0.0; }},
+  };
+  for (const auto& c : changes) {
+    plan::PlannerOptions opt = base;
+    c.set(opt);
+    EXPECT_NE(fingerprint(plan::plan_configuration(*ctx_, partition::Method::kPap, 2, opt)), reference) << c.field;
+  }
+  // tight_speed: the routes' speed where the robot does not fit (next to
+  // walls; this office's routes never need to squeeze through).
+  const plan::PlanContext squeeze(*scenario_, tight);
+  std::size_t tight_cells = 0;
+  for (std::size_t i = 0; i < squeeze.route_speed.size(); ++i)
+    if (squeeze.reachable[i] && !squeeze.roomy[i]) {
+      ++tight_cells;
+      EXPECT_EQ(squeeze.route_speed[i], 0.5);
+      EXPECT_EQ(ctx_->route_speed[i], 0.05);
+    }
+  EXPECT_GT(tight_cells, 0u);
+}
+
 TEST_F(PlanTest, ThePassRadiusDecidesWhereARoutePassesNextToASegment) {
   // The grown groups (routes that serve segments). With a 10 cm radius a
   // stretch is where the route runs over the segment's own cells: still

@@ -39,7 +39,7 @@ TEST(SegmentWindowTest, OpenSpaceGivesTheWholeMapsDistancesAwayFromTheOrigin) {
   const OccupancyGrid grid = predicate_grid(
       60, 50, [](int, int) { return true; }, 0.1);
   const std::vector<Cell> seg = block(20, 34, 25, 44);
-  mission::SegmentWindow window(grid, seg);
+  mission::SegmentWindow window(grid, seg, 1.0);
   std::vector<double> out(seg.size());
   ASSERT_TRUE(window.march(Cell{22, 27}, seg, out.data()));
   const std::vector<double> ref = on_the_map(grid, Cell{22, 27}, seg);
@@ -54,7 +54,7 @@ TEST(SegmentWindowTest, RefusesASourceOutsideTheSegmentsMarginWithoutThrowing) {
   // An L: the box's far corner lies more than the 1 m margin from the cells.
   std::vector<Cell> seg = block(20, 22, 20, 55);
   for (Cell c : block(23, 48, 20, 22)) seg.push_back(c);
-  mission::SegmentWindow window(grid, seg);
+  mission::SegmentWindow window(grid, seg, 1.0);
   std::vector<double> out(seg.size());
   EXPECT_FALSE(window.march(Cell{44, 44}, seg, out.data()));  // in the box, beyond the margin
   EXPECT_FALSE(window.march(Cell{2, 2}, seg, out.data()));    // off the box
@@ -76,11 +76,27 @@ TEST(SegmentWindowTest, RefusesTargetsThatTheMarginDoesNotConnect) {
       0.1);
   std::vector<Cell> seg = block(5, 15, 5, 30);
   for (Cell c : block(5, 15, 34, 60)) seg.push_back(c);
-  mission::SegmentWindow window(grid, seg);
+  mission::SegmentWindow window(grid, seg, 1.0);
   std::vector<double> out(seg.size());
   EXPECT_FALSE(window.march(Cell{10, 20}, seg, out.data()));
   const std::vector<Cell> room_a = block(5, 15, 5, 30);
   EXPECT_TRUE(window.march(Cell{10, 20}, room_a, out.data()));
+}
+
+TEST(SegmentWindowTest, TheMarginDecidesWhichWaysTheWindowSees) {
+  // Two halves of one segment 0.5 m apart on open ground (columns 16-20 are
+  // not the segment's): a margin of 0.3 m on each side bridges the gap, 0.2 m
+  // does not (ProtocolParams::window_margin_m changes a worker's walks).
+  const OccupancyGrid grid = predicate_grid(
+      40, 25, [](int, int) { return true; }, 0.1);
+  std::vector<Cell> seg = block(5, 15, 5, 15);
+  for (Cell c : block(5, 15, 21, 30)) seg.push_back(c);
+  std::vector<double> out(seg.size());
+  EXPECT_FALSE(mission::SegmentWindow(grid, seg, 0.0).march(Cell{10, 10}, seg, out.data()));
+  EXPECT_FALSE(mission::SegmentWindow(grid, seg, 0.2).march(Cell{10, 10}, seg, out.data()));
+  ASSERT_TRUE(mission::SegmentWindow(grid, seg, 0.3).march(Cell{10, 10}, seg, out.data()));
+  const std::vector<double> ref = on_the_map(grid, Cell{10, 10}, seg);
+  for (std::size_t i = 0; i < seg.size(); ++i) EXPECT_NEAR(out[i], ref[i], 1e-5) << i;
 }
 
 TEST(SegmentWindowTest, TheBoxToAFarHomeMarchesTheWayThere) {
@@ -94,7 +110,7 @@ TEST(SegmentWindowTest, TheBoxToAFarHomeMarchesTheWayThere) {
   const std::vector<double> ref = on_the_map(grid, home, seg);
   for (std::size_t i = 0; i < seg.size(); ++i) EXPECT_NEAR(out[i], ref[i], 1e-5) << i;
   // The segment's own window does not hold that home.
-  mission::SegmentWindow window(grid, seg);
+  mission::SegmentWindow window(grid, seg, 1.0);
   EXPECT_FALSE(window.march(home, seg, out.data()));
 }
 

@@ -9,16 +9,12 @@
 
 namespace gather {
 namespace agent {
-namespace {
-
-constexpr double kDetour = 1.2;  // a way via the home region at most this much longer than planned
-
-}  // namespace
-
 SimulatedBase::SimulatedBase(const OccupancyGrid& grid, GridAStar& paths, Point2 start, std::size_t max_legs,
-                             double speed, const fmm::FastMarching* home, const Mask* home_mask)
+                             double speed, const fmm::FastMarching* home, const Mask* home_mask,
+                             const SimulatedBaseParams& params)
     : grid_(grid),
       speed_(speed),
+      detour_(params.detour),
       paths_(paths),
       home_(home_mask ? home : nullptr),
       home_mask_(home_mask),
@@ -27,6 +23,7 @@ SimulatedBase::SimulatedBase(const OccupancyGrid& grid, GridAStar& paths, Point2
       legs_(max_legs),
       spans_(max_legs),
       lengths_(max_legs) {
+  require_in_range(params.detour, 1, 10, "simulated base params", "detour");
   points_.reserve(max_legs * 8 + 256);
   cells_.reserve(static_cast<std::size_t>(8 * (grid.width() + grid.height())));
   tail_.reserve(static_cast<std::size_t>(4 * (grid.width() + grid.height())));
@@ -163,7 +160,7 @@ void SimulatedBase::go(const Waypoint* legs, std::size_t n, double depart) {
     lengths_[i] = length(i);
     // A way through the home region much longer than the plan's: search.
     const double planned = (legs[i].arrive - (i == 0 ? depart : legs[i - 1].arrive)) * speed_;
-    if (lengths_[i] > kDetour * planned && spans_[i].second - spans_[i].first > 2) {
+    if (lengths_[i] > detour_ * planned && spans_[i].second - spans_[i].first > 2) {
       points_.resize(spans_[i].first);
       plan_path(from, legs[i].point, true);
       spans_[i].second = points_.size();

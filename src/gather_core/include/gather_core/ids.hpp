@@ -31,7 +31,7 @@ class Id {
   // The id at position `index` of a table of them.
   static constexpr Id at_index(std::size_t index) { return Id(static_cast<int>(index)); }
 
-  constexpr int value() const { return value_; }       // 0..; -1 = none
+  constexpr int value() const { return value_; }        // 0..; -1 = none
   constexpr bool valid() const { return value_ >= 0; }  // names one
   // Names one of the ids 0..n-1.
   constexpr bool within(int n) const { return value_ >= 0 && value_ < n; }

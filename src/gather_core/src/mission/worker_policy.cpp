@@ -40,6 +40,7 @@ SharedDistances::SharedDistances(const World& world, bool with_from_oc) : fm(wor
 
 void check_params(const ProtocolParams& p) {
   require_in_range(p.link_step_m, 0.01, 1, "protocol params", "link_step_m", " m");
+  require_in_range(p.window_margin_m, 0, 100, "protocol params", "window_margin_m", " m");
 }
 
 int32_t WorkerPolicy::segment_index(Cell c) const {
@@ -127,7 +128,8 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
   }
 
   // Marches between its goals stay in its window (see SegmentWindow).
-  if (!segment_cells_.empty()) window_ = std::make_unique<SegmentWindow>(grid, segment_cells_);
+  if (!segment_cells_.empty())
+    window_ = std::make_unique<SegmentWindow>(grid, segment_cells_, protocol.window_margin_m);
 
   solve_options_.labels = false;
   source_.resize(1);

@@ -79,7 +79,8 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
     const WorkerSegment& seg = cfg.graph.segment(segment);
     const std::vector<double> pmf = goal_count_pmf(s.mission.goals_per_request, seg.area / ctx.reachable_area);
     const TourModel model = tour_model(seg, true, opt.tsp_constant);
-    const WorkerRun oc = run_oc_worker(model, first_trip(seg, model), pmf, v, T, cycles, cfg.area_parts[segment]);
+    const WorkerRun oc =
+        run_oc_worker(model, first_trip(seg, model), pmf, v, T, cycles, cfg.area_parts[segment], opt.lateness_bins);
     a.known = true;
     a.goals = oc.delivered / cycles;
     a.latency = oc.delivered > 0 ? oc.refresh_sum / oc.delivered : 0.0;

@@ -29,17 +29,17 @@ static double upload_after(const CollectorRoute& r, double s) {
 // only the passes, are where data changes hands. (Averaging the contact of
 // cells spread over the segment instead came out further from the
 // simulator: its workers walk towards a pass once they have data.)
+// `step` [m]: PlannerOptions::contact_step_m.
 using Stretches = std::vector<std::pair<double, double>>;
 static Stretches contact_stretches(const CollectorRoute& r, const MeetingArea& m, Point2 centroid,
-                                   const RadioModel& radio) {
+                                   const RadioModel& radio, double step) {
   const std::vector<double> arc = fmm::path_arcs(r.waypoints);
   std::vector<Point2> from{centroid};
   for (const double pass : m.passes) from.push_back(fmm::point_at_arc(r.waypoints, arc, pass));
   const double range = radio.free_space_range();
   Stretches stretches;
   double open = -1.0;
-  constexpr double kStep = 0.5;
-  for (double s = 0.0;; s = std::min(r.length, s + kStep)) {
+  for (double s = 0.0;; s = std::min(r.length, s + step)) {
     const Point2 p = fmm::point_at_arc(r.waypoints, arc, s);
     bool linked = false;
     for (const Point2& f : from) linked = linked || (distance(f, p) <= range && radio.linked(f, p));
@@ -93,7 +93,7 @@ std::vector<double> goal_count_pmf(int G, double p) {
 // least one there), those inside it one by one as they are measured
 // (spread over the loop).
 WorkerRun run_oc_worker(const TourModel& tour, const TourModel& first, const std::vector<double>& pmf, double v,
-                        double T, int cycles, const std::vector<AreaDeliveries>& areas) {
+                        double T, int cycles, const std::vector<AreaDeliveries>& areas, int lateness_bins) {
   WorkerRun run;
   run.areas = areas;
   // Of k goals, it measures those its tour reaches within a period of
@@ -121,11 +121,10 @@ WorkerRun run_oc_worker(const TourModel& tour, const TourModel& first, const std
   // loop longer than T makes it late for the next request, a shorter one
   // lets it wait; a lateness of a whole period or more means a newer request
   // was issued meanwhile, and request r is skipped. Its distribution is
-  // carried over the cycles on bins of T / kBins (a loop of mean close to T
-  // skips requests that the mean alone never would).
-  constexpr int kBins = 64;
-  const double bin = T / kBins;
-  std::vector<double> late(2 * kBins + 2, 0.0), next_late(late.size());
+  // carried over the cycles on bins of T / lateness_bins (a loop of mean
+  // close to T skips requests that the mean alone never would).
+  const double bin = T / lateness_bins;
+  std::vector<double> late(2 * static_cast<std::size_t>(lateness_bins) + 2, 0.0), next_late(late.size());
   late[0] = 1.0;
   for (int r = 0; r < cycles; ++r) {
     const Trips& trip = trips[r == 0 ? 0 : 1];
@@ -219,7 +218,8 @@ WorkerRun run_oc_worker(const TourModel& tour, const TourModel& first, const std
 // floor((longest stretch - guard) / per_goal) goals a request.
 static WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, const Stretches& contact,
                                       const TourModel& model, const std::vector<double>& pmf, double v, double T,
-                                      int cycles, const std::vector<AreaDeliveries>& areas, double per_goal) {
+                                      int cycles, const std::vector<AreaDeliveries>& areas, double per_goal,
+                                      int samples) {
   WorkerRun run;
   run.areas = areas;
   const LoopSchedule sched(r.period, T);
@@ -263,10 +263,9 @@ static WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea
       const double n = std::min(static_cast<double>(k), fits);
       if (n <= 0.0) continue;
       const double tour = model.length(n) / v, need = n * per_goal;
-      constexpr int kSamples = 8;
-      double sum = 0.0;
-      for (int i = 1; i <= kSamples; ++i) sum += delivered_at(learn + tour * i / kSamples, need) - req * T;
-      run.add(pmf[k] * n, sum / kSamples);
+      double sum = 0.0;  // the goals' deliveries at `samples` points of the tour
+      for (int i = 1; i <= samples; ++i) sum += delivered_at(learn + tour * i / samples, need) - req * T;
+      run.add(pmf[k] * n, sum / samples);
       // Deliveries: the uploads that carry some of the n goals (spread
       // evenly along the tour; each of goals_n samples stands for n /
       // goals_n goals); an upload carrying m goals of the segment carries
@@ -311,7 +310,7 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
   if (!w.collector.valid()) {
     const TourModel model = tour_model(seg, true, c);
     w.tour_s = model.length(w.expected_goals) / v;
-    run = run_oc_worker(model, first_trip(seg, model), pmf, v, T, cycles, cfg.area_parts[seg.id]);
+    run = run_oc_worker(model, first_trip(seg, model), pmf, v, T, cycles, cfg.area_parts[seg.id], opt.lateness_bins);
   } else {
     const CollectorRoute& r = cfg.routes[w.collector];
     const auto m =
@@ -319,8 +318,8 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
     const TourModel model = tour_model(seg, false, c);
     w.tour_s = model.length(w.expected_goals) / v;
     if (m != r.meetings.end())
-      run = run_collector_worker(r, *m, contact_stretches(r, *m, seg.centroid_m, radio), model, pmf, v, T, cycles,
-                                 cfg.area_parts[seg.id], transfer_s(s, 1));
+      run = run_collector_worker(r, *m, contact_stretches(r, *m, seg.centroid_m, radio, opt.contact_step_m), model, pmf,
+                                 v, T, cycles, cfg.area_parts[seg.id], transfer_s(s, 1), opt.delivery_samples);
   }
   w.delivered_goals = run.delivered / cycles;
   w.refresh_s = run.delivered > 0 ? run.refresh_sum / run.delivered : 0.0;

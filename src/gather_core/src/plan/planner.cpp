@@ -35,7 +35,9 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 
 }  // namespace
 
-PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_field(s.grid) {
+PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
+    : World(s), clearance(s.grid), tight_speed(options.tight_speed), oc_field(s.grid) {
+  check_options(options);
   const OccupancyGrid& grid = s.grid;
   prepared.oc = oc_cell;
   prepared.reachable = reachable;
@@ -60,7 +62,7 @@ PlanContext::PlanContext(const Scenario& s) : World(s), clearance(s.grid), oc_fi
     // not only its centre, keep the radius (see ClearanceMap::free_distance).
     roomy[i] =
         clearance.disc_free(grid.cell_center(grid.cell(i)), s.team.radius + 0.5 * std::sqrt(2.0) * grid.resolution());
-    route_speed[i] = roomy[i] ? 1.0 : kTightSpeed;
+    route_speed[i] = roomy[i] ? 1.0 : tight_speed;
   }
   oc_field.set_speed(route_speed.values());
   fmm::SolveOptions from_oc;
@@ -88,11 +90,22 @@ void check_options(const PlannerOptions& opt) {
   require_in_range(opt.pair_sources, 1, 64, where, "pair_sources");
   require_in_range(opt.home_box_margin_m, 0, 1000, where, "home_box_margin_m", " m");
   require_in_range(opt.pass_radius_m, 0.1, 10, where, "pass_radius_m", " m");
+  require_in_range(opt.pass_step_m, 0.05, 5, where, "pass_step_m", " m");
+  require_in_range(opt.pass_probe_m, 0.01, 1, where, "pass_probe_m", " m");
+  require_in_range(opt.tight_speed, 0, 1, where, "tight_speed", "", true);
+  require_in_range(opt.contact_step_m, 0.05, 5, where, "contact_step_m", " m");
+  require_in_range(opt.lateness_bins, 8, 4096, where, "lateness_bins");
+  require_in_range(opt.delivery_samples, 1, 256, where, "delivery_samples");
+  mission::check_params(opt.protocol);
 }
 
 ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method method, int collectors,
                                      const PlannerOptions& opt) {
   check_options(opt);
+  if (opt.tight_speed != ctx.tight_speed)
+    throw Error("planner options", "tight_speed = " + std::to_string(opt.tight_speed) +
+                                       " is not the one the plan context was built with (" +
+                                       std::to_string(ctx.tight_speed) + "): PlanContext(scenario, options)");
   const Scenario& s = ctx.scenario;
   if (collectors < 0 || collectors >= s.team.agents)
     throw Error(s.path, "cannot plan " + std::to_string(collectors) + " collectors for a team of " +

@@ -164,17 +164,16 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
     route.segments.push_back(seg);
   }
   // Passes: stretches of the route within PlannerOptions::pass_radius_m of a
-  // served segment's cells, sampled every half metre; each stretch counts
+  // served segment's cells, sampled every pass_step_m; each stretch counts
   // once, at its middle.
   {
     const int rc = std::max(1, static_cast<int>(std::ceil(opt.pass_radius_m / grid.resolution())));
-    // The disc is probed every ~0.2 m, not every cell: the radius +- 0.2 m is
-    // close enough for "next to", at a twentieth of the lookups on 5 cm maps.
-    const int stride = std::max(1, static_cast<int>(std::lround(0.2 / grid.resolution())));
+    // The disc is probed every ~pass_probe_m, not every cell.
+    const int stride = std::max(1, static_cast<int>(std::lround(opt.pass_probe_m / grid.resolution())));
     // Offsets are multiples of the stride, so the centre cell is always probed
     // (a radius under the stride probes the centre alone).
     const int from = -(rc / stride) * stride;
-    const double step = 0.5;
+    const double step = opt.pass_step_m;
     std::vector<double> open_since(segments.size(), -1.0);
     PerSegment<int> index_of(graph.segments.segments(), -1);  // position in `segments`
     for (std::size_t i = 0; i < segments.size(); ++i) index_of[segments[i]] = static_cast<int>(i);

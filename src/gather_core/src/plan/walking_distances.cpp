@@ -90,7 +90,7 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     const Cell home = ctx.oc_worker_home(cells[k]);
     // From the home: in the segment's window when the home lies in it (a
     // segment that touches the coverage), else in a box around both.
-    mission::SegmentWindow window(grid, cells[k]);
+    mission::SegmentWindow window(grid, cells[k], opt.protocol.window_margin_m);
     if (home.row >= 0) distances(home, cells[k], window, home, walk_time, sum, n);
     if (n > 0) seg.mean_home_distance = sum / static_cast<double>(n);
     // Ascending by distance, ties by row-major order: keys (the distance's

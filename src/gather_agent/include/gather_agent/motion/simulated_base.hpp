@@ -15,6 +15,14 @@
 namespace gather {
 namespace agent {
 
+// The simulated base's own path choice (what a robot's local planner
+// decides, not the protocol): a leg whose way via the home region comes out
+// longer than `detour` times the planned length is searched by A* instead,
+// range [1, 10].
+struct SimulatedBaseParams {
+  double detour = 1.2;
+};
+
 class SimulatedBase : public MotionBackend {
  public:
   // `paths`: an A* workspace on the grid the plan runs on (it may be shared
@@ -28,9 +36,11 @@ class SimulatedBase : public MotionBackend {
   // region out to a point leaves it where the point is nearest to it, the
   // way the point would come back (reversed): both without a search across
   // the map.
-  // `speed` [m/s]: the team speed the plan's times assume.
+  // `speed` [m/s]: the team speed the plan's times assume. Throws
+  // gather::Error naming the field when `params` are out of range.
   SimulatedBase(const OccupancyGrid& grid, GridAStar& paths, Point2 start, std::size_t max_legs, double speed,
-                const fmm::FastMarching* home = nullptr, const Mask* home_mask = nullptr);
+                const fmm::FastMarching* home = nullptr, const Mask* home_mask = nullptr,
+                const SimulatedBaseParams& params = {});
 
   void go(const Waypoint* legs, std::size_t n, double depart) override;
   void hold() override;
@@ -56,6 +66,7 @@ class SimulatedBase : public MotionBackend {
 
   const OccupancyGrid& grid_;
   double speed_;
+  double detour_;
   GridAStar& paths_;
   const fmm::FastMarching* home_;
   const Mask* home_mask_;

@@ -17,10 +17,9 @@ namespace mission {
 // between a segment's cells: both see the same walks.
 class SegmentWindow {
  public:
-  static constexpr double kDefaultMargin = 1.0;  // [m]
-
-  // `cells`: the segment's cells (map indices), not empty.
-  SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, double margin = kDefaultMargin);
+  // `cells`: the segment's cells (map indices), not empty; `margin` [m]
+  // (ProtocolParams::window_margin_m for a worker's window).
+  SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, double margin);
   // A box for walks to the segment from `also`: the bounding box of `cells`
   // and `also` plus `margin` [m], free wherever the map is.
   SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, Cell also, double margin);

@@ -59,6 +59,11 @@ struct ProtocolParams {
   // [m] of route between two samples of a rendezvous' link window (the arcs
   // around a pass over which the radio link holds). Range [0.01, 1].
   double link_step_m = 0.1;
+  // [m] a worker's segment window reaches past its segment (SegmentWindow):
+  // its marches between goals stay in the segment dilated by this, and a
+  // way found there is taken even if a shorter one leaves it. The planner's
+  // estimate walks the same windows (PlannerOptions::protocol). Range [0, 100].
+  double window_margin_m = 1.0;
 };
 // Throws gather::Error("protocol params", "<field> = <value> must be in
 // <range>") for a field outside its range.

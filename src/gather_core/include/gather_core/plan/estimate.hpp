@@ -38,9 +38,10 @@ std::vector<double> goal_count_pmf(int G, double p);
 
 // A worker of the OC over `cycles` request periods T [s] at speed v [m/s]:
 // its tours (`first`: the first, from the OC's cell), P(n goals) `pmf`, and
-// its segment's areas.
+// its segment's areas; its lateness carried on `lateness_bins` bins of T
+// (PlannerOptions::lateness_bins).
 WorkerRun run_oc_worker(const TourModel& tour, const TourModel& first, const std::vector<double>& pmf, double v,
-                        double T, int cycles, const std::vector<AreaDeliveries>& areas);
+                        double T, int cycles, const std::vector<AreaDeliveries>& areas, int lateness_bins);
 
 // One worker's estimate in configuration cfg (its segment's association
 // and, for a worker of a collector, that collector's route).

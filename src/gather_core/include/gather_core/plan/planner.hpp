@@ -26,7 +26,8 @@ namespace plan {
 // The sweep's options. The fields from tsp_constant on change results; the
 // defaults are the ones the reports (docs/scenarios.md, docs/regimes.md) were
 // measured with. plan_configuration() and sweep() refuse a value outside its
-// range with a gather::Error naming the field (check_options).
+// range with a gather::Error naming the field (check_options), and options
+// whose tight_speed is not the one their PlanContext was built with.
 struct PlannerOptions {
   unsigned seed = 1;  // partition seed
   int threads = 2;    // configurations planned in parallel, range [1, 256]
@@ -48,6 +49,32 @@ struct PlannerOptions {
   // served segment's cells is a pass, where its worker hands data over on
   // the move, range [0.1, 10].
   double pass_radius_m = 1.0;
+  // Routes: the route is sampled every pass_step_m [m] for its passes,
+  // range [0.05, 5], and the disc of pass_radius_m around a sample probed
+  // every pass_probe_m [m] (not every cell: "next to" within a probe's
+  // spacing, at a twentieth of the lookups on 5 cm maps), range [0.01, 1].
+  double pass_step_m = 0.5;
+  double pass_probe_m = 0.2;
+  // Routes keep the robot radius from walls: they are marched on a speed
+  // map that is 1 where the robot fits and tight_speed elsewhere, so a
+  // route squeezes through only where there is no other way
+  // (PlanContext::route_speed; the context is built with these options),
+  // range (0, 1].
+  double tight_speed = 0.05;
+  // The estimate's discretisation (plan/estimate; finer is nearer the model
+  // it approximates, and slower):
+  // [m] of route between two probes of its contact with a worker, range [0.05, 5];
+  double contact_step_m = 0.5;
+  // bins of a request period over which a worker of the OC's lateness is
+  // carried from cycle to cycle, range [8, 4096];
+  int lateness_bins = 64;
+  // points along a collector worker's tour at which its deliveries are
+  // timed (the mean of the goals' refresh times), range [1, 256].
+  int delivery_samples = 8;
+  // The protocol the estimate foresees: the workers' segment windows
+  // (window_margin_m) it walks as the workers do. The simulator and the
+  // agents must run with the same (mission::ProtocolParams; ranges there).
+  mission::ProtocolParams protocol;
 };
 
 // Throws gather::Error("planner options", "<field> = <value> must be in
@@ -68,7 +95,9 @@ inline PlannerOptions grown_groups() {
 // execution world (OC cell, reachable space, coverage, the way back into it)
 // plus what only planning needs.
 struct PlanContext : mission::World {
-  explicit PlanContext(const Scenario& scenario);
+  // Throws gather::Error naming the field when `options` are out of range
+  // (check_options); of them, only tight_speed shapes the context.
+  explicit PlanContext(const Scenario& scenario, const PlannerOptions& options = {});
   Raster<double> coverage_distance;  // [m] geodesic distance to the coverage, +inf unreachable
   double farthest = 0.0;             // [m] largest coverage_distance over reachable cells
   double cycle_period = 0.0;         // [s] time between two OC requests
@@ -81,9 +110,9 @@ struct PlanContext : mission::World {
   ClearanceMap clearance;
   partition::PreparedArea prepared;  // reachability + clearance for the 27 partitions, computed once
   // Collector routes keep the robot radius from walls: they are marched on a
-  // speed map that is 1 where a robot fits and kTightSpeed elsewhere (so a
-  // route only squeezes through where there is no other way).
-  static constexpr double kTightSpeed = 0.05;
+  // speed map that is 1 where a robot fits and tight_speed elsewhere
+  // (PlannerOptions::tight_speed).
+  double tight_speed = 0.0;
   Raster<double> route_speed;  // [relative] front speed of the routes' marches
   Mask roomy;                  // 1 where the robot fits (route_speed == 1)
   fmm::FastMarching oc_field;  // solved from the OC on route_speed: legs from/to the OC
