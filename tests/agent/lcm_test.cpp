@@ -144,7 +144,8 @@ TEST(LcmFleet, ClockAndPlanSurviveTheRoundTrip) {
   p.digest = 0xfedcba9876543210ull, p.agents = 20, p.params.cycles = 7, p.params.seed = 9,
   p.params.goals_per_request = 40;
   p.params.data_capacity = 160, p.params.notice_capacity = 160, p.tick = 0.05, p.loss = 0.25, p.loss_seed = 3;
-  p.params.ask_after = 1.5, p.params.protocol.link_step_m = 0.25, p.params.protocol.window_margin_m = 2.5;
+  p.params.ask_after = 1.5, p.params.protocol.link_step_m = 0.25, p.params.protocol.window_margin_m = 2.5,
+  p.params.protocol.two_opt_rounds = 7;
   f.publish(p);
   PlanAnnounce bad = p;  // a link step out of [0.01, 1] m: refused
   bad.params.protocol.link_step_m = 5.0;
@@ -166,6 +167,7 @@ TEST(LcmFleet, ClockAndPlanSurviveTheRoundTrip) {
   EXPECT_EQ(f.plans()[0].params.ask_after, 1.5);
   EXPECT_EQ(f.plans()[0].params.protocol.link_step_m, 0.25);
   EXPECT_EQ(f.plans()[0].params.protocol.window_margin_m, 2.5);
+  EXPECT_EQ(f.plans()[0].params.protocol.two_opt_rounds, 7);
   ASSERT_EQ(f.ticks().size(), 1u);
   EXPECT_EQ(f.ticks()[0].sent_before, 33);
   EXPECT_TRUE(f.ticks()[0].report);
@@ -322,7 +324,7 @@ TEST(LcmFleet, MutatedPayloadsOfEveryChannelAreAcceptedWithinBoundsOrCounted) {
   gather_lcm::plan_t pl{};
   pl.schema_version = gather_lcm::plan_t::SCHEMA_VERSION, pl.agents = 4, pl.cycles = 2, pl.goals_per_request = 8;
   pl.data_capacity = 64, pl.notice_capacity = 64, pl.beacon_period = 1, pl.resend_after = 1, pl.tick = 0.1, pl.rate = 1;
-  pl.silent_intervals = 2, pl.ask_after = 0.5, pl.link_step_m = 0.1, pl.window_margin_m = 1.0;
+  pl.silent_intervals = 2, pl.ask_after = 0.5, pl.link_step_m = 0.1, pl.window_margin_m = 1.0, pl.two_opt_rounds = 100;
   gather_lcm::tick_reply_t rp{};
   rp.schema_version = gather_lcm::tick_reply_t::SCHEMA_VERSION, rp.agent = 3, rp.status = 1;
   const std::vector<std::pair<const char*, std::vector<uint8_t>>> bases{

@@ -245,6 +245,8 @@ TEST_F(PlanTest, TheTuningFieldsHaveRangesAndEachChangesThePlan) {
       {"lateness_bins = 4 must be in [8, 4096]", [](plan::PlannerOptions& o) { o.lateness_bins = 4; }},
       {"delivery_samples = 0 must be in [1, 256]", [](plan::PlannerOptions& o) { o.delivery_samples = 0; }},
       {"window_margin_m = -1 must be in [0, 100] m", [](plan::PlannerOptions& o) { o.protocol.window_margin_m = -1; }},
+      {"two_opt_rounds = -1 must be in [0, 10000]", [](plan::PlannerOptions& o) { o.protocol.two_opt_rounds = -1; }},
+      {"exact_route_stops = 17 must be in [0, 16]", [](plan::PlannerOptions& o) { o.exact_route_stops = 17; }},
   };
   for (const auto& b : bad) {
     plan::PlannerOptions opt;

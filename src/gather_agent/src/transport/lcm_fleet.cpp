@@ -234,6 +234,7 @@ bool LcmFleet::publish(const PlanAnnounce& p) {
   w.ask_after = p.params.ask_after;
   w.link_step_m = p.params.protocol.link_step_m;
   w.window_margin_m = p.params.protocol.window_margin_m;
+  w.two_opt_rounds = p.params.protocol.two_opt_rounds;
   const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
   if (n < 0 || !send(lcm_, kPlanChannel, kOc, n)) return ++publish_failures_, false;
   return true;
@@ -516,7 +517,8 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
         !(p.resend_after > 0 && p.resend_after <= 3600) || (p.clock != 0 && p.clock != 1) ||
         !(p.rate > 0 && p.rate <= 1e6) || (p.repair != 0 && p.repair != 1) ||
         !(p.silent_intervals >= 1.5 && p.silent_intervals <= 100.0) || !(p.ask_after >= 0 && p.ask_after <= 60) ||
-        !(p.link_step_m >= 0.01 && p.link_step_m <= 1) || !(p.window_margin_m >= 0 && p.window_margin_m <= 100))
+        !(p.link_step_m >= 0.01 && p.link_step_m <= 1) || !(p.window_margin_m >= 0 && p.window_margin_m <= 100) ||
+        p.two_opt_rounds < 0 || p.two_opt_rounds > 10000)
       return void(++refused_.out_of_range);
     PlanAnnounce a;
     a.digest = static_cast<uint64_t>(p.digest);
@@ -533,6 +535,7 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
     a.params.ask_after = p.ask_after;
     a.params.protocol.link_step_m = p.link_step_m;
     a.params.protocol.window_margin_m = p.window_margin_m;
+    a.params.protocol.two_opt_rounds = p.two_opt_rounds;
     a.tick = p.tick;
     a.loss = p.loss;
     a.loss_seed = static_cast<uint64_t>(p.loss_seed);

@@ -49,7 +49,7 @@ void two_opt(const TourDistances& d, int* order, std::size_t n, int back, int ma
   }
 }
 
-// Held-Karp over goals 1..n (n <= kExactClosedTourGoals): the shortest closed
+// Held-Karp over goals 1..n (n <= kMaxExactGoals): the shortest closed
 // tour from goal 0, the start.
 std::vector<int> exact_closed_tour(const TourDistances& d, int n) {
   const int full = 1 << n;
@@ -92,14 +92,14 @@ double tour_length(const TourDistances& d, const int* order, std::size_t n) {
   return len;
 }
 
-void order_tour(const TourDistances& d, const int* subset, std::size_t n, int* order, char* used) {
+void order_tour(const TourDistances& d, const int* subset, std::size_t n, int* order, char* used, int two_opt_rounds) {
   nearest_neighbour(d, subset, n, order, used);
-  two_opt(d, order, n, -1, kOpenTourTwoOptRounds);
+  two_opt(d, order, n, -1, two_opt_rounds);
 }
 
-std::vector<int> order_closed_tour(const TourDistances& d, int n) {
+std::vector<int> order_closed_tour(const TourDistances& d, int n, int exact_up_to) {
   if (n <= 0) return {};
-  if (n <= kExactClosedTourGoals) return exact_closed_tour(d, n);
+  if (n <= std::min(exact_up_to, kMaxExactGoals)) return exact_closed_tour(d, n);
   std::vector<int> goals(static_cast<std::size_t>(n)), order(goals.size());
   for (int k = 0; k < n; ++k) goals[static_cast<std::size_t>(k)] = k + 1;
   std::vector<char> used(goals.size());

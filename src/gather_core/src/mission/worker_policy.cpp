@@ -41,6 +41,7 @@ SharedDistances::SharedDistances(const World& world, bool with_from_oc) : fm(wor
 void check_params(const ProtocolParams& p) {
   require_in_range(p.link_step_m, 0.01, 1, "protocol params", "link_step_m", " m");
   require_in_range(p.window_margin_m, 0, 100, "protocol params", "window_margin_m", " m");
+  require_in_range(p.two_opt_rounds, 0, 10000, "protocol params", "two_opt_rounds");
 }
 
 int32_t WorkerPolicy::segment_index(Cell c) const {
@@ -60,6 +61,7 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
   const plan::PlanFile& pf = mp.file;
   const std::string where = mp.source.empty() ? "plan" : mp.source;
   check_params(protocol);
+  two_opt_rounds_ = protocol.two_opt_rounds;
   speed_ = world.scenario.team.speed;
   if (a.collector) throw Error(where, to_string(a.id) + " is a collector, not a worker");
   if (!segment_.within(pf.workers)) throw Error(where, to_string(a.id) + ": bad segment");
@@ -337,7 +339,7 @@ std::size_t WorkerPolicy::arrival_times(double t) {
 
 void WorkerPolicy::order_tour(const int* known, std::size_t n_known) {
   mission::order_tour(TourDistances{from_position_.data(), from_.data(), stride_}, known, n_known, tour_.data(),
-                      used_.data());
+                      used_.data(), two_opt_rounds_);
   tour_n_ = n_known;
 }
 

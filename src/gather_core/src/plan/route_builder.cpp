@@ -100,8 +100,8 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
   std::vector<double> d(n * n, 0.0);  // row-major, point 0 = the OC
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t j = 0; j < n; ++j) d[i * n + j] = distance(pts[i], pts[j]);
-  const std::vector<int> order =
-      mission::order_closed_tour(mission::TourDistances{d.data(), d.data(), n}, static_cast<int>(n) - 1);
+  const std::vector<int> order = mission::order_closed_tour(mission::TourDistances{d.data(), d.data(), n},
+                                                            static_cast<int>(n) - 1, opt.exact_route_stops);
   std::vector<int> stops{0};
   stops.insert(stops.end(), order.begin(), order.end());
   stops.push_back(0);

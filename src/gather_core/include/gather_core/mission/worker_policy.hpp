@@ -21,6 +21,7 @@
 #include "gather_core/mission/mission_plan.hpp"
 #include "gather_core/mission/route_timetable.hpp"
 #include "gather_core/mission/segment_window.hpp"
+#include "gather_core/mission/tour.hpp"
 #include "gather_core/mission/world.hpp"
 
 namespace gather {
@@ -64,6 +65,9 @@ struct ProtocolParams {
   // way found there is taken even if a shorter one leaves it. The planner's
   // estimate walks the same windows (PlannerOptions::protocol). Range [0, 100].
   double window_margin_m = 1.0;
+  // 2-opt passes at most over a worker's tour through its goals
+  // (mission::order_tour; bounded work per control step), range [0, 10000].
+  int two_opt_rounds = kOpenTourTwoOptRounds;
 };
 // Throws gather::Error("protocol params", "<field> = <value> must be in
 // <range>") for a field outside its range.
@@ -222,6 +226,7 @@ class WorkerPolicy {
   CollectorId collector_;
   double speed_ = 1.0;
   double meeting_arc_ = 0.0;
+  int two_opt_rounds_ = kOpenTourTwoOptRounds;          // ProtocolParams::two_opt_rounds
   std::vector<Cell> rendezvous_;                        // cells of its collector's passes next to its segment
   std::vector<double> rendezvous_arc_;                  // [m] their arc positions on the route
   std::vector<std::pair<double, double>> link_window_;  // [m] arcs of the route linked to each rendezvous

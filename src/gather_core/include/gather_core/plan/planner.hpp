@@ -71,6 +71,10 @@ struct PlannerOptions {
   // points along a collector worker's tour at which its deliveries are
   // timed (the mean of the goals' refresh times), range [1, 256].
   int delivery_samples = 8;
+  // A collector's route visits its meeting areas in the shortest order,
+  // exactly up to this many (mission::order_closed_tour; more: nearest
+  // neighbour and 2-opt), range [0, 16].
+  int exact_route_stops = mission::kExactClosedTourGoals;
   // The protocol the estimate foresees: the workers' segment windows
   // (window_margin_m) it walks as the workers do. The simulator and the
   // agents must run with the same (mission::ProtocolParams; ranges there).
