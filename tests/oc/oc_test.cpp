@@ -162,14 +162,14 @@ TEST(MissionView, AgentsByRoleInTheirCollectorsColoursWithIdsLinksAndFrames) {
   std::vector<agent::Reply> agents(static_cast<std::size_t>(p.team->agents()));
   for (int a = 0; a < p.team->agents(); ++a) {
     agents[static_cast<std::size_t>(a)].agent = static_cast<int16_t>(a);
-    agents[static_cast<std::size_t>(a)].pose = p.team->start_pose(a);
+    agents[static_cast<std::size_t>(a)].pose = p.team->start_pose(AgentId(a));
   }
   const auto m = v.team_markers(agents, 0.0, true, ros::Time(1.0));
   EXPECT_EQ(count(m, "agents"), p.team->agents());
   EXPECT_EQ(count(m, "agent_ids"), p.team->agents());
   int collectors = 0, oc_workers = 0;
   for (int a = 0; a < p.team->agents(); ++a) {
-    const auto& as = p.team->assignment(a);
+    const auto& as = p.team->assignment(AgentId(a));
     const auto* mk = find(m, "agents", a);
     ASSERT_NE(mk, nullptr);
     if (as.collector) {
@@ -178,8 +178,8 @@ TEST(MissionView, AgentsByRoleInTheirCollectorsColoursWithIdsLinksAndFrames) {
       EXPECT_TRUE(same_colour(mk->color, style.collector(as.delivers_to)));
     } else {
       EXPECT_EQ(mk->type, visualization_msgs::Marker::CYLINDER);
-      const std_msgs::ColorRGBA want = as.delivers_to < 0 ? style.oc_worker : style.collector(as.delivers_to);
-      oc_workers += as.delivers_to < 0;
+      const std_msgs::ColorRGBA want = !as.delivers_to.valid() ? style.oc_worker : style.collector(as.delivers_to);
+      oc_workers += !as.delivers_to.valid();
       EXPECT_TRUE(same_colour(mk->color, want)) << "agent " << a;
     }
   }
@@ -196,7 +196,7 @@ TEST(MissionView, AgentsByRoleInTheirCollectorsColoursWithIdsLinksAndFrames) {
   ev.handovers.push_back(agent::HandoverEvent{5, 0, 3, 10.0});
   ev.measured.push_back(agent::MeasuredEvent{2000000000, 3, 10.0});
   v.take(ev, oc);
-  EXPECT_EQ(v.goal_state(oc, 0), 0);
+  EXPECT_EQ(v.goal_state(oc, GoalId(0)), 0);
   EXPECT_EQ(find(v.team_markers(agents, 11.0, true, ros::Time(11.0)), "handovers", 0)->points.size(), 2u);
   EXPECT_EQ(find(v.team_markers(agents, 20.0, true, ros::Time(20.0)), "handovers", 0)->action,
             visualization_msgs::Marker::DELETE);
@@ -210,7 +210,7 @@ TEST(MissionView, AgentsByRoleInTheirCollectorsColoursWithIdsLinksAndFrames) {
   EXPECT_NEAR(tf.transforms[7].transform.rotation.z, std::sin(M_PI / 4), 1e-9);  // yaw 90 degrees
   const auto states = v.agent_states(agents, oc, ros::Time(2.0));
   EXPECT_EQ(states.agents.size(), agents.size());
-  EXPECT_EQ(states.agents[0].role_name, p.team->assignment(0).collector ? "collector" : "worker");
+  EXPECT_EQ(states.agents[0].role_name, p.team->assignment(AgentId(0)).collector ? "collector" : "worker");
 }
 
 TEST(MissionView, GoalsByStateAddUpAndEveryCycleIsReportedOnceResolved) {
