@@ -2,6 +2,7 @@
 // maps/office planned once per test binary, for the runtime's tests: pap:4
 // with the collector groups as grown (all four collectors serve workers) and
 // bap:0, and the mission parameters of its scenario.
+#include <algorithm>
 #include <string>
 
 #include "gather_agent/roles/role.hpp"
@@ -29,6 +30,21 @@ inline agent::MissionParams office_params(int cycles, unsigned seed) {
   agent::MissionParams p;
   p.cycles = cycles, p.seed = seed, p.goals_per_request = Office::get().scenario.mission.goals_per_request;
   return p;
+}
+
+// The first worker of `plan` (of the OC when `of_oc`, else of a collector).
+inline AgentId a_worker(const mission::MissionPlan& plan, bool of_oc) {
+  for (const plan::AgentAssignment& a : plan.file.agents)
+    if (!a.collector && !a.delivers_to.valid() == of_oc) return a.id;
+  return AgentId();
+}
+
+// The collector of `plan` with the most workers.
+inline CollectorId busiest_collector(const mission::MissionPlan& plan) {
+  PerCollector<int> n(plan.file.collectors, 0);
+  for (const plan::AgentAssignment& a : plan.file.agents)
+    if (!a.collector && a.delivers_to.valid()) ++n[a.delivers_to];
+  return CollectorId::at_index(static_cast<std::size_t>(std::max_element(n.begin(), n.end()) - n.begin()));
 }
 
 }  // namespace testing_support

@@ -1,4 +1,4 @@
-// Tests of the Fast Marching solver (gather_core/fmm/fast_marching.hpp).
+// fmm/fast_marching: accuracy, labels, queues, early stops, speed maps and bad input of the Eikonal solver.
 #include <gtest/gtest.h>
 
 #include <algorithm>
