@@ -70,7 +70,7 @@ struct Stepper {
 };
 
 inline Message request(int32_t id, int32_t first, std::vector<Point2> goals, const OccupancyGrid& grid, int16_t from,
-                int16_t to) {
+                       int16_t to) {
   Message m = message(Kind::kRequest, from, to, 0, Point2{0.55, 0.25}, id);
   m.request = RequestPart{};
   m.request.request = id, m.request.first_goal = first, m.request.total = static_cast<int32_t>(goals.size());

@@ -138,12 +138,11 @@ TEST(FastMarching, ExactQueuesExpandEveryCellOnce) {
     o.queue = q;
     const SolveStats& st = fm.solve(src, o);
     EXPECT_GE(st.expanded, fm.count_reached());
-    std::vector<double> a;
+    Raster<double> a;
     fm.copy_times(a);
     o.queue = QueueKind::kHeap;
     fm.solve(src, o);
-    std::vector<double> b;
-    fm.copy_times(b);
+    const Raster<double> b = fm.times();
     for (std::size_t i = 0; i < a.size(); ++i) {
       if (std::isinf(b[i])) {
         ASSERT_TRUE(std::isinf(a[i]));
@@ -226,16 +225,16 @@ TEST(FastMarching, LabelsAreArgminOfSingleSourceRuns) {
       SolveOptions o;
       o.order = order;
       o.label_look_back = look_back;
-      std::vector<std::vector<double>> single(src.size());
+      std::vector<Raster<double>> single(src.size());
       for (std::size_t i = 0; i < src.size(); ++i) {
         fm.solve({src[i]}, o);
         fm.copy_times(single[i]);
       }
       fm.solve(src, o);
-      std::vector<double> multi;
-      std::vector<int32_t> labels;
-      fm.copy_times(multi);
-      fm.copy_labels(labels);
+      const Raster<double> multi = fm.times();
+      const LabelImage labels = fm.labels();
+      ASSERT_EQ(multi.frame(), g.frame());
+      ASSERT_EQ(labels.frame(), g.frame());
       std::size_t checked = 0, wrong = 0;
       double worst_margin = 0.0;
       for (std::size_t p = 0; p < multi.size(); ++p) {
@@ -328,12 +327,15 @@ TEST(FastMarching, BadInputGivesClearErrors) {
   EXPECT_NE(error_of([&] { fm.solve({Source::at_point({4.5, 3.5})}); }).find("obstacle"), std::string::npos);
   EXPECT_NE(error_of([&] { fm.solve({Source::at_point({NAN, 1.0})}); }).find("not finite"), std::string::npos);
   EXPECT_NE(error_of([&] { fm.solve({}); }).find("no sources"), std::string::npos);
-  std::vector<double> speed(80, 1.0);
+  Raster<double> speed(fm.frame(), 1.0);
   speed[17] = -0.5;
   EXPECT_NE(error_of([&] { fm.set_speed(speed); }).find("speed"), std::string::npos);
   speed[17] = NAN;
   EXPECT_NE(error_of([&] { fm.set_speed(speed); }).find("speed"), std::string::npos);
-  EXPECT_NE(error_of([&] { fm.set_speed(std::vector<double>(79, 1.0)); }).find("79"), std::string::npos);
+  EXPECT_NE(error_of([&] { fm.set_speed(Raster<double>(GridFrame{79, 1}, 1.0)); }).find("79x1"), std::string::npos);
+  Raster<double> released(fm.frame(), 1.0);
+  released.release();
+  EXPECT_NE(error_of([&] { fm.set_speed(released); }).find("holding 0 values"), std::string::npos);
   SolveOptions o;
   o.targets = {Cell{100, 0}};
   EXPECT_NE(error_of([&] { fm.solve({Source::at_cell({0, 0})}, o); }).find("off the map"), std::string::npos);
@@ -357,8 +359,8 @@ TEST(FastMarching, WorkspaceReuseGivesSameResultWithoutGrowing) {
     o.order = order;
     const std::vector<Source> s1{Source::at_cell({30, 30}), Source::at_cell({200, 250})};
     fm.solve(s1, o);
-    std::vector<double> t1, t2;
-    std::vector<int32_t> l1, l2;
+    Raster<double> t1, t2;
+    LabelImage l1, l2;
     fm.copy_times(t1);
     fm.copy_labels(l1);
     const std::size_t bytes = fm.working_bytes();
@@ -388,8 +390,7 @@ TEST(FastMarching, EarlyStopAtTargetsAndMaxTime) {
       o.queue = q;
       const std::vector<Source> src{Source::at_cell({30, 30})};
       fm.solve(src, o);
-      std::vector<double> full;
-      fm.copy_times(full);
+      const Raster<double> full = fm.times();
       EXPECT_FALSE(fm.stats().stopped_early);
 
       SolveOptions ot = o;
@@ -453,7 +454,7 @@ TEST(FastMarching, SubCellPointSource) {
 TEST(FastMarching, SpeedMapScalesTimes) {
   const OccupancyGrid g = office_grid(120, 60, 3, 10);
   FastMarching unit(g), fast(g);
-  fast.set_speed(std::vector<double>(g.size(), 2.5));
+  fast.set_speed(Raster<double>(g.frame(), 2.5));
   const std::vector<Source> src{Source::at_point({10.2, 12.7})};
   unit.solve(src);
   fast.solve(src);
@@ -475,7 +476,7 @@ TEST(FastMarching, SpeedMapScalesTimes) {
 TEST(FastMarching, SlowAndBlockedCells) {
   // Left half 1 m/s, right half 0.5 m/s, column 30 at zero speed (a wall).
   const OccupancyGrid g = make_grid(120, 40, [](int, int) { return true; });
-  std::vector<double> speed(g.size(), 1.0);
+  Raster<double> speed(g.frame(), 1.0);
   for (int r = 0; r < 40; ++r) {
     for (int c = 60; c < 120; ++c) speed[static_cast<std::size_t>(r) * 120 + c] = 0.5;
     speed[static_cast<std::size_t>(r) * 120 + 30] = 0.0;

@@ -51,8 +51,10 @@ TEST(CheckPlanTest, EachBrokenStructureIsRefusedNamingThePlanAndTheCulprit) {
        [](mission::MissionPlan& p) {
          p.file.agents.push_back(plan::AgentAssignment{AgentId(2), false, SegmentId(1), CollectorId()});
        }},
-      {"agent 5: ids must be 0..1, once each", [](mission::MissionPlan& p) { p.file.agents[AgentId(1)].id = AgentId(5); }},
-      {"agent 0: ids must be 0..1, once each", [](mission::MissionPlan& p) { p.file.agents[AgentId(1)].id = AgentId(0); }},
+      {"agent 5: ids must be 0..1, once each",
+       [](mission::MissionPlan& p) { p.file.agents[AgentId(1)].id = AgentId(5); }},
+      {"agent 0: ids must be 0..1, once each",
+       [](mission::MissionPlan& p) { p.file.agents[AgentId(1)].id = AgentId(0); }},
       {"agent 0: agents 0..0 must be the collectors",
        [](mission::MissionPlan& p) { p.file.agents[AgentId(0)].collector = false; }},
       {"agent 0: a collector's index must be its own id",
@@ -84,10 +86,13 @@ TEST(CheckPlanTest, EachBrokenStructureIsRefusedNamingThePlanAndTheCulprit) {
       {"2 routes for 1 collectors",
        [](mission::MissionPlan& p) { p.file.routes.push_back(p.file.routes[CollectorId(0)]); }},
       {"collectors (1) + workers (0) must be the 2 agents", [](mission::MissionPlan& p) { p.file.workers = 0; }},
-      {"cycle_period_s must be a finite value in (0, 1e6] s", [](mission::MissionPlan& p) { p.file.cycle_period_s = 0; }},
+      {"cycle_period_s must be a finite value in (0, 1e6] s",
+       [](mission::MissionPlan& p) { p.file.cycle_period_s = 0; }},
       {"area_tile_m must be a finite value in (0, 1e6] m", [](mission::MissionPlan& p) { p.file.area_tile_m = -1; }},
       {"label image is 10x5, the scenario's planning grid 200x5",
-       [](mission::MissionPlan& p) { p.labels = LabelImage(GridFrame{10, 5}, 1); }},
+       [](mission::MissionPlan& p) {
+         p.labels = LabelImage(GridFrame{10, 5}, 1);
+       }},
   };
   for (const auto& c : cases) {
     mission::MissionPlan plan = corridor_plan(s);

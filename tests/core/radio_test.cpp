@@ -97,6 +97,11 @@ TEST(Radio, CoverageEqualsLinkedOnEveryCell) {
     }
     EXPECT_EQ(mismatched, 0);
     EXPECT_GT(covered, 100);
+    // The reuse form gives the same mask on the grid's frame, whatever it held.
+    Mask again(GridFrame{3, 3}, 7);
+    radio.coverage(tx, again);
+    EXPECT_EQ(again, mask);
+    EXPECT_EQ(again.frame(), g.frame());
   }
 }
 

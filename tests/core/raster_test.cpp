@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "gather_core/error.hpp"
+
 namespace gather {
 namespace {
 
@@ -53,6 +55,19 @@ TEST(RasterTest, EqualityCountsThePlacementAsWellAsTheValues) {
   b.reframe(kFrame);
   EXPECT_EQ(a, b);
   EXPECT_THROW(b.reframe(GridFrame{3, 4, 0.5, Point2{-1.0, 2.0}}), std::invalid_argument);  // 12 cells, other shape
+}
+
+TEST(RasterTest, RequireSameSizeNamesTheRasterAndBothSizes) {
+  EXPECT_NO_THROW(require_same_size(Mask(kFrame, 1), GridFrame{4, 3}, "stage", "the mask"));  // placement aside
+  try {
+    require_same_size(Mask(GridFrame{5, 3}), kFrame, "stage", "the mask");
+    FAIL() << "a 5x3 mask passed for a 4x3 grid";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "stage: the mask is 5x3 cells holding 15 values, the grid 4x3");
+  }
+  Mask released(kFrame, 1);
+  released.release();
+  EXPECT_THROW(require_same_size(released, kFrame, "stage", "the mask"), Error);
 }
 
 TEST(RasterTest, ReleaseFreesTheValuesAndKeepsTheFrame) {

@@ -8,6 +8,7 @@
 #include <limits>
 #include <vector>
 
+#include "gather_core/error.hpp"
 #include "predicate_grid.hpp"
 
 namespace gather {
@@ -97,6 +98,26 @@ TEST(WorkerGraphTest, TheCentroidOfAnLShapedSegmentIsOneOfItsCells) {
   EXPECT_EQ(g.segment(SegmentId(1)).neighbours, ids({2}));
   EXPECT_EQ(g.segment(SegmentId(1)).coverage_distance, std::numeric_limits<double>::infinity());
   EXPECT_EQ(g.segment(SegmentId(1)).mean_coverage_distance, 0.0);  // unreached cells add nothing to the sum
+}
+
+TEST(WorkerGraphTest, RastersOffTheGridAreRefusedNamingWhich) {
+  const OccupancyGrid grid = testing_support::predicate_grid(10, 10, [](int, int) { return true; });
+  const LabelImage labels(grid.frame(), 1);
+  const Mask coverage(grid.frame(), 0);
+  const Raster<double> far(grid.frame(), 1.0);
+  EXPECT_NO_THROW(build_worker_graph(grid, labels, 1, coverage, far));
+  auto message = [&](const LabelImage& l, const Mask& c, const Raster<double>& d) -> std::string {
+    try {
+      build_worker_graph(grid, l, 1, c, d);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(message(LabelImage(GridFrame{9, 10}, 1), coverage, far),
+            "worker graph: the label image is 9x10 cells holding 90 values, the grid 10x10");
+  EXPECT_NE(message(labels, Mask(GridFrame{10, 11}), far).find("the coverage mask"), std::string::npos);
+  EXPECT_NE(message(labels, coverage, Raster<double>()).find("the coverage distance"), std::string::npos);
 }
 
 }  // namespace

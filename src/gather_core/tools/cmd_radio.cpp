@@ -37,7 +37,7 @@ int radio(int argc, char** argv) {
   const int repeat = args.get_int("--repeat", 5, 1, 1000);
   if (repeat < 1) throw cli::UsageError("--repeat must be >= 1");
   const RadioModel radio(s.grid, s.radio);
-  std::vector<uint8_t> mask;
+  Mask mask;
   std::vector<double> ms;
   for (int i = 0; i < repeat; ++i) {
     const auto t0 = std::chrono::steady_clock::now();

@@ -56,6 +56,7 @@ std::vector<Point2> route_between(const mission::RouteTimetable& r, double t0, d
 
 void paint_segments(MapCanvas& canvas, const plan::PlanContext& ctx, const mission::MissionPlan& plan) {
   const OccupancyGrid& g = ctx.scenario.grid;
+  require_same_size(plan.labels, g.frame(), "mission figures", "the plan's label image");
   const auto& pal = fill_palette();
   for (std::size_t i = 0; i < plan.labels.size(); ++i) {
     const int k = plan.labels[i];

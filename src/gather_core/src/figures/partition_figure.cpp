@@ -95,6 +95,8 @@ cv::Mat scaled(const cv::Mat& img, double s) {
 }
 
 cv::Mat partition_panel(const OccupancyGrid& g, const PartitionResult& part, Point2 oc, const std::string& caption) {
+  require_same_size(part.labels, g.frame(), "partition figure", "the label image");
+  require_same_size(part.clearance, g.frame(), "partition figure", "the clearance");
   const int w = g.width(), h = g.height();
   const PerSegment<int> colour = colour_segments(part.labels, part.workers, static_cast<int>(fill_palette().size()));
   cv::Mat img = base_image(g);

@@ -11,7 +11,8 @@ namespace gather {
 namespace figures {
 
 void write_coverage_png(const std::string& path, const OccupancyGrid& g, const RadioModel& radio, Point2 tx,
-                        const std::vector<uint8_t>& coverage, const std::string& caption) {
+                        const Mask& coverage, const std::string& caption) {
+  require_same_size(coverage, g.frame(), path, "coverage mask");
   MapCanvas canvas(g, cv::Vec3b(225, 225, 225));
   const double sens = radio.params().sensitivity_dbm;
   const double top = radio.params().tx_power_dbm - radio.params().ref_loss_db;  // received at 1 m

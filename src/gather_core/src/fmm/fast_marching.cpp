@@ -57,10 +57,11 @@ void FastMarching::set_unit_speed() {
   min_cost_ = max_cost_ = unit_cost_;
 }
 
-void FastMarching::set_speed(const std::vector<double>& speed) {
+void FastMarching::set_speed(const Raster<double>& speed) {
   const std::size_t n = static_cast<std::size_t>(width_) * height_;
-  if (speed.size() != n)
-    throw Error("speed map", "has " + std::to_string(speed.size()) + " cells, the grid " + std::to_string(n));
+  if (!speed.frame().same_size(frame()) || !speed.filled())
+    throw Error("speed map", "is " + speed.frame().size_text() + " cells holding " + std::to_string(speed.size()) +
+                                 " values, the grid " + frame().size_text());
   for (std::size_t i = 0; i < n; ++i) {
     const double f = speed[i];
     if (!(f >= 0.0) || !std::isfinite(f))
@@ -261,8 +262,20 @@ double FastMarching::time_at(Point2 pt) const {
   return best;
 }
 
-void FastMarching::copy_times(std::vector<double>& out) const {
-  out.resize(static_cast<std::size_t>(width_) * height_);
+Raster<double> FastMarching::times() const {
+  Raster<double> out;
+  copy_times(out);
+  return out;
+}
+
+LabelImage FastMarching::labels() const {
+  LabelImage out;
+  copy_labels(out);
+  return out;
+}
+
+void FastMarching::copy_times(Raster<double>& out) const {
+  if (out.frame() != frame() || !out.filled()) out = Raster<double>(frame());
   for (int r = 0; r < height_; ++r) {
     const float* row = times_.empty() ? nullptr : &times_[padded(Cell{r, 0})];
     double* o = &out[static_cast<std::size_t>(r) * width_];
@@ -270,8 +283,9 @@ void FastMarching::copy_times(std::vector<double>& out) const {
   }
 }
 
-void FastMarching::copy_labels(std::vector<int32_t>& out) const {
-  out.assign(static_cast<std::size_t>(width_) * height_, -1);
+void FastMarching::copy_labels(LabelImage& out) const {
+  if (out.frame() != frame() || !out.filled()) out = LabelImage(frame());
+  std::fill(out.begin(), out.end(), -1);
   if (!labels_on_ || times_.empty()) return;
   for (int r = 0; r < height_; ++r) {
     const std::size_t p = padded(Cell{r, 0});

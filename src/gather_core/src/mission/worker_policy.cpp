@@ -33,9 +33,8 @@ SharedDistances::SharedDistances(const World& world, bool with_from_oc) : fm(wor
   fmm::SolveOptions so;
   so.labels = false;
   fm.solve({fmm::Source::at_cell(world.oc_cell)}, so);
-  std::vector<double> t;
-  fm.copy_times(t);
-  from_oc = Field(world.scenario.grid.frame(), std::vector<float>(t.begin(), t.end()));
+  const Raster<double> t = fm.times();
+  from_oc = Field(t.frame(), std::vector<float>(t.begin(), t.end()));
 }
 
 void check_params(const ProtocolParams& p) {

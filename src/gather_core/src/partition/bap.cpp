@@ -261,8 +261,7 @@ void run_bap(const MethodInput& in, PartitionResult& out) {
   fmm::SolveOptions opt;
   opt.labels = false;
   fm.solve({fmm::Source::at_cell(in.oc)}, opt);
-  std::vector<double> dist;
-  fm.copy_times(dist);
+  const Raster<double> dist = fm.times();
 
   int f = 1;
   while (in.reachable_cells / static_cast<std::size_t>(f * f) > in.params.bap_coarse_cells) ++f;
@@ -272,7 +271,7 @@ void run_bap(const MethodInput& in, PartitionResult& out) {
   if (f == 1) {
     FrontGrowth growth(in.reachable);
     std::vector<std::size_t> seeds;
-    const auto order = farthest_first(in.reachable.values(), dist, grid.resolution() / 4.0);
+    const auto order = farthest_first(in.reachable.values(), dist.values(), grid.resolution() / 4.0);
     sequential_fronts(growth, order, in.reachable_cells, in.workers, out.labels.values(), seeds);
     reconnect_label(grid.width(), in.workers, out.labels.values());
     rebalance_areas(in.workers, out.labels, in.params.bap_balance_tolerance, in.params.bap_balance_passes);

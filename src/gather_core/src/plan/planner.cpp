@@ -44,7 +44,7 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
   prepared.reachable_cells = reachable_cells;
   prepared.clearance = clearance.values();
   coverage_distance = Raster<double>(grid.frame());
-  coverage_field.copy_times(coverage_distance.values());
+  coverage_field.copy_times(coverage_distance);
   // The simulator's own table of distances from the OC's cell.
   oc_walk = mission::SharedDistances(*this).from_oc;
   for (std::size_t i = 0; i < coverage_distance.size(); ++i) {
@@ -64,7 +64,7 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
         clearance.disc_free(grid.cell_center(grid.cell(i)), s.team.radius + 0.5 * std::sqrt(2.0) * grid.resolution());
     route_speed[i] = roomy[i] ? 1.0 : tight_speed;
   }
-  oc_field.set_speed(route_speed.values());
+  oc_field.set_speed(route_speed);
   fmm::SolveOptions from_oc;
   from_oc.labels = false;
   oc_field.solve({fmm::Source::at_point(s.oc)}, from_oc);

@@ -42,8 +42,9 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
   constexpr std::size_t kQuantiles = 16;  // WorkerSegment::home_quantiles holds 17
   const auto pair_sources = static_cast<std::size_t>(opt.pair_sources);
   const OccupancyGrid& grid = ctx.scenario.grid;
+  require_same_size(labels, grid.frame(), "walking distances", "the label image");
   PerSegment<std::vector<Cell>> cells(graph.segments.segments());
-  for (std::size_t i = 0; i < labels.size() && i < grid.size(); ++i) {
+  for (std::size_t i = 0; i < labels.size(); ++i) {
     const SegmentId k(labels[i]);
     if (k.within(cells.segments()) && ctx.reachable[i]) cells[k].push_back(grid.cell(i));
   }

@@ -10,6 +10,11 @@ namespace plan {
 WorkerGraph build_worker_graph(const OccupancyGrid& grid, const LabelImage& labels, int workers, const Mask& coverage,
                                const Raster<double>& coverage_distance, const Mask* roomy) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
+  const std::string where = "worker graph";
+  require_same_size(labels, grid.frame(), where, "the label image");
+  require_same_size(coverage, grid.frame(), where, "the coverage mask");
+  require_same_size(coverage_distance, grid.frame(), where, "the coverage distance");
+  if (roomy) require_same_size(*roomy, grid.frame(), where, "the roomy mask");
   WorkerGraph g;
   g.segments = PerSegment<WorkerSegment>(workers);
   PerSegment<double> sx(workers, 0.0), sy(workers, 0.0), sd(workers, 0.0);

@@ -96,8 +96,9 @@ double RadioModel::received_dbm(Point2 a, Point2 b) const {
   return received_for(d, walls_between(a, b));
 }
 
-void RadioModel::coverage(Point2 tx, std::vector<uint8_t>& mask) const {
-  mask.assign(grid_.size(), 0);
+void RadioModel::coverage(Point2 tx, Mask& mask) const {
+  if (mask.frame() != grid_.frame() || !mask.filled()) mask = Mask(grid_.frame());
+  std::fill(mask.begin(), mask.end(), 0);
   const double res = grid_.resolution();
   const Point2 o = grid_.origin();
   const double range = free_range_m_;

@@ -11,7 +11,7 @@ namespace figures {
 // Free cells linked to `tx` shaded by received power, the others grey; the
 // free-space range as a dashed circle; tx as a red square.
 void write_coverage_png(const std::string& path, const OccupancyGrid& grid, const RadioModel& radio, Point2 tx,
-                        const std::vector<uint8_t>& coverage, const std::string& caption);
+                        const Mask& coverage, const std::string& caption);
 
 }  // namespace figures
 }  // namespace gather

@@ -95,10 +95,11 @@ class FastMarching {
   // (copied; the grid need not outlive the workspace). Unit speed (1 m/s).
   explicit FastMarching(const OccupancyGrid& grid);
 
-  // Speed map [m/s], row-major like the grid (row 0 = bottom); 0 = obstacle.
-  // Cells that are not free in the grid stay obstacles whatever their speed.
-  // Throws gather::Error on a size mismatch or a negative / non-finite speed.
-  void set_speed(const std::vector<double>& speed);
+  // Speed map [m/s], a value per cell of the grid (row 0 = bottom); 0 =
+  // obstacle. Cells that are not free in the grid stay obstacles whatever
+  // their speed. Throws gather::Error when its frame is not of the grid's
+  // size, or on a negative / non-finite speed.
+  void set_speed(const Raster<double>& speed);
   // Back to unit speed (T in meters).
   void set_unit_speed();
   bool unit_speed() const { return cost_.empty(); }
@@ -125,9 +126,15 @@ class FastMarching {
   // Arrival time [s] at a map-frame point [m]: the best of T(n) + |p - centre_n| / F
   // over the point's cell and its 4 neighbours; kUnreached if none is reached.
   double time_at(Point2 p) const;
-  // Row-major copies (row 0 = bottom), resized to width*height.
-  void copy_times(std::vector<double>& out) const;    // [s], +inf unreached
-  void copy_labels(std::vector<int32_t>& out) const;  // -1 unreached
+  // The times [s] (+inf unreached) and labels (-1 unreached) of every cell,
+  // on the grid's frame. The copy_ forms reuse `out`'s memory (it takes the
+  // grid's frame).
+  Raster<double> times() const;
+  LabelImage labels() const;
+  void copy_times(Raster<double>& out) const;
+  void copy_labels(LabelImage& out) const;
+  // The grid's frame (size, resolution [m/cell], origin [m]).
+  GridFrame frame() const { return GridFrame{width_, height_, resolution_, origin_}; }
   // Cells with a finite time (a scan of the grid).
   std::size_t count_reached() const;
   const std::vector<Source>& sources() const { return sources_; }

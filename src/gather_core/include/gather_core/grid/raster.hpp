@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "gather_core/error.hpp"
+
 namespace gather {
 
 // A grid cell. `row` grows with y, `col` grows with x.
@@ -120,6 +122,18 @@ class Raster {
   GridFrame frame_;
   std::vector<T> values_;
 };
+
+// The one check of a raster handed to a stage with its grid: throws
+// gather::Error(where, "<what> is WxH cells holding N values, the grid
+// W'xH'") unless `raster` holds one value per cell of a frame of `frame`'s
+// size (a released raster keeps its frame but no values).
+template <class T>
+void require_same_size(const Raster<T>& raster, const GridFrame& frame, const std::string& where,
+                       const std::string& what) {
+  if (raster.frame().same_size(frame) && raster.filled()) return;
+  throw Error(where, what + " is " + raster.frame().size_text() + " cells holding " + std::to_string(raster.size()) +
+                         " values, the grid " + frame.size_text());
+}
 
 // 0 = no segment, k = segment k (1..N_w); or room ids for ground truth.
 using LabelImage = Raster<int32_t>;

@@ -30,12 +30,12 @@ class RadioModel {
   double free_space_range() const { return free_range_m_; }
 
   // Coverage of a transmitter at `tx` [m]: 1 for every free cell whose centre
-  // is linked to tx, 0 elsewhere. Writes into `mask` (resized to grid.size()),
-  // so repeated calls reuse its memory.
-  void coverage(Point2 tx, std::vector<uint8_t>& mask) const;
+  // is linked to tx, 0 elsewhere, on the grid's frame. The first form writes
+  // into `mask` (it takes the grid's frame), so repeated calls reuse its memory.
+  void coverage(Point2 tx, Mask& mask) const;
   Mask coverage(Point2 tx) const {
-    Mask m(grid_.frame());
-    coverage(tx, m.values());
+    Mask m;
+    coverage(tx, m);
     return m;
   }
 
