@@ -57,7 +57,7 @@ class Journal {
   void put(const DataItem& item);
   void acked(const DataItem& item);
   void progress(const Progress& p);
-  void pose(Point2 at, double t);
+  void pose(Point2 at, double t);  // at [m], mission time t [s]
   // Writes what was appended since the last sync, and makes it durable
   // (fdatasync) when it holds more than poses (a pose may be lost in a power
   // cut; a process crash keeps what was written). False when nothing was
@@ -100,7 +100,7 @@ class JournalKeeper {
   JournalState open(bool replay);
   // The role it journals (enables its custody log).
   void bind(Role& role);
-  void after_step(const MotionBackend& motion, double now);
+  void after_step(const MotionBackend& motion, double now);  // now: mission time [s]
   Journal& journal() { return journal_; }
   int64_t syncs() const { return syncs_; }
 

@@ -27,7 +27,7 @@ struct PlanningGrid {
 };
 
 // The factor for a map: the smallest f with cells / f^2 <= max_cells (0 = no
-// limit), lowered until the coarse grid keeps `min_kept` of the reachable
+// limit), lowered until the coarse grid keeps `min_kept` (a fraction in (0, 1]) of the reachable
 // space (a map cell counts as kept when its block or a neighbouring block is
 // reachable from the OC's block) and the OC's block is free.
 PlanningGrid choose_planning_grid(const OccupancyGrid& grid, Point2 oc, std::size_t max_cells, double min_kept = 0.98);

@@ -8,7 +8,8 @@ namespace partition {
 
 // Moves boundary cells between adjacent segments of `labels` (0 = no
 // segment, segments 1..workers each 4-connected) until
-// every segment's area is within tolerance * mean of the mean, or after
+// every segment's area is within tolerance * mean of the mean (tolerance: a
+// fraction, dimensionless), or after
 // max_passes passes. Every segment stays 4-connected and non-empty; the
 // cells labelled 0 stay 0. Deterministic.
 void rebalance_areas(int workers, LabelImage& labels, double tolerance, int max_passes);
