@@ -10,11 +10,7 @@ namespace gather {
 namespace agent {
 namespace {
 
-using agent_testing::CorridorTeam;
 using agent_testing::measured;
-using agent_testing::message;
-using agent_testing::request;
-using agent_testing::Stepper;
 
 TEST(Custody, KeepsOneCopyPerKeyRefusesWhenFullAndForgetsWhatIsAcked) {
   Custody c(2, 1);

@@ -49,6 +49,18 @@ TEST(OcRole, DeliversOnceCountsDuplicatesAcksAllAndExpiresSkippedRequests) {
   EXPECT_EQ(role.goals()[2].expired_at, 143.5);
   EXPECT_EQ(role.invalid_items(), 1);
   EXPECT_EQ(oc.sent(Kind::kAck)->ack.count, 2u);  // the bogus item is acked too: its sender lets go
+  // Items naming agents outside the team (a worker, or the collector that
+  // took it) place nothing: goal 1 stays open.
+  Message named = message(Kind::kData, 1, kOc, 2, Point2{1.0, 0.25});
+  named.data.count = 3;
+  named.data.items[0] = measured(1, 7, 151.0);   // no agent 7
+  named.data.items[1] = measured(1, -1, 151.0);  // no worker at all
+  named.data.items[2] = measured(1, 1, 151.0);
+  named.data.items[2].picked_up_by = 9, named.data.items[2].picked_up_at = 151.5;  // no collector 9
+  oc.step(152.0, {named});
+  EXPECT_FALSE(role.resolved(GoalId(1)));
+  EXPECT_EQ(role.invalid_items(), 4);
+  EXPECT_EQ(oc.sent(Kind::kAck)->ack.count, 3u);
 }
 
 TEST(OcRole, AGoalInNoSegmentExpiresWhenTheNextRequestIsDue) {

@@ -14,10 +14,7 @@ namespace agent {
 namespace {
 
 using agent_testing::CorridorTeam;
-using agent_testing::measured;
 using agent_testing::message;
-using agent_testing::request;
-using agent_testing::Stepper;
 using gather::testing_support::corridor;
 using gather::testing_support::corridor_plan;
 

@@ -17,10 +17,6 @@ namespace agent {
 namespace {
 
 using agent_testing::CorridorTeam;
-using agent_testing::measured;
-using agent_testing::message;
-using agent_testing::request;
-using agent_testing::Stepper;
 
 TEST(RunFiles, WritesTheSimulatorsSchemaAndAMissionFile) {
   CorridorTeam c(2, {{0, Point2{5.05, 0.25}}, {1, Point2{9.05, 0.25}}});

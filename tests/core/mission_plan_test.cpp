@@ -9,6 +9,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "corridor.hpp"
@@ -55,6 +56,8 @@ TEST(CheckPlanTest, EachBrokenStructureIsRefusedNamingThePlanAndTheCulprit) {
        [](mission::MissionPlan& p) { p.file.agents[AgentId(1)].id = AgentId(5); }},
       {"agent 0: ids must be 0..1, once each",
        [](mission::MissionPlan& p) { p.file.agents[AgentId(1)].id = AgentId(0); }},
+      {"agent 1: agents must be listed by id (it is entry 0)",
+       [](mission::MissionPlan& p) { std::swap(p.file.agents[AgentId(0)], p.file.agents[AgentId(1)]); }},
       {"agent 0: agents 0..0 must be the collectors",
        [](mission::MissionPlan& p) { p.file.agents[AgentId(0)].collector = false; }},
       {"agent 0: a collector's index must be its own id",

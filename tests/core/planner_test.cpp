@@ -103,7 +103,7 @@ TEST_F(PlannerTest, TheTuningFieldsHaveRangesAndEachChangesThePlan) {
   } bad[] = {
       {"pass_step_m = 0.01 must be in [0.05, 5] m", [](plan::PlannerOptions& o) { o.pass_step_m = 0.01; }},
       {"pass_probe_m = 2 must be in [0.01, 1] m", [](plan::PlannerOptions& o) { o.pass_probe_m = 2.0; }},
-      {"tight_speed = 0 must be in (0, 1]", [](plan::PlannerOptions& o) { o.tight_speed = 0.0; }},
+      {"tight_speed = 0 must be in [0.001, 1]", [](plan::PlannerOptions& o) { o.tight_speed = 0.0; }},
       {"contact_step_m = 0 must be in [0.05, 5] m", [](plan::PlannerOptions& o) { o.contact_step_m = 0.0; }},
       {"lateness_bins = 4 must be in [8, 4096]", [](plan::PlannerOptions& o) { o.lateness_bins = 4; }},
       {"delivery_samples = 0 must be in [1, 256]", [](plan::PlannerOptions& o) { o.delivery_samples = 0; }},

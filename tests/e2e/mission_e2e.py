@@ -125,6 +125,25 @@ def wait_visible(path, label, timeout=90):
     return False
 
 
+def drawn(img, collectors):
+    """Every collector's colour and two kinds of goal markers on screen (check_screen's tests)."""
+    return (all(int(near(img, COLLECTOR_RGB[c]).sum()) >= 150 for c in range(collectors)) and
+            sum(1 for v in GOAL_RGB.values() if int(near(img, v, 22).sum()) >= 20) >= 2)
+
+
+def screenshot_when_drawn(path, label, collectors, timeout=20):
+    """Screenshots until RViz has drawn the plan and the goals (under load it
+    shows the map a few seconds before the markers), at most `timeout` s;
+    the last one is returned either way, for check_screen to judge."""
+    t0 = time.time()
+    while True:
+        img = screenshot(path)
+        if drawn(img, collectors) or time.time() - t0 >= timeout:
+            print("     %s: markers on screen after %.1f s" % (label, time.time() - t0), flush=True)
+            return img
+        time.sleep(0.5)
+
+
 def near(img, rgb, tol=28):
     return (np.abs(img - np.array(rgb)).max(axis=2) <= tol)
 
@@ -317,7 +336,7 @@ def main():
             started = run.wait_for(r"mission starts", 120)
             check("office: the mission starts", started, run.output()[-1500:])
             check("office: RViz shows up", wait_visible(os.path.join(tmp, "probe_office.png"), "office"))
-            shot1 = screenshot(os.path.join(SHOTS, "office_pap4_early.png"))
+            shot1 = screenshot_when_drawn(os.path.join(SHOTS, "office_pap4_early.png"), "office, early", 4)
             time.sleep(6.0)
             shot2 = screenshot(os.path.join(SHOTS, "office_pap4_later.png"))
             rc = run.wait(300)

@@ -72,7 +72,7 @@ int plan(int argc, char** argv) {
                 map_scenario.grid.height(), factor, s.planner.max_cells);
 
   const auto t_ctx = Clock::now();
-  const plan::PlanContext ctx(s);
+  const plan::PlanContext ctx(s, opt);
   const double ctx_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_ctx).count();
   const std::size_t covered = static_cast<std::size_t>(std::count(ctx.coverage.begin(), ctx.coverage.end(), 1));
   std::printf(

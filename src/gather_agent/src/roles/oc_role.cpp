@@ -88,13 +88,13 @@ void OcRole::issue(int cycle, int16_t dest, double now, Outbox& out) {
   }
 }
 
-bool OcRole::open(std::size_t goal) {
-  if (!resolved_[goal]) return true;
-  mission::GoalRecord& g = goals_[goal];
+bool OcRole::open(GoalId goal) {
+  if (!resolved_[goal.index()]) return true;
+  mission::GoalRecord& g = goals_[goal.index()];
   if (g.state != mission::GoalState::kLostWithAgent) return false;
   g.lost_at = -1.0;
   g.state = mission::GoalState::kPending;
-  resolved_[goal] = 0;
+  resolved_[goal.index()] = 0;
   --resolved_count_;
   ++recovered_;
   return true;
@@ -143,8 +143,10 @@ void OcRole::resolve(mission::GoalRecord& g, mission::GoalState state) {
 }
 
 bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
-  // The worker that measured it (expired, skipped), as the item names it.
-  if (item.by < 0 || item.by >= team_.agents()) return false;
+  // The worker that measured it (expired, skipped) and the collector that
+  // took it on (-1: none), as the item names them: agents of the team.
+  if (item.by < 0 || item.by >= team_.agents() || item.picked_up_by < -1 || item.picked_up_by >= team_.agents())
+    return false;
   const AgentId by(item.by);
   if (item.kind == ItemKind::kSkipped) {
     const int c = skipped_request(item.key);
@@ -152,19 +154,20 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
     if (!(item.at >= issued_at_[static_cast<std::size_t>(c)] - 1e-6) || !(item.at <= now + 1e-6)) return false;
     for (std::size_t i = first_[static_cast<std::size_t>(c)]; i < first_[static_cast<std::size_t>(c) + 1]; ++i) {
       mission::GoalRecord& g = goals_[i];
-      if (g.worker != by || !open(i)) continue;
+      if (g.worker != by || !open(g.id)) continue;
       g.expired_at = std::max(item.at, g.requested_at);
       resolve(g, mission::GoalState::kExpired);
     }
     return true;
   }
-  if (item.key < 0 || static_cast<std::size_t>(item.key) >= requested()) return false;
-  mission::GoalRecord& g = goals_[static_cast<std::size_t>(item.key)];
+  const GoalId goal(item.key);  // a measured, expired or dropped item's key is its goal
+  if (!goal.within(static_cast<int>(requested()))) return false;
+  mission::GoalRecord& g = goals_[goal.index()];
   // Its worker, or the one whose segment its cell is in since a repair (a
   // request issued before the repair, learned after it).
   bool new_owner = false;
   if (g.worker != by) {
-    const int32_t now_in = repair_ ? repair_->plan.labels[cell_of_[static_cast<std::size_t>(item.key)]] : 0;
+    const int32_t now_in = repair_ ? repair_->plan.labels[cell_of_[goal.index()]] : 0;
     if (now_in <= 0 || team_.worker_of_segment(SegmentId(now_in)) != by) return false;
     new_owner = true;
   }
@@ -174,7 +177,7 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
   if (item.kind == ItemKind::kMeasured && item.picked_up_by >= 0 &&
       !(item.picked_up_at >= item.at - 1e-3 && item.picked_up_at <= now + eps))
     return false;
-  if (!open(static_cast<std::size_t>(item.key))) {
+  if (!open(goal)) {
     ++duplicates_;
     return true;
   }
@@ -193,8 +196,7 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
         g.deadline = std::numeric_limits<double>::infinity();
       g.measured_at = item.at, g.measured_by = by;
       g.picked_up_at = item.picked_up_at;
-      g.picked_up_by =
-          item.picked_up_by >= 0 && item.picked_up_by < team_.agents() ? AgentId(item.picked_up_by) : AgentId();
+      g.picked_up_by = AgentId(item.picked_up_by);  // checked above: an agent, or none
       g.delivered_at = now, g.delivered_by = sender;
       ++delivered_by_[sender];
       resolve(g, mission::GoalState::kDelivered);

@@ -52,11 +52,7 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
   const int n = static_cast<int>(pf.agents.size());
   if (n < 1 || n > kMaxTeam)
     throw Error(where, "a team of " + std::to_string(n) + " agents (1.." + std::to_string(kMaxTeam) + ")");
-  mission::check_plan(p, w.scenario.team.agents, w.scenario.grid);
-  for (AgentId k : ids<AgentId>(n))  // the plan's loader sorts them; repairs index them so
-    if (pf.agents[k].id != k)
-      throw Error(where, "agents must be listed by id (" + to_string(pf.agents[k].id) + " is entry " +
-                             std::to_string(k.value()) + ")");
+  mission::check_plan(p, w.scenario.team.agents, w.scenario.grid);  // agents listed by id, among the rest
   period = pf.cycle_period_s;
   speed = w.scenario.team.speed;
   if (!(period > 0) || !std::isfinite(period)) throw Error(where, "cycle_period_s must be > 0");
@@ -70,7 +66,7 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
     params.data_capacity = std::max<std::size_t>(64, 4 * static_cast<std::size_t>(params.goals_per_request));
   if (params.notice_capacity == 0) params.notice_capacity = params.data_capacity;
 
-  assignment_ = pf.agents;  // check_plan made sure these are all valid and distinct, and by id
+  assignment_ = pf.agents;  // check_plan made sure these are valid, distinct and listed by id
   collector_agent_ = mission::collector_agents(pf);
   worker_of_segment_ = PerSegment<AgentId>(pf.workers);
   for (const plan::AgentAssignment& a : pf.agents)

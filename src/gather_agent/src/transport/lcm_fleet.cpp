@@ -516,10 +516,16 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
         !(p.loss >= 0 && p.loss < 1) || !(p.beacon_period > 0 && p.beacon_period <= 3600) ||
         !(p.resend_after > 0 && p.resend_after <= 3600) || (p.clock != 0 && p.clock != 1) ||
         !(p.rate > 0 && p.rate <= 1e6) || (p.repair != 0 && p.repair != 1) ||
-        !(p.silent_intervals >= 1.5 && p.silent_intervals <= 100.0) || !(p.ask_after >= 0 && p.ask_after <= 60) ||
-        !(p.link_step_m >= 0.01 && p.link_step_m <= 1) || !(p.window_margin_m >= 0 && p.window_margin_m <= 100) ||
-        p.two_opt_rounds < 0 || p.two_opt_rounds > 10000)
+        !(p.silent_intervals >= 1.5 && p.silent_intervals <= 100.0) || !(p.ask_after >= 0 && p.ask_after <= 60))
       return void(++refused_.out_of_range);
+    mission::ProtocolParams protocol;
+    protocol.link_step_m = p.link_step_m, protocol.window_margin_m = p.window_margin_m;
+    protocol.two_opt_rounds = p.two_opt_rounds;
+    try {
+      mission::check_params(protocol);  // the protocol's own ranges
+    } catch (const Error&) {
+      return void(++refused_.out_of_range);
+    }
     PlanAnnounce a;
     a.digest = static_cast<uint64_t>(p.digest);
     a.agents = p.agents;
@@ -533,9 +539,7 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
     a.params.repair = static_cast<mission::RepairMode>(p.repair);
     a.params.silent_intervals = p.silent_intervals;
     a.params.ask_after = p.ask_after;
-    a.params.protocol.link_step_m = p.link_step_m;
-    a.params.protocol.window_margin_m = p.window_margin_m;
-    a.params.protocol.two_opt_rounds = p.two_opt_rounds;
+    a.params.protocol = protocol;
     a.tick = p.tick;
     a.loss = p.loss;
     a.loss_seed = static_cast<uint64_t>(p.loss_seed);

@@ -10,7 +10,7 @@
 // only. (Segments are named by their label 1..N_w: segment_id.hpp.)
 //
 // Ids stay plain integers where they leave the program: the plan file, the
-// CSVs and the messages (gather_agent/messages.hpp, the radio's addresses,
+// CSVs, the journal and the messages (gather_agent/messages.hpp, the radio's addresses,
 // which also name the OC and "everyone"); the code that reads or writes
 // those converts at the edge.
 #include <cassert>

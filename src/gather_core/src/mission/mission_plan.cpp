@@ -54,11 +54,15 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
   PerAgent<char> id_seen(n, 0);
   PerCollector<char> collector_seen(pf.collectors, 0);
   PerSegment<char> segment_seen(pf.workers, 0);
-  for (const plan::AgentAssignment& a : pf.agents) {
+  for (AgentId k : ids<AgentId>(n)) {
+    const plan::AgentAssignment& a = pf.agents[k];
     const std::string who = to_string(a.id);
     if (!a.id.within(n) || id_seen[a.id])
       throw Error(where, who + ": ids must be 0.." + std::to_string(n - 1) + ", once each");
     id_seen[a.id] = 1;
+    // Repairs and the roles index the table by id (read_plan_file sorts it so).
+    if (a.id != k)
+      throw Error(where, who + ": agents must be listed by id (it is entry " + std::to_string(k.value()) + ")");
     if (a.collector != (a.id.value() < pf.collectors))
       throw Error(where, who + ": agents 0.." + std::to_string(pf.collectors - 1) +
                              " must be the collectors, the others workers");

@@ -65,10 +65,10 @@ std::string plan_scenario(const std::string& scenario_path, const std::string& d
                           const PlanFigureWriter& figures) {
   const Scenario map_scenario = load_scenario(scenario_path);
   const Scenario s = on_planning_grid(map_scenario, planning_factor(map_scenario));
-  const PlanContext ctx(s);
   PlannerOptions opt;
   opt.seed = s.mission.seed;
   opt.threads = threads;
+  const PlanContext ctx(s, opt);
   const SweepResult sweep = plan::sweep(ctx, opt);
   const ConfigurationPlan& best = sweep.configs[static_cast<std::size_t>(sweep.best)];
   write_plan_directory(dir, ctx, best, opt.seed, figures);

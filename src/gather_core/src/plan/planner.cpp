@@ -92,7 +92,7 @@ void check_options(const PlannerOptions& opt) {
   require_in_range(opt.pass_radius_m, 0.1, 10, where, "pass_radius_m", " m");
   require_in_range(opt.pass_step_m, 0.05, 5, where, "pass_step_m", " m");
   require_in_range(opt.pass_probe_m, 0.01, 1, where, "pass_probe_m", " m");
-  require_in_range(opt.tight_speed, 0, 1, where, "tight_speed", "", true);
+  require_in_range(opt.tight_speed, 0.001, 1, where, "tight_speed");
   require_in_range(opt.contact_step_m, 0.05, 5, where, "contact_step_m", " m");
   require_in_range(opt.lateness_bins, 8, 4096, where, "lateness_bins");
   require_in_range(opt.delivery_samples, 1, 256, where, "delivery_samples");

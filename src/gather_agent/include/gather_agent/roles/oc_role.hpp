@@ -50,7 +50,7 @@ class OcRole : public Role {
   void resolve(mission::GoalRecord& g, mission::GoalState state);
   // A goal resolved by news from an agent: unresolved, or declared lost
   // with an agent (the news overrides that; counted as recovered).
-  bool open(std::size_t goal);
+  bool open(GoalId goal);
   const plan::AgentAssignment& assigned(AgentId agent) const { return current_plan().file.agents[agent]; }
   // Declares `agent` dead at `now`: repairs the plan, declares lost what was
   // its own (docs/faults.md), and tells whoever is in the coverage.

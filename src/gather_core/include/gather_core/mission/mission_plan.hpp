@@ -30,6 +30,7 @@ MissionPlan load_mission_plan(const std::string& plan_path);
 
 // The structure executing a plan relies on, for a team of `team` agents on
 // `grid` (the plan's grid; docs/input_limits.md): ids 0..team-1 once each,
+// listed by id (agents[k] is agent k),
 // collectors the agents 0..N_c-1 with their own id as collector index and
 // route index, one worker per segment 1..N_w delivering to the OC or to a
 // collector whose route has a meeting area for its segment; cycle_period_s

@@ -8,7 +8,7 @@
 namespace gather {
 namespace plan {
 
-// Assigns each worker segment to a collector 0..collectors-1, or -1 = the OC.
+// Assigns each worker segment to a collector 0..collectors-1, or none = the OC.
 // Segments that touch the OC's radio coverage deliver to the OC directly; the
 // others are grown into `collectors` groups from the OC outward: seeds are the
 // segments nearest the coverage, spread apart; then the group with the least

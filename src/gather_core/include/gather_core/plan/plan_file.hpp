@@ -33,7 +33,8 @@ struct PlanFile {
   double est_goals = 0.0;
   double est_interval_s = 0.0;
   double utility = 0.0;
-  PerAgent<AgentAssignment> agents;  // by id once check_plan accepted them (the reader sorts them by id)
+  PerAgent<AgentAssignment>
+      agents;  // agents[k] is agent k: read_plan_file sorts them by id, check_plan refuses otherwise
   PerCollector<CollectorRoute> routes;
   std::vector<WorkerEstimate> workers_est;
 };

@@ -59,7 +59,7 @@ struct PlannerOptions {
   // map that is 1 where the robot fits and tight_speed elsewhere, so a
   // route squeezes through only where there is no other way
   // (PlanContext::route_speed; the context is built with these options),
-  // range (0, 1].
+  // range [0.001, 1].
   double tight_speed = 0.05;
   // The estimate's discretisation (plan/estimate; finer is nearer the model
   // it approximates, and slower):
