@@ -210,6 +210,10 @@ TEST(Partition, ParamsOutsideTheirRangeNameTheField) {
   p.bap_balance_tolerance = 0.0;
   EXPECT_NE(message(p, Method::kBap).find("bap_balance_tolerance"), std::string::npos) << message(p, Method::kBap);
   p = PartitionParams{};
+  p.bap_cut_searches = -1;
+  EXPECT_NE(message(p, Method::kBap).find("bap_cut_searches = -1 must be in [0, 4096]"), std::string::npos)
+      << message(p, Method::kBap);
+  p = PartitionParams{};
   p.pap_min_area_share = 1.5;
   EXPECT_NE(message(p, Method::kPap).find("pap_min_area_share = 1.5"), std::string::npos) << message(p, Method::kPap);
   p = PartitionParams{};

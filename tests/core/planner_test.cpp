@@ -107,6 +107,7 @@ TEST_F(PlannerTest, TheTuningFieldsHaveRangesAndEachChangesThePlan) {
       {"contact_step_m = 0 must be in [0.05, 5] m", [](plan::PlannerOptions& o) { o.contact_step_m = 0.0; }},
       {"lateness_bins = 4 must be in [8, 4096]", [](plan::PlannerOptions& o) { o.lateness_bins = 4; }},
       {"delivery_samples = 0 must be in [1, 256]", [](plan::PlannerOptions& o) { o.delivery_samples = 0; }},
+      {"area_goal_samples = 300 must be in [1, 256]", [](plan::PlannerOptions& o) { o.area_goal_samples = 300; }},
       {"window_margin_m = -1 must be in [0, 100] m", [](plan::PlannerOptions& o) { o.protocol.window_margin_m = -1; }},
       {"two_opt_rounds = -1 must be in [0, 10000]", [](plan::PlannerOptions& o) { o.protocol.two_opt_rounds = -1; }},
       {"exact_route_stops = 17 must be in [0, 16]", [](plan::PlannerOptions& o) { o.exact_route_stops = 17; }},
@@ -148,6 +149,7 @@ TEST_F(PlannerTest, TheTuningFieldsHaveRangesAndEachChangesThePlan) {
       {"contact_step_m", [](plan::PlannerOptions& o) { o.contact_step_m = 3.0; }},
       {"lateness_bins", [](plan::PlannerOptions& o) { o.lateness_bins = 8; }},
       {"delivery_samples", [](plan::PlannerOptions& o) { o.delivery_samples = 1; }},
+      {"area_goal_samples", [](plan::PlannerOptions& o) { o.area_goal_samples = 1; }},
       {"protocol.window_margin_m", [](plan::PlannerOptions& o) { o.protocol.window_margin_m = 0.0; }},
   };
   for (const auto& c : changes) {

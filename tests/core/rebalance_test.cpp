@@ -8,11 +8,14 @@
 #include <cmath>
 #include <vector>
 
+#include "gather_core/partition/partition.hpp"
 #include "label_checks.hpp"
 
 namespace gather {
 namespace partition {
 namespace {
+
+const int kCuts = PartitionParams{}.bap_cut_searches;
 
 std::vector<int> areas(const LabelImage& labels, int workers) {
   std::vector<int> a(static_cast<std::size_t>(workers) + 1, 0);
@@ -38,7 +41,7 @@ TEST(RebalanceTest, AStripOfTwoSegmentsEndsWithinTheTolerance) {
   LabelImage labels(GridFrame{w, h});
   for (int r = 0; r < h; ++r)
     for (int c = 0; c < w; ++c) labels.at(Cell{r, c}) = c < 30 ? 1 : 2;
-  rebalance_areas(2, labels, 0.05, 20);
+  rebalance_areas(2, labels, 0.05, 20, kCuts);
   const std::vector<int> a = areas(labels, 2);
   EXPECT_NEAR(a[1], 80, 4);  // within 5% of the mean
   EXPECT_NEAR(a[2], 80, 4);
@@ -59,8 +62,8 @@ TEST(RebalanceTest, CellsOutsideEverySegmentStayOutAndTheResultIsDeterministic) 
     }
   LabelImage again = labels;
   const LabelImage before = labels;
-  rebalance_areas(3, labels, 0.05, 30);
-  rebalance_areas(3, again, 0.05, 30);
+  rebalance_areas(3, labels, 0.05, 30, kCuts);
+  rebalance_areas(3, again, 0.05, 30, kCuts);
   EXPECT_EQ(labels, again);
   for (std::size_t i = 0; i < labels.size(); ++i) EXPECT_EQ(labels[i] == 0, before[i] == 0) << "cell " << i;
   EXPECT_TRUE(connected(labels, 3));
@@ -72,8 +75,26 @@ TEST(RebalanceTest, CellsOutsideEverySegmentStayOutAndTheResultIsDeterministic) 
 
 TEST(RebalanceTest, ZeroPassesChangeNothing) {
   LabelImage labels(GridFrame{4, 1}, {1, 1, 1, 2});
-  rebalance_areas(2, labels, 0.0, 0);
+  rebalance_areas(2, labels, 0.0, 0, kCuts);
   EXPECT_EQ(labels.values(), (std::vector<int32_t>{1, 1, 1, 2}));
+}
+
+TEST(RebalanceTest, AFrontStuckAtACutMovesOnlyWhenCutsAreSearched) {
+  // 25 x 2: segment 1 is row 0, one cell wide; segment 2 is the one cell
+  // below column 4. The only cell of 1 next to 2 is a cut (taking it alone
+  // would split 1), so the front is stuck there: searching it finds the
+  // 4-cell pocket left of it, which moves with it, and the front goes on.
+  const int w = 25, h = 2;
+  LabelImage labels(GridFrame{w, h});
+  for (int c = 0; c < w; ++c) labels.at(Cell{0, c}) = 1;
+  labels.at(Cell{1, 4}) = 2;
+  LabelImage unsearched = labels;
+  rebalance_areas(2, labels, 0.05, 20, kCuts);
+  rebalance_areas(2, unsearched, 0.05, 20, 0);
+  EXPECT_EQ(areas(unsearched, 2)[2], 1) << "without cut searches nothing moves";
+  EXPECT_NEAR(areas(labels, 2)[2], 13, 1);
+  EXPECT_TRUE(connected(labels, 2));
+  EXPECT_EQ(labels.at(Cell{0, 0}), 2) << "the pocket behind the cut went with it";
 }
 
 }  // namespace

@@ -274,7 +274,8 @@ void run_bap(const MethodInput& in, PartitionResult& out) {
     const auto order = farthest_first(in.reachable.values(), dist.values(), grid.resolution() / 4.0);
     sequential_fronts(growth, order, in.reachable_cells, in.workers, out.labels.values(), seeds);
     reconnect_label(grid.width(), in.workers, out.labels.values());
-    rebalance_areas(in.workers, out.labels, in.params.bap_balance_tolerance, in.params.bap_balance_passes);
+    rebalance_areas(in.workers, out.labels, in.params.bap_balance_tolerance, in.params.bap_balance_passes,
+                    in.params.bap_cut_searches);
     for (std::size_t s : seeds) out.seeds.push_back(grid.cell(s));
     return;
   }
@@ -316,7 +317,8 @@ void run_bap(const MethodInput& in, PartitionResult& out) {
       if (in.reachable[i]) out.labels[i] = coarse_labels[static_cast<std::size_t>(r / f) * cw + c / f];
     }
   reconnect(grid, in.reachable.values(), in.workers, out.labels.values());
-  rebalance_areas(in.workers, out.labels, in.params.bap_balance_tolerance, in.params.bap_balance_passes);
+  rebalance_areas(in.workers, out.labels, in.params.bap_balance_tolerance, in.params.bap_balance_passes,
+                  in.params.bap_cut_searches);
   for (std::size_t s : seeds) out.seeds.push_back(grid.cell(far_cell[s]));
 }
 

@@ -130,6 +130,7 @@ void check_params(const PartitionParams& p) {
   require_in_range(static_cast<double>(p.bap_coarse_cells), 100, 1e9, where, "bap_coarse_cells");
   require_in_range(p.bap_balance_tolerance, 0, 1, where, "bap_balance_tolerance", "", true, true);
   require_in_range(p.bap_balance_passes, 0, 1000, where, "bap_balance_passes");
+  require_in_range(p.bap_cut_searches, 0, 4096, where, "bap_cut_searches");
   require_in_range(p.lloyd_iterations, 0, 1000, where, "lloyd_iterations");
   require_in_range(p.pap_balance_gain, 0, 10, where, "pap_balance_gain");
   require_in_range(p.pap_max_delay_radii, 0, 10, where, "pap_max_delay_radii");

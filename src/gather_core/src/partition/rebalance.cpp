@@ -26,8 +26,13 @@ namespace {
 
 class Rebalancer {
  public:
-  Rebalancer(int width, int height, int workers, std::vector<int32_t>& labels)
-      : w_(width), h_(height), stride_(static_cast<std::size_t>(width) + 2), nw_(workers), out_(labels) {
+  Rebalancer(int width, int height, int workers, std::vector<int32_t>& labels, int max_cut_searches)
+      : w_(width),
+        h_(height),
+        stride_(static_cast<std::size_t>(width) + 2),
+        nw_(workers),
+        max_cut_searches_(max_cut_searches),
+        out_(labels) {
     lab_.assign(stride_ * (static_cast<std::size_t>(h_) + 2), 0);
     for (int r = 0; r < h_; ++r)
       std::copy_n(labels.data() + static_cast<std::size_t>(r) * w_, w_,
@@ -315,7 +320,7 @@ class Rebalancer {
       if (moved >= m) break;
       // The front is stuck at local cuts of `from`: search them (bounded).
       std::size_t got = 0;
-      while (!blocked_.empty() && got == 0 && cut_tries < kMaxCutTries) {
+      while (!blocked_.empty() && got == 0 && cut_tries < max_cut_searches_) {
         const std::size_t p = blocked_.back();
         blocked_.pop_back();
         if (lab_[p] != from || simple(p, from)) continue;
@@ -335,6 +340,7 @@ class Rebalancer {
   int w_, h_;
   std::size_t stride_;
   int nw_;
+  int max_cut_searches_;
   std::vector<int32_t>& out_;
   std::vector<int32_t> lab_;     // padded labels
   std::vector<uint32_t> stamp_;  // padded
@@ -348,14 +354,13 @@ class Rebalancer {
   std::vector<uint32_t> queue_, blocked_, pocket_;
   std::vector<uint32_t> vis_;  // padded, cut searches (allocated on the first)
   uint32_t vis_base_ = 0;
-  static constexpr int kMaxCutTries = 64;
 };
 
 }  // namespace
 
-void rebalance_areas(int workers, LabelImage& labels, double tolerance, int max_passes) {
+void rebalance_areas(int workers, LabelImage& labels, double tolerance, int max_passes, int max_cut_searches) {
   if (workers < 2) return;
-  Rebalancer(labels.width(), labels.height(), workers, labels.values()).run(tolerance, max_passes);
+  Rebalancer(labels.width(), labels.height(), workers, labels.values(), max_cut_searches).run(tolerance, max_passes);
 }
 
 }  // namespace partition

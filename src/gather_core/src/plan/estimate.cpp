@@ -219,7 +219,7 @@ WorkerRun run_oc_worker(const TourModel& tour, const TourModel& first, const std
 static WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea& m, const Stretches& contact,
                                       const TourModel& model, const std::vector<double>& pmf, double v, double T,
                                       int cycles, const std::vector<AreaDeliveries>& areas, double per_goal,
-                                      int samples) {
+                                      int samples, int goal_samples) {
   WorkerRun run;
   run.areas = areas;
   const LoopSchedule sched(r.period, T);
@@ -252,7 +252,7 @@ static WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea
   const double capacity =
       per_goal > 0.0 ? std::floor((longest - mission::handover_guard(longest)) / per_goal + 1e-9) : kInf;
   std::vector<double> at;  // upload times of one goal count's samples
-  at.reserve(16);
+  at.reserve(static_cast<std::size_t>(goal_samples));
   for (int req = 0; req < cycles; ++req) {
     const double learn = arrival(req);
     // Valid for a period after it arrived, or until the next one arrives
@@ -267,11 +267,11 @@ static WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea
       for (int i = 1; i <= samples; ++i) sum += delivered_at(learn + tour * i / samples, need) - req * T;
       run.add(pmf[k] * n, sum / samples);
       // Deliveries: the uploads that carry some of the n goals (spread
-      // evenly along the tour; each of goals_n samples stands for n /
-      // goals_n goals); an upload carrying m goals of the segment carries
+      // evenly along the tour; each of goals_n <= goal_samples samples
+      // stands for n / goals_n goals); an upload carrying m goals of the segment carries
       // one of an area holding share f of it with probability 1 - (1 - f)^m;
       // weighted by P(k goals).
-      const int goals_n = static_cast<int>(std::min(16.0, std::ceil(n)));
+      const int goals_n = static_cast<int>(std::min(static_cast<double>(goal_samples), std::ceil(n)));
       at.clear();
       for (int i = 1; i <= goals_n; ++i) {
         const double t = delivered_at(learn + tour * i / goals_n, need);
@@ -319,7 +319,8 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
     w.tour_s = model.length(w.expected_goals) / v;
     if (m != r.meetings.end())
       run = run_collector_worker(r, *m, contact_stretches(r, *m, seg.centroid_m, radio, opt.contact_step_m), model, pmf,
-                                 v, T, cycles, cfg.area_parts[seg.id], transfer_s(s, 1), opt.delivery_samples);
+                                 v, T, cycles, cfg.area_parts[seg.id], transfer_s(s, 1), opt.delivery_samples,
+                                 opt.area_goal_samples);
   }
   w.delivered_goals = run.delivered / cycles;
   w.refresh_s = run.delivered > 0 ? run.refresh_sum / run.delivered : 0.0;

@@ -96,6 +96,7 @@ void check_options(const PlannerOptions& opt) {
   require_in_range(opt.contact_step_m, 0.05, 5, where, "contact_step_m", " m");
   require_in_range(opt.lateness_bins, 8, 4096, where, "lateness_bins");
   require_in_range(opt.delivery_samples, 1, 256, where, "delivery_samples");
+  require_in_range(opt.area_goal_samples, 1, 256, where, "area_goal_samples");
   require_in_range(opt.exact_route_stops, 0, mission::kMaxExactGoals, where, "exact_route_stops");
   mission::check_params(opt.protocol);
 }

@@ -49,6 +49,10 @@ struct PartitionParams {
   // (range [0, 1000]; partition/rebalance).
   double bap_balance_tolerance = 0.002;
   int bap_balance_passes = 12;
+  // BAP: when a segment's moving front is stuck at local cuts (cells whose
+  // removal would split it), at most this many of them are searched for a
+  // small pocket to move with the cut, per move. Range [0, 4096].
+  int bap_cut_searches = 64;
   // PAP/RAP: Lloyd iterations of the seed phase. Range [0, 1000].
   int lloyd_iterations = 12;
   // PAP: additive front weights follow area imbalance; gain per iteration

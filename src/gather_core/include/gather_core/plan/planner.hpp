@@ -69,8 +69,12 @@ struct PlannerOptions {
   // carried from cycle to cycle, range [8, 4096];
   int lateness_bins = 64;
   // points along a collector worker's tour at which its deliveries are
-  // timed (the mean of the goals' refresh times), range [1, 256].
+  // timed (the mean of the goals' refresh times), range [1, 256];
   int delivery_samples = 8;
+  // at most this many of a collector worker's goals timed along its tour
+  // for the areas' deliveries (the interval metric; fewer goals: each one),
+  // range [1, 256].
+  int area_goal_samples = 16;
   // A collector's route visits its meeting areas in the shortest order,
   // exactly up to this many (mission::order_closed_tour; more: nearest
   // neighbour and 2-opt), range [0, 16].
