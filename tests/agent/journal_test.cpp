@@ -204,7 +204,7 @@ TEST(Restart, AWorkerCarryingDataCrashesAndItsDataStillArrivesOnce) {
     opt.loss = 0.2, opt.loss_seed = 2;
     TeamRunner runner(team, opt);
     while (runner.tick()) {
-      const Custody* c = runner.role(victim).custody();
+      const Custody* c = runner.role(AgentId(victim)).custody();
       if (runner.now() > 60.0 && c->data() >= 2) {
         for (std::size_t i = 0; i < c->size(); ++i)
           if (c->item(i).kind == ItemKind::kMeasured) carried.push_back(c->item(i).key);

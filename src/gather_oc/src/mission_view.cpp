@@ -25,11 +25,11 @@ MissionView::MissionView(const agent::TeamSetup& team, const Style& style, std::
     : team_(team),
       style_(style),
       frame_(std::move(frame)),
-      shown_path_(static_cast<std::size_t>(team.agents()), 0),
-      yaw_(static_cast<std::size_t>(team.agents()), 0.0),
-      last_pose_(static_cast<std::size_t>(team.agents())),
+      shown_path_(team.agents(), 0),
+      yaw_(team.agents(), 0.0),
+      last_pose_(team.agents()),
       box_(reachable_box(team.world.reachable)) {
-  for (AgentId a : ids<AgentId>(team.agents())) last_pose_[a.index()] = team.start_pose(a);
+  for (AgentId a : ids<AgentId>(team.agents())) last_pose_[a] = team.start_pose(a);
 }
 
 void MissionView::take(const agent::ViewEvents& events, const agent::OcRole& oc) {
@@ -158,7 +158,7 @@ visualization_msgs::MarkerArray MissionView::goal_markers(const agent::OcRole& o
 
 bool MissionView::paths_changed(const std::vector<agent::Reply>& agents) const {
   for (const agent::Reply& r : agents)
-    if (r.path_revision != shown_path_[static_cast<std::size_t>(r.agent)]) return true;
+    if (r.path_revision != shown_path_[AgentId(r.agent)]) return true;
   return false;
 }
 
@@ -166,7 +166,7 @@ visualization_msgs::MarkerArray MissionView::path_markers(const std::vector<agen
                                                           const ros::Time& stamp) {
   visualization_msgs::MarkerArray out;
   for (const agent::Reply& r : agents) {
-    shown_path_[static_cast<std::size_t>(r.agent)] = r.path_revision;
+    shown_path_[AgentId(r.agent)] = r.path_revision;
     const plan::AgentAssignment& as = team_.assignment(AgentId(r.agent));
     if (as.collector) continue;  // its route is on /gather/plan_markers
     Marker m = marker(frame_, stamp, "paths", r.agent, Marker::LINE_STRIP);
@@ -183,7 +183,7 @@ visualization_msgs::MarkerArray MissionView::path_markers(const std::vector<agen
 tf2_msgs::TFMessage MissionView::transforms(const std::vector<agent::Reply>& agents, const ros::Time& stamp) {
   tf2_msgs::TFMessage out;
   for (const agent::Reply& r : agents) {
-    const std::size_t a = static_cast<std::size_t>(r.agent);
+    const AgentId a(r.agent);  // the lockstep master's last reply of each team agent
     const double dx = r.pose.x - last_pose_[a].x, dy = r.pose.y - last_pose_[a].y;
     if (dx * dx + dy * dy > 1e-6) yaw_[a] = std::atan2(dy, dx);  // heading: the way it moved
     last_pose_[a] = r.pose;

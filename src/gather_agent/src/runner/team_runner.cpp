@@ -162,7 +162,7 @@ TeamRunner::TeamRunner(TeamSetup& team, const RunOptions& options)
 
 TeamRunner::~TeamRunner() = default;
 
-Role& TeamRunner::role(int agent) { return *units_[static_cast<std::size_t>(agent) + 1].role; }
+Role& TeamRunner::role(AgentId agent) { return *units_[agent.index() + 1].role; }  // unit 0: the OC
 OcRole& TeamRunner::oc() { return static_cast<OcRole&>(*units_[0].role); }
 
 bool TeamRunner::tick() {

@@ -87,9 +87,9 @@ class MissionView {
   std::string frame_;
   std::vector<uint8_t> measured_;                // by goal id: reported measured by its worker
   std::vector<agent::HandoverEvent> handovers_;  // recent ones
-  std::vector<uint32_t> shown_path_;             // path revision shown, by agent
-  std::vector<double> yaw_;                      // by agent, from its last motion
-  std::vector<Point2> last_pose_;
+  PerAgent<uint32_t> shown_path_;                // path revision shown
+  PerAgent<double> yaw_;                         // from its last motion
+  PerAgent<Point2> last_pose_;
   Box box_;                  // where the team can be
   std::size_t settled_ = 0;  // goals [0, settled_) are all resolved
   bool over_ = false;        // the mission is over: lost goals are final

@@ -81,7 +81,7 @@ class TeamRunner {
   RunOutcome run();
 
   // For tests: the roles after (or during) a run.
-  Role& role(int agent);
+  Role& role(AgentId agent);
   OcRole& oc();
 
   // One tick (run() calls it until done); public for tests that inspect
