@@ -253,8 +253,11 @@ def with_rviz(label, run):
     kept = len(results)
     if run():
         return
+    discarded = results[kept:]
     del results[kept:]
-    print("WARN %s: RViz crashed (SIGSEGV, its own process); running it once more" % label, flush=True)
+    print("WARN %s: RViz crashed (SIGSEGV, its own process); the %d checks above from this attempt "
+          "(%d FAIL) are discarded; running it once more" % (label, len(discarded), discarded.count(False)),
+          flush=True)
     check("%s: RViz did not crash twice in a row" % label, run())
 
 
