@@ -63,8 +63,9 @@ TEST(IdsTest, ATableIsIndexedByItsIdAndGrowsLikeAVector) {
   EXPECT_EQ(load.values(), (std::vector<int>{0, 5, 7}));
   EXPECT_EQ(load[CollectorId(2)], 7);
   EXPECT_EQ(load.back(), 7);
-  const PerCollector<int> listed = {0, 5, 7};
+  const PerCollector<int> listed(std::vector<int>{0, 5, 7});
   EXPECT_EQ(listed, load);
+  EXPECT_EQ(PerAgent<int>(3, 0).count(), 3);  // n entries of a value, never the list {3, 0}
   load.assign(-3, 1);
   EXPECT_TRUE(load.empty());
 }

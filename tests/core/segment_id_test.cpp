@@ -28,7 +28,7 @@ TEST(SegmentIdTest, TheLabelAndTheTableIndexDifferByOne) {
 
 TEST(SegmentIdTest, APerSegmentTableIsIndexedByIds) {
   PerSegment<int> collector(3, -1);
-  EXPECT_EQ(collector.segments(), 3);
+  EXPECT_EQ(collector.count(), 3);
   collector[SegmentId(1)] = 0;
   collector[SegmentId(3)] = 2;
   EXPECT_EQ(collector.values(), (std::vector<int>{0, -1, 2}));

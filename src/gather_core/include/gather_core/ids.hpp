@@ -13,13 +13,11 @@
 // CSVs, the journal and the messages (gather_agent/messages.hpp, the radio's addresses,
 // which also name the OC and "everyone"); the code that reads or writes
 // those converts at the edge.
-#include <cassert>
 #include <cstddef>
-#include <initializer_list>
 #include <ostream>
 #include <string>
-#include <utility>
-#include <vector>
+
+#include "gather_core/id_table.hpp"
 
 namespace gather {
 
@@ -68,54 +66,6 @@ std::ostream& operator<<(std::ostream& out, Id<Tag> id) {
   return out << to_string(id);
 }
 
-// One T per id 0..size()-1, indexed by that kind of id only. Grows like the
-// vector it holds (tables built entry by entry: routes, assignments).
-template <class IdT, class T>
-class IdTable {
- public:
-  IdTable() = default;
-  explicit IdTable(int n, const T& fill = T{}) : values_(n > 0 ? static_cast<std::size_t>(n) : 0, fill) {}
-  explicit IdTable(std::vector<T> values) : values_(std::move(values)) {}
-  IdTable(std::initializer_list<T> values) : values_(values) {}  // entry 0 first
-
-  std::size_t size() const { return values_.size(); }
-  int count() const { return static_cast<int>(values_.size()); }
-  bool empty() const { return values_.empty(); }
-  // The entry of `id`, which must be in 0..size()-1.
-  T& operator[](IdT id) {
-    assert(id.within(count()));
-    return values_[id.index()];
-  }
-  const T& operator[](IdT id) const {
-    assert(id.within(count()));
-    return values_[id.index()];
-  }
-  T& front() { return values_.front(); }
-  const T& front() const { return values_.front(); }
-  T& back() { return values_.back(); }
-  const T& back() const { return values_.back(); }
-
-  void push_back(T value) { values_.push_back(std::move(value)); }
-  template <class... Args>
-  T& emplace_back(Args&&... args) {
-    return values_.emplace_back(std::forward<Args>(args)...);
-  }
-  void reserve(std::size_t n) { values_.reserve(n); }
-  void clear() { values_.clear(); }
-  void assign(int n, const T& fill) { values_.assign(n > 0 ? static_cast<std::size_t>(n) : 0, fill); }
-
-  typename std::vector<T>::iterator begin() { return values_.begin(); }
-  typename std::vector<T>::iterator end() { return values_.end(); }
-  typename std::vector<T>::const_iterator begin() const { return values_.begin(); }
-  typename std::vector<T>::const_iterator end() const { return values_.end(); }
-  const std::vector<T>& values() const { return values_; }
-
-  friend bool operator==(const IdTable& a, const IdTable& b) { return a.values_ == b.values_; }
-  friend bool operator!=(const IdTable& a, const IdTable& b) { return a.values_ != b.values_; }
-
- private:
-  std::vector<T> values_;
-};
 template <class T>
 using PerAgent = IdTable<AgentId, T>;
 template <class T>
@@ -123,31 +73,8 @@ using PerCollector = IdTable<CollectorId, T>;
 
 // The ids 0..n-1, for `for (AgentId a : ids<AgentId>(n))`.
 template <class IdT>
-class IdRange {
- public:
-  class iterator {
-   public:
-    constexpr explicit iterator(int value) : value_(value) {}
-    constexpr IdT operator*() const { return IdT(value_); }
-    constexpr iterator& operator++() {
-      ++value_;
-      return *this;
-    }
-    friend constexpr bool operator!=(iterator a, iterator b) { return a.value_ != b.value_; }
-
-   private:
-    int value_;
-  };
-  constexpr explicit IdRange(int n) : n_(n > 0 ? n : 0) {}
-  constexpr iterator begin() const { return iterator(0); }
-  constexpr iterator end() const { return iterator(n_); }
-
- private:
-  int n_;
-};
-template <class IdT>
 constexpr IdRange<IdT> ids(int n) {
-  return IdRange<IdT>(n);
+  return IdRange<IdT>(0, n);
 }
 
 }  // namespace gather

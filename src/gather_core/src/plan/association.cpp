@@ -72,7 +72,7 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
     bool known = false;
     double goals = 0.0, latency = 0.0, interval = 0.0;  // per cycle; [s]; [s]
   };
-  PerSegment<OcAlternative> alternatives(cfg.graph.segments.segments());
+  PerSegment<OcAlternative> alternatives(cfg.graph.segments.count());
   auto oc_alternative = [&](SegmentId segment) -> const OcAlternative& {
     OcAlternative& a = alternatives[segment];
     if (a.known) return a;

@@ -20,20 +20,20 @@ bool closer(const WorkerSegment& a, const WorkerSegment& b) {
 }  // namespace
 
 PerSegment<CollectorId> group_segments(const WorkerGraph& graph, int collectors, const PerSegment<double>& work) {
-  PerSegment<CollectorId> out(graph.segments.segments());
+  PerSegment<CollectorId> out(graph.segments.count());
   if (collectors <= 0) return out;
   std::vector<const WorkerSegment*> candidates;
   for (const WorkerSegment& s : graph.segments)
     if (!s.touches_coverage) candidates.push_back(&s);
   if (candidates.empty()) return out;
-  PerSegment<int> group(graph.segments.segments(), -1);  // the group (collector) 0.. of each segment, -1 none
+  PerSegment<int> group(graph.segments.count(), -1);  // the group (collector) 0.. of each segment, -1 none
   std::sort(candidates.begin(), candidates.end(),
             [](const WorkerSegment* a, const WorkerSegment* b) { return closer(*a, *b); });
 
   // Seeds: the candidate nearest the coverage, then repeatedly the candidate
   // farthest from the seeds so far among the inner ring (candidates adjacent
   // to a direct segment, or all candidates if the ring is too small).
-  PerSegment<uint8_t> direct(graph.segments.segments(), 0);
+  PerSegment<uint8_t> direct(graph.segments.count(), 0);
   for (const WorkerSegment& s : graph.segments) direct[s.id] = s.touches_coverage;
   std::vector<const WorkerSegment*> ring;
   for (const WorkerSegment* s : candidates)

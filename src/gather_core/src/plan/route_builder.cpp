@@ -175,7 +175,7 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
     const int from = -(rc / stride) * stride;
     const double step = opt.pass_step_m;
     std::vector<double> open_since(segments.size(), -1.0);
-    PerSegment<int> index_of(graph.segments.segments(), -1);  // position in `segments`
+    PerSegment<int> index_of(graph.segments.count(), -1);  // position in `segments`
     for (std::size_t i = 0; i < segments.size(); ++i) index_of[segments[i]] = static_cast<int>(i);
     auto seg_index = [&](int32_t label) { return label > 0 ? index_of[SegmentId(label)] : -1; };
     std::vector<uint8_t> near(segments.size());

@@ -43,10 +43,10 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
   const auto pair_sources = static_cast<std::size_t>(opt.pair_sources);
   const OccupancyGrid& grid = ctx.scenario.grid;
   require_same_size(labels, grid.frame(), "walking distances", "the label image");
-  PerSegment<std::vector<Cell>> cells(graph.segments.segments());
+  PerSegment<std::vector<Cell>> cells(graph.segments.count());
   for (std::size_t i = 0; i < labels.size(); ++i) {
     const SegmentId k(labels[i]);
-    if (k.within(cells.segments()) && ctx.reachable[i]) cells[k].push_back(grid.cell(i));
+    if (k.within(cells.count()) && ctx.reachable[i]) cells[k].push_back(grid.cell(i));
   }
   Field rank(labels.frame(), -1.0f);
   std::vector<uint64_t> order;
@@ -81,7 +81,7 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     for (double t : out)
       if (t < kInf) sum += t, ++n;
   };
-  for (SegmentId k : segment_ids(cells.segments())) {
+  for (SegmentId k : segment_ids(cells.count())) {
     WorkerSegment& seg = graph.segments[k];
     seg.mean_home_distance = seg.mean_coverage_distance;
     seg.mean_pair_distance = kSquarePairDistance * std::sqrt(seg.area);  // an open square's, until measured
