@@ -83,9 +83,10 @@ TEST(TeamSetup, ParametersOutOfRangeAndPlansOutOfOrderAreRefused) {
   p = c.params;
   p.cycles = 0;
   EXPECT_NE(refusal(p, c.plan).find("cycles must be in 1..100000"), std::string::npos);
-  mission::MissionPlan swapped = c.plan;  // entry 0 names agent 1: check_plan passes, the team does not
+  mission::MissionPlan swapped = c.plan;  // entry 0 names agent 1: check_plan refuses it for the team
   std::swap(swapped.file.agents[AgentId(0)], swapped.file.agents[AgentId(1)]);
-  EXPECT_NE(refusal(c.params, swapped), "");
+  EXPECT_NE(refusal(c.params, swapped).find("agents must be listed by id"), std::string::npos)
+      << refusal(c.params, swapped);
 }
 
 TEST(Outbox, RefusesBeyondItsCapacityAndCountsIt) {

@@ -66,7 +66,6 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
     params.data_capacity = std::max<std::size_t>(64, 4 * static_cast<std::size_t>(params.goals_per_request));
   if (params.notice_capacity == 0) params.notice_capacity = params.data_capacity;
 
-  assignment_ = pf.agents;  // check_plan made sure these are valid, distinct and listed by id
   collector_agent_ = mission::collector_agents(pf);
   worker_of_segment_ = PerSegment<AgentId>(pf.workers);
   for (const plan::AgentAssignment& a : pf.agents)

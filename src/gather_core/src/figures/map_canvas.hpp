@@ -32,8 +32,9 @@ class MapCanvas {
   void paint(Cell c, const cv::Vec3b& colour);
   // Scaled image with marks; the first call freezes the painted cells.
   cv::Mat& image();
-  double scale() const { return scale_; }  // [px per cell]
-  cv::Point px(Point2 p) const;            // map point [m] -> pixel
+  const OccupancyGrid& grid() const { return grid_; }  // the map drawn
+  double scale() const { return scale_; }              // [px per cell]
+  cv::Point px(Point2 p) const;                        // map point [m] -> pixel
   cv::Point px(Cell c) const;
   int px_len(double meters) const;  // a length [m] in pixels
 

@@ -32,7 +32,8 @@ cv::Vec3b to_vec(cv::Scalar s) {
 // the OC's coverage slightly darker (so it reads as an area).
 template <typename ColourOf>
 void paint_segments(MapCanvas& canvas, const LabelImage& labels, const Mask& coverage, ColourOf colour_of) {
-  require_same_size(labels, coverage.frame(), "plan figures", "the label image");
+  require_same_size(labels, canvas.grid().frame(), "plan figures", "the label image");
+  require_same_size(coverage, canvas.grid().frame(), "plan figures", "the coverage");
   const int w = labels.width(), h = labels.height();
   for (int r = 0; r < h; ++r)
     for (int c = 0; c < w; ++c) {

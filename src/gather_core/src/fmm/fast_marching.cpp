@@ -59,9 +59,7 @@ void FastMarching::set_unit_speed() {
 
 void FastMarching::set_speed(const Raster<double>& speed) {
   const std::size_t n = static_cast<std::size_t>(width_) * height_;
-  if (!speed.frame().same_size(frame()) || !speed.filled())
-    throw Error("speed map", "is " + speed.frame().size_text() + " cells holding " + std::to_string(speed.size()) +
-                                 " values, the grid " + frame().size_text());
+  require_same_size(speed, frame(), "fast marching", "the speed map");
   for (std::size_t i = 0; i < n; ++i) {
     const double f = speed[i];
     if (!(f >= 0.0) || !std::isfinite(f))

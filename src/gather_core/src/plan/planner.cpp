@@ -43,8 +43,7 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
   prepared.reachable = reachable;
   prepared.reachable_cells = reachable_cells;
   prepared.clearance = clearance.values();
-  coverage_distance = Raster<double>(grid.frame());
-  coverage_field.copy_times(coverage_distance);
+  coverage_distance = coverage_field.times();
   // The simulator's own table of distances from the OC's cell.
   oc_walk = mission::SharedDistances(*this).from_oc;
   for (std::size_t i = 0; i < coverage_distance.size(); ++i) {

@@ -75,8 +75,9 @@ class TeamSetup {
   std::unique_ptr<GridAStar> paths;  // A* on the reachable cells, for the simulated bases
   mission::AreaWeights areas;        // of the refresh interval (plan.yaml's area_tile_m)
 
-  int agents() const { return assignment_.count(); }
-  const plan::AgentAssignment& assignment(AgentId agent) const { return assignment_[agent]; }
+  // The plan's agents (check_plan: valid, distinct and listed by id).
+  int agents() const { return plan.file.agents.count(); }
+  const plan::AgentAssignment& assignment(AgentId agent) const { return plan.file.agents[agent]; }
   // The agent that drives `collector` (mission::collector_agents).
   AgentId collector_agent(CollectorId collector) const { return collector_agent_[collector]; }
   // The worker of `segment` (none: no worker).
@@ -104,7 +105,6 @@ class TeamSetup {
   double silent_timeout(const mission::MissionPlan& plan, AgentId agent) const;
 
  private:
-  PerAgent<plan::AgentAssignment> assignment_;
   PerCollector<AgentId> collector_agent_;
   PerSegment<AgentId> worker_of_segment_;  // none: no worker
   PerAgent<double> meeting_arc_;           // [m] (workers of collectors)
