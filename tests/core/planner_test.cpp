@@ -150,6 +150,7 @@ TEST_F(PlannerTest, TheTuningFieldsHaveRangesAndEachChangesThePlan) {
       {"lateness_bins", [](plan::PlannerOptions& o) { o.lateness_bins = 8; }},
       {"delivery_samples", [](plan::PlannerOptions& o) { o.delivery_samples = 1; }},
       {"area_goal_samples", [](plan::PlannerOptions& o) { o.area_goal_samples = 1; }},
+      {"exact_route_stops", [](plan::PlannerOptions& o) { o.exact_route_stops = 0; }},
       {"protocol.window_margin_m", [](plan::PlannerOptions& o) { o.protocol.window_margin_m = 0.0; }},
   };
   for (const auto& c : changes) {

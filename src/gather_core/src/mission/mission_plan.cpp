@@ -52,11 +52,11 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
   if (!(pf.area_tile_m > 0 && pf.area_tile_m <= 1e6))
     throw Error(where, "area_tile_m must be a finite value in (0, 1e6] m");
   PerAgent<char> id_seen(n, 0);
-  PerCollector<char> collector_seen(pf.collectors, 0);
   PerSegment<char> segment_seen(pf.workers, 0);
   for (AgentId k : ids<AgentId>(n)) {
     const plan::AgentAssignment& a = pf.agents[k];
     const std::string who = to_string(a.id);
+    // (Listed by id below implies once each; this names the usual mistake.)
     if (!a.id.within(n) || id_seen[a.id])
       throw Error(where, who + ": ids must be 0.." + std::to_string(n - 1) + ", once each");
     id_seen[a.id] = 1;
@@ -67,10 +67,8 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
       throw Error(where, who + ": agents 0.." + std::to_string(pf.collectors - 1) +
                              " must be the collectors, the others workers");
     if (a.collector) {
-      // Collector k is agent k (the plan's convention).
-      if (a.delivers_to.value() != a.id.value() || collector_seen[a.delivers_to])
-        throw Error(where, who + ": a collector's index must be its own id");
-      collector_seen[a.delivers_to] = 1;
+      // Collector k is agent k (the plan's convention; distinct as the ids are).
+      if (a.delivers_to.value() != a.id.value()) throw Error(where, who + ": a collector's index must be its own id");
       continue;
     }
     if (!a.segment.within(pf.workers) || segment_seen[a.segment])
