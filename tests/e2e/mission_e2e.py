@@ -125,10 +125,25 @@ def wait_visible(path, label, timeout=90):
     return False
 
 
+def screen_counts(img, collectors):
+    """Pixels of each collector's colour, and of each kind of goal marker."""
+    routes = [int(near(img, COLLECTOR_RGB[c]).sum()) for c in range(collectors)]
+    goals = {k: int(near(img, v, 22).sum()) for k, v in GOAL_RGB.items()}
+    return routes, goals
+
+
+def route_drawn(pixels):
+    return pixels >= 150
+
+
+def goals_drawn(goals):
+    return sum(1 for v in goals.values() if v >= 20) >= 2
+
+
 def drawn(img, collectors):
     """Every collector's colour and two kinds of goal markers on screen (check_screen's tests)."""
-    return (all(int(near(img, COLLECTOR_RGB[c]).sum()) >= 150 for c in range(collectors)) and
-            sum(1 for v in GOAL_RGB.values() if int(near(img, v, 22).sum()) >= 20) >= 2)
+    routes, goals = screen_counts(img, collectors)
+    return all(route_drawn(n) for n in routes) and goals_drawn(goals)
 
 
 def screenshot_when_drawn(path, label, collectors, timeout=20):
@@ -149,11 +164,10 @@ def near(img, rgb, tol=28):
 
 
 def check_screen(label, img, collectors):
-    for c in range(collectors):
-        n = int(near(img, COLLECTOR_RGB[c]).sum())
-        check("%s: collector C%d's colour on screen (route, its workers)" % (label, c), n >= 150, "%d pixels" % n)
-    goals = {k: int(near(img, v, 22).sum()) for k, v in GOAL_RGB.items()}
-    check("%s: goal markers on screen" % label, sum(1 for v in goals.values() if v >= 20) >= 2, str(goals))
+    routes, goals = screen_counts(img, collectors)
+    for c, n in enumerate(routes):
+        check("%s: collector C%d's colour on screen (route, its workers)" % (label, c), route_drawn(n), "%d pixels" % n)
+    check("%s: goal markers on screen" % label, goals_drawn(goals), str(goals))
 
 
 def oc_pixel(img):

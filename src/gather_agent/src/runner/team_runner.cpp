@@ -268,7 +268,7 @@ RunOutcome TeamRunner::run() {
           for (std::size_t k = 0; k < c->size(); ++k)
             if (c->item(k).key == g.id.value())
               where += " held by " + std::to_string(i - 1) + "(" + item_kind_name(c->item(k).kind) + ")";
-      const Role* w = g.worker.valid() ? units_[g.worker.index() + 1].role.get() : nullptr;  // unit 0: the OC
+      const Role* w = g.worker.valid() ? &role(g.worker) : nullptr;
       std::fprintf(
           stderr, "unresolved goal %d cycle %d worker %d seg %d deadline %.1f:%s worker knows %d phase %d\n",
           g.id.value(), g.cycle, g.worker.value(), g.segment.label(), g.deadline, where.c_str(),
