@@ -55,7 +55,7 @@ struct Stepper {
   std::vector<Message> inbox_store;
   std::vector<const Message*> inbox;
   void step(double t, std::vector<Message> in = {}) {
-    unit.motion->advance(t);
+    unit.motion->update(t);
     inbox_store = std::move(in);
     inbox.clear();
     for (const Message& m : inbox_store) inbox.push_back(&m);

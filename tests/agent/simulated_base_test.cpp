@@ -1,5 +1,5 @@
-// motion/simulated_base: a worker's simulated kinematics drive each leg on a
-// free path at the pace that reaches its end at the planned time.
+// motion/simulated_base: a worker's ideal base drives each leg on a free path
+// at the pace that reaches its end at the planned time, and reports it.
 #include "gather_agent/motion/simulated_base.hpp"
 
 #include <gtest/gtest.h>
@@ -10,7 +10,6 @@
 
 #include "../core/predicate_grid.hpp"
 #include "gather_core/error.hpp"
-#include "gather_core/mission/route_timetable.hpp"
 
 namespace gather {
 namespace agent {
@@ -33,17 +32,23 @@ TEST(SimulatedBase, ALegInTheOpenIsAStraightLineDrivenAtThePlannedPace) {
   const Waypoint leg{Point2{3.55, 0.55}, 13.0};  // 3 m in 3 s from t = 10
   base.go(&leg, 1, 10.0);
   EXPECT_EQ(base.path_points(0), 2u);
-  base.advance(11.5);
+  base.update(11.5);
   EXPECT_NEAR(base.pose().x, 2.05, 1e-6);
   EXPECT_NEAR(base.pose().y, 0.55, 1e-6);
   EXPECT_EQ(base.legs_done(), 0u);
-  base.advance(13.0);
+  EXPECT_EQ(base.state(), NavState::kActive);
+  EXPECT_NEAR(base.speed(), 1.0, 1e-9);
+  base.update(13.0);
   EXPECT_EQ(base.legs_done(), 1u);
   EXPECT_DOUBLE_EQ(base.arrived_at(0), 13.0);
   EXPECT_NEAR(base.pose().x, 3.55, 1e-6);
-  base.hold();
-  base.advance(20.0);
-  EXPECT_NEAR(base.pose().x, 3.55, 1e-6);  // held: it stays
+  EXPECT_EQ(base.state(), NavState::kReached);
+  EXPECT_DOUBLE_EQ(base.arrival_estimate(), 13.0);
+  EXPECT_NEAR(base.heading(), 0.0, 1e-12);  // east
+  base.stop(13.0);
+  EXPECT_EQ(base.state(), NavState::kIdle);
+  base.update(20.0);
+  EXPECT_NEAR(base.pose().x, 3.55, 1e-6);  // stopped: it stays
 }
 
 TEST(SimulatedBase, AWallSendsTheLegThroughItsDoorOnFreeCells) {
@@ -69,12 +74,12 @@ TEST(SimulatedBase, AWallSendsTheLegThroughItsDoorOnFreeCells) {
   double highest = 0.0;
   for (std::size_t i = 0; i < base.path_points(0); ++i) highest = std::max(highest, base.path_point(0, i).y);
   EXPECT_TRUE(through_door || highest >= 1.5);
-  base.advance(100.0);
+  base.update(100.0);
   EXPECT_NEAR(base.pose().x, 3.55, 1e-6);
   EXPECT_NEAR(base.pose().y, 0.25, 1e-6);
 }
 
-TEST(SimulatedBase, ItsDetourFactorHasARangeAndACollectorRouteIsRefused) {
+TEST(SimulatedBase, ItsDetourFactorHasARange) {
   const OccupancyGrid grid = predicate_grid(
       10, 10, [](int, int) { return true; }, 0.1);
   const Mask traversable = free_cells(grid);
@@ -87,11 +92,6 @@ TEST(SimulatedBase, ItsDetourFactorHasARangeAndACollectorRouteIsRefused) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("detour = 0.5 must be in [1, 10]"), std::string::npos) << e.what();
   }
-  SimulatedBase base(grid, paths, Point2{0.05, 0.05}, 2, 1.0);
-  plan::CollectorRoute r;
-  r.waypoints = {Point2{0.05, 0.05}, Point2{0.55, 0.05}};
-  const mission::RouteTimetable route(r, 1.0, 10.0, traversable);
-  EXPECT_THROW(base.follow(route), Error);
 }
 
 }  // namespace

@@ -24,6 +24,7 @@ constexpr int kMaxRequestParts = 64;    // so at most 16384 goals a request
 constexpr int kMaxBatch = 64;           // data items or acks in one message
 constexpr int kMaxDead = 32;            // agents the OC declares dead in one mission (docs/faults.md)
 constexpr int kMaxHeard = 64;           // workers a collector reports news of in one state message
+constexpr double kMaxDelay = 1e6;       // [s] a collector's delay a message may carry, either way
 
 enum class Kind : uint8_t { kRequest = 1, kData = 2, kAck = 3, kState = 4 };
 const char* kind_name(Kind k);
@@ -38,6 +39,9 @@ struct Header {
   Point2 pos;            // [m] sender's position at sending
   int32_t request = -1;  // newest request the sender knows, -1 none
   uint8_t dead = 0;      // how many of the OC's declarations of dead agents the sender knows
+  // [s] a collector: how far behind its timetable it is at sending (< 0:
+  // ahead), measured from what its robot reported; 0 from anyone else.
+  double delay = 0.0;
 };
 
 // One part of goal request `request`: goals first_goal .. first_goal +
@@ -66,6 +70,7 @@ enum class ItemKind : uint8_t {
   kExpired = 2,   // goal `key` not measured before its deadline
   kDropped = 3,   // goal `key` measured, but its data could not be stored (buffer full)
   kSkipped = 4,   // a request never reached worker `by` before its deadline: its goals there expired (key: skipped_key)
+  kUnreachable = 5,  // goal `key`: worker `by`'s robot could not reach it (its navigation gave up)
 };
 const char* item_kind_name(ItemKind k);
 
@@ -73,9 +78,12 @@ struct DataItem {
   int32_t key = 0;  // goal id (>= 0); kSkipped: skipped_key(request, worker) (< 0)
   ItemKind kind = ItemKind::kMeasured;
   int16_t by = -1;             // the worker that measured (expired, skipped) it
-  double at = 0.0;             // [s] measured_at, or when it expired / was dropped
+  double at = 0.0;             // [s] measured_at, or when it expired / was dropped / was given up
   int16_t picked_up_by = -1;   // the collector that took it from the worker, -1 none
   double picked_up_at = -1.0;  // [s]
+  // [s] the deadline the worker applied to the goal (its request's, counted
+  // from when the request reached it); +inf: none (a worker of the OC).
+  double deadline = 0.0;
 };
 // Keys of skip notices: one per (request, worker), all negative.
 constexpr int kMaxRequests = 100000;

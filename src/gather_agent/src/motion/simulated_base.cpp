@@ -29,13 +29,10 @@ SimulatedBase::SimulatedBase(const OccupancyGrid& grid, GridAStar& paths, Point2
   tail_.reserve(static_cast<std::size_t>(4 * (grid.width() + grid.height())));
 }
 
-void SimulatedBase::follow(const mission::RouteTimetable&) {
-  throw Error("motion", "the simulated worker base cannot drive a collector route");
-}
-
-void SimulatedBase::hold() {
+void SimulatedBase::stop(double) {
   if (n_ > 0) ++revision_;
   n_ = done_ = 0;
+  speed_now_ = 0.0;
   points_.clear();
 }
 
@@ -168,11 +165,12 @@ void SimulatedBase::go(const Waypoint* legs, std::size_t n, double depart) {
     }
     from = legs[i].point;
   }
-  advance(std::max(now_, depart));
+  update(std::max(now_, depart));
 }
 
-void SimulatedBase::advance(double now) {
+void SimulatedBase::update(double now) {
   now_ = now;
+  speed_now_ = 0.0;
   while (done_ < n_ && legs_[done_].arrive <= now) ++done_;
   if (n_ == 0) return;
   if (done_ == n_) {
@@ -189,6 +187,8 @@ void SimulatedBase::advance(double now) {
     if (s <= seg || k + 1 == spans_[i].second) {
       const double g = seg > 0 ? std::min(1.0, s / seg) : 1.0;
       pose_ = Point2{a.x + g * (b.x - a.x), a.y + g * (b.y - a.y)};
+      if (seg > 0) heading_ = std::atan2(b.y - a.y, b.x - a.x);
+      speed_now_ = t1 > t0 ? lengths_[i] / (t1 - t0) : 0.0;
       return;
     }
     s -= seg;

@@ -1,12 +1,21 @@
 #include "gather_agent/roles/collector_role.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "gather_core/error.hpp"
 
 namespace gather {
 namespace agent {
+namespace {
+
+// [s] the delay measured from the robot's position between two waypoints
+// counts once it is this much larger than the one measured at the waypoints
+// (an ideal base's position gives float noise only).
+constexpr double kPositionDelayFloor = 0.05;
+
+}  // namespace
 
 CollectorRole::CollectorRole(TeamSetup& team, AgentId agent, MotionBackend& motion)
     : Role(static_cast<int16_t>(agent.value()), motion),
@@ -26,16 +35,22 @@ CollectorRole::CollectorRole(TeamSetup& team, AgentId agent, MotionBackend& moti
   parts_.resize(std::max<std::size_t>(1, (g + kRequestPartGoals - 1) / kRequestPartGoals));
   acks_.reserve(kMaxBatch);
   dead_.reserve(kMaxDead);
+  legs_.resize(std::max<std::size_t>(1, route_.waypoints().size()));
+  if (motion.max_legs() < legs_.size())
+    throw Error(to_string(agent), "its motion backend takes " + std::to_string(motion.max_legs()) +
+                                      " waypoints a command, its route has " + std::to_string(legs_.size()));
   next_beacon_ = team.params.beacon_period * static_cast<double>(agent.value() % 10) / 10.0;
+  next_depart_ = route_.schedule().next_departure(0.0);
   counters_.role = RoleKind::kCollector;
   counters_.id = agent.value();
-  motion.follow(route_);
 }
 
 RoleReport CollectorRole::report() const {
   RoleReport r = counters_;
   r.requests = newest_request();
   r.dead_known = static_cast<int64_t>(dead_.size());
+  r.legs = legs_stats_.legs(), r.legs_late = legs_stats_.late();
+  r.late_median_s = legs_stats_.median_late(), r.late_max_s = legs_stats_.max_late();
   return r;
 }
 
@@ -43,8 +58,22 @@ void CollectorRole::restore(const DataItem* items, std::size_t n, const Progress
   for (std::size_t i = 0; i < n; ++i)
     if (custody_.put(items[i]) == Custody::Put::kFull) ++counters_.refused_full;
   dead_.assign(p.dead.begin(), p.dead.end());
-  if (std::find(dead_.begin(), dead_.end(), id_) != dead_.end()) retired_ = true, motion_.hold();
-  prev_ = now;  // the passes ahead of it, not those behind: it hands requests on from here
+  if (std::find(dead_.begin(), dead_.end(), id_) != dead_.end()) retired_ = true, motion_.stop(now);
+  // The passes ahead of it, not those behind: it hands requests on from here.
+  timetable_prev_ = now;
+  if (retired_ || route_.idle()) return;
+  // Back on the timetable: the rest of the loop the timetable drives now
+  // (from its next waypoint), or the next loop.
+  const double depart = route_.schedule().last_departure(now);
+  const double into = now - depart;
+  const std::vector<double>& arc = route_.arcs();
+  if (into < route_.period()) {
+    std::size_t first = 1;
+    while (first + 1 < arc.size() && arc[first] / route_.speed() <= into) ++first;
+    command_loop(depart, first, now);
+  } else {
+    next_depart_ = route_.schedule().next_departure(now);
+  }
 }
 
 CollectorRole::Served* CollectorRole::served(int16_t agent) {
@@ -53,10 +82,10 @@ CollectorRole::Served* CollectorRole::served(int16_t agent) {
   return nullptr;
 }
 
-void CollectorRole::on_request(const RequestPart& part) {
+void CollectorRole::on_request(const RequestPart& part, double now) {
   if (learn_dead(part) && std::find(dead_.begin(), dead_.end(), id_) != dead_.end()) {
     retired_ = true;  // declared dead: the plan was repaired around it
-    motion_.hold();
+    motion_.stop(now);
   }
   if (part.request < request_id_ || part.request >= team_.params.cycles) return;
   if (part.parts == 0 || part.parts > kMaxRequestParts || part.part >= part.parts || part.count > kRequestPartGoals)
@@ -81,15 +110,90 @@ void CollectorRole::hand_request(Served& w, double now, Outbox& out) {
   w.handed_dead = dead_.size();
 }
 
+double CollectorRole::planned_at(std::size_t vertex) const {
+  return loop_depart_ + route_.arcs()[vertex] / route_.speed();
+}
+
+void CollectorRole::command_loop(double depart, std::size_t first, double now) {
+  const std::vector<Point2>& w = route_.waypoints();
+  loop_depart_ = depart, loop_first_ = first;
+  std::size_t n = 0;
+  for (std::size_t v = first; v < w.size(); ++v) legs_[n++] = Waypoint{w[v], planned_at(v)};
+  motion_.go(legs_.data(), n, now);
+  legs_seen_ = 0;
+  driving_ = true;
+  next_depart_ = route_.schedule().next_departure(depart + route_.period());
+}
+
+void CollectorRole::drive(double now) {
+  if (route_.idle()) {  // no workers to meet: it waits at the OC
+    if (!parked_) {
+      const Waypoint at{route_.waypoints().empty() ? team_.world.scenario.oc : route_.waypoints().front(), now};
+      motion_.go(&at, 1, now);
+      parked_ = true;
+    }
+    delay_ = 0.0;
+    timetable_now_ = now;
+    return;
+  }
+  const std::size_t n = route_.waypoints().size() - loop_first_;  // waypoints of the loop commanded
+  if (driving_)
+    for (; legs_seen_ < std::min(motion_.legs_done(), n); ++legs_seen_)
+      legs_stats_.add(motion_.arrived_at(legs_seen_) - planned_at(loop_first_ + legs_seen_));
+  if (driving_) {
+    switch (motion_.state()) {
+      case NavState::kReached: driving_ = false; break;
+      case NavState::kFailed: {
+        // A waypoint it cannot reach: on to the next one (the last, the OC:
+        // again until it gets there).
+        ++counters_.nav_failures;
+        const std::size_t skip = std::min(motion_.legs_done() + 1, n - 1);
+        command_loop(loop_depart_, loop_first_ + skip, now);
+        break;
+      }
+      case NavState::kIdle:  // stopped under it (a restart of its robot): the rest of the loop
+        command_loop(loop_depart_, loop_first_ + std::min(motion_.legs_done(), n - 1), now);
+        break;
+      default: break;
+    }
+  }
+  if (!driving_ && now >= next_depart_) {
+    // The latest loop of the timetable that has started and was not driven
+    // yet: a collector back late drives on at once, on a later loop if it
+    // missed the start of one.
+    command_loop(std::max(next_depart_, route_.schedule().last_departure(now)), 1, now);
+  }
+  // Its delay: how late it reached its last waypoint, or how overdue the
+  // next one is, or (between the two) how far its position on the way is
+  // behind the timetable's.
+  double d = 0.0;
+  if (driving_) {
+    const std::size_t done = std::min(motion_.legs_done(), route_.waypoints().size() - loop_first_);
+    if (done > 0) d = motion_.arrived_at(done - 1) - planned_at(loop_first_ + done - 1);
+    const std::size_t next = loop_first_ + done;
+    if (next < route_.waypoints().size()) {
+      if (now > planned_at(next)) d = std::max(d, now - planned_at(next));
+      const Point2 a = route_.waypoints()[next - 1], b = route_.waypoints()[next], p = motion_.pose();
+      const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+      const double f = len2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / len2, 0.0, 1.0) : 1.0;
+      const double at_pos = planned_at(next - 1) + f * (planned_at(next) - planned_at(next - 1));
+      if (now - at_pos > d + kPositionDelayFloor) d = now - at_pos;
+    }
+  }
+  delay_ = d;
+  timetable_now_ = std::max(timetable_prev_, now - d);
+}
+
 void CollectorRole::step(double now, const Message* const* inbox, std::size_t n, Outbox& out) {
   if (retired_) return;
+  drive(now);
   for (std::size_t i = 0; i < n; ++i) {
     const Message& m = *inbox[i];
     if (Served* w = served(m.h.sender)) w->heard_at = now;
     if (m.h.dest != id_ && m.h.dest != kBroadcast) continue;
     switch (m.h.kind) {
       case Kind::kRequest:
-        if (m.h.sender == kOc) on_request(m.request);
+        if (m.h.sender == kOc) on_request(m.request, now);
         break;
       case Kind::kAck:
         if (m.h.sender == kOc && m.h.dest == id_)
@@ -133,10 +237,12 @@ void CollectorRole::step(double now, const Message* const* inbox, std::size_t n,
       }
     }
   }
-  // The request goes to each worker as the route passes its meeting area.
+  // The request goes to each worker as the collector passes its meeting
+  // area: where its timetable, shifted by its delay, is.
   for (Served& w : workers_)
-    if (route_.next_time_at(w.meeting_arc, prev_ < 0 ? 0.0 : prev_) <= now) hand_request(w, now, out);
-  prev_ = now;
+    if (route_.next_time_at(w.meeting_arc, timetable_prev_ < 0 ? 0.0 : timetable_prev_) <= timetable_now_)
+      hand_request(w, now, out);
+  timetable_prev_ = timetable_now_;
 
   // Deliver while inside the coverage; say hello when entering it (the OC
   // passes on its newest request).

@@ -181,6 +181,10 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
     ++duplicates_;
     return true;
   }
+  // The deadline the worker applied counts from when the request reached
+  // it: a collector late on its timetable handed it over late (never
+  // earlier than the timetable's, which the OC knows).
+  if (std::isfinite(item.deadline) && item.deadline > g.deadline) g.deadline = item.deadline;
   // Its deadline is the new worker's (goals.csv keeps the worker it was
   // issued to; measured_by says who measured it).
   if (new_owner)
@@ -194,6 +198,12 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
       // of the OC, which the OC's record could not know at the issue.
       if (item.at > g.deadline && item.picked_up_by < 0 && sender == by && team_.assignment(sender).delivers_to.valid())
         g.deadline = std::numeric_limits<double>::infinity();
+      if (item.at > g.deadline + 1e-9) {  // measured too late: it expired, whatever the data says
+        ++late_;
+        g.expired_at = std::max(g.deadline, g.requested_at);
+        resolve(g, mission::GoalState::kExpired);
+        break;
+      }
       g.measured_at = item.at, g.measured_by = by;
       g.picked_up_at = item.picked_up_at;
       g.picked_up_by = AgentId(item.picked_up_by);  // checked above: an agent, or none
@@ -209,6 +219,10 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
       g.measured_at = item.at, g.measured_by = by;
       g.dropped_at = item.at;
       resolve(g, mission::GoalState::kDropped);
+      break;
+    case ItemKind::kUnreachable:
+      g.unreachable_at = std::max(item.at, g.requested_at);
+      resolve(g, mission::GoalState::kUnreachable);
       break;
     default: return false;
   }

@@ -27,6 +27,28 @@ const char* item_kind_name(ItemKind k) {
     case ItemKind::kExpired: return "expired";
     case ItemKind::kDropped: return "dropped";
     case ItemKind::kSkipped: return "skipped";
+    case ItemKind::kUnreachable: return "unreachable";
+  }
+  return "?";
+}
+
+const char* nav_state_name(NavState s) {
+  switch (s) {
+    case NavState::kIdle: return "idle";
+    case NavState::kActive: return "active";
+    case NavState::kReached: return "reached";
+    case NavState::kFailed: return "failed";
+    case NavState::kBlocked: return "blocked";
+  }
+  return "?";
+}
+
+const char* base_fault_name(BaseFault f) {
+  switch (f) {
+    case BaseFault::kNone: return "none";
+    case BaseFault::kSilent: return "silent";
+    case BaseFault::kOffMap: return "off_map";
+    case BaseFault::kLost: return "lost";
   }
   return "?";
 }
@@ -158,6 +180,7 @@ Message* Role::send(Outbox& out, Kind kind, int16_t dest, double now) {
   m->h.t = now;
   m->h.pos = motion_.pose();
   m->h.request = newest_request();
+  m->h.delay = delay();
   m->h.dead = static_cast<uint8_t>(dead_.size());
   return m;
 }

@@ -76,8 +76,8 @@ WorkerRole::WorkerRole(TeamSetup& team, AgentId agent, MotionBackend& motion)
   dead_.reserve(kMaxDead);
 }
 
-double WorkerRole::deadline(int cycle) const {
-  return policy_->delivers_to_oc() ? kInf : team_.deadline(policy_->agent(), cycle);
+double WorkerRole::deadline(int cycle, double delay) const {
+  return policy_->delivers_to_oc() ? kInf : team_.deadline(policy_->agent(), cycle) + delay;
 }
 
 void WorkerRole::progress(Progress& out) const {
@@ -126,7 +126,7 @@ void WorkerRole::repair(double now) {
   const mission::RepairedPlan& r = team_.repaired(set.data(), set.size());
   if (r.dead[policy_->agent()]) {  // declared dead while alive: it stops for good
     retired_ = true;
-    motion_.hold();
+    motion_.stop(now);
     phase_ = Phase::kDone;
     TRACE("%.1f retired: declared dead\n", now);
     return;
@@ -158,13 +158,16 @@ RoleReport WorkerRole::report() const {
   r.pending = static_cast<int64_t>(known_.size());
   r.requests = newest_request();
   r.dead_known = static_cast<int64_t>(dead_.size());
+  r.legs = legs_stats_.legs(), r.legs_late = legs_stats_.late();
+  r.late_median_s = legs_stats_.median_late(), r.late_max_s = legs_stats_.max_late();
   return r;
 }
 
 bool WorkerRole::contact(double now) const {
   const Point2 here = motion_.pose();
   if (policy_->delivers_to_oc()) return team_.linked(here, team_.world.scenario.oc);
-  return team_.linked(here, policy_->route()->position(now));
+  // Where its collector is: its timetable, as late as it last said it was.
+  return team_.linked(here, policy_->route()->position(now - collector_delay_));
 }
 
 double WorkerRole::due_time() const {
@@ -176,7 +179,7 @@ double WorkerRole::due_time() const {
              : mission::request_reaches_worker(*policy_->route(), policy_->meeting_arc(), resolved_ + 1, team_.period);
 }
 
-void WorkerRole::on_request(const RequestPart& part, int16_t) {
+void WorkerRole::on_request(const RequestPart& part, int16_t, double delay) {
   const OccupancyGrid& grid = team_.world.scenario.grid;
   if (part.request <= resolved_ || part.request < request_.id) return;  // old news
   if (part.request >= team_.params.cycles || part.parts == 0 || part.parts > kMaxRequestParts ||
@@ -188,6 +191,7 @@ void WorkerRole::on_request(const RequestPart& part, int16_t) {
     request_.id = part.request;
     request_.parts = part.parts;
     request_.seen = 0;
+    request_.delay = delay;
     request_.mine.clear();
   }
   if (part.parts != request_.parts || ((request_.seen >> part.part) & 1)) return;
@@ -211,24 +215,38 @@ void WorkerRole::notice(ItemKind kind, int32_t key, double at) {
   ++progress_version_;
   DataItem item;
   item.key = key, item.kind = kind, item.by = id_, item.at = at;
+  item.deadline = key >= 0 ? goal_deadline(GoalId(key)) : kInf;
   if (custody_.put(item) == Custody::Put::kFull) ++counters_.lost_notices;
   if (kind == ItemKind::kExpired) ++counters_.expired;
   if (kind == ItemKind::kSkipped) ++counters_.skipped;
   if (kind == ItemKind::kDropped) ++counters_.dropped;
+  if (kind == ItemKind::kUnreachable) ++counters_.unreachable;
+}
+
+double WorkerRole::goal_deadline(GoalId goal) const {
+  for (std::size_t i = 0; i < policy_->goals(); ++i)
+    if (policy_->goal(i).id == goal) return policy_->goal(i).deadline;
+  return kInf;
 }
 
 void WorkerRole::measure(int local, double at) {
-  const GoalId goal = policy_->goal(static_cast<std::size_t>(local)).id;
+  const mission::KnownGoal& g = policy_->goal(static_cast<std::size_t>(local));
+  const GoalId goal = g.id;
   const auto it = std::find(known_.begin(), known_.end(), local);
   if (it == known_.end()) return;  // expired meanwhile (within the deadline's tolerance): its notice is out
   known_.erase(it);
   ++progress_version_;
+  if (at > g.deadline + kEps) {  // its robot got there too late: the goal expired on the way
+    notice(ItemKind::kExpired, goal.value(), g.deadline);
+    return;
+  }
   if (custody_.data_full()) {
     notice(ItemKind::kDropped, goal.value(), at);  // the measurement has no room: reported, never silently lost
     return;
   }
   DataItem item;
   item.key = goal.value(), item.kind = ItemKind::kMeasured, item.by = id_, item.at = at;
+  item.deadline = g.deadline;
   custody_.put(item);
   ++counters_.measured;
   measured_in_step_.push_back(goal);
@@ -241,7 +259,7 @@ void WorkerRole::skip_overdue(double now) {
   if (policy_->delivers_to_oc()) return;
   while (resolved_ + 1 < team_.params.cycles) {
     const int c = resolved_ + 1;
-    const double d = deadline(c);
+    const double d = deadline(c, collector_delay_);
     if (d > now + kEps) break;
     notice(ItemKind::kSkipped, skipped_key(c, id_), d);
     TRACE("%.1f skip request %d (deadline %.1f)\n", now, c, d);
@@ -270,15 +288,28 @@ bool WorkerRole::settled(double now, bool in_contact) {
     case Phase::kReady: return true;
     case Phase::kMoving:
     case Phase::kDone: return false;
-    case Phase::kAtPass:
-      // Decide again once the data is gone (taken on the way or at the pass);
-      // a pass without a link keeps the data for a later one.
+    case Phase::kAtPass: {
+      // Decide again once the data is gone (taken on the way or at the pass),
+      // or when its collector said it is later (or earlier) than the plan
+      // assumed; a pass without a link keeps the data for a later one.
       if (custody_.data() == 0) return true;
+      if (std::abs(collector_delay_ - delay_used_) > team_.params.protocol.replan_guard_s) return true;
       if (now >= link_until_ && !in_contact) {
+        // Not a word from its collector since before the pass was due: it
+        // is late, by now - its timetable's pass at least. It waits on for
+        // it, up to a bound.
+        const double on_time = pass_ - delay_used_;
+        const double bound = team_.params.protocol.wait_loops * policy_->route()->period();
+        if (upstream_heard_ < on_time - 1.0 && now - on_time <= bound) {
+          collector_delay_ = std::max(collector_delay_, now - on_time);
+          TRACE("%.1f collector not seen at the pass due %.1f: assumed %.1f s late\n", now, on_time, collector_delay_);
+          return true;
+        }
         no_meeting_before_ = link_until_ + 1.0;
         return true;
       }
       return false;
+    }
     case Phase::kSettling:
       // Back in the coverage: everything delivered, and the OC said which
       // request is newest (and passed it on if this worker lacked it).
@@ -300,10 +331,12 @@ void WorkerRole::decide(double now) {
     // request reaches the worker: now, if that is before the timetable's
     // deadline, as after a collector's restart that lost a request).
     for (int c = resolved_ + 1; c < request_.id; ++c)
-      notice(ItemKind::kSkipped, skipped_key(c, id_), oc_worker ? now : std::min(now, deadline(c)));
+      notice(ItemKind::kSkipped, skipped_key(c, id_), oc_worker ? now : std::min(now, deadline(c, request_.delay)));
     for (int local : known_) notice(ItemKind::kExpired, policy_->goal(static_cast<std::size_t>(local)).id.value(), now);
     known_.clear();
-    const double due = oc_worker ? mission::request_deadline(now, kInf, team_.period) : deadline(request_.id);
+    const double due =
+        oc_worker ? mission::request_deadline(now, kInf, team_.period) : deadline(request_.id, request_.delay);
+    learned_delay_ = request_.delay;
     scratch_.assign(request_.mine.begin(), request_.mine.end());
     for (mission::KnownGoal& g : scratch_) g.deadline = due;
     policy_->reserve(scratch_.size());
@@ -314,8 +347,9 @@ void WorkerRole::decide(double now) {
   }
   const bool more = resolved_ + 1 < team_.params.cycles;
   const mission::Spot spot{grid.world_to_cell(motion_.pose()), at_rv_, at_landing_, at_meeting_};
-  const mission::WorkerPolicy::Decision d =
-      policy_->decide(spot, now, known_.data(), known_.size(), custody_.data(), more, no_meeting_before_);
+  const mission::WorkerPolicy::Decision d = policy_->decide(spot, now, known_.data(), known_.size(), custody_.data(),
+                                                            more, no_meeting_before_, collector_delay_);
+  delay_used_ = collector_delay_;
   TRACE("%.1f decide: resolved %d known %zu carrying %zu -> action %d k %zu rv %d arrive %.1f handover %.1f\n", now,
         resolved_, known_.size(), custody_.data(), static_cast<int>(d.action), d.k, d.rendezvous, d.arrive, d.handover);
 
@@ -329,11 +363,11 @@ void WorkerRole::decide(double now) {
   using Action = mission::WorkerPolicy::Action;
   switch (d.action) {
     case Action::kDone:
-      motion_.hold();
+      motion_.stop(now);
       phase_ = Phase::kDone;
       return;
     case Action::kWait:
-      motion_.hold();
+      motion_.stop(now);
       phase_ = Phase::kWaiting;
       return;
     case Action::kGoToRendezvous:
@@ -356,6 +390,7 @@ void WorkerRole::decide(double now) {
         target_rv_ = d.rendezvous;
         handover_ = d.handover;
         link_until_ = d.link_until;
+        pass_ = d.pass;
         plan_is_work_ = true;
       } else {
         const Cell last = policy_->goal(static_cast<std::size_t>(d.tour[d.k - 1])).cell;
@@ -367,9 +402,65 @@ void WorkerRole::decide(double now) {
       }
       break;
   }
+  if (n_legs_ == 0) {  // cannot happen: every action above drives somewhere
+    motion_.stop(now);
+    phase_ = Phase::kReady;
+    return;
+  }
   motion_.go(legs_.data(), n_legs_, now);
   phase_ = Phase::kMoving;
   at_rv_ = -1, at_landing_ = false, at_meeting_ = false;
+}
+
+void WorkerRole::follow_progress(double now) {
+  const bool oc_worker = policy_->delivers_to_oc();
+  // Goals reached are measured at the time the robot reached them.
+  const std::size_t done = std::min(motion_.legs_done(), n_legs_);
+  for (; legs_seen_ < done; ++legs_seen_) {
+    legs_stats_.add(motion_.arrived_at(legs_seen_) - legs_[legs_seen_].arrive);
+    if (leg_goal_[legs_seen_] >= 0) measure(leg_goal_[legs_seen_], motion_.arrived_at(legs_seen_));
+  }
+  if (done == n_legs_) {
+    at_rv_ = target_rv_;
+    at_landing_ = ends_at_landing_;
+    at_meeting_ = ends_at_meeting_;
+    if (!oc_worker) {
+      phase_ = plan_is_work_ ? Phase::kAtPass : Phase::kReady;
+    } else if (team_.world.covered(team_.world.scenario.grid.world_to_cell(motion_.pose()))) {
+      phase_ = Phase::kSettling;
+      heard_oc_ = false;
+      last_hello_ = -kInf;
+    } else {
+      phase_ = Phase::kReady;
+    }
+    return;
+  }
+  const NavState state = motion_.state();
+  if (state == NavState::kFailed || state == NavState::kIdle) {
+    // Its robot gave up the next waypoint (or dropped the command): a goal
+    // there is unreachable; from where it is, it decides again.
+    if (state == NavState::kFailed) {
+      ++counters_.nav_failures;
+      const int goal = leg_goal_[done];
+      if (goal >= 0 && std::find(known_.begin(), known_.end(), goal) != known_.end()) {
+        known_.erase(std::find(known_.begin(), known_.end(), goal));
+        notice(ItemKind::kUnreachable, policy_->goal(static_cast<std::size_t>(goal)).id.value(), now);
+      }
+    }
+    TRACE("%.1f robot %s at waypoint %zu of %zu: decide again\n", now, nav_state_name(state), done, n_legs_);
+    phase_ = Phase::kReady;
+    return;
+  }
+  // Late by more than the guard on the plan, or its collector's delay
+  // moved by that much since it planned: decide again from where it is.
+  const double guard = team_.params.protocol.replan_guard_s;
+  const double eta = motion_.arrival_estimate();
+  if ((eta < kInf && eta - legs_[n_legs_ - 1].arrive > guard) ||
+      (!oc_worker && std::abs(collector_delay_ - delay_used_) > guard)) {
+    TRACE("%.1f replan: estimate %.1f for %.1f, collector delay %.1f (planned with %.1f)\n", now, eta,
+          legs_[n_legs_ - 1].arrive, collector_delay_, delay_used_);
+    phase_ = Phase::kReady;
+  }
 }
 
 void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Outbox& out) {
@@ -378,7 +469,7 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
   bool oc_worker = policy_->delivers_to_oc();
   for (std::size_t i = 0; i < n; ++i) {
     const Message& m = *inbox[i];
-    if (m.h.sender == upstream_) upstream_heard_ = now;
+    if (m.h.sender == upstream_) upstream_heard_ = now, collector_delay_ = oc_worker ? 0.0 : m.h.delay;
     // The collector it suspected is heard again and the OC has not declared
     // it dead: it works for its collector again.
     if (suspected_ >= 0 && m.h.sender == suspected_ &&
@@ -405,7 +496,7 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
             if (retired_) return;
             oc_worker = policy_->delivers_to_oc();
           }
-          on_request(m.request, m.h.sender);
+          on_request(m.request, m.h.sender, m.h.sender == kOc ? 0.0 : m.h.delay);
         }
         break;
       case Kind::kAck:
@@ -415,26 +506,10 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
       default: break;
     }
   }
-  // The plan's progress: goals reached are measured at their arrival time.
-  if (phase_ == Phase::kMoving) {
-    const std::size_t done = std::min(motion_.legs_done(), n_legs_);
-    for (; legs_seen_ < done; ++legs_seen_)
-      if (leg_goal_[legs_seen_] >= 0) measure(leg_goal_[legs_seen_], motion_.arrived_at(legs_seen_));
-    if (done == n_legs_) {
-      at_rv_ = target_rv_;
-      at_landing_ = ends_at_landing_;
-      at_meeting_ = ends_at_meeting_;
-      if (!oc_worker) {
-        phase_ = plan_is_work_ ? Phase::kAtPass : Phase::kReady;
-      } else if (team_.world.covered(team_.world.scenario.grid.world_to_cell(motion_.pose()))) {
-        phase_ = Phase::kSettling;
-        heard_oc_ = false;
-        last_hello_ = -kInf;
-      } else {
-        phase_ = Phase::kReady;
-      }
-    }
-  }
+  // The plan's progress, as its robot reports it.
+  if (phase_ == Phase::kMoving) follow_progress(now);
+  if (retired_) return;
+  oc_worker = policy_->delivers_to_oc();
   // Its collector silent for too long: it works for the OC (docs/faults.md).
   if (!oc_worker && suspected_ < 0 && now - upstream_heard_ > suspect_after_) {
     suspected_ = upstream_;

@@ -20,7 +20,7 @@ namespace agent {
 namespace {
 
 constexpr char kMagic[4] = {'G', 'J', 'R', 'N'};
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion = 2;  // 2: an item's deadline, unreachable items
 constexpr std::size_t kHeader = 4 + 4 + 4 + 8;
 constexpr std::size_t kRecordHead = 4 + 4 + 1;
 constexpr uint32_t kMaxPayload = 1u << 20;  // a progress snapshot of 16384 goals fits
@@ -65,14 +65,15 @@ void encode_item(std::vector<uint8_t>& out, const DataItem& it) {
   put_raw(out, it.at);
   put_raw(out, it.picked_up_by);
   put_raw(out, it.picked_up_at);
+  put_raw(out, it.deadline);
 }
 
 bool decode_item(const uint8_t*& at, const uint8_t* end, DataItem& it) {
   uint8_t kind = 0;
   if (!get_raw(at, end, it.key) || !get_raw(at, end, kind) || !get_raw(at, end, it.by) || !get_raw(at, end, it.at) ||
-      !get_raw(at, end, it.picked_up_by) || !get_raw(at, end, it.picked_up_at))
+      !get_raw(at, end, it.picked_up_by) || !get_raw(at, end, it.picked_up_at) || !get_raw(at, end, it.deadline))
     return false;
-  if (kind < 1 || kind > 4) return false;
+  if (kind < 1 || kind > 5) return false;
   it.kind = static_cast<ItemKind>(kind);
   return true;
 }

@@ -114,7 +114,7 @@ bool LockstepAgent::inbox_complete(const Tick& tick) const {
 void LockstepAgent::step(const Tick& tick) {
   const auto s0 = Clock::now();
   Role& role = *unit_.role;
-  unit_.motion->advance(tick.t);
+  unit_.motion->update(tick.t);
   if (rejoin_) {  // a new process heard nothing of the tick before it joined
     held_.erase(std::remove_if(held_.begin(), held_.end(), [&](const Message& m) { return m.h.tick < tick.tick; }),
                 held_.end());
@@ -179,7 +179,7 @@ void LockstepAgent::step(const Tick& tick) {
 // reproducible, as on real robots.
 void LockstepAgent::step_wall(double t) {
   Role& role = *unit_.role;
-  unit_.motion->advance(t);
+  unit_.motion->update(t);
   if (rejoin_) {  // a restart: what it held and how far it got, now
     rejoin_ = false;
     role.restore(rejoin_state_.custody.data(), rejoin_state_.custody.size(), rejoin_state_.progress, t);

@@ -189,7 +189,7 @@ bool LockstepMaster::tick_wall(ShutdownSignal* signal) {
   wall_now_ = t;
   const auto o0 = Clock::now();
   Role& oc_role = *oc_.role;
-  oc_.motion->advance(t);
+  oc_.motion->update(t);
   current_.swap(held_);
   held_.clear();
   gather_inbox(current_, oc_role.id(), oc_.motion->pose(), gate_, link_, inbox_);
@@ -262,7 +262,7 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   inbox_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - w0).count();
   const auto o0 = Clock::now();
   Role& oc_role = *oc_.role;
-  oc_.motion->advance(t);
+  oc_.motion->update(t);
   int64_t late = 0;
   take_tick(held_, current_, k, late);
   gather_inbox(current_, oc_role.id(), oc_.motion->pose(), gate_, link_, inbox_);

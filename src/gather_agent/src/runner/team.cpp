@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <string>
 
-#include "gather_agent/motion/route_follower.hpp"
+#include "gather_agent/motion/route_base.hpp"
 #include "gather_agent/motion/simulated_base.hpp"
 #include "gather_agent/roles/collector_role.hpp"
 #include "gather_agent/roles/worker_role.hpp"
@@ -19,7 +19,8 @@ AgentUnit make_agent(TeamSetup& team, AgentId agent, const Point2* at) {
   AgentUnit u;
   const Point2 start = at ? *at : team.start_pose(agent);
   if (team.assignment(agent).collector) {
-    u.motion = std::make_unique<RouteFollower>(start);
+    const mission::RouteTimetable& route = team.routes[team.assignment(agent).delivers_to];
+    u.motion = std::make_unique<RouteBase>(route, start, std::max<std::size_t>(1, route.waypoints().size()));
     u.role = std::make_unique<CollectorRole>(team, agent, *u.motion);
   } else {
     const std::size_t legs = static_cast<std::size_t>(team.params.goals_per_request) + 2;
@@ -56,7 +57,7 @@ void check_conservation(const OcRole& oc, int64_t measured_total, std::vector<in
   for (const mission::GoalRecord& g : oc.goals()) {
     if (!oc.resolved(g.id)) continue;
     delivered += g.state == mission::GoalState::kDelivered;
-    expired += g.state == mission::GoalState::kExpired;
+    expired += g.state == mission::GoalState::kExpired || g.state == mission::GoalState::kUnreachable;
     dropped += g.state == mission::GoalState::kDropped;
     lost += g.state == mission::GoalState::kLostWithAgent;
   }

@@ -179,7 +179,7 @@ bool TeamRunner::tick() {
     Outbox& out = outboxes_[i];
     if (killed_[i]) continue;  // dead: no motion, no radio; its memory stays as it was
     if (before_) before_();
-    u.motion->advance(t);
+    u.motion->update(t);
     if (fresh_[i]) {
       inbox_.clear(), fresh_[i] = 0;
     } else {

@@ -11,7 +11,6 @@
 #include <gather_lcm/ack_t.hpp>
 #include <gather_lcm/agent_state_t.hpp>
 #include <gather_lcm/data_t.hpp>
-#include <gather_lcm/envelope_t.hpp>
 #include <gather_lcm/plan_t.hpp>
 #include <gather_lcm/request_t.hpp>
 #include <gather_lcm/tick_reply_t.hpp>
@@ -24,6 +23,7 @@
 #include <exception>
 #include <limits>
 
+#include "envelope.hpp"
 #include "gather_agent/lcm_open.hpp"
 #include "gather_core/error.hpp"
 
@@ -54,11 +54,9 @@ static_assert(kReplyMaxPoints == static_cast<std::size_t>(gather_lcm::tick_reply
               "Reply's bounds are tick_reply_t's");
 
 static_assert(kBuffer <= static_cast<std::size_t>(gather_lcm::envelope_t::MAX_PAYLOAD), "a message fits an envelope");
-static_assert(kMacBytes == 32, "envelope_t.mac is 32 bytes");
 
 // The wire objects decoded into (kept, so decoding allocates nothing).
 struct Wire {
-  gather_lcm::envelope_t envelope;
   gather_lcm::request_t request;
   gather_lcm::data_t data;
   gather_lcm::ack_t ack;
@@ -83,6 +81,7 @@ void to_wire(const Header& h, gather_lcm::header_t& w) {
   w.y = h.pos.y;
   w.request = h.request;
   w.dead = static_cast<int8_t>(std::min<int>(h.dead, kMaxDead));
+  w.delay = h.delay;
 }
 
 void radio_handler(const lcm_recv_buf_t* rbuf, const char* channel, void* user) {
@@ -114,11 +113,10 @@ LcmFleet::LcmFleet(const std::string& url, const std::string& reply_url, bool li
     : team_(team),
       listen_replies_(listen_replies),
       buffer_(kBuffer),
-      envelope_(kBuffer + 64),
       auth_(std::move(key),
             {kRequestChannel, kDataChannel, kAckChannel, kStateChannel, kPlanChannel, kTickChannel, kReplyChannel},
-            kMaxTeam + 1) {
-  wire().envelope.payload.reserve(kBuffer);
+            kMaxTeam + 1),
+      envelopes_(std::make_unique<Envelopes>(auth_, kBuffer)) {
   if (team < kMaxTeam) auth_.reserve(team);  // an agent learns its team from the plan (set_team)
   std::string error;
   lcm_ = open_lcm_c(url, &error);
@@ -175,6 +173,7 @@ bool LcmFleet::publish(const Message& m) {
           const DataItem& it = m.data.items[i];
           o.key = it.key, o.kind = static_cast<int8_t>(it.kind), o.by = it.by, o.at = it.at;
           o.picked_up_by = it.picked_up_by, o.picked_up_at = it.picked_up_at;
+          o.deadline = it.deadline;
         } else {
           o = gather_lcm::data_item_t{};
         }
@@ -311,17 +310,8 @@ bool LcmFleet::publish(const Reply& r) {
 }
 
 bool LcmFleet::send(lcm_t* lcm, const char* channel, int16_t sender, int n) {
-  gather_lcm::envelope_t& e = wire().envelope;
-  EnvelopeHead head;
-  e.payload.assign(buffer_.begin(), buffer_.begin() + n);
-  auth_.sign(channel, sender, e.payload.data(), e.payload.size(), head, e.mac);
-  e.version = head.version;
-  e.key_id = head.key_id;
-  e.sender = head.sender;
-  e.counter = head.counter;
-  e.size = n;
-  const int m = e.encode(envelope_.data(), 0, static_cast<int>(envelope_.size()));
-  return m >= 0 && lcm_publish(lcm, channel, envelope_.data(), static_cast<unsigned>(m)) == 0;
+  const int m = envelopes_->seal(channel, sender, buffer_.data(), n);
+  return m >= 0 && lcm_publish(lcm, channel, envelopes_->bytes(), static_cast<unsigned>(m)) == 0;
 }
 
 bool LcmFleet::handle(int timeout_ms) {
@@ -342,42 +332,18 @@ bool LcmFleet::handle(int timeout_ms) {
   return true;
 }
 
-// LCM's generated decode resizes a variable-length array to the count it
-// reads before checking that the bytes are there: a negative count
-// (int16) throws std::length_error. Any exception is an undecodable message.
-template <typename T>
-int safe_decode(T& msg, const void* data, int size) {
-  try {
-    return msg.decode(data, 0, size);
-  } catch (const std::exception&) {
-    return -1;
-  }
-}
-
 const uint8_t* LcmFleet::open(const char* channel, const void* data, int size, int& payload_size, int16_t& sender) {
-  gather_lcm::envelope_t& e = wire().envelope;
-  // The envelope's size field is checked before its payload is read (LCM's
-  // decode allocates what the size says).
-  // LCM's encoding: an 8-byte fingerprint, then version, key_id, sender
-  // (2 bytes each), counter (8), size (4, big endian), payload, mac (32).
-  constexpr int kSizeAt = 8 + 2 + 2 + 2 + 8, kFixed = kSizeAt + 4 + static_cast<int>(kMacBytes);
-  if (size < kFixed || size > static_cast<int>(envelope_.size())) return ++refused_.undecodable, nullptr;
-  const uint8_t* b = static_cast<const uint8_t*>(data) + kSizeAt;
-  const int64_t declared = static_cast<int32_t>(static_cast<uint32_t>(b[0]) << 24 | static_cast<uint32_t>(b[1]) << 16 |
-                                                static_cast<uint32_t>(b[2]) << 8 | static_cast<uint32_t>(b[3]));
-  if (declared != size - kFixed) return ++refused_.undecodable, nullptr;
-  if (declared > gather_lcm::envelope_t::MAX_PAYLOAD) return ++refused_.out_of_range, nullptr;
-  // The generated decoder leaves the payload as it was for a size of 0: empty
-  // it first, so that a MAC is never checked against an earlier message.
-  e.payload.clear();
-  if (safe_decode(e, data, size) != size || e.payload.size() != static_cast<std::size_t>(e.size))
-    return ++refused_.undecodable, nullptr;
-  const EnvelopeHead head{e.version, e.key_id, e.sender, e.counter};
-  if (auth_.verify(channel, head, e.payload.data(), e.payload.size(), e.mac) != Verdict::kAccepted) return nullptr;
-  if (e.version != gather_lcm::envelope_t::VERSION) return ++refused_.wrong_version, nullptr;
-  payload_size = e.size;
-  sender = e.sender;
-  return e.payload.data();
+  switch (envelopes_->open(channel, data, size)) {
+    case Envelopes::Opened::kOk:
+      payload_size = envelopes_->payload_size();
+      sender = envelopes_->sender();
+      return envelopes_->payload();
+    case Envelopes::Opened::kUndecodable: ++refused_.undecodable; break;
+    case Envelopes::Opened::kOutOfRange: ++refused_.out_of_range; break;
+    case Envelopes::Opened::kWrongVersion: ++refused_.wrong_version; break;
+    case Envelopes::Opened::kRejected: break;  // counted by FleetAuth
+  }
+  return nullptr;
 }
 
 void LcmFleet::on_radio(const char* channel, const void* data, int size) {
@@ -436,12 +402,13 @@ void LcmFleet::on_radio_payload(const char* channel, const void* data, int size,
     m.data.count = static_cast<uint16_t>(d.count);
     for (int i = 0; i < d.count; ++i) {
       const gather_lcm::data_item_t& o = d.items[i];
-      if (o.kind < 1 || o.kind > 4 || !finite(o.at) || !finite(o.picked_up_at) || o.by < 0 || o.by >= team_ ||
-          o.picked_up_by < -1 || o.picked_up_by >= team_)
+      if (o.kind < 1 || o.kind > 5 || !finite(o.at) || !finite(o.picked_up_at) || std::isnan(o.deadline) || o.by < 0 ||
+          o.by >= team_ || o.picked_up_by < -1 || o.picked_up_by >= team_)
         return void(++refused_.out_of_range);
       DataItem& it = m.data.items[i];
       it.key = o.key, it.kind = static_cast<ItemKind>(o.kind), it.by = o.by, it.at = o.at;
       it.picked_up_by = o.picked_up_by, it.picked_up_at = o.picked_up_at;
+      it.deadline = o.deadline;
     }
   } else if (std::strcmp(channel, kAckChannel) == 0) {
     if (!decoded(safe_decode(w.ack, data, size))) return;
@@ -478,7 +445,7 @@ void LcmFleet::on_radio_payload(const char* channel, const void* data, int size,
   if (h->sender != sender) return auth_.count_wrong_sender();
   if (h->sender < kOc || h->sender >= team_ || (h->dest != kBroadcast && (h->dest < kOc || h->dest >= team_)) ||
       h->seq < 0 || h->request < -1 || h->dead < 0 || h->dead > kMaxDead || !finite(h->t) || !finite(h->x) ||
-      !finite(h->y))
+      !finite(h->y) || !(std::abs(h->delay) <= kMaxDelay))
     return void(++refused_.out_of_range);
   m.h.sender = h->sender;
   m.h.dest = h->dest;
@@ -488,6 +455,7 @@ void LcmFleet::on_radio_payload(const char* channel, const void* data, int size,
   m.h.pos = Point2{h->x, h->y};
   m.h.request = h->request;
   m.h.dead = static_cast<uint8_t>(h->dead);
+  m.h.delay = h->delay;
   if (radio_.size() >= radio_.capacity()) return void(++refused_.queue_full);
   radio_.push_back(m);
 }

@@ -14,8 +14,27 @@ namespace {
 
 // At equal times: expiries first (a goal expires at the next request's time),
 // then a goal's own request, measurement, pick-up and delivery.
-enum Kind : int { kExpire = 0, kRequest = 1, kMeasure = 2, kPickup = 3, kDeliver = 4, kDrop = 5, kLose = 6 };
-enum Where : uint8_t { kNone, kPendingAt, kWorker, kCollector, kDeliveredAt, kExpiredAt, kDroppedAt, kLostAt };
+enum Kind : int {
+  kExpire = 0,
+  kUnreach = 1,
+  kRequest = 2,
+  kMeasure = 3,
+  kPickup = 4,
+  kDeliver = 5,
+  kDrop = 6,
+  kLose = 7
+};
+enum Where : uint8_t {
+  kNone,
+  kPendingAt,
+  kWorker,
+  kCollector,
+  kDeliveredAt,
+  kExpiredAt,
+  kDroppedAt,
+  kLostAt,
+  kUnreachableAt
+};
 
 struct Event {
   double t;
@@ -36,6 +55,7 @@ const char* goal_state_name(GoalState s) {
     case GoalState::kExpired: return "expired";
     case GoalState::kDropped: return "dropped_overflow";
     case GoalState::kLostWithAgent: return "lost_with_agent";
+    case GoalState::kUnreachable: return "unreachable";
   }
   return "?";
 }
@@ -55,6 +75,7 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
     if (g.expired_at >= 0) events.push_back({g.expired_at, kExpire, id});
     if (g.dropped_at >= 0) events.push_back({g.dropped_at, kDrop, id});
     if (g.lost_at >= 0) events.push_back({g.lost_at, kLose, id});
+    if (g.unreachable_at >= 0) events.push_back({g.unreachable_at, kUnreach, id});
     if (g.measured_at >= 0 && g.expired_at >= 0) broken("goal " + std::to_string(id) + " both measured and expired");
     if (g.measured_at >= 0 && g.measured_at > g.deadline + 1e-9)
       broken("goal " + std::to_string(id) + " measured at " + std::to_string(g.measured_at) + " s by " +
@@ -66,7 +87,8 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
     return a.goal < b.goal;
   });
   std::vector<uint8_t> where(goals.size(), kNone);
-  int requested = 0, pending = 0, on_workers = 0, on_collectors = 0, delivered = 0, expired = 0, dropped = 0, lost = 0;
+  int requested = 0, pending = 0, on_workers = 0, on_collectors = 0, delivered = 0, expired = 0, dropped = 0, lost = 0,
+      unreachable = 0;
   auto move = [&](const Event& e) {
     uint8_t& w = where[static_cast<std::size_t>(e.goal)];
     const std::string id = "goal " + std::to_string(e.goal);
@@ -92,6 +114,10 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
         if (w != kPendingAt) broken(id + " expired while not pending");
         w = kExpiredAt, --pending, ++expired;
         break;
+      case kUnreach:
+        if (w != kPendingAt) broken(id + " given up as unreachable while not pending");
+        w = kUnreachableAt, --pending, ++unreachable;
+        break;
       case kDrop:
         if (w != kWorker && w != kCollector) broken(id + " dropped while not carried");
         (w == kWorker ? on_workers : on_collectors)--, ++dropped, w = kDroppedAt;
@@ -105,14 +131,16 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
   // Conservation, and the counters against a recount of the goals' states.
   auto check = [&](const std::string& when) {
     const int carried = on_workers + on_collectors;
-    if (requested != delivered + carried + pending + expired + dropped + lost)
+    if (requested != delivered + carried + pending + expired + dropped + lost + unreachable)
       broken(when + ": requested " + std::to_string(requested) + " != delivered " + std::to_string(delivered) +
              " + carried " + std::to_string(carried) + " + pending " + std::to_string(pending) + " + expired " +
-             std::to_string(expired) + " + dropped " + std::to_string(dropped) + " + lost " + std::to_string(lost));
-    int n[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+             std::to_string(expired) + " + dropped " + std::to_string(dropped) + " + lost " + std::to_string(lost) +
+             " + unreachable " + std::to_string(unreachable));
+    int n[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     for (uint8_t w : where) ++n[w];
     if (n[kPendingAt] != pending || n[kWorker] != on_workers || n[kCollector] != on_collectors ||
-        n[kDeliveredAt] != delivered || n[kExpiredAt] != expired || n[kDroppedAt] != dropped || n[kLostAt] != lost)
+        n[kDeliveredAt] != delivered || n[kExpiredAt] != expired || n[kDroppedAt] != dropped || n[kLostAt] != lost ||
+        n[kUnreachableAt] != unreachable)
       broken(when + ": counters disagree with the goals' states");
   };
 
@@ -128,12 +156,16 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
     s.requested_at = c * period;
     s.total_requested = requested, s.total_delivered = delivered, s.total_carried = on_workers + on_collectors;
     s.total_pending = pending, s.total_expired = expired, s.total_dropped = dropped, s.total_lost = lost;
+    s.total_unreachable = unreachable;
   }
   while (next < events.size()) move(events[next++]);
   check("end of run");
-  for (const GoalRecord& g : goals)
+  for (const GoalRecord& g : goals) {
     if ((g.lost_at >= 0) != (g.state == GoalState::kLostWithAgent))
       broken(to_string(g.id) + " has a lost_at but is " + goal_state_name(g.state));
+    if ((g.unreachable_at >= 0) != (g.state == GoalState::kUnreachable))
+      broken(to_string(g.id) + " has an unreachable_at but is " + goal_state_name(g.state));
+  }
   if (pending != 0 || on_workers + on_collectors != 0)
     broken("end of run: " + std::to_string(pending) + " goals pending and " +
            std::to_string(on_workers + on_collectors) + " still carried (data must never be dropped)");
@@ -147,6 +179,8 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
       ++s.dropped;
     } else if (g.lost_at >= 0) {
       ++s.lost;
+    } else if (g.unreachable_at >= 0) {
+      ++s.unreachable;
     } else {
       ++s.expired;
     }

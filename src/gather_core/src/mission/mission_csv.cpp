@@ -14,11 +14,11 @@ const char* const kGoalsCsvHeader =
 const char* const kCyclesCsvHeader =
     "method,collectors,seed,cycle,requested_at,requested,delivered,expired,refresh_mean_s,refresh_max_s,"
     "total_requested,total_delivered,total_carried,total_pending,total_expired,dropped,total_dropped,lost_with_agent,"
-    "total_lost_with_agent\n";
+    "total_lost_with_agent,unreachable,total_unreachable\n";
 const char* const kSummaryCsvHeader =
     "method,collectors,workers,seed,cycles,period_s,mission_s,wall_ms,speedup,refresh_mean_s,refresh_max_s,"
     "goals_per_cycle,est_refresh_s,est_goals,interval_mean_s,interval_max_s,est_interval_s,delivered,expired,"
-    "dropped_overflow,lost_with_agent\n";
+    "dropped_overflow,lost_with_agent,unreachable\n";
 
 void append_goal_rows(std::string& out, const RunLabel& run, const std::vector<GoalRecord>& goals) {
   char line[640];
@@ -35,21 +35,23 @@ void append_goal_rows(std::string& out, const RunLabel& run, const std::vector<G
 void append_cycle_rows(std::string& out, const RunLabel& run, const std::vector<CycleStats>& cycles) {
   char line[640];
   for (const CycleStats& c : cycles) {
-    std::snprintf(line, sizeof line, "%s,%d,%u,%d,%.3f,%d,%d,%d,%.3f,%.3f,%d,%d,%d,%d,%d,%d,%d,%d,%d\n",
+    std::snprintf(line, sizeof line, "%s,%d,%u,%d,%.3f,%d,%d,%d,%.3f,%.3f,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d\n",
                   run.method.c_str(), run.collectors, run.seed, c.cycle, c.requested_at, c.requested, c.delivered,
                   c.expired, c.refresh_mean_s, c.refresh_max_s, c.total_requested, c.total_delivered, c.total_carried,
-                  c.total_pending, c.total_expired, c.dropped, c.total_dropped, c.lost, c.total_lost);
+                  c.total_pending, c.total_expired, c.dropped, c.total_dropped, c.lost, c.total_lost, c.unreachable,
+                  c.total_unreachable);
     out += line;
   }
 }
 
 void append_summary_row(std::string& out, const RunLabel& run, const MissionResult& r) {
   char line[640];
-  std::snprintf(
-      line, sizeof line, "%s,%d,%d,%u,%d,%.3f,%.3f,%.2f,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%d,%d,%d\n",
-      run.method.c_str(), run.collectors, run.workers, run.seed, run.cycles, r.period_s, r.mission_s, r.wall_ms,
-      r.speedup(), r.refresh_mean_s, r.refresh_max_s, r.goals_per_cycle, run.est_refresh_s, run.est_goals,
-      r.interval_mean_s, r.interval_max_s, run.est_interval_s, r.delivered, r.expired, r.dropped, r.lost_with_agent);
+  std::snprintf(line, sizeof line,
+                "%s,%d,%d,%u,%d,%.3f,%.3f,%.2f,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%d,%d,%d,%d\n",
+                run.method.c_str(), run.collectors, run.workers, run.seed, run.cycles, r.period_s, r.mission_s,
+                r.wall_ms, r.speedup(), r.refresh_mean_s, r.refresh_max_s, r.goals_per_cycle, run.est_refresh_s,
+                run.est_goals, r.interval_mean_s, r.interval_max_s, run.est_interval_s, r.delivered, r.expired,
+                r.dropped, r.lost_with_agent, r.unreachable);
   out += line;
 }
 
@@ -62,10 +64,11 @@ MissionResult mission_result(std::vector<GoalRecord> goals, int cycles, double p
   int delivered = 0;
   double sum = 0.0;
   for (const GoalRecord& g : goals) {
-    res.end_s = std::max({res.end_s, g.delivered_at, g.expired_at, g.dropped_at, g.lost_at});
+    res.end_s = std::max({res.end_s, g.delivered_at, g.expired_at, g.dropped_at, g.lost_at, g.unreachable_at});
     res.expired += g.state == GoalState::kExpired;
     res.dropped += g.state == GoalState::kDropped;
     res.lost_with_agent += g.state == GoalState::kLostWithAgent;
+    res.unreachable += g.state == GoalState::kUnreachable;
     if (g.delivered_at < 0) continue;
     const double r = g.delivered_at - g.requested_at;
     ++delivered, sum += r, res.refresh_max_s = std::max(res.refresh_max_s, r);

@@ -41,6 +41,8 @@ void check_params(const ProtocolParams& p) {
   require_in_range(p.link_step_m, 0.01, 1, "protocol params", "link_step_m", " m");
   require_in_range(p.window_margin_m, 0, 100, "protocol params", "window_margin_m", " m");
   require_in_range(p.two_opt_rounds, 0, 10000, "protocol params", "two_opt_rounds");
+  require_in_range(p.replan_guard_s, 0.1, 600, "protocol params", "replan_guard_s", " s");
+  require_in_range(p.wait_loops, 0, 10, "protocol params", "wait_loops");
 }
 
 int32_t WorkerPolicy::segment_index(Cell c) const {
@@ -347,39 +349,42 @@ void WorkerPolicy::order_tour(const int* known, std::size_t n_known) {
 // holds for the transfer (and the guard) after the worker is there; the
 // transfer starts when both are there and linked. done = +inf when no
 // window of r is long enough for the load.
-WorkerPolicy::Meeting WorkerPolicy::meeting_at(std::size_t r, double arrive, std::size_t load) const {
+WorkerPolicy::Meeting WorkerPolicy::meeting_at(std::size_t r, double arrive, std::size_t load, double delay) const {
   Meeting m;
   m.done = kInf;
   const double v = route_->speed(), s = rendezvous_arc_[r];
   const double before = (s - link_window_[r].first) / v, after = (link_window_[r].second - s) / v;
   const double need = transfer_s(world_.scenario, load), guard = handover_guard(before + after);
   if (before + after < need + guard - kEps) return m;
-  const double h = route_->next_time_at(s, std::max(0.0, arrive + need + guard - after));
+  // The pass on the timetable shifted by the collector's delay.
+  const double h = route_->next_time_at(s, std::max(0.0, arrive + need + guard - after) - delay) + delay;
   m.rv = static_cast<int>(r);
   m.start = std::max(arrive, h - before);
   m.done = m.start + need;
   m.until = h + after;
+  m.pass = h;
   return m;
 }
 
 // The earliest hand-over of `load` goals after measuring the first k goals
 // of the tour, over every rendezvous (and not before no_meeting_before).
 WorkerPolicy::Meeting WorkerPolicy::earliest_meeting(std::size_t k, double t, double no_meeting_before,
-                                                     std::size_t load) const {
+                                                     std::size_t load, double delay) const {
   Meeting best;
   best.done = kInf;
   for (std::size_t r = 0; r < rendezvous_.size(); ++r) {
     const double dist = k == 0 ? position_to_rv_[r] : from_[static_cast<std::size_t>(tour_[k - 1]) * stride_ + n_ + r];
     if (!(dist < kInf)) continue;
     const double arrive = std::max((k == 0 ? t : at_[k - 1]) + dist / speed_, no_meeting_before);
-    const Meeting m = meeting_at(r, arrive, load);
+    const Meeting m = meeting_at(r, arrive, load, delay);
     if (m.done < best.done) best = m;
   }
   return best;
 }
 
 WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int* known, std::size_t n_known,
-                                            std::size_t carried, bool more_requests, double no_meeting_before) {
+                                            std::size_t carried, bool more_requests, double no_meeting_before,
+                                            double collector_delay) {
   const bool carrying = carried > 0;
   Decision d;
   d.tour = tour_.data();
@@ -487,13 +492,13 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
   std::size_t k = 0;
   Meeting meet;
   if (kmax == 0) {
-    meet = earliest_meeting(0, t, no_meeting_before, carried);
+    meet = earliest_meeting(0, t, no_meeting_before, carried, collector_delay);
   } else {
-    meet = earliest_meeting(1, t, no_meeting_before, carried + 1);
+    meet = earliest_meeting(1, t, no_meeting_before, carried + 1, collector_delay);
     k = 1;
     const double until = meet.until;
     for (std::size_t j = 2; j <= kmax && meet.rv >= 0; ++j) {
-      const Meeting m = earliest_meeting(j, t, no_meeting_before, carried + j);
+      const Meeting m = earliest_meeting(j, t, no_meeting_before, carried + j, collector_delay);
       if (m.done <= until + kEps) k = j, meet = m;
     }
   }
@@ -507,6 +512,7 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
   d.arrive = (k == 0 ? t : at_[k - 1]) + dist / speed_;
   d.handover = meet.done;
   d.link_until = meet.until;
+  d.pass = meet.pass;
   return d;
 }
 

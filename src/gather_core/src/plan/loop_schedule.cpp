@@ -32,6 +32,13 @@ double LoopSchedule::next_departure(double t) const {
   return base + super_;
 }
 
+double LoopSchedule::last_departure(double t) const {
+  if (idle() || t <= 0.0) return 0.0;
+  const double base = std::floor(t / super_) * super_;
+  const double i = std::min<double>(loops_ - 1, std::floor((t - base) / travel_ + 1e-12));
+  return base + i * travel_;
+}
+
 double LoopSchedule::next_at(double offset, double t) const {
   if (idle()) return std::numeric_limits<double>::infinity();
   if (t <= offset) return offset;

@@ -4,8 +4,8 @@
 // 8-connected A* path, straightened wherever the straight line stays in
 // free space) and is driven at the constant pace that reaches its end at
 // the planned time (the plan's times are FMM lengths / team speed, so the
-// pace is the team speed up to the discretisations). A collector cannot be
-// driven by it.
+// pace is the team speed up to the discretisations). It never fails, is
+// never blocked and never late: the ideal base of the analytic equivalence.
 #include <vector>
 
 #include "gather_agent/motion/motion_backend.hpp"
@@ -43,12 +43,18 @@ class SimulatedBase : public MotionBackend {
                 const SimulatedBaseParams& params = {});
 
   void go(const Waypoint* legs, std::size_t n, double depart) override;
-  void hold() override;
-  void follow(const mission::RouteTimetable& timetable) override;  // throws: workers only
-  void advance(double now) override;
+  void stop(double now) override;
+  void update(double now) override;
   Point2 pose() const override { return pose_; }
+  double heading() const override { return heading_; }
+  double speed() const override { return speed_now_; }
+  NavState state() const override {
+    return n_ == 0 ? NavState::kIdle : done_ < n_ ? NavState::kActive : NavState::kReached;
+  }
   std::size_t legs_done() const override { return done_; }
+  // Ideal: every waypoint at its planned time.
   double arrived_at(std::size_t leg) const override { return legs_[leg].arrive; }
+  double arrival_estimate() const override { return n_ > 0 ? legs_[n_ - 1].arrive : kNoEstimate; }
   std::size_t max_legs() const override { return max_legs_; }
   uint32_t path_revision() const override { return revision_; }
   std::size_t path(Point2* out, std::size_t max) const override;
@@ -72,6 +78,8 @@ class SimulatedBase : public MotionBackend {
   const Mask* home_mask_;
   std::size_t max_legs_;
   Point2 pose_;
+  double heading_ = 0.0;    // [rad] of the segment it drives (or drove last)
+  double speed_now_ = 0.0;  // [m/s]
   double now_ = 0.0;
   std::vector<Waypoint> legs_;
   std::size_t n_ = 0, done_ = 0;

@@ -33,6 +33,10 @@ class OcRole : public Role {
   std::size_t resolved_count() const { return resolved_count_; }
   int64_t invalid_items() const { return invalid_; }
   int64_t duplicate_items() const { return duplicates_; }
+  // Measurements that came in after the deadline their worker applied
+  // (recorded as expiries: a worker turns a late arrival into an expiry
+  // itself, so this stays 0 unless a worker misbehaves).
+  int64_t late_items() const { return late_; }
   // Items each agent delivered.
   int64_t delivered_by(AgentId agent) const { return delivered_by_[agent]; }
   // Faults (docs/faults.md): when the OC declared each agent dead (-1: it
@@ -68,7 +72,7 @@ class OcRole : public Role {
   PerAgent<double> answered_at_;  // [s] last time it was passed the newest request
   PerAgent<int64_t> delivered_by_;
   std::vector<int32_t> acks_;
-  int64_t invalid_ = 0, duplicates_ = 0;
+  int64_t invalid_ = 0, duplicates_ = 0, late_ = 0;
   // Liveness: the latest news of each agent [s] (its own messages, or a
   // collector's report of its worker), and the repair in force.
   PerAgent<double> heard_;

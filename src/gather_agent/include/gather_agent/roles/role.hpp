@@ -146,6 +146,12 @@ struct RoleReport {
   int64_t lost_notices = 0;  // notices that found no room (must stay 0)
   int64_t requests = 0;      // newest request known
   int64_t dead_known = 0;    // the OC's declarations of dead agents it knows
+  // Its robot: waypoints reached, those reached late (LegStats) and by how
+  // much [s], commands it failed, goals it could not reach.
+  int64_t legs = 0, legs_late = 0;
+  double late_median_s = 0.0, late_max_s = 0.0;
+  int64_t nav_failures = 0;
+  int64_t unreachable = 0;
 };
 
 // What a role keeps across a restart of its process besides its custody
@@ -177,6 +183,8 @@ class Role {
   Custody* custody_log() { return const_cast<Custody*>(custody()); }
   // Newest request this role knows (-1: none), carried in every header.
   virtual int32_t newest_request() const = 0;
+  // [s] how far behind its timetable it is (collectors), carried in every header.
+  virtual double delay() const { return 0.0; }
   // A worker the OC declared dead while it was alive (its messages were
   // lost): it stops for good (docs/faults.md). Its custody stays where it is.
   virtual bool retired() const { return false; }

@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "gather_agent/motion/leg_stats.hpp"
 #include "gather_agent/roles/role.hpp"
 
 namespace gather {
@@ -49,20 +50,27 @@ class WorkerRole : public Role {
     int32_t id = -1;
     uint16_t parts = 0;
     uint64_t seen = 0;                     // bit per part
+    double delay = 0.0;                    // [s] its courier's delay when it handed it over (0: from the OC)
     std::vector<mission::KnownGoal> mine;  // goals of this worker's segment
     bool complete() const { return id >= 0 && parts > 0 && seen == (parts >= 64 ? ~0ull : ((1ull << parts) - 1)); }
   };
 
-  void on_request(const RequestPart& part, int16_t sender);
+  void on_request(const RequestPart& part, int16_t sender, double delay);
   void measure(int local, double at);
+  double goal_deadline(GoalId goal) const;  // [s] of a goal of the current request (+inf: not one)
+  // Its robot's progress on the plan: goals reached measured, a waypoint it
+  // could not reach given up, a plan that drifted decided again.
+  void follow_progress(double now);
   void notice(ItemKind kind, int32_t key, double at);
   void skip_overdue(double now);
   void expire_overdue(double now);
   bool settled(double now, bool contact);
   void decide(double now);
-  bool contact(double now) const;    // with its upstream, as predicted by the radio model
-  double due_time() const;           // [s] when the next request should reach it
-  double deadline(int cycle) const;  // [s] of request `cycle`'s goals here (inf: a worker of the OC)
+  bool contact(double now) const;  // with its upstream, as predicted by the radio model
+  double due_time() const;         // [s] when the next request should reach it
+  // [s] of request `cycle`'s goals here (inf: a worker of the OC), for a
+  // request its collector handed over `delay` [s] behind its timetable.
+  double deadline(int cycle, double delay) const;
   // Executes the plan repaired for the deaths it knows (the OC's, and its
   // collector if it suspects it): a new policy when its segment or its
   // collector changed, or retirement when it is declared dead itself.
@@ -92,6 +100,11 @@ class WorkerRole : public Role {
   bool ends_at_landing_ = false, at_landing_ = false;
   bool ends_at_meeting_ = false, at_meeting_ = false;
   double handover_ = 0.0, link_until_ = 0.0, no_meeting_before_ = 0.0;
+  double pass_ = 0.0;  // [s] when the plan under way expects its collector at the rendezvous
+  // Its collector's delay [s]: as the collector's latest message said
+  // (collector_delay_), and as the plan under way assumed (delay_used_).
+  double collector_delay_ = 0.0, delay_used_ = 0.0;
+  double learned_delay_ = 0.0;  // [s] the delay the learned request came with (its deadline's shift)
   // [s] since when the worker is in contact upstream with data on board (-1:
   // not): a hand-over of n goals goes out once that has lasted
   // transfer_s(n) (docs/simulator.md, "Hand-over").
@@ -104,6 +117,7 @@ class WorkerRole : public Role {
   double next_beacon_ = 0.0, last_hello_ = -1e300;
   std::vector<mission::KnownGoal> scratch_;
   RoleReport counters_;
+  LegStats legs_stats_;
   std::vector<mission::KnownGoal> none_;
 };
 

@@ -11,6 +11,7 @@
 // decodes anything, and drops (counting the reason) what fails. Handlers
 // only queue; nothing is decoded twice.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,6 +25,8 @@ typedef struct _lcm_t lcm_t;
 
 namespace gather {
 namespace agent {
+
+class Envelopes;
 
 // Channels.
 extern const char* const kRequestChannel;  // GATHER_REQUEST
@@ -165,9 +168,9 @@ class LcmFleet {
   std::vector<PlanAnnounce> plans_;
   TransportCounters refused_;
   int64_t publish_failures_ = 0;
-  std::vector<uint8_t> buffer_;    // encoding: the payload
-  std::vector<uint8_t> envelope_;  // encoding: the envelope around it
+  std::vector<uint8_t> buffer_;  // encoding: the payload
   FleetAuth auth_;
+  std::unique_ptr<Envelopes> envelopes_;  // sealing and opening (transport/envelope.hpp)
 };
 
 }  // namespace agent

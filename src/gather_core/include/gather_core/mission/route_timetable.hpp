@@ -30,8 +30,10 @@ class RouteTimetable {
   double speed() const { return speed_; }                            // [m/s]
   double period() const { return idle() ? 0.0 : length_ / speed_; }  // [s] one loop's driving time
   const plan::LoopSchedule& schedule() const { return schedule_; }
-  Point2 position_at_arc(double s) const;  // s in [0, length] [m]
-  Point2 position(double t) const;         // at time t [s]
+  const std::vector<Point2>& waypoints() const { return points_; }  // [m] the closed polyline, OC to OC
+  const std::vector<double>& arcs() const { return arc_; }          // [m] arc position of each waypoint
+  Point2 position_at_arc(double s) const;                           // s in [0, length] [m]
+  Point2 position(double t) const;                                  // at time t [s]
   // Earliest time >= t [s] at which the collector is at arc position s [m]
   // (t is compared with a 1 ms tolerance, so a worker on time up to float
   // rounding of its FMM distances meets it).

@@ -30,8 +30,9 @@ namespace mission {
 
 // kLostWithAgent: the agent runtime's OC declared dead an agent that had
 // the goal (its worker, or its worker's collector) and no survivor resolved
-// it since (docs/faults.md).
-enum class GoalState : uint8_t { kPending, kCarried, kDelivered, kExpired, kDropped, kLostWithAgent };
+// it since (docs/faults.md). kUnreachable: its worker's robot could not
+// reach it (its navigation gave up; docs/robots.md).
+enum class GoalState : uint8_t { kPending, kCarried, kDelivered, kExpired, kDropped, kLostWithAgent, kUnreachable };
 const char* goal_state_name(GoalState s);
 
 struct GoalRecord {
@@ -51,6 +52,7 @@ struct GoalRecord {
   double expired_at = -1.0;               // [s] = deadline when never measured
   double dropped_at = -1.0;               // [s] measured, but no buffer had room for its data (agent runtime only)
   double lost_at = -1.0;                  // [s] declared lost with a dead agent (agent runtime only)
+  double unreachable_at = -1.0;           // [s] its worker's robot gave it up (agent runtime only)
   GoalState state = GoalState::kPending;  // at the end of the run
 };
 
@@ -62,13 +64,14 @@ struct CycleStats {
   // refresh times delivered_at - requested_at [s] (0 when none).
   int delivered = 0;
   double refresh_mean_s = 0.0, refresh_max_s = 0.0;
-  int expired = 0;  // goals of this request never measured
-  int dropped = 0;  // goals of this request measured and dropped (no room in a buffer)
-  int lost = 0;     // goals of this request lost with a dead agent
+  int expired = 0;      // goals of this request never measured
+  int dropped = 0;      // goals of this request measured and dropped (no room in a buffer)
+  int lost = 0;         // goals of this request lost with a dead agent
+  int unreachable = 0;  // goals of this request its worker's robot could not reach
   // Snapshot of all goals requested so far at the end of the cycle
   // (t = requested_at + period), as checked for conservation.
   int total_requested = 0, total_delivered = 0, total_carried = 0, total_pending = 0, total_expired = 0,
-      total_dropped = 0, total_lost = 0;
+      total_dropped = 0, total_lost = 0, total_unreachable = 0;
 };
 
 // One straight-in-time leg of an agent: it moves from `from` to `to` along
@@ -118,7 +121,7 @@ struct MissionResult {
   double interval_max_s = 0.0;
   double goals_per_cycle = 0.0;  // delivered / cycles
   // How every goal ended (they add up to the goals requested).
-  int delivered = 0, expired = 0, dropped = 0, lost_with_agent = 0;
+  int delivered = 0, expired = 0, dropped = 0, lost_with_agent = 0, unreachable = 0;
   double wall_ms = 0.0;
   double speedup() const { return wall_ms > 0 ? mission_s * 1000.0 / wall_ms : 0.0; }
 };
@@ -192,9 +195,10 @@ std::pair<double, double> interval_stats(const std::vector<GoalRecord>& goals, i
 
 // Replays the goals' timestamps in time order, checks that every transition
 // is legal (pending -> carried -> delivered, pending -> expired, carried ->
-// dropped, pending or carried -> lost with an agent; never twice) and that
-// requested = delivered + carried + pending + expired + dropped + lost at the
-// end of every cycle and at the end of the run, and
+// dropped, pending or carried -> lost with an agent, pending -> unreachable;
+// never twice) and that requested = delivered + carried + pending + expired
+// + dropped + lost + unreachable at the end of every cycle and at the end of
+// the run, and
 // returns the per-cycle stats (requests every `period` [s]).
 // Throws gather::Error on any violation.
 std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles, double period);

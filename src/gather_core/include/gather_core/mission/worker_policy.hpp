@@ -68,6 +68,16 @@ struct ProtocolParams {
   // 2-opt passes at most over a worker's tour through its goals
   // (mission::order_tour; bounded work per control step), range [0, 10000].
   int two_opt_rounds = kOpenTourTwoOptRounds;
+  // Real motion (the agents' worker role; an ideal base never triggers
+  // them). [s] a worker decides again while driving when its robot's
+  // arrival estimate is this much later than planned, or its collector's
+  // delay moved by this much since it planned. Range [0.1, 600].
+  double replan_guard_s = 1.0;
+  // A worker waiting at a pass for a collector it has not heard since the
+  // pass was due assumes it late and waits on, at most this many of the
+  // collector's loops past the planned pass; then it tries a later pass.
+  // Range [0, 10].
+  double wait_loops = 0.5;
 };
 // Throws gather::Error("protocol params", "<field> = <value> must be in
 // <range>") for a field outside its range.
@@ -114,6 +124,7 @@ class WorkerPolicy {
     double arrive = 0.0;      // [s] at the rendezvous (or the landing cell)
     double handover = 0.0;    // [s] when the hand-over there is planned to end (the link held for transfer_s)
     double link_until = 0.0;  // [s] when that pass's link window ends (the worker gives up after it)
+    double pass = 0.0;        // [s] when the collector passes the rendezvous then
     Cell landing;             // kBackToCoverage: the coverage cell; kGoToMeeting: the meeting point's cell
   };
 
@@ -186,10 +197,13 @@ class WorkerPolicy {
   // of the current request are `known` (local indices, deadlines not yet
   // passed), carrying `carried` measured goals not yet handed over, with
   // `more_requests` still to come. Collector workers: `no_meeting_before` [s] excludes meetings
-  // before then (after a pass where the link failed). The returned pointers
-  // stay valid until the next call.
+  // before then (after a pass where the link failed); `collector_delay` [s]
+  // is how far behind its timetable the worker believes its collector to be
+  // (its passes come that much later; 0 in the simulator, whose collectors
+  // keep their timetable). The returned pointers stay valid until the next
+  // call.
   Decision decide(const Spot& at, double t, const int* known, std::size_t n_known, std::size_t carried,
-                  bool more_requests, double no_meeting_before = 0.0);
+                  bool more_requests, double no_meeting_before = 0.0, double collector_delay = 0.0);
 
   // OC workers: the nearest cell of the coverage from `from` and the way's
   // length [m] (the labelled march from the coverage border). Throws
@@ -213,10 +227,10 @@ class WorkerPolicy {
   // `arrive`, the transfer from `start` to `done`, the link until `until` [s].
   struct Meeting {
     int rv = -1;
-    double start = 0.0, done = 0.0, until = 0.0;
+    double start = 0.0, done = 0.0, until = 0.0, pass = 0.0;
   };
-  Meeting meeting_at(std::size_t r, double arrive, std::size_t load) const;
-  Meeting earliest_meeting(std::size_t k, double t, double no_meeting_before, std::size_t load) const;
+  Meeting meeting_at(std::size_t r, double arrive, std::size_t load, double delay) const;
+  Meeting earliest_meeting(std::size_t k, double t, double no_meeting_before, std::size_t load, double delay) const;
 
   const World& world_;
   SharedDistances& shared_;

@@ -33,6 +33,8 @@ class LoopSchedule {
 
   // Earliest departure (loop start) at or after t [s].
   double next_departure(double t) const;
+  // Latest departure at or before t [s] (0 before the first).
+  double last_departure(double t) const;
   // Earliest time at or after t [s] at which the collector is `offset` [s]
   // into a loop (0 <= offset <= P); +inf for an idle collector.
   double next_at(double offset, double t) const;
