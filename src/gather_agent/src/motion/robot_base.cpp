@@ -51,6 +51,7 @@ void RobotBase::set_fault(BaseFault f, double now, const char* why) {
   char line[160];
   std::snprintf(line, sizeof line, "robot %s at t = %.1f s: %s", base_fault_name(f), now, why);
   fault_text_ = line;
+  if (first_fault_.empty()) first_fault_ = fault_text_;
 }
 
 void RobotBase::on_pose(const RobotPose& p, double now) {
@@ -58,7 +59,8 @@ void RobotBase::on_pose(const RobotPose& p, double now) {
   if (!std::isfinite(p.at.x) || !std::isfinite(p.at.y) || !std::isfinite(p.heading) || !std::isfinite(p.v) ||
       !std::isfinite(p.stamp) || !on_free_space(p.at)) {
     ++counters_.bad_pose;
-    set_fault(BaseFault::kOffMap, now, "its pose is not a number or off the map's free space; the last good one is kept");
+    set_fault(BaseFault::kOffMap, now,
+              "its pose is not a number or off the map's free space; the last good one is kept");
     return;
   }
   if (!(p.sigma <= params_.max_sigma_m)) {
@@ -90,7 +92,8 @@ void RobotBase::on_status(const NavStatus& s, double now) {
   // grow, within the command, at times no later than the stamp.
   bool ok = s.reached <= n_ && s.reached >= reached_;
   for (uint16_t i = 0; ok && i < s.reached; ++i)
-    ok = std::isfinite(s.reached_at[i]) && s.reached_at[i] <= s.stamp && (i == 0 || s.reached_at[i] >= s.reached_at[i - 1]);
+    ok = std::isfinite(s.reached_at[i]) && s.reached_at[i] <= s.stamp &&
+         (i == 0 || s.reached_at[i] >= s.reached_at[i - 1]);
   if (command_.kind == NavCommand::Kind::kStop) ok = ok && s.reached == 0;
   if (!ok || (s.has_eta && !std::isfinite(s.eta))) {
     ++counters_.bad_status;
@@ -99,7 +102,8 @@ void RobotBase::on_status(const NavStatus& s, double now) {
   ++counters_.statuses;
   status_heard_at_ = now;
   // Robot clock -> mission time: the report's age at `now`.
-  for (std::size_t i = reached_; i < s.reached; ++i) arrived_[i] = std::max(sent_at_, now - (s.stamp - s.reached_at[i]));
+  for (std::size_t i = reached_; i < s.reached; ++i)
+    arrived_[i] = std::max(sent_at_, now - (s.stamp - s.reached_at[i]));
   reached_ = s.reached;
   state_ = command_.kind == NavCommand::Kind::kStop ? NavState::kIdle : s.state;
   if (state_ == NavState::kReached && reached_ < n_) state_ = NavState::kActive;  // not every waypoint: not done

@@ -346,10 +346,23 @@ void WorkerRole::decide(double now) {
     ++progress_version_;
   }
   const bool more = resolved_ + 1 < team_.params.cycles;
-  const mission::Spot spot{grid.world_to_cell(motion_.pose()), at_rv_, at_landing_, at_meeting_};
-  const mission::WorkerPolicy::Decision d = policy_->decide(spot, now, known_.data(), known_.size(), custody_.data(),
-                                                            more, no_meeting_before_, collector_delay_);
+  // Where its robot stands: a reachable cell (a real robot's pose may sit
+  // on a wall's edge).
+  const Cell here = team_.world.standing_cell(motion_.pose());
+  if (!team_.world.reaches(here)) {  // far off the free space: it waits until its robot is back on it
+    phase_ = Phase::kReady;
+    return;
+  }
+  const mission::Spot spot{here, at_rv_, at_landing_, at_meeting_};
+  mission::WorkerPolicy::Facts facts;
+  facts.collector_delay = collector_delay_;
+  facts.pace = pace_;
+  const mission::WorkerPolicy::Decision d =
+      policy_->decide(spot, now, known_.data(), known_.size(), custody_.data(), more, no_meeting_before_, facts);
   delay_used_ = collector_delay_;
+  pace_used_ = pace_;
+  eta_base_ = kInf;
+  command_at_ = now;
   TRACE("%.1f decide: resolved %d known %zu carrying %zu -> action %d k %zu rv %d arrive %.1f handover %.1f\n", now,
         resolved_, known_.size(), custody_.data(), static_cast<int>(d.action), d.k, d.rendezvous, d.arrive, d.handover);
 
@@ -396,7 +409,7 @@ void WorkerRole::decide(double now) {
         const Cell last = policy_->goal(static_cast<std::size_t>(d.tour[d.k - 1])).cell;
         if (!team_.world.covered(last)) {
           const auto back = policy_->way_back(last);
-          leg(grid.cell_center(back.first), d.at[d.k - 1] + back.second / team_.speed, -1);
+          leg(grid.cell_center(back.first), d.at[d.k - 1] + back.second / (team_.speed * pace_), -1);
           ends_at_landing_ = true;
         }
       }
@@ -417,8 +430,17 @@ void WorkerRole::follow_progress(double now) {
   // Goals reached are measured at the time the robot reached them.
   const std::size_t done = std::min(motion_.legs_done(), n_legs_);
   for (; legs_seen_ < done; ++legs_seen_) {
-    legs_stats_.add(motion_.arrived_at(legs_seen_) - legs_[legs_seen_].arrive);
-    if (leg_goal_[legs_seen_] >= 0) measure(leg_goal_[legs_seen_], motion_.arrived_at(legs_seen_));
+    const std::size_t i = legs_seen_;
+    legs_stats_.add(motion_.arrived_at(i) - legs_[i].arrive);
+    // Its robot's pace: how long the legs took against how long they were
+    // planned to take at the team speed (recent legs weigh more).
+    const double planned = (legs_[i].arrive - (i == 0 ? command_at_ : legs_[i - 1].arrive)) * pace_used_;
+    const double took = motion_.arrived_at(i) - (i == 0 ? command_at_ : motion_.arrived_at(i - 1));
+    if (took > 0.5 && planned > 0.0) {
+      planned_s_ = kPaceMemory * planned_s_ + planned, took_s_ = kPaceMemory * took_s_ + took;
+      pace_ = std::clamp(planned_s_ / took_s_, kMinPace, kMaxPace);
+    }
+    if (leg_goal_[i] >= 0) measure(leg_goal_[i], motion_.arrived_at(i));
   }
   if (done == n_legs_) {
     at_rv_ = target_rv_;
@@ -451,14 +473,22 @@ void WorkerRole::follow_progress(double now) {
     phase_ = Phase::kReady;
     return;
   }
-  // Late by more than the guard on the plan, or its collector's delay
-  // moved by that much since it planned: decide again from where it is.
+  // Its robot's arrival estimate moved by more than the guard since the
+  // plan began, or says it will miss the pass it drives to, or its
+  // collector's delay moved by more than the guard since it planned: it
+  // decides again from where it is (at most once a guard's time).
   const double guard = team_.params.protocol.replan_guard_s;
   const double eta = motion_.arrival_estimate();
-  if ((eta < kInf && eta - legs_[n_legs_ - 1].arrive > guard) ||
-      (!oc_worker && std::abs(collector_delay_ - delay_used_) > guard)) {
-    TRACE("%.1f replan: estimate %.1f for %.1f, collector delay %.1f (planned with %.1f)\n", now, eta,
-          legs_[n_legs_ - 1].arrive, collector_delay_, delay_used_);
+  if (eta < kInf && !(eta_base_ < kInf)) eta_base_ = eta;
+  const bool drifted = eta < kInf && std::abs(eta - eta_base_) > guard;
+  const bool misses = eta < kInf && plan_is_work_ && eta > link_until_;
+  const bool collector_moved = !oc_worker && std::abs(collector_delay_ - delay_used_) > guard;
+  if ((drifted || misses || collector_moved) && now >= next_replan_) {
+    TRACE(
+        "%.1f replan: estimate %.1f (%.1f at the start, %.1f planned), collector delay %.1f (planned with %.1f), "
+        "pace %.2f\n",
+        now, eta, eta_base_, legs_[n_legs_ - 1].arrive, collector_delay_, delay_used_, pace_);
+    next_replan_ = now + guard;
     phase_ = Phase::kReady;
   }
 }

@@ -12,20 +12,26 @@
 namespace gather {
 namespace agent {
 
-AgentUnit make_agent(TeamSetup& team, AgentId agent, const Point2* at) {
+AgentUnit make_agent(TeamSetup& team, AgentId agent, const Point2* at, NavCommandSink* robot,
+                     const RobotBaseParams& robot_params) {
   if (!agent.within(team.agents()))
     throw Error(team.plan.source.empty() ? "plan" : team.plan.source,
                 to_string(agent) + " is not in the team of " + std::to_string(team.agents()));
   AgentUnit u;
   const Point2 start = at ? *at : team.start_pose(agent);
+  if (robot)
+    u.motion =
+        std::make_unique<RobotBase>(team.world.scenario.grid, agent.value(), start, team.speed, *robot, robot_params);
   if (team.assignment(agent).collector) {
     const mission::RouteTimetable& route = team.routes[team.assignment(agent).delivers_to];
-    u.motion = std::make_unique<RouteBase>(route, start, std::max<std::size_t>(1, route.waypoints().size()));
+    if (!robot)
+      u.motion = std::make_unique<RouteBase>(route, start, std::max<std::size_t>(1, route.waypoints().size()));
     u.role = std::make_unique<CollectorRole>(team, agent, *u.motion);
   } else {
     const std::size_t legs = static_cast<std::size_t>(team.params.goals_per_request) + 2;
-    u.motion = std::make_unique<SimulatedBase>(team.world.scenario.grid, *team.paths, start, legs, team.speed,
-                                               &team.world.coverage_field, &team.world.coverage);
+    if (!robot)
+      u.motion = std::make_unique<SimulatedBase>(team.world.scenario.grid, *team.paths, start, legs, team.speed,
+                                                 &team.world.coverage_field, &team.world.coverage);
     u.role = std::make_unique<WorkerRole>(team, agent, *u.motion);
   }
   return u;

@@ -128,7 +128,12 @@ TeamRunner::TeamRunner(TeamSetup& team, const RunOptions& options)
   if (!(options_.loss >= 0.0) || !(options_.loss < 1.0))
     throw Error("--loss", "must be in [0, 1), got " + std::to_string(options_.loss));
   units_.push_back(make_oc(team));
-  for (AgentId a : ids<AgentId>(team.agents())) units_.push_back(make_agent(team, a));
+  for (AgentId a : ids<AgentId>(team.agents()))
+    units_.push_back(make_agent(team, a, nullptr, options_.robots ? &commands_ : nullptr, options_.robot_params));
+  robot_bases_.assign(static_cast<std::size_t>(team.agents()), nullptr);
+  if (options_.robots)
+    for (std::size_t i = 1; i < units_.size(); ++i)
+      robot_bases_[i - 1] = static_cast<RobotBase*>(units_[i].motion.get());
   for (std::size_t i = 0; i < units_.size(); ++i) outboxes_.emplace_back(options_.outbox);
   links_.assign(units_.size(), LinkCounters{});
   seq_.assign(units_.size(), 0);
@@ -165,6 +170,21 @@ TeamRunner::~TeamRunner() = default;
 Role& TeamRunner::role(AgentId agent) { return *units_[agent.index() + 1].role; }  // unit 0: the OC
 OcRole& TeamRunner::oc() { return static_cast<OcRole&>(*units_[0].role); }
 
+// The robots move first: to this tick's time, with the commands the agents
+// sent in the tick before; each agent's base takes what its robot reported.
+void TeamRunner::robots_step(double t) {
+  sent_commands_.swap(commands_.commands);
+  commands_.commands.clear();
+  options_.robots->step(ticks_, t, sent_commands_, poses_, statuses_);
+  for (const RobotPose& p : poses_)
+    if (p.agent >= 0 && p.agent < team_.agents() && !killed_[static_cast<std::size_t>(p.agent) + 1])
+      robot_bases_[static_cast<std::size_t>(p.agent)]->on_pose(p, t);
+  for (const NavStatus& s : statuses_)
+    if (s.agent >= 0 && s.agent < team_.agents() && !killed_[static_cast<std::size_t>(s.agent) + 1])
+      robot_bases_[static_cast<std::size_t>(s.agent)]->on_status(s, t);
+  for (RobotBase* b : robot_bases_) b->set_tick(ticks_);
+}
+
 bool TeamRunner::tick() {
   const double t = now();
   next_.clear();
@@ -174,6 +194,7 @@ bool TeamRunner::tick() {
     const std::size_t i = static_cast<std::size_t>(k.agent) + 1;
     if (t >= k.at - 1e-9 && !restarted_[i] && !killed_[i]) restart(i, t);
   }
+  if (options_.robots) robots_step(t);
   for (std::size_t i = 0; i < units_.size(); ++i) {
     AgentUnit& u = units_[i];
     Outbox& out = outboxes_[i];
@@ -223,7 +244,9 @@ void TeamRunner::restart(std::size_t i, double t) {
   journals_[i].reset();  // the old life's file handle
   auto keeper = std::make_unique<JournalKeeper>(journal_path(options_.journal_dir, a), a, journal_run_id(team_.params));
   const JournalState s = keeper->open(true);
-  units_[i] = make_agent(team_, AgentId(a), s.have_pose ? &s.pose : nullptr);
+  units_[i] = make_agent(team_, AgentId(a), s.have_pose ? &s.pose : nullptr, options_.robots ? &commands_ : nullptr,
+                         options_.robot_params);
+  if (options_.robots) robot_bases_[static_cast<std::size_t>(a)] = static_cast<RobotBase*>(units_[i].motion.get());
   keeper->bind(*units_[i].role);  // first: what restore() adds (expiry notices) is journaled too
   units_[i].role->restore(s.custody.data(), s.custody.size(), s.progress, t);
   int measured = 0;
@@ -249,6 +272,12 @@ RunOutcome TeamRunner::run() {
   std::vector<LinkCounters> links;
   for (std::size_t i = 1; i < units_.size(); ++i) roles.push_back(units_[i].role.get()), links.push_back(links_[i]);
   out.agents = summarize(oc(), roles, links);
+  for (std::size_t a = 0; a < robot_bases_.size(); ++a)
+    if (const RobotBase* b = robot_bases_[a]) {
+      out.agents[a].contacts = b->contacts();
+      out.agents[a].robot = b->counters();
+      out.agents[a].robot_fault = b->first_fault();
+    }
   out.oc_link = links_[0];
   out.messages = sent_before_restart_;
   for (const LinkCounters& l : links_) out.messages += l.sent;

@@ -105,8 +105,8 @@ RobotDecoded decode_robot(const void* data, int size, NavCommand& m) {
   if (safe_decode(w, data, size) != size) return RobotDecoded::kUndecodable;
   if (w.schema_version != gather_lcm::nav_command_t::SCHEMA_VERSION) return RobotDecoded::kWrongVersion;
   const bool go = w.kind == gather_lcm::nav_command_t::GO, stop = w.kind == gather_lcm::nav_command_t::STOP;
-  if (w.agent < 0 || w.agent >= kMaxTeam || w.command <= 0 || !(go || stop) || (go && (w.n < 1 || w.n > kMaxNavWaypoints)) ||
-      (stop && w.n != 0) || !(w.tolerance > 0 && w.tolerance <= 1e3))
+  if (w.agent < 0 || w.agent >= kMaxTeam || w.command <= 0 || !(go || stop) ||
+      (go && (w.n < 1 || w.n > kMaxNavWaypoints)) || (stop && w.n != 0) || !(w.tolerance > 0 && w.tolerance <= 1e3))
     return RobotDecoded::kOutOfRange;
   for (int i = 0; i < w.n; ++i)
     if (!std::isfinite(w.x[static_cast<std::size_t>(i)]) || !std::isfinite(w.y[static_cast<std::size_t>(i)]) ||
@@ -158,14 +158,15 @@ RobotDecoded decode_robot(const void* data, int size, NavStatus& m) {
 LcmRobotLink::LcmRobotLink(const std::string& url, Side side, std::vector<int> ids, std::optional<FleetKey> key)
     : side_(side),
       ids_(std::move(ids)),
-      auth_(std::move(key),
-            [&] {
-              std::vector<std::string> names;
-              for (int id : ids_)
-                names.insert(names.end(), {robot_command_channel(id), robot_pose_channel(id), robot_status_channel(id)});
-              return names;
-            }(),
-            kMaxTeam + 1),
+      auth_(
+          std::move(key),
+          [&] {
+            std::vector<std::string> names;
+            for (int id : ids_)
+              names.insert(names.end(), {robot_command_channel(id), robot_pose_channel(id), robot_status_channel(id)});
+            return names;
+          }(),
+          kMaxTeam + 1),
       buffer_(kBuffer) {
   envelopes_ = std::make_unique<Envelopes>(auth_, kBuffer);
   for (int id : ids_) {

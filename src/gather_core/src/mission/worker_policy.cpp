@@ -331,7 +331,7 @@ std::size_t WorkerPolicy::arrival_times(double t) {
   std::size_t k = 0;
   for (std::size_t i = 0; i < tour_n_; ++i) {
     const std::size_t o = static_cast<std::size_t>(tour_[i]);
-    clock += (i == 0 ? from_position_[o] : from_[static_cast<std::size_t>(tour_[i - 1]) * stride_ + o]) / speed_;
+    clock += (i == 0 ? from_position_[o] : from_[static_cast<std::size_t>(tour_[i - 1]) * stride_ + o]) / v_;
     if (clock > goals_[o].deadline + kEps) break;
     at_[k++] = clock;
   }
@@ -375,7 +375,7 @@ WorkerPolicy::Meeting WorkerPolicy::earliest_meeting(std::size_t k, double t, do
   for (std::size_t r = 0; r < rendezvous_.size(); ++r) {
     const double dist = k == 0 ? position_to_rv_[r] : from_[static_cast<std::size_t>(tour_[k - 1]) * stride_ + n_ + r];
     if (!(dist < kInf)) continue;
-    const double arrive = std::max((k == 0 ? t : at_[k - 1]) + dist / speed_, no_meeting_before);
+    const double arrive = std::max((k == 0 ? t : at_[k - 1]) + dist / v_, no_meeting_before);
     const Meeting m = meeting_at(r, arrive, load, delay);
     if (m.done < best.done) best = m;
   }
@@ -384,7 +384,9 @@ WorkerPolicy::Meeting WorkerPolicy::earliest_meeting(std::size_t k, double t, do
 
 WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int* known, std::size_t n_known,
                                             std::size_t carried, bool more_requests, double no_meeting_before,
-                                            double collector_delay) {
+                                            const Facts& facts) {
+  const double collector_delay = facts.collector_delay;
+  v_ = speed_ * facts.pace;
   const bool carrying = carried > 0;
   Decision d;
   d.tour = tour_.data();
@@ -410,7 +412,7 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
       d.action = Action::kBackToCoverage;
       const auto back = way_back(at.cell);
       d.landing = back.first;
-      d.arrive = t + back.second / speed_;
+      d.arrive = t + back.second / v_;
       return d;
     }
     if (more_requests && home_.row >= 0 && !(at.cell == home_)) {
@@ -420,7 +422,7 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
       if (dist < kInf) {
         d.action = Action::kGoToMeeting;
         d.landing = home_;
-        d.arrive = t + dist / speed_;
+        d.arrive = t + dist / v_;
         return d;
       }
     }
@@ -464,7 +466,7 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
       if (dist < kInf) {
         d.action = Action::kGoToMeeting;
         d.landing = meeting_cell_;
-        d.arrive = t + dist / speed_;
+        d.arrive = t + dist / v_;
         return d;
       }
     }
@@ -477,7 +479,7 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
         bug("worker " + std::to_string(agent_.value()) + " cannot reach any pass of its collector");
       d.action = Action::kGoToRendezvous;
       d.rendezvous = static_cast<int>(r);
-      d.arrive = t + position_to_rv_[r] / speed_;
+      d.arrive = t + position_to_rv_[r] / v_;
       return d;
     }
     d.action = Action::kWait;
@@ -509,7 +511,7 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
   d.action = Action::kWork;
   d.k = k;
   d.rendezvous = meet.rv;
-  d.arrive = (k == 0 ? t : at_[k - 1]) + dist / speed_;
+  d.arrive = (k == 0 ? t : at_[k - 1]) + dist / v_;
   d.handover = meet.done;
   d.link_until = meet.until;
   d.pass = meet.pass;

@@ -1,6 +1,7 @@
 #include "gather_core/mission/world.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "gather_core/error.hpp"
 #include "gather_core/grid/reachability.hpp"
@@ -38,6 +39,28 @@ World::World(const Scenario& s) : scenario(s), coverage_field(s.grid) {
   so.labels = true;
   so.label_look_back = 0;
   coverage_field.solve(sources, so);
+}
+
+Cell World::standing_cell(Point2 p, double radius_m) const {
+  const OccupancyGrid& grid = scenario.grid;
+  const Cell c = grid.world_to_cell(p);
+  if (reaches(c)) return c;
+  // Square rings of cells around c, growing: in the first ring that holds a
+  // reachable cell, the one nearest c (ties: the first in row-major order).
+  const int rings = static_cast<int>(std::ceil(radius_m / grid.resolution()));
+  for (int k = 1; k <= rings; ++k) {
+    Cell best{-1, -1};
+    long best_d = -1;
+    for (int dr = -k; dr <= k; ++dr)
+      for (int dc = -k; dc <= k; ++dc) {
+        if (std::max(std::abs(dr), std::abs(dc)) != k) continue;
+        const Cell n{c.row + dr, c.col + dc};
+        const long d = static_cast<long>(dr) * dr + static_cast<long>(dc) * dc;
+        if (reaches(n) && (best_d < 0 || d < best_d)) best = n, best_d = d;
+      }
+    if (best_d >= 0) return best;
+  }
+  return c;
 }
 
 Cell World::oc_worker_home(const std::vector<Cell>& cells) const {

@@ -83,8 +83,10 @@ class RobotBase : public MotionBackend {
 
   const RobotLinkCounters& counters() const { return counters_; }
   int32_t contacts() const { return contacts_; }  // robot-robot contacts the robot reported (simulation)
-  // One line on the current fault ("" when none).
+  // One line on the current fault ("" when none), and on the first one of
+  // its life.
   const std::string& fault_text() const { return fault_text_; }
+  const std::string& first_fault() const { return first_fault_; }
 
  private:
   void set_fault(BaseFault f, double now, const char* why);
@@ -113,7 +115,7 @@ class RobotBase : public MotionBackend {
   int32_t contacts_ = 0;
   double now_ = 0.0;
   BaseFault fault_ = BaseFault::kNone;
-  std::string fault_text_;
+  std::string fault_text_, first_fault_;
   uint32_t revision_ = 0;
   RobotLinkCounters counters_;
 };

@@ -21,9 +21,9 @@ std::string robot_status_channel(int agent);   // GATHER_ROBOT_STATUS_<agent>
 
 struct RobotPose {
   int16_t agent = 0;
-  int64_t tick = -1;   // simulation: the lockstep tick it is for; a real robot: -1
-  double stamp = 0.0;  // [s] robot clock
-  Point2 at;           // [m] map frame
+  int64_t tick = -1;     // simulation: the lockstep tick it is for; a real robot: -1
+  double stamp = 0.0;    // [s] robot clock
+  Point2 at;             // [m] map frame
   double heading = 0.0;  // [rad]
   double v = 0.0;        // [m/s]
   double w = 0.0;        // [rad/s]

@@ -105,6 +105,14 @@ class WorkerRole : public Role {
   // (collector_delay_), and as the plan under way assumed (delay_used_).
   double collector_delay_ = 0.0, delay_used_ = 0.0;
   double learned_delay_ = 0.0;  // [s] the delay the learned request came with (its deadline's shift)
+  // Its robot's pace (WorkerPolicy::Facts::pace), measured over the legs it
+  // drove: planned seconds over seconds taken, each sum decaying by
+  // kPaceMemory a leg; the pace the plan under way assumed.
+  static constexpr double kPaceMemory = 0.8, kMinPace = 0.25, kMaxPace = 4.0;
+  double pace_ = 1.0, pace_used_ = 1.0, planned_s_ = 0.0, took_s_ = 0.0;
+  double command_at_ = 0.0;   // [s] when the plan under way was commanded
+  double eta_base_ = 0.0;     // [s] its robot's first arrival estimate for the plan under way (+inf: none yet)
+  double next_replan_ = 0.0;  // [s] no decision again for drift before then
   // [s] since when the worker is in contact upstream with data on board (-1:
   // not): a hand-over of n goals goes out once that has lasted
   // transfer_s(n) (docs/simulator.md, "Hand-over").

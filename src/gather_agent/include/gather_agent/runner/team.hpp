@@ -1,12 +1,14 @@
 #pragma once
 // One agent's role and motion backend as the plan assigns them, for any
-// runner: a worker drives a SimulatedBase, a collector follows its
-// timetable, the OC stands at its station.
+// runner: on ideal bases a worker drives a SimulatedBase and a collector a
+// RouteBase; on robots both drive a RobotBase (the robot interface); the OC
+// stands at its station.
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "gather_agent/motion/motion_backend.hpp"
+#include "gather_agent/motion/robot_base.hpp"
 #include "gather_agent/roles/oc_role.hpp"
 #include "gather_agent/roles/role.hpp"
 #include "gather_agent/transport/auth_counters.hpp"
@@ -21,9 +23,11 @@ struct AgentUnit {
 };
 
 // Agent `agent` of team.plan, at its start pose (or at `at`: a restarted
-// agent where it was). Throws gather::Error when the plan gives it no
-// workable assignment.
-AgentUnit make_agent(TeamSetup& team, AgentId agent, const Point2* at = nullptr);
+// agent where it was), on an ideal base; with `robot` set, on the robot
+// behind the robot interface that receives its commands there. Throws
+// gather::Error when the plan gives it no workable assignment.
+AgentUnit make_agent(TeamSetup& team, AgentId agent, const Point2* at = nullptr, NavCommandSink* robot = nullptr,
+                     const RobotBaseParams& robot_params = {});
 // The OC at the scenario's OC position.
 AgentUnit make_oc(TeamSetup& team);
 
@@ -36,6 +40,11 @@ struct AgentSummary {
   AuthCounters auth;      // over LCM: messages it dropped before decoding, by reason
   int64_t carried = 0;    // measured items in its custody at the end
   int64_t delivered = 0;  // items the OC accepted from it
+  // On robots: what its robot reported (contacts with other robots) and the
+  // robot link's counters; the first fault of its robot ("": none).
+  int32_t contacts = 0;
+  RobotLinkCounters robot;
+  std::string robot_fault;
 };
 
 // Every goal measured and stored is delivered or in some agent's custody

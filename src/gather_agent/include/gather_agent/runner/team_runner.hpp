@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "gather_agent/runner/journal.hpp"
+#include "gather_agent/runner/robot_world.hpp"
 #include "gather_agent/runner/team.hpp"
 #include "gather_core/mission/simulator.hpp"
 
@@ -45,6 +46,11 @@ struct RunOptions {
   // its journal (docs/faults.md, "Crash and restart"); needs journal_dir.
   std::vector<Kill> restarts;
   std::string journal_dir;  // every agent journals there ("": no journals)
+  // The team on robots (not owned; nullptr: ideal bases): every agent drives
+  // a RobotBase whose commands go to `robots`, stepped before the agents
+  // every tick.
+  RobotWorld* robots = nullptr;
+  RobotBaseParams robot_params;
 };
 
 // Mission time after which an unfinished run stops: the requests, then
@@ -107,6 +113,14 @@ class TeamRunner {
   std::vector<uint8_t> restarted_;  // by unit: restarted (once)
   std::vector<uint8_t> fresh_;      // by unit: restarted this tick (an empty inbox: a new process heard nothing yet)
   std::vector<std::unique_ptr<JournalKeeper>> journals_;  // by unit ([0], the OC's: none)
+  // On robots: each agent's RobotBase (by agent id), the commands of the
+  // tick, what the robots reported.
+  std::vector<RobotBase*> robot_bases_;
+  CommandQueue commands_;
+  std::vector<NavCommand> sent_commands_;
+  std::vector<RobotPose> poses_;
+  std::vector<NavStatus> statuses_;
+  void robots_step(double t);
   void restart(std::size_t unit, double t);
   std::vector<std::pair<int, int>> restored_;
   int64_t sent_before_restart_ = 0;

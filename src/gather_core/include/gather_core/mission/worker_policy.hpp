@@ -104,6 +104,18 @@ inline double request_deadline(double reached, double next_reached, double perio
 // control period and its message round trip (docs/simulator.md, "Hand-over").
 inline double handover_guard(double window_s) { return window_s < 1.0 ? 0.5 * window_s : 0.5; }
 
+// What a worker on a real robot knows that the plan did not (the
+// simulator, on ideal bases, keeps the defaults).
+struct WorkerFacts {
+  // [s] how far behind its timetable the worker believes its collector to
+  // be: its passes come that much later.
+  double collector_delay = 0.0;
+  // Its robot's pace: the plan's times over the times its robot took on
+  // the way so far (1: as planned); travel times are planned at the team
+  // speed times this.
+  double pace = 1.0;
+};
+
 class WorkerPolicy {
  public:
   enum class Action {
@@ -193,17 +205,16 @@ class WorkerPolicy {
   void reserve_all();
   const KnownGoal& goal(std::size_t local) const { return goals_[local]; }
 
+  using Facts = WorkerFacts;
+
   // The next step of a worker at `at` at time t [s] whose unmeasured goals
   // of the current request are `known` (local indices, deadlines not yet
   // passed), carrying `carried` measured goals not yet handed over, with
   // `more_requests` still to come. Collector workers: `no_meeting_before` [s] excludes meetings
-  // before then (after a pass where the link failed); `collector_delay` [s]
-  // is how far behind its timetable the worker believes its collector to be
-  // (its passes come that much later; 0 in the simulator, whose collectors
-  // keep their timetable). The returned pointers stay valid until the next
-  // call.
+  // before then (after a pass where the link failed). The returned pointers
+  // stay valid until the next call.
   Decision decide(const Spot& at, double t, const int* known, std::size_t n_known, std::size_t carried,
-                  bool more_requests, double no_meeting_before = 0.0, double collector_delay = 0.0);
+                  bool more_requests, double no_meeting_before = 0.0, const Facts& facts = Facts{});
 
   // OC workers: the nearest cell of the coverage from `from` and the way's
   // length [m] (the labelled march from the coverage border). Throws
@@ -238,7 +249,8 @@ class WorkerPolicy {
   AgentId agent_;
   SegmentId segment_;
   CollectorId collector_;
-  double speed_ = 1.0;
+  double speed_ = 1.0;  // [m/s] the team's
+  double v_ = 1.0;      // [m/s] the speed of the decision under way (the team's times the robot's pace)
   double meeting_arc_ = 0.0;
   int two_opt_rounds_ = kOpenTourTwoOptRounds;          // ProtocolParams::two_opt_rounds
   std::vector<Cell> rendezvous_;                        // cells of its collector's passes next to its segment

@@ -33,6 +33,14 @@ struct World {
   fmm::FastMarching coverage_field;
 
   bool covered(Cell c) const { return scenario.grid.contains(c) && coverage[scenario.grid.index(c)] != 0; }
+  bool reaches(Cell c) const { return scenario.grid.contains(c) && reachable[scenario.grid.index(c)] != 0; }
+
+  // The reachable cell where a robot at `p` [m] stands: its own cell, or
+  // (a pose on a wall, off the map, inside an inflated obstacle: real
+  // localisation does that) a nearest reachable cell within `radius_m` [m]
+  // (the first square ring of cells around it that holds one); its own cell
+  // when there is none (callers check reaches()).
+  Cell standing_cell(Point2 p, double radius_m = 2.0) const;
 
   // Where a worker delivering to the OC waits for requests: the coverage
   // cell nearest its segment (`cells`, in row-major order), where it comes
