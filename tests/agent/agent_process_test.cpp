@@ -138,8 +138,10 @@ TEST(AgentProcess, BadInputGivesOneLineAndStatus2) {
                    "not in the plan's team of 20");
   expect_bad_input({bin, "--id", "0", "--lcm-url", "bogus://x", "--key-file", key, "--plan", plan},
                    "cannot open LCM URL");
-  expect_bad_input({bin, "--id", "0", "--motion", "base", "--plan", plan}, "not connected");
-  expect_bad_input({bin, "--id", "0", "--motion", "wheels", "--plan", plan}, "--motion must be sim or base");
+  expect_bad_input({bin, "--id", "0", "--motion", "base", "--plan", plan},
+                   "--motion must be sim (an ideal base) or lcm");
+  expect_bad_input({bin, "--id", "0", "--motion", "wheels", "--plan", plan}, "--motion must be sim");
+  expect_bad_input({bin, "--id", "0", "--robot-url", "memq://", "--plan", plan}, "--robot-url needs --motion lcm");
   // Signed fleet traffic: a key or an explicit --insecure, never both; a key
   // others can read is refused.
   expect_bad_input({bin, "--id", "0", "--plan", plan}, "--key-file");

@@ -153,7 +153,9 @@ TEST(LcmFleet, ClockAndPlanSurviveTheRoundTrip) {
   PlanAnnounce bad_margin = p;  // a window margin out of [0, 100] m: refused
   bad_margin.params.protocol.window_margin_m = -1.0;
   f.publish(bad_margin);
-  f.publish(Tick{12, 1.2, 33, true, false});
+  Tick tick;
+  tick.tick = 12, tick.t = 1.2, tick.sent_before = 33, tick.commands_before = 4, tick.report = true;
+  f.publish(tick);
   Reply r;
   r.tick = 12, r.agent = 4, r.sent = 2, r.pose = {3.5, 4.5}, r.role = RoleKind::kCollector, r.keys = {1, 2, 3};
   r.report.measured = 9, r.link.gated = 77;
@@ -170,6 +172,7 @@ TEST(LcmFleet, ClockAndPlanSurviveTheRoundTrip) {
   EXPECT_EQ(f.plans()[0].params.protocol.two_opt_rounds, 7);
   ASSERT_EQ(f.ticks().size(), 1u);
   EXPECT_EQ(f.ticks()[0].sent_before, 33);
+  EXPECT_EQ(f.ticks()[0].commands_before, 4);
   EXPECT_TRUE(f.ticks()[0].report);
   ASSERT_EQ(f.replies().size(), 1u);
   EXPECT_EQ(f.replies()[0].keys.size(), 3u);

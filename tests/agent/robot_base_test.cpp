@@ -49,7 +49,7 @@ struct Rig {
 TEST(RobotBase, AWaypointCountsWhenTheRobotSaysAtTheTimeItSays) {
   Rig r(RobotScript{0.5});  // half the team speed
   r.run_until(1.0);
-  EXPECT_NEAR(r.base.pose().x, 0.55, 1e-9);  // no command yet
+  EXPECT_NEAR(r.base.pose().x, 0.55, 1e-9);   // no command yet
   const Waypoint w{Point2{3.55, 0.25}, 4.0};  // 3 m in 3 s from t = 1
   r.base.go(&w, 1, 1.0);
   ASSERT_EQ(r.queue.commands.size(), 1u);
@@ -99,7 +99,7 @@ TEST(RobotBase, ARobotThatFallsSilentIsAFaultWithOneLine) {
   EXPECT_EQ(r.base.counters().faults, 1);
   const double x = r.base.pose().x;
   r.run_until(5.0);
-  EXPECT_EQ(r.base.pose().x, x);  // where it was last heard of
+  EXPECT_EQ(r.base.pose().x, x);             // where it was last heard of
   EXPECT_GT(r.base.counters().commands, 3);  // the command went out again and again
 }
 

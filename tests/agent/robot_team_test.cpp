@@ -33,9 +33,7 @@ Tally tally(const RunOutcome& out) {
       case mission::GoalState::kDelivered: ++t.delivered; break;
       case mission::GoalState::kExpired: ++t.expired; break;
       case mission::GoalState::kUnreachable: ++t.unreachable; break;
-      default:
-        ++t.other;
-        std::printf("goal %d: %s\n", g.id.value(), mission::goal_state_name(g.state));
+      default: ++t.other; std::printf("goal %d: %s\n", g.id.value(), mission::goal_state_name(g.state));
     }
   }
   return t;

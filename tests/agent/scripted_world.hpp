@@ -20,8 +20,8 @@ struct RobotScript {
   // Waypoints (counted over the robot's life, from 0) it fails: it stops
   // short of the i-th waypoint it is sent towards and reports FAILED.
   int fail_waypoint = -1;
-  double silent_from = std::numeric_limits<double>::infinity();  // [s] no pose or status from then on
-  double nan_from = std::numeric_limits<double>::infinity();     // [s] its pose is NaN from then on
+  double silent_from = std::numeric_limits<double>::infinity();   // [s] no pose or status from then on
+  double nan_from = std::numeric_limits<double>::infinity();      // [s] its pose is NaN from then on
   double off_map_from = std::numeric_limits<double>::infinity();  // [s] its pose is far off the map from then on
   bool eta = true;                                                // it reports an arrival estimate
 };

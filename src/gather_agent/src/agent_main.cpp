@@ -1,13 +1,17 @@
 // gather_agent: one robot of the team. Loads its plan, waits for the OC's
 // plan announcement (same digest or it refuses), then runs its role on the
 // OC's lockstep clock over LCM until the OC ends the mission.
+// With --motion lcm it drives its robot through the robot interface
+// (docs/robots.md) instead of an ideal base.
 // Exit status: 0 mission done or stopped by SIGINT/SIGTERM, 2 bad input (a
-// bad flag, plan or scenario, a plan that differs from the OC's, a motion
-// backend that is not connected), 1 runtime failure (the OC went silent).
+// bad flag, plan or scenario, a plan that differs from the OC's), 1 runtime
+// failure (the OC went silent).
 #include <malloc.h>
 
 #include <cstdio>
 #include <exception>
+#include <memory>
+#include <vector>
 
 #include "gather_agent/agent_options.hpp"
 #include "gather_agent/runner/lockstep.hpp"
@@ -27,17 +31,21 @@ int main(int argc, char** argv) {
       std::printf("%s\n", gather::agent_usage());
       return 0;
     }
-    if (opt.motion == "base")
-      throw gather::Error("--motion base",
-                          "not connected: this build has no driver for a real robot base (a real base "
-                          "implements agent::MotionBackend, see docs/runtime.md)");
     std::optional<gather::agent::FleetKey> key =
         gather::agent::fleet_key_from_options(opt.key_file, opt.insecure, "gather_agent " + std::to_string(opt.id));
     gather::agent::LoadedPlan plan = gather::agent::load_plan(opt.plan);
     gather::agent::LcmFleet fleet(
         opt.lcm_url, opt.reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(opt.lcm_url) : opt.reply_url, false,
-        std::move(key));
-    gather::agent::LockstepAgent agent(plan, opt.id, fleet);
+        key);
+    std::unique_ptr<gather::agent::LcmRobotLink> robot;
+    gather::agent::RobotBaseParams robot_params;
+    robot_params.silence_s = opt.robot_silence_s;
+    robot_params.tolerance_m = opt.tolerance_m;
+    if (opt.motion == "lcm")
+      robot = std::make_unique<gather::agent::LcmRobotLink>(opt.robot_url.empty() ? opt.lcm_url : opt.robot_url,
+                                                            gather::agent::LcmRobotLink::Side::kAgent,
+                                                            std::vector<int>{opt.id}, key);
+    gather::agent::LockstepAgent agent(plan, opt.id, fleet, robot.get(), robot_params);
     agent.set_journal(opt.journal, opt.rejoin);
     std::printf("gather_agent %d: plan %s (%s, %d collectors), waiting for the OC\n", opt.id, opt.plan.c_str(),
                 plan.plan.file.method.c_str(), plan.plan.file.collectors);

@@ -25,7 +25,8 @@ double parse_number(const std::string& flag, const char* s) {
 
 const char* agent_usage() {
   return "usage: gather_agent --id K --plan PLAN_DIR (--key-file F | --insecure) [--lcm-url URL] [--reply-url URL] "
-         "[--motion sim|base] [--silence S] [--journal DIR [--rejoin]]";
+         "[--motion sim|lcm [--robot-url URL] [--robot-silence S] [--waypoint-tolerance M]] [--silence S] "
+         "[--journal DIR [--rejoin]]";
 }
 
 AgentOptions parse_agent_options(int argc, char** argv) {
@@ -53,8 +54,21 @@ AgentOptions parse_agent_options(int argc, char** argv) {
       o.reply_url = value(a);
     } else if (a == "--motion") {
       o.motion = value(a);
-      if (o.motion != "sim" && o.motion != "base")
-        throw Error(kWhere, "--motion must be sim or base, got '" + o.motion.substr(0, 40) + "'");
+      if (o.motion != "sim" && o.motion != "lcm")
+        throw Error(kWhere,
+                    "--motion must be sim (an ideal base) or lcm (a robot behind the robot interface, "
+                    "docs/robots.md), got '" +
+                        o.motion.substr(0, 40) + "'");
+    } else if (a == "--robot-url") {
+      o.robot_url = value(a);
+    } else if (a == "--robot-silence") {
+      o.robot_silence_s = parse_number(a, value(a));
+      if (!(o.robot_silence_s >= 0.2 && o.robot_silence_s <= 600))
+        throw Error(kWhere, "--robot-silence must be in [0.2, 600] s");
+    } else if (a == "--waypoint-tolerance") {
+      o.tolerance_m = parse_number(a, value(a));
+      if (!(o.tolerance_m >= 0.01 && o.tolerance_m <= 10))
+        throw Error(kWhere, "--waypoint-tolerance must be in [0.01, 10] m");
     } else if (a == "--journal") {
       o.journal = value(a);
       if (o.journal.empty()) throw Error(kWhere, "--journal needs a directory");
@@ -75,6 +89,7 @@ AgentOptions parse_agent_options(int argc, char** argv) {
   if (!have_id) throw Error(kWhere, std::string("--id is required (") + agent_usage() + ")");
   if (o.plan.empty()) throw Error(kWhere, std::string("--plan is required (") + agent_usage() + ")");
   if (o.rejoin && o.journal.empty()) throw Error(kWhere, "--rejoin needs --journal (the journal it replays)");
+  if (o.motion != "lcm" && (!o.robot_url.empty())) throw Error(kWhere, "--robot-url needs --motion lcm");
   return o;
 }
 

@@ -1,6 +1,7 @@
 // gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT]
 //                     [--loss P] [--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none]
 //                     [--silent-intervals K] [--restart ID@T[,ID@T...]]
+//                     [--robots ideal|mrpt [--world-config YAML] [--world-bin FILE]]
 //                     [--lcm (--key-file F | --insecure) [--lcm-url URL] [--reply-url URL]
 //                            [--agent-bin FILE] [--rate R] [--clock lockstep|wall]]:
 // runs the plan with the agent runtime for K seeds: every role in this
@@ -16,7 +17,10 @@
 // --rate, default 1): not reproducible, no per-agent counters. --kill ends
 // agents at mission times (over LCM: SIGKILL to their processes); the OC
 // declares silent agents dead and the survivors run the repaired plan
-// (docs/faults.md).
+// (docs/faults.md). --robots mrpt runs the team on gather_world's robots
+// (docs/robots.md): with the agents in this process, gather_world is its
+// child over a pipe; with --lcm, one more process speaking the robot
+// interface over LCM, every agent started with --motion lcm.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -28,6 +32,7 @@
 #include "commands.hpp"
 #include "gather_agent/runner/agent_fleet.hpp"
 #include "gather_agent/runner/lockstep.hpp"
+#include "gather_agent/runner/pipe_world.hpp"
 #include "gather_agent/runner/run_files.hpp"
 #include "gather_agent/runner/team_runner.hpp"
 #include "gather_core/error.hpp"
@@ -39,19 +44,40 @@ namespace gather {
 namespace cmd {
 namespace {
 
+// The robots of a run, when not ideal: gather_world's binary and its
+// settings, or robots someone else drives (their drivers speak the robot
+// interface over LCM).
+struct Robots {
+  std::string world_bin;     // "": ideal bases, or external robots
+  std::string world_config;  // its YAML ("": defaults)
+  bool external = false;
+  bool any() const { return external || !world_bin.empty(); }
+};
+
 // One run with one gather_agent process per agent; this process is the OC.
 agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& plan, uint64_t digest,
                                const agent::RunOptions& opt, double rate, bool wall, const std::string& url,
                                const std::string& reply_url, const std::string& agent_bin, const std::string& key_file,
-                               const std::optional<agent::FleetKey>& key) {
+                               const std::optional<agent::FleetKey>& key, const Robots& robots) {
   agent::LcmFleet fleet(url, reply_url, true, key, team.agents());
   std::vector<std::string> command{agent_bin,   "--id", "{id}",        "--plan", plan.dir,
                                    "--lcm-url", url,    "--reply-url", reply_url};
+  std::vector<std::string> keying;
   if (key)
-    command.insert(command.end(), {"--key-file", key_file});
+    keying = {"--key-file", key_file};
   else
-    command.push_back("--insecure");
+    keying = {"--insecure"};
+  command.insert(command.end(), keying.begin(), keying.end());
   if (!opt.journal_dir.empty()) command.insert(command.end(), {"--journal", opt.journal_dir});
+  if (robots.any()) command.insert(command.end(), {"--motion", "lcm"});
+  std::unique_ptr<AgentFleet> world;
+  if (!robots.world_bin.empty()) {
+    std::vector<std::string> w{robots.world_bin, "--plan", plan.dir, "--lcm-url", url, "--reply-url", reply_url};
+    w.insert(w.end(), keying.begin(), keying.end());
+    if (!robots.world_config.empty()) w.insert(w.end(), {"--config", robots.world_config});
+    world = std::make_unique<AgentFleet>(w, 1);
+    world->start();
+  }
   AgentFleet processes(command, team.agents());
   processes.start();
   try {
@@ -62,6 +88,7 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
     mo.respawn = [&processes](int id) { processes.respawn(id, {"--rejoin"}); };
     mo.kill_agent = [&processes](int id) { processes.kill(id); };
     if (wall) mo.clock = agent::ClockMode::kWall;
+    mo.robots = robots.any();
     agent::LockstepMaster master(team, fleet, digest, mo);
     const auto t0 = std::chrono::steady_clock::now();
     master.start(nullptr);
@@ -89,6 +116,12 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
         (out.wall_ms - master.publish_ms() - master.inbox_ms() - master.oc_ms() - master.wait_ms()) / ticks);
     processes.wait(5.0);  // they end by themselves on the last tick
     processes.stop(2.0);
+    if (world) {
+      world->wait(5.0);
+      world->stop(2.0);
+      if (world->agents()[0].exit_status != 0)
+        throw RuntimeError("gather_world", "exited with status " + std::to_string(world->agents()[0].exit_status));
+    }
     for (const AgentProcess& p : processes.agents()) {
       bool killed = false;
       for (const agent::Kill& k : opt.kills) killed = killed || k.agent == p.id;
@@ -104,6 +137,18 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
     if (std::string(e.what()).find("refused the plan") != std::string::npos) throw;
     throw RuntimeError("", e.what());
   }
+}
+
+// One run with every agent in this process (on gather_world's robots: its
+// child over a pipe).
+agent::RunOutcome run_in_process(agent::TeamSetup& team, const agent::LoadedPlan& plan, agent::RunOptions opt,
+                                 const Robots& robots) {
+  if (robots.world_bin.empty()) return agent::TeamRunner(team, opt).run();
+  std::vector<std::string> command{robots.world_bin, "--plan", plan.dir};
+  if (!robots.world_config.empty()) command.insert(command.end(), {"--config", robots.world_config});
+  agent::PipeWorld world(command, team.agents());
+  opt.robots = &world;
+  return agent::TeamRunner(team, opt).run();
 }
 
 }  // namespace
@@ -123,15 +168,18 @@ int keygen(int argc, char** argv) {
 int run(int argc, char** argv) {
   cli::Args args(
       argc, argv, 2,
-      {"--cycles", "--seeds", "--seed", "--out", "--tick", "--loss", "--loss-seed", "--lcm-url", "--reply-url",
-       "--agent-bin", "--rate", "--clock", "--kill", "--repair", "--silent-intervals", "--restart", "--key-file"},
+      {"--cycles",           "--seeds",     "--seed",      "--out",    "--tick",         "--loss",      "--loss-seed",
+       "--lcm-url",          "--reply-url", "--agent-bin", "--rate",   "--clock",        "--kill",      "--repair",
+       "--silent-intervals", "--restart",   "--key-file",  "--robots", "--world-config", "--world-bin", "--protocol"},
       {"--lcm", "--insecure"});
   if (args.positional().size() != 1 || !args.has("--out"))
     throw cli::UsageError(
         "usage: gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT] [--loss P] "
         "[--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none] [--silent-intervals K] [--restart "
-        "ID@T[,ID@T...]] [--lcm (--key-file F | --insecure) [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] "
-        "[--rate R] [--clock lockstep|wall]]");
+        "ID@T[,ID@T...]] [--robots ideal|mrpt|external [--world-config YAML] [--world-bin FILE]] [--protocol "
+        "ideal|robots] "
+        "[--lcm (--key-file F | "
+        "--insecure) [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R] [--clock lockstep|wall]]");
   const bool over_lcm = args.on("--lcm");
   for (const char* flag : {"--lcm-url", "--reply-url", "--agent-bin", "--rate", "--clock", "--key-file"})
     if (args.has(flag) && !over_lcm) throw cli::UsageError(std::string(flag) + " needs --lcm");
@@ -144,10 +192,32 @@ int run(int argc, char** argv) {
       throw cli::UsageError("--lcm sends UDP multicast: run it inside tools/netns-run, or give --lcm-url");
     lcm_url = "udpm://239.255.76.67:7667?ttl=0";
   }
+  const std::string robots_kind = args.get("--robots", "ideal");
+  if (robots_kind != "ideal" && robots_kind != "mrpt" && robots_kind != "external")
+    throw cli::UsageError(
+        "--robots must be ideal (ideal bases), mrpt (gather_world's robots) or external (robots your drivers drive "
+        "over LCM), got '" +
+        robots_kind.substr(0, 40) + "'");
+  for (const char* flag : {"--world-config", "--world-bin"})
+    if (args.has(flag) && robots_kind != "mrpt") throw cli::UsageError(std::string(flag) + " needs --robots mrpt");
+  Robots robots;
+  robots.external = robots_kind == "external";
+  if (robots.external && !args.on("--lcm"))
+    throw cli::UsageError("--robots external needs --lcm (the robots' drivers speak the robot interface over LCM)");
+  if (robots_kind == "mrpt") {
+    robots.world_bin = find_world_binary(args.get("--world-bin", ""));
+    if (robots.world_bin.empty())
+      throw Error(args.has("--world-bin") ? "--world-bin" : "gather run --robots mrpt",
+                  args.has("--world-bin") ? "'" + args.get("--world-bin") + "' is not an executable file"
+                                          : "gather_world not found beside gather, in CMAKE_PREFIX_PATH or PATH");
+    robots.world_config = args.get("--world-config", "");
+  }
   const std::string clock = args.get("--clock", "lockstep");
   if (clock != "lockstep" && clock != "wall")
     throw cli::UsageError("--clock must be lockstep or wall, got '" + clock.substr(0, 40) + "'");
   const bool wall_clock = clock == "wall";
+  if (robots.external && !wall_clock)
+    throw cli::UsageError("--robots external needs --clock wall (robots drive on their own clock, not on ticks)");
   const double rate = args.get_double("--rate", wall_clock ? 1.0 : 0.0, 0.0, 1e6);
   if (!(rate >= 0.0) || rate > 1e6) throw cli::UsageError("--rate must be >= 0 (0: as fast as the lockstep allows)");
   if (wall_clock && !(rate > 0.0))
@@ -156,6 +226,12 @@ int run(int argc, char** argv) {
   const agent::LoadedPlan loaded = agent::load_plan(args.positional()[0]);
   agent::MissionParams params = agent::mission_params(loaded.scenario);
   params.cycles = args.get_int("--cycles", params.cycles, 1, 10000);
+  // The protocol's tuning for robots (mission::robot_protocol), by default
+  // with robots; with ideal bases to compare with them.
+  const std::string protocol = args.get("--protocol", robots_kind != "ideal" ? "robots" : "ideal");
+  if (protocol != "ideal" && protocol != "robots")
+    throw cli::UsageError("--protocol must be ideal or robots, got '" + protocol.substr(0, 40) + "'");
+  if (protocol == "robots") params.protocol = mission::robot_protocol(params.protocol);
   const int seeds = args.get_int("--seeds", 1, 1, 1000);
   const int seed0 = args.get_int("--seed", static_cast<int>(params.seed), 0, 2147483647);
   agent::RunOptions opt;
@@ -205,8 +281,8 @@ int run(int argc, char** argv) {
     const agent::RunOutcome r = over_lcm
                                     ? run_over_lcm(team, loaded, digest, opt, rate, wall_clock, lcm_url,
                                                    args.get("--reply-url", agent::LcmFleet::reply_url_for(lcm_url)),
-                                                   agent_bin, args.get("--key-file", ""), key)
-                                    : agent::TeamRunner(team, opt).run();
+                                                   agent_bin, args.get("--key-file", ""), key, robots)
+                                    : run_in_process(team, loaded, opt, robots);
     if (!r.completed) throw RuntimeError(args.positional()[0], r.failure);
     if (over_lcm) {
       agent::AuthCounters all = r.oc_auth;

@@ -110,6 +110,10 @@ struct StateReport {
   uint16_t notices = 0;  // expiry / drop / skip notices in custody
   uint16_t pending = 0;  // goals known and not yet measured
   int32_t measured = 0;  // goals measured so far
+  // [s] a worker: when it next expects to be back in touch (its plan's end:
+  // back in the coverage, or at its meeting); the OC waits that long, and
+  // its timeout more, before it declares the worker dead. 0: now.
+  double back_by = 0.0;
   // Collectors: when they last heard each of their workers (the OC's news
   // of workers it cannot hear; docs/faults.md, "Liveness").
   uint8_t heard_count = 0;

@@ -120,11 +120,11 @@ void RobotBase::go(const Waypoint* legs, std::size_t n, double now) {
   status_heard_at_ = -1.0;
   ++command_.id;
   command_.kind = NavCommand::Kind::kGo;
-  command_.tolerance = params_.tolerance_m;
   command_.n = static_cast<uint16_t>(n);
   for (std::size_t i = 0; i < n; ++i) {
     command_.points[i] = legs[i].point;
     command_.after[i] = std::max(0.0, legs[i].arrive - now);
+    command_.tolerance[i] = legs[i].tolerance > 0 ? legs[i].tolerance : params_.tolerance_m;
   }
   sent_at_ = now;
   command_.tick = tick_;

@@ -118,7 +118,9 @@ void CollectorRole::command_loop(double depart, std::size_t first, double now) {
   const std::vector<Point2>& w = route_.waypoints();
   loop_depart_ = depart, loop_first_ = first;
   std::size_t n = 0;
-  for (std::size_t v = first; v < w.size(); ++v) legs_[n++] = Waypoint{w[v], planned_at(v)};
+  // The last waypoint is the OC: anywhere near it will do (robots wait there).
+  for (std::size_t v = first; v < w.size(); ++v)
+    legs_[n++] = Waypoint{w[v], planned_at(v), v + 1 == w.size() ? team_.params.protocol.place_tolerance_m : 0.0};
   motion_.go(legs_.data(), n, now);
   legs_seen_ = 0;
   driving_ = true;
@@ -126,12 +128,7 @@ void CollectorRole::command_loop(double depart, std::size_t first, double now) {
 }
 
 void CollectorRole::drive(double now) {
-  if (route_.idle()) {  // no workers to meet: it waits at the OC
-    if (!parked_) {
-      const Waypoint at{route_.waypoints().empty() ? team_.world.scenario.oc : route_.waypoints().front(), now};
-      motion_.go(&at, 1, now);
-      parked_ = true;
-    }
+  if (route_.idle()) {  // no workers to meet: it waits where it is, next to the OC
     delay_ = 0.0;
     timetable_now_ = now;
     return;
@@ -185,7 +182,7 @@ void CollectorRole::drive(double now) {
 }
 
 void CollectorRole::step(double now, const Message* const* inbox, std::size_t n, Outbox& out) {
-  if (retired_) return;
+  if (retired_) return hand_in(team_, now, inbox, n, out, custody_);
   drive(now);
   for (std::size_t i = 0; i < n; ++i) {
     const Message& m = *inbox[i];

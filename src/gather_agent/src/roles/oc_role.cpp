@@ -50,6 +50,8 @@ OcRole::OcRole(TeamSetup& team, MotionBackend& station) : Role(kOc, station), te
   delivered_by_.assign(team.agents(), 0);
   acks_.reserve(kMaxBatch);
   heard_.assign(team.agents(), 0.0);  // the team starts next to the OC
+  back_by_.assign(team.agents(), 0.0);
+  delay_.assign(team.agents(), 0.0);
   declared_at_.assign(team.agents(), -1.0);
   grace_until_.assign(team.agents(), 0.0);
   dead_.reserve(kMaxDead);
@@ -258,6 +260,8 @@ void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox
     if (m.h.sender < 0 || m.h.sender >= team_.agents()) continue;
     const AgentId s(m.h.sender);
     heard_[s] = now;
+    if (m.h.kind == Kind::kState && !assigned(s).collector) back_by_[s] = std::max(back_by_[s], m.state.back_by);
+    if (assigned(s).collector) delay_[s] = std::max(0.0, m.h.delay);
     if (m.h.kind == Kind::kState && assigned(s).collector)  // its news of its workers
       for (std::size_t k = 0; k < std::min<std::size_t>(m.state.heard_count, kMaxHeard); ++k) {
         const AgentId w(m.state.heard_agent[k]);
@@ -304,7 +308,12 @@ void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox
     const plan::AgentAssignment& as = assigned(a);
     const double news =
         !as.collector && as.delivers_to.valid() ? std::min(now, heard_[team_.collector_agent(as.delivers_to)]) : now;
-    if (news - heard_[a] > team_.silent_timeout(current_plan(), a) && now > grace_until_[a]) declare_dead(a, now, out);
+    // Not before it is late on when it said it would be back (a robot
+    // slower than planned is not a dead one), or, for a collector, on its
+    // timetable as late as it last was.
+    const double timeout = team_.silent_timeout(current_plan(), a) + delay_[a];
+    if (news - heard_[a] > timeout && now > back_by_[a] + team_.period && now > grace_until_[a])
+      declare_dead(a, now, out);
   }
 }
 

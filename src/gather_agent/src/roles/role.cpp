@@ -196,6 +196,35 @@ bool Role::learn_dead(const RequestPart& part) {
   return true;
 }
 
+void Role::hand_in(const TeamSetup& team, double now, const Message* const* inbox, std::size_t n, Outbox& out,
+                   Custody& custody) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const Message& m = *inbox[i];
+    if (m.h.kind == Kind::kAck && m.h.sender == kOc && m.h.dest == id_)
+      custody.acked(m.ack.keys, std::min<std::size_t>(m.ack.count, kMaxBatch));
+  }
+  if (custody.size() == 0) {  // all in: it stays where it is
+    if (handing_in_) motion_.stop(now), handing_in_ = false;
+    return;
+  }
+  const Point2 oc = team.world.scenario.oc;
+  const Point2 p = motion_.pose();
+  const bool contact = team.linked(p, oc);
+  if (!contact && (!handing_in_ || motion_.state() == NavState::kIdle || motion_.state() == NavState::kFailed ||
+                   motion_.state() == NavState::kReached)) {
+    const Waypoint to{oc, now + std::hypot(oc.x - p.x, oc.y - p.y) / team.speed,
+                      team.params.protocol.place_tolerance_m};
+    motion_.go(&to, 1, now);
+    handing_in_ = true;
+  }
+  if (contact) {
+    DataBatch batch;
+    if (custody.due(now, team.params.resend_after, !hand_in_contact_, batch) > 0)
+      if (Message* m = send(out, Kind::kData, kOc, now)) m->data = batch;
+  }
+  hand_in_contact_ = contact;
+}
+
 void Role::stamp_dead(RequestPart& part) const {
   part.dead_count = static_cast<uint8_t>(std::min<std::size_t>(dead_.size(), kMaxDead));
   std::copy(dead_.begin(), dead_.begin() + part.dead_count, part.dead);

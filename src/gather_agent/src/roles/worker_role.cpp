@@ -53,6 +53,8 @@ WorkerRole::WorkerRole(TeamSetup& team, AgentId agent, MotionBackend& motion)
   measured_in_step_.reserve(g);
   legs_.resize(g + 2);
   leg_goal_.resize(g + 2);
+  old_legs_.resize(g + 2);
+  old_goal_.resize(g + 2);
   policy_->reserve_all();  // no allocation in the control step after this
   if (motion.max_legs() < g + 2)
     throw Error(to_string(agent), "its motion backend takes " + std::to_string(motion.max_legs()) +
@@ -366,11 +368,25 @@ void WorkerRole::decide(double now) {
   TRACE("%.1f decide: resolved %d known %zu carrying %zu -> action %d k %zu rv %d arrive %.1f handover %.1f\n", now,
         resolved_, known_.size(), custody_.data(), static_cast<int>(d.action), d.k, d.rendezvous, d.arrive, d.handover);
 
+  // Deciding again while its robot drives: the command under way, kept if
+  // the new plan drives the same way (a new command would only disturb the
+  // robot); its times are the new plan's.
+  const bool driving =
+      phase_ == Phase::kMoving && (motion_.state() == NavState::kActive || motion_.state() == NavState::kBlocked);
+  const std::size_t old_n = n_legs_, old_seen = legs_seen_;
+  if (driving) {
+    std::copy(legs_.begin(), legs_.begin() + static_cast<long>(old_n), old_legs_.begin());
+    std::copy(leg_goal_.begin(), leg_goal_.begin() + static_cast<long>(old_n), old_goal_.begin());
+  }
   n_legs_ = 0, legs_seen_ = 0;
   plan_is_work_ = false, ends_at_landing_ = false, ends_at_meeting_ = false, target_rv_ = -1;
-  auto leg = [&](Point2 p, double arrive, int goal) {
+  // Goals and the landing back into the coverage (a border cell: near is
+  // not in) take the robot's own tolerance; places it waits at, the place
+  // tolerance.
+  const double place = team_.params.protocol.place_tolerance_m;
+  auto leg = [&](Point2 p, double arrive, int goal, bool exact = false) {
     if (n_legs_ >= legs_.size()) return;  // cannot happen: a request holds at most goals_per_request goals
-    legs_[n_legs_] = Waypoint{p, arrive};
+    legs_[n_legs_] = Waypoint{p, arrive, goal >= 0 || exact ? 0.0 : place};
     leg_goal_[n_legs_++] = goal;
   };
   using Action = mission::WorkerPolicy::Action;
@@ -388,7 +404,7 @@ void WorkerRole::decide(double now) {
       target_rv_ = d.rendezvous;
       break;
     case Action::kBackToCoverage:
-      leg(grid.cell_center(d.landing), d.arrive, -1);
+      leg(grid.cell_center(d.landing), d.arrive, -1, true);
       ends_at_landing_ = true;
       break;
     case Action::kGoToMeeting:  // a worker of the OC: its home in the coverage
@@ -409,7 +425,7 @@ void WorkerRole::decide(double now) {
         const Cell last = policy_->goal(static_cast<std::size_t>(d.tour[d.k - 1])).cell;
         if (!team_.world.covered(last)) {
           const auto back = policy_->way_back(last);
-          leg(grid.cell_center(back.first), d.at[d.k - 1] + back.second / (team_.speed * pace_), -1);
+          leg(grid.cell_center(back.first), d.at[d.k - 1] + back.second / (team_.speed * pace_), -1, true);
           ends_at_landing_ = true;
         }
       }
@@ -420,9 +436,36 @@ void WorkerRole::decide(double now) {
     phase_ = Phase::kReady;
     return;
   }
-  motion_.go(legs_.data(), n_legs_, now);
+  bool same = driving && n_legs_ == old_n - old_seen;
+  for (std::size_t i = 0; same && i < n_legs_; ++i)
+    same = legs_[i].point.x == old_legs_[old_seen + i].point.x && legs_[i].point.y == old_legs_[old_seen + i].point.y &&
+           leg_goal_[i] == old_goal_[old_seen + i];
+  if (same) {
+    for (std::size_t i = n_legs_; i-- > 0;) {  // after the legs already driven, as the robot counts them
+      legs_[old_seen + i] = legs_[i];
+      leg_goal_[old_seen + i] = leg_goal_[i];
+    }
+    std::copy(old_legs_.begin(), old_legs_.begin() + static_cast<long>(old_seen), legs_.begin());
+    std::copy(old_goal_.begin(), old_goal_.begin() + static_cast<long>(old_seen), leg_goal_.begin());
+    n_legs_ = old_n, legs_seen_ = old_seen;
+  } else {
+    motion_.go(legs_.data(), n_legs_, now);
+  }
   phase_ = Phase::kMoving;
+  into_coverage_ = false;
   at_rv_ = -1, at_landing_ = false, at_meeting_ = false;
+}
+
+bool WorkerRole::reaches_oc() const {
+  const Point2 p = motion_.pose();
+  return team_.world.covered(team_.world.scenario.grid.world_to_cell(p)) && team_.linked(p, team_.world.scenario.oc);
+}
+
+void WorkerRole::settle() {
+  phase_ = Phase::kSettling;
+  into_coverage_ = false;
+  heard_oc_ = false;
+  last_hello_ = -kInf;
 }
 
 void WorkerRole::follow_progress(double now) {
@@ -448,13 +491,25 @@ void WorkerRole::follow_progress(double now) {
     at_meeting_ = ends_at_meeting_;
     if (!oc_worker) {
       phase_ = plan_is_work_ ? Phase::kAtPass : Phase::kReady;
-    } else if (team_.world.covered(team_.world.scenario.grid.world_to_cell(motion_.pose()))) {
-      phase_ = Phase::kSettling;
-      heard_oc_ = false;
-      last_hello_ = -kInf;
+    } else if (reaches_oc()) {
+      settle();
+    } else if (ends_at_landing_ || into_coverage_) {
+      // Its robot stopped short of the coverage (within its tolerance of
+      // the border): on towards the OC, until it is in.
+      legs_[0] = Waypoint{team_.world.scenario.oc, now + 1.0, team_.params.protocol.place_tolerance_m};
+      leg_goal_[0] = -1, n_legs_ = 1, legs_seen_ = 0;
+      ends_at_landing_ = false, into_coverage_ = true;
+      motion_.go(legs_.data(), 1, now);
     } else {
       phase_ = Phase::kReady;
     }
+    return;
+  }
+  // On its way into the coverage: in touch with the OC is enough.
+  if (into_coverage_ && reaches_oc()) {
+    motion_.stop(now);
+    at_landing_ = true;
+    settle();
     return;
   }
   const NavState state = motion_.state();
@@ -483,7 +538,7 @@ void WorkerRole::follow_progress(double now) {
   const bool drifted = eta < kInf && std::abs(eta - eta_base_) > guard;
   const bool misses = eta < kInf && plan_is_work_ && eta > link_until_;
   const bool collector_moved = !oc_worker && std::abs(collector_delay_ - delay_used_) > guard;
-  if ((drifted || misses || collector_moved) && now >= next_replan_) {
+  if ((drifted || misses || collector_moved) && now >= next_replan_ && !into_coverage_) {
     TRACE(
         "%.1f replan: estimate %.1f (%.1f at the start, %.1f planned), collector delay %.1f (planned with %.1f), "
         "pace %.2f\n",
@@ -495,7 +550,7 @@ void WorkerRole::follow_progress(double now) {
 
 void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Outbox& out) {
   measured_in_step_.clear();
-  if (retired_) return;
+  if (retired_) return hand_in(team_, now, inbox, n, out, custody_);
   bool oc_worker = policy_->delivers_to_oc();
   for (std::size_t i = 0; i < n; ++i) {
     const Message& m = *inbox[i];
@@ -584,6 +639,7 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
       m->state.notices = static_cast<uint16_t>(std::min<std::size_t>(custody_.notices(), 65535));
       m->state.pending = static_cast<uint16_t>(std::min<std::size_t>(known_.size(), 65535));
       m->state.measured = static_cast<int32_t>(counters_.measured);
+      m->state.back_by = phase_ == Phase::kMoving && n_legs_ > 0 ? std::max(now, legs_[n_legs_ - 1].arrive) : now;
     }
   };
   const double resend = team_.params.resend_after;

@@ -40,11 +40,14 @@ int decode_status(int status) {
 
 }  // namespace
 
-std::string find_agent_binary(const std::string& explicit_path) {
+namespace {
+
+// Binary `name` of catkin package `name`: beside the running binary
+// (devel/lib/gather_core/gather -> devel/lib/<name>/<name> with catkin;
+// build/plain/gather_core/gather -> build/plain/<name>, or one level up,
+// with plain CMake), under CMAKE_PREFIX_PATH, or on PATH.
+std::string find_binary(const std::string& explicit_path, const std::string& name) {
   if (!explicit_path.empty()) return executable(explicit_path) ? explicit_path : "";
-  // Beside the running binary: devel/lib/gather_core/gather ->
-  // devel/lib/gather_agent/gather_agent (catkin), build/plain/gather_core/gather
-  // -> build/plain/gather_agent (plain CMake).
   char self[4096];
   const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
   if (n > 0) {
@@ -52,19 +55,24 @@ std::string find_agent_binary(const std::string& explicit_path) {
     std::string dir(self);
     dir = dir.substr(0, dir.rfind('/'));
     for (const std::string& p :
-         {dir + "/gather_agent", dir + "/../gather_agent/gather_agent", dir + "/../gather_agent"})
+         {dir + "/" + name, dir + "/../" + name + "/" + name, dir + "/../" + name, dir + "/../../" + name})
       if (executable(p)) return p;
   }
   for (const auto& prefix : split(std::getenv("CMAKE_PREFIX_PATH"), ':')) {
-    const std::string p = prefix + "/lib/gather_agent/gather_agent";
+    const std::string p = prefix + "/lib/" + name + "/" + name;
     if (executable(p)) return p;
   }
   for (const auto& dir : split(std::getenv("PATH"), ':')) {
-    const std::string p = dir + "/gather_agent";
+    const std::string p = dir + "/" + name;
     if (executable(p)) return p;
   }
   return "";
 }
+
+}  // namespace
+
+std::string find_agent_binary(const std::string& explicit_path) { return find_binary(explicit_path, "gather_agent"); }
+std::string find_world_binary(const std::string& explicit_path) { return find_binary(explicit_path, "gather_world"); }
 
 AgentFleet::AgentFleet(std::vector<std::string> command, int agents) : command_(std::move(command)) {
   for (int i = 0; i < agents; ++i) agents_.push_back(AgentProcess{i});

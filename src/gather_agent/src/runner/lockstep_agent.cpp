@@ -34,8 +34,12 @@ std::string seconds_text(double s) {
 
 // --- agent -----------------------------------------------------------------
 
-LockstepAgent::LockstepAgent(LoadedPlan& plan, int id, LcmFleet& fleet)
-    : plan_(plan), id_(id), fleet_(fleet), digest_(plan_digest(plan)) {
+LockstepAgent::LockstepAgent(LoadedPlan& plan, int id, LcmFleet& fleet, LcmRobotLink* robot,
+                             const RobotBaseParams& robot_params)
+    : plan_(plan), id_(id), fleet_(fleet), digest_(plan_digest(plan)), robot_(robot), robot_params_(robot_params) {
+  check_params(robot_params);
+  robot_poses_.reserve(64);
+  robot_statuses_.reserve(64);
   if (id < 0 || id >= static_cast<int>(plan.plan.file.agents.size()))
     throw Error(plan.dir, "agent --id " + std::to_string(id) + " is not in the plan's team of " +
                               std::to_string(plan.plan.file.agents.size()));
@@ -70,17 +74,24 @@ bool LockstepAgent::take_plan(std::string* why) {
     *why = plan_.dir + ": the OC runs a team of " + std::to_string(p.agents) + " agents";
     return false;
   }
+  if (p.robots != (robot_ != nullptr)) {
+    *why = p.robots ? "the OC runs the team on robots: start this agent with --motion lcm"
+                    : "the OC runs the team on ideal bases: start this agent with --motion sim";
+    return false;
+  }
   try {
     team_ = std::make_unique<TeamSetup>(*world_, plan_.plan, p.params);
     gate_ = std::make_unique<RangeGate>(*team_, p.loss, p.loss_seed);
-    unit_ = make_agent(*team_, AgentId(id_));
+    unit_ = make_agent(*team_, AgentId(id_), nullptr, robot_, robot_params_);
     if (!journal_dir_.empty()) {
       journal_ = std::make_unique<JournalKeeper>(journal_path(journal_dir_, id_), id_, journal_run_id(team_->params));
       rejoin_state_ = journal_->open(rejoin_);
       if (rejoin_ && !rejoin_state_.matched)
         throw Error(journal_path(journal_dir_, id_), "--rejoin: no journal of this agent and mission to replay");
       // Where it was; what it held and how far it got come back at its first tick.
-      if (rejoin_) unit_ = make_agent(*team_, AgentId(id_), rejoin_state_.have_pose ? &rejoin_state_.pose : nullptr);
+      if (rejoin_)
+        unit_ = make_agent(*team_, AgentId(id_), rejoin_state_.have_pose ? &rejoin_state_.pose : nullptr, robot_,
+                           robot_params_);
       journal_->bind(*unit_.role);
     }
   } catch (const std::exception& e) {  // its plan cannot be run as the OC asks: refuse it
@@ -88,6 +99,7 @@ bool LockstepAgent::take_plan(std::string* why) {
     team_.reset();
     return false;
   }
+  base_ = robot_ ? static_cast<RobotBase*>(unit_.motion.get()) : nullptr;
   outbox_ = std::make_unique<Outbox>(kOutbox);
   tick_s_ = p.tick;
   clock_ = p.clock;
@@ -111,9 +123,62 @@ bool LockstepAgent::inbox_complete(const Tick& tick) const {
   return count_tick(held_, tick.tick) >= static_cast<std::size_t>(tick.sent_before);
 }
 
+void LockstepAgent::absorb_robot() {
+  if (!robot_) return;
+  robot_->handle(0);
+  for (const RobotPose& p : robot_->poses()) robot_poses_.push_back(p);
+  for (const NavStatus& s : robot_->statuses()) robot_statuses_.push_back(s);
+  robot_heard_ = robot_heard_ || !robot_->poses().empty();
+  robot_->poses().clear(), robot_->statuses().clear();
+  // On the lockstep clock, reports of ticks already stepped (or sent before
+  // the mission) are of no more use; on the wall clock every report is taken
+  // at the next step (feed_robot).
+  if (clock_ != ClockMode::kLockstep) return;
+  const auto old = [&](int64_t t) { return t < next_tick_; };
+  robot_poses_.erase(
+      std::remove_if(robot_poses_.begin(), robot_poses_.end(), [&](const RobotPose& p) { return old(p.tick); }),
+      robot_poses_.end());
+  robot_statuses_.erase(
+      std::remove_if(robot_statuses_.begin(), robot_statuses_.end(), [&](const NavStatus& s) { return old(s.tick); }),
+      robot_statuses_.end());
+}
+
+bool LockstepAgent::robot_reported(int64_t tick) const {
+  if (!robot_) return true;
+  bool pose = false, status = false;
+  for (const RobotPose& p : robot_poses_) pose = pose || p.tick == tick;
+  for (const NavStatus& s : robot_statuses_) status = status || s.tick == tick;
+  return pose && status;
+}
+
+// Hands the robot's reports to its base: those of lockstep tick `tick`, or
+// (tick < 0, wall clock) all that came, at mission time `now`.
+void LockstepAgent::feed_robot(int64_t tick, double now) {
+  if (!base_) return;
+  for (const RobotPose& p : robot_poses_)
+    if (tick < 0 || p.tick == tick) base_->on_pose(p, now);
+  for (const NavStatus& s : robot_statuses_)
+    if (tick < 0 || s.tick == tick) base_->on_status(s, now);
+  if (tick < 0) robot_poses_.clear(), robot_statuses_.clear();
+  base_->set_tick(tick);
+}
+
+// One line on stderr when its robot becomes faulty (or well again).
+void LockstepAgent::report_fault(double now) {
+  if (!base_ || base_->fault() == fault_said_) return;
+  fault_said_ = base_->fault();
+  if (fault_said_ != BaseFault::kNone)
+    std::fprintf(stderr, "gather_agent %d: %s (%s)\n", id_, base_->fault_text().c_str(),
+                 robot_pose_channel(id_).c_str());
+  else
+    std::fprintf(stderr, "gather_agent %d: robot reports again at t = %.1f s\n", id_, now);
+}
+
 void LockstepAgent::step(const Tick& tick) {
   const auto s0 = Clock::now();
   Role& role = *unit_.role;
+  feed_robot(tick.tick, tick.t);
+  const int64_t commands_before = robot_ ? robot_->sent() : 0;
   unit_.motion->update(tick.t);
   if (rejoin_) {  // a new process heard nothing of the tick before it joined
     held_.erase(std::remove_if(held_.begin(), held_.end(), [&](const Message& m) { return m.h.tick < tick.tick; }),
@@ -138,13 +203,25 @@ void LockstepAgent::step(const Tick& tick) {
   }
   link_.sent += static_cast<int64_t>(out.size());
   link_.bad = fleet_.dropped();
+  report_fault(tick.t);
   step_us_ += std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - s0).count();
   reply_.step_us = step_us_;
   reply_.tick = tick.tick;
   reply_.agent = static_cast<int16_t>(id_);
   reply_.status = ReplyStatus::kStepped;
   reply_.sent = static_cast<int32_t>(out.size());
+  reply_.commands = robot_ ? static_cast<int32_t>(robot_->sent() - commands_before) : 0;
   reply_.pose = unit_.motion->pose();
+  reply_.heading = unit_.motion->heading();
+  reply_.nav_state = unit_.motion->state();
+  reply_.robot_fault = unit_.motion->fault();
+  if (base_) {
+    const RobotLinkCounters& c = base_->counters();
+    reply_.contacts = base_->contacts();
+    reply_.robot_dropped = static_cast<int32_t>(c.bad_pose + c.lost_pose + c.stale_status + c.bad_status +
+                                                robot_->refused().total() + robot_->rejected().total());
+    reply_.robot_faults = static_cast<int32_t>(c.faults);
+  }
   reply_.role = role.kind();
   reply_.phase = role.kind() == RoleKind::kWorker ? static_cast<int>(static_cast<const WorkerRole&>(role).phase()) : 0;
   reply_.report = role.report();
@@ -179,6 +256,7 @@ void LockstepAgent::step(const Tick& tick) {
 // reproducible, as on real robots.
 void LockstepAgent::step_wall(double t) {
   Role& role = *unit_.role;
+  feed_robot(-1, t);
   unit_.motion->update(t);
   if (rejoin_) {  // a restart: what it held and how far it got, now
     rejoin_ = false;
@@ -197,6 +275,7 @@ void LockstepAgent::step_wall(double t) {
     fleet_.publish(out[k]);
   }
   link_.sent += static_cast<int64_t>(out.size());
+  report_fault(t);
 }
 
 LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, std::string* why) {
@@ -206,8 +285,9 @@ LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, 
   auto tick_since = Clock::now();
   for (;;) {
     if (signal.wait_until(Clock::now())) return End::kStopped;
-    fleet_.handle(have_tick ? 20 : wall_start_us_ > 0 ? wall_wait_ms_ : 100);
+    fleet_.handle(have_tick ? 20 : wall_start_us_ > 0 ? wall_wait_ms_ : 100, robot_ ? robot_->fileno() : -1);
     absorb(fleet_, held_, link_);
+    absorb_robot();
     if (!fleet_.plans().empty()) {
       heard = Clock::now();
       if (!team_ && !take_plan(why)) {
@@ -216,7 +296,13 @@ LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, 
         fleet_.publish(r);
         return End::kRefused;
       }
-      if (next_tick_ == 0) {  // (again) READY: the OC may not have heard the last one
+      if (next_tick_ == 0 && robot_ && !robot_heard_) {  // not READY before its robot has reported
+        if (!waiting_said_) {
+          std::printf("gather_agent %d: waiting for its robot (%s)\n", id_, robot_pose_channel(id_).c_str());
+          std::fflush(stdout);
+          waiting_said_ = true;
+        }
+      } else if (next_tick_ == 0) {  // (again) READY: the OC may not have heard the last one
         Reply r;
         r.tick = -1, r.agent = static_cast<int16_t>(id_), r.status = ReplyStatus::kReady;
         r.pid = static_cast<int32_t>(getpid());
@@ -254,8 +340,9 @@ LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, 
     }
     // A tick runs once every message of the one before is in; if some never
     // come (lost on the host), it runs without them after a while.
-    while (have_tick && (rejoin_ || inbox_complete(pending) || seconds_since(tick_since) > 5.0)) {
-      if (!rejoin_ && !inbox_complete(pending)) ++incomplete_;
+    while (have_tick &&
+           (rejoin_ || (inbox_complete(pending) && robot_reported(pending.tick)) || seconds_since(tick_since) > 5.0)) {
+      if (!rejoin_ && !(inbox_complete(pending) && robot_reported(pending.tick))) ++incomplete_;
       step(pending);
       next_tick_ = pending.tick + 1;
       have_tick = false;

@@ -25,6 +25,16 @@ using namespace lockstep;  // lockstep_shared.hpp: the held messages, the clocks
 
 // --- master ----------------------------------------------------------------
 
+namespace {
+
+Tick clock_tick(int64_t k, double t, int64_t start_us) {
+  Tick tick;
+  tick.tick = k, tick.t = t, tick.start_us = start_us;
+  return tick;
+}
+
+}  // namespace
+
 LockstepMaster::LockstepMaster(TeamSetup& team, LcmFleet& fleet, uint64_t digest, const MasterOptions& options)
     : team_(team),
       fleet_(fleet),
@@ -86,7 +96,7 @@ void LockstepMaster::restart(int a, ShutdownSignal* signal) {
       PlanAnnounce p;
       p.digest = digest_, p.agents = team_.agents(), p.params = team_.params;
       p.tick = options_.tick, p.loss = options_.loss, p.loss_seed = options_.loss_seed;
-      p.clock = options_.clock, p.rate = 1.0;
+      p.clock = options_.clock, p.rate = 1.0, p.robots = options_.robots;
       fleet_.publish(p);
       last_announce = Clock::now();
     }
@@ -122,6 +132,7 @@ void LockstepMaster::collect_replies(int64_t tick, ReplyStatus want, double time
       p.digest = digest_, p.agents = team_.agents(), p.params = team_.params;
       p.tick = options_.tick, p.loss = options_.loss, p.loss_seed = options_.loss_seed;
       p.clock = options_.clock, p.rate = options_.clock == ClockMode::kWall ? options_.rate : 1.0;
+      p.robots = options_.robots;
       fleet_.publish(p);
       last_announce = Clock::now();
     }
@@ -162,7 +173,7 @@ void LockstepMaster::start(ShutdownSignal* signal) {
   started_ = Clock::now();
   if (options_.clock == ClockMode::kWall) {
     start_us_ = realtime_us() + 200000;  // every agent hears the start before it comes
-    fleet_.publish(Tick{0, 0.0, 0, false, false, start_us_});
+    fleet_.publish(clock_tick(0, 0.0, start_us_));
     clock_said_ = Clock::now();
   }
 }
@@ -180,7 +191,7 @@ bool LockstepMaster::tick_wall(ShutdownSignal* signal) {
     absorb(fleet_, held_, link_);
   }
   if (seconds_since(clock_said_) > 1.0) {  // the start again, for an agent that missed it
-    fleet_.publish(Tick{tick_, now(), 0, false, false, start_us_});
+    fleet_.publish(clock_tick(tick_, now(), start_us_));
     clock_said_ = Clock::now();
   }
   fleet_.handle(0);
@@ -247,7 +258,9 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   for (const Kill& kill : options_.kills)
     if (!killed_[static_cast<std::size_t>(kill.agent)] && t + options_.tick >= kill.at - 1e-9) report = true;
   const auto p0 = Clock::now();
-  fleet_.publish(Tick{k, t, sent_before_, report, false, 0});
+  Tick tick = clock_tick(k, t, 0);
+  tick.sent_before = sent_before_, tick.commands_before = commands_before_, tick.report = report;
+  fleet_.publish(tick);
   publish_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - p0).count();
 
   // The OC's own role, as any agent: every message of the tick before first.
@@ -280,10 +293,11 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   const auto r0 = Clock::now();
   collect_replies(k, ReplyStatus::kStepped, options_.reply_timeout_s, signal);
   wait_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - r0).count();
-  int64_t sent = static_cast<int64_t>(outbox_.size());
+  int64_t sent = static_cast<int64_t>(outbox_.size()), commands = 0;
   for (const Reply& r : last_) {
     if (killed_[static_cast<std::size_t>(r.agent)]) continue;  // its last reply is of a tick before
     sent += r.sent;
+    commands += r.commands;
     if (r.incomplete > 0 || r.late > 0)
       throw Error("lockstep", "agent " + std::to_string(r.agent) + " stepped tick " + std::to_string(k) +
                                   (r.incomplete > 0 ? " without every message of the tick before"
@@ -295,6 +309,7 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
                                 " after a message of an earlier tick came too late: the run would differ from one in a "
                                 "single process");
   sent_before_ = static_cast<int32_t>(sent);
+  commands_before_ = static_cast<int32_t>(commands);
   messages_ += sent;
   // Conservation at every cycle's end, from the agents' own custody.
   while (next_check_ < team_.params.cycles && t >= (next_check_ + 1) * team_.period) {
@@ -356,7 +371,9 @@ double LockstepMaster::agents_step_ms() const {
 RunOutcome LockstepMaster::finish() {
   RunOutcome out;
   if (!finished_) {
-    for (int i = 0; i < 3; ++i) fleet_.publish(Tick{tick_, now(), sent_before_, false, true, start_us_});
+    Tick done = clock_tick(tick_, now(), start_us_);
+    done.sent_before = sent_before_, done.done = true;
+    for (int i = 0; i < 3; ++i) fleet_.publish(done);
     finished_ = true;
   }
   out.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - started_).count();
@@ -366,6 +383,8 @@ RunOutcome LockstepMaster::finish() {
   for (const Reply& r : last_) {
     AgentSummary s;
     s.id = r.agent, s.role = r.role, s.report = r.report, s.link = r.link, s.auth = r.auth, s.carried = r.carried;
+    s.contacts = r.contacts;
+    s.robot.faults = r.robot_faults;
     s.delivered = oc().delivered_by(AgentId(r.agent));
     out.agents.push_back(s);
   }

@@ -99,20 +99,34 @@ PipeWorld::~PipeWorld() {
   }
 }
 
-void PipeWorld::failed(const std::string& why) {
+void PipeWorld::failed(const std::string& what, bool said) {
+  std::string why = what;
+  // Its own words when it left some (an error frame before it exited).
+  PipeFrame kind;
+  std::vector<uint8_t> last;
+  if (!said && from_ >= 0 && read_frame(from_, kind, last, kMaxFrame) && kind == PipeFrame::kError)
+    why.assign(last.begin(), last.end());
+  // Its exit status says whether it refused its input (2: bad input here too).
   int status = 0;
-  if (pid_ > 0 && waitpid(pid_, &status, WNOHANG) == pid_) {
-    pid_ = -1;
-    if (WIFEXITED(status)) throw RuntimeError("gather_world", why + " (it exited with status " + std::to_string(WEXITSTATUS(status)) + ")");
-    if (WIFSIGNALED(status)) throw RuntimeError("gather_world", why + " (killed by signal " + std::to_string(WTERMSIG(status)) + ")");
+  bool ended = false;
+  for (int i = 0; pid_ > 0 && i < 300 && !ended; ++i) {
+    ended = waitpid(pid_, &status, WNOHANG) == pid_;
+    if (!ended) usleep(10000);
   }
+  if (ended) pid_ = -1;
+  if (ended && WIFEXITED(status) && WEXITSTATUS(status) == 2) throw Error("gather_world", why);
+  if (ended && WIFEXITED(status) && WEXITSTATUS(status) != 0 && !said)
+    throw RuntimeError("gather_world", why + " (it exited with status " + std::to_string(WEXITSTATUS(status)) + ")");
+  if (ended && WIFSIGNALED(status))
+    throw RuntimeError("gather_world", why + " (killed by signal " + std::to_string(WTERMSIG(status)) + ")");
   throw RuntimeError("gather_world", why);
 }
 
 void PipeWorld::step(int64_t tick, double t, const std::vector<NavCommand>& commands, std::vector<RobotPose>& poses,
                      std::vector<NavStatus>& statuses) {
   for (const NavCommand& c : commands) {
-    if (!encode_robot(c, buffer_)) failed("a navigation command of agent " + std::to_string(c.agent) + " does not encode");
+    if (!encode_robot(c, buffer_))
+      failed("a navigation command of agent " + std::to_string(c.agent) + " does not encode");
     if (!write_frame(to_, PipeFrame::kCommand, buffer_.data(), static_cast<uint32_t>(buffer_.size())))
       failed("its pipe closed");
   }
@@ -137,7 +151,7 @@ void PipeWorld::step(int64_t tick, double t, const std::vector<NavCommand>& comm
         if (decode_robot(buffer_.data(), n, statuses.back()) != RobotDecoded::kOk || statuses.back().agent >= agents_)
           failed("a status that does not decode at tick " + std::to_string(tick));
         break;
-      case PipeFrame::kError: failed(std::string(buffer_.begin(), buffer_.end()));
+      case PipeFrame::kError: failed(std::string(buffer_.begin(), buffer_.end()), true);
       default: failed("an unknown frame at tick " + std::to_string(tick));
     }
   }

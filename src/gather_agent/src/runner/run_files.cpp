@@ -14,7 +14,8 @@ namespace agent {
 
 const char* const kAgentsCsvHeader =
     "method,collectors,seed,agent,role,measured,expired,skipped,dropped,carried,delivered,sent,received,gated,lost,"
-    "bad,overflow,rejected_unsigned,rejected_unknown_key,rejected_bad_mac,rejected_replayed,rejected_wrong_sender\n";
+    "bad,overflow,rejected_unsigned,rejected_unknown_key,rejected_bad_mac,rejected_replayed,rejected_wrong_sender,"
+    "legs,legs_late,late_median_s,late_max_s,nav_failures,unreachable,contacts,robot_faults\n";
 
 LoadedPlan load_plan(const std::string& plan_dir) {
   namespace fs = std::filesystem;
@@ -45,11 +46,12 @@ MissionParams mission_params(const Scenario& s) {
 
 void append_agent_rows(std::string& out, const plan::PlanFile& plan, unsigned seed,
                        const std::vector<AgentSummary>& agents) {
-  char line[512];
+  char line[640];
   for (const AgentSummary& a : agents) {
     std::snprintf(
         line, sizeof line,
-        "%s,%d,%u,%d,%s,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld\n",
+        "%s,%d,%u,%d,%s,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,"
+        "%.1f,%.1f,%lld,%lld,%d,%lld\n",
         plan.method.c_str(), plan.collectors, seed, a.id, role_kind_name(a.role),
         static_cast<long long>(a.report.measured), static_cast<long long>(a.report.expired),
         static_cast<long long>(a.report.skipped), static_cast<long long>(a.report.dropped),
@@ -58,7 +60,10 @@ void append_agent_rows(std::string& out, const plan::PlanFile& plan, unsigned se
         static_cast<long long>(a.link.lost), static_cast<long long>(a.link.bad),
         static_cast<long long>(a.link.overflow), static_cast<long long>(a.auth.unsigned_msgs),
         static_cast<long long>(a.auth.unknown_key), static_cast<long long>(a.auth.bad_mac),
-        static_cast<long long>(a.auth.replayed), static_cast<long long>(a.auth.wrong_sender));
+        static_cast<long long>(a.auth.replayed), static_cast<long long>(a.auth.wrong_sender),
+        static_cast<long long>(a.report.legs), static_cast<long long>(a.report.legs_late), a.report.late_median_s,
+        a.report.late_max_s, static_cast<long long>(a.report.nav_failures),
+        static_cast<long long>(a.report.unreachable), a.contacts, static_cast<long long>(a.robot.faults));
     out += line;
   }
 }

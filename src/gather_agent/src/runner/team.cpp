@@ -24,8 +24,11 @@ AgentUnit make_agent(TeamSetup& team, AgentId agent, const Point2* at, NavComman
         std::make_unique<RobotBase>(team.world.scenario.grid, agent.value(), start, team.speed, *robot, robot_params);
   if (team.assignment(agent).collector) {
     const mission::RouteTimetable& route = team.routes[team.assignment(agent).delivers_to];
+    // An idle route's collector stays at the OC: the ideal base is where its
+    // timetable puts it (the route's one point), a robot where it is.
+    const Point2 at_oc = route.idle() && !route.waypoints().empty() ? route.waypoints().front() : start;
     if (!robot)
-      u.motion = std::make_unique<RouteBase>(route, start, std::max<std::size_t>(1, route.waypoints().size()));
+      u.motion = std::make_unique<RouteBase>(route, at_oc, std::max<std::size_t>(1, route.waypoints().size()));
     u.role = std::make_unique<CollectorRole>(team, agent, *u.motion);
   } else {
     const std::size_t legs = static_cast<std::size_t>(team.params.goals_per_request) + 2;

@@ -109,7 +109,7 @@ std::string LcmFleet::reply_url_for(const std::string& url) {
 }
 
 LcmFleet::LcmFleet(const std::string& url, const std::string& reply_url, bool listen_replies,
-                   std::optional<FleetKey> key, int team)
+                   std::optional<FleetKey> key, int team, bool radio)
     : team_(team),
       listen_replies_(listen_replies),
       buffer_(kBuffer),
@@ -127,8 +127,9 @@ LcmFleet::LcmFleet(const std::string& url, const std::string& reply_url, bool li
     throw Error("--lcm-url", error + " (the tick replies' URL)");
   }
   radio_.reserve(kRadioQueue);
-  for (const char* ch : {kRequestChannel, kDataChannel, kAckChannel, kStateChannel})
-    lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, ch, radio_handler, this), 10000);
+  if (radio)
+    for (const char* ch : {kRequestChannel, kDataChannel, kAckChannel, kStateChannel})
+      lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, ch, radio_handler, this), 10000);
   lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, kPlanChannel, clock_handler, this), 100);
   lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, kTickChannel, clock_handler, this), 1000);
   if (listen_replies)
@@ -199,6 +200,7 @@ bool LcmFleet::publish(const Message& m) {
       s.notices = static_cast<int16_t>(std::min<int>(m.state.notices, 32767));
       s.pending = static_cast<int16_t>(std::min<int>(m.state.pending, 32767));
       s.measured = m.state.measured;
+      s.back_by = m.state.back_by;
       s.n_heard = static_cast<int16_t>(std::min<int>(m.state.heard_count, kMaxHeard));
       s.heard_agent.assign(m.state.heard_agent, m.state.heard_agent + s.n_heard);
       s.heard_at.assign(m.state.heard_at, m.state.heard_at + s.n_heard);
@@ -234,6 +236,11 @@ bool LcmFleet::publish(const PlanAnnounce& p) {
   w.link_step_m = p.params.protocol.link_step_m;
   w.window_margin_m = p.params.protocol.window_margin_m;
   w.two_opt_rounds = p.params.protocol.two_opt_rounds;
+  w.replan_guard_s = p.params.protocol.replan_guard_s;
+  w.wait_loops = p.params.protocol.wait_loops;
+  w.place_tolerance_m = p.params.protocol.place_tolerance_m;
+  w.home_clearance_m = p.params.protocol.home_clearance_m;
+  w.robots = p.robots;
   const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
   if (n < 0 || !send(lcm_, kPlanChannel, kOc, n)) return ++publish_failures_, false;
   return true;
@@ -245,6 +252,7 @@ bool LcmFleet::publish(const Tick& t) {
   w.tick = t.tick;
   w.t = t.t;
   w.sent_before = t.sent_before;
+  w.commands_before = t.commands_before;
   w.report = t.report;
   w.done = t.done;
   w.start_us = t.start_us;
@@ -261,8 +269,21 @@ bool LcmFleet::publish(const Reply& r) {
   w.status = static_cast<int8_t>(r.status);
   w.pid = r.pid;
   w.sent = r.sent;
+  w.commands = r.commands;
   w.x = r.pose.x;
   w.y = r.pose.y;
+  w.heading = r.heading;
+  w.nav_state = static_cast<int8_t>(r.nav_state);
+  w.robot_fault = static_cast<int8_t>(r.robot_fault);
+  w.legs = static_cast<int32_t>(r.report.legs);
+  w.legs_late = static_cast<int32_t>(r.report.legs_late);
+  w.late_median_s = r.report.late_median_s;
+  w.late_max_s = r.report.late_max_s;
+  w.nav_failures = static_cast<int32_t>(r.report.nav_failures);
+  w.unreachable = static_cast<int32_t>(r.report.unreachable);
+  w.contacts = r.contacts;
+  w.robot_dropped = r.robot_dropped;
+  w.robot_faults = r.robot_faults;
   w.role = static_cast<int8_t>(r.role);
   w.phase = static_cast<int8_t>(r.phase);
   w.measured = static_cast<int32_t>(r.report.measured);
@@ -314,14 +335,21 @@ bool LcmFleet::send(lcm_t* lcm, const char* channel, int16_t sender, int n) {
   return m >= 0 && lcm_publish(lcm, channel, envelopes_->bytes(), static_cast<unsigned>(m)) == 0;
 }
 
-bool LcmFleet::handle(int timeout_ms) {
+bool LcmFleet::handle(int timeout_ms, int also_fd) {
   // An agent never asks for the replies' file descriptor: with LCM's udpm
   // that would join the replies' group, and every agent would receive every
   // other agent's replies.
-  pollfd fds[2] = {{lcm_get_fileno(lcm_), POLLIN, 0}, {listen_replies_ ? lcm_get_fileno(reply_lcm_) : -1, POLLIN, 0}};
+  pollfd fds[3] = {{lcm_get_fileno(lcm_), POLLIN, 0},
+                   {listen_replies_ ? lcm_get_fileno(reply_lcm_) : -1, POLLIN, 0},
+                   {also_fd, POLLIN, 0}};
   const nfds_t n = listen_replies_ ? 2 : 1;
-  const int ready = ::poll(fds, n, timeout_ms);
-  if (ready <= 0) return false;
+  if (also_fd >= 0) {
+    pollfd all[3] = {fds[0], fds[1], fds[2]};
+    if (::poll(all, 3, timeout_ms) <= 0) return false;
+    if (::poll(fds, n, 0) <= 0) return true;  // only the other link: the caller handles it
+  } else if (::poll(fds, n, timeout_ms) <= 0) {
+    return false;
+  }
   // Drain everything that is there without blocking again.
   for (int round = 0; round < 1000; ++round) {
     bool any = false;
@@ -422,7 +450,8 @@ void LcmFleet::on_radio_payload(const char* channel, const void* data, int size,
     if (!decoded(safe_decode(w.state, data, size))) return;
     const gather_lcm::agent_state_t& s = w.state;
     h = &s.h;
-    if (s.role < 1 || s.role > 3 || s.carried < 0 || s.notices < 0 || s.pending < 0)
+    if (s.role < 1 || s.role > 3 || s.carried < 0 || s.notices < 0 || s.pending < 0 ||
+        !(s.back_by >= 0 && s.back_by <= 1e9))
       return void(++refused_.out_of_range);
     m.h.kind = Kind::kState;
     m.state.role = static_cast<RoleKind>(s.role);
@@ -430,6 +459,7 @@ void LcmFleet::on_radio_payload(const char* channel, const void* data, int size,
     m.state.notices = static_cast<uint16_t>(s.notices);
     m.state.pending = static_cast<uint16_t>(s.pending);
     m.state.measured = s.measured;
+    m.state.back_by = s.back_by;
     if (s.n_heard < 0 || s.n_heard > kMaxHeard) return void(++refused_.out_of_range);
     m.state.heard_count = static_cast<uint8_t>(s.n_heard);
     for (int i = 0; i < s.n_heard; ++i) {
@@ -467,10 +497,14 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
   if (std::strcmp(channel, kTickChannel) == 0) {
     if (safe_decode(w.tick, data, size) != size) return void(++refused_.undecodable);
     if (w.tick.schema_version != gather_lcm::tick_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
-    if (w.tick.tick < 0 || !finite(w.tick.t) || w.tick.sent_before < 0 || w.tick.start_us < 0)
+    if (w.tick.tick < 0 || !finite(w.tick.t) || w.tick.sent_before < 0 || w.tick.commands_before < 0 ||
+        w.tick.start_us < 0)
       return void(++refused_.out_of_range);
-    ticks_.push_back(
-        Tick{w.tick.tick, w.tick.t, w.tick.sent_before, w.tick.report != 0, w.tick.done != 0, w.tick.start_us});
+    Tick t;
+    t.tick = w.tick.tick, t.t = w.tick.t, t.sent_before = w.tick.sent_before;
+    t.commands_before = w.tick.commands_before;
+    t.report = w.tick.report != 0, t.done = w.tick.done != 0, t.start_us = w.tick.start_us;
+    ticks_.push_back(t);
   } else if (std::strcmp(channel, kPlanChannel) == 0) {
     if (safe_decode(w.plan, data, size) != size) return void(++refused_.undecodable);
     const gather_lcm::plan_t& p = w.plan;
@@ -489,6 +523,8 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
     mission::ProtocolParams protocol;
     protocol.link_step_m = p.link_step_m, protocol.window_margin_m = p.window_margin_m;
     protocol.two_opt_rounds = p.two_opt_rounds;
+    protocol.replan_guard_s = p.replan_guard_s, protocol.wait_loops = p.wait_loops;
+    protocol.place_tolerance_m = p.place_tolerance_m, protocol.home_clearance_m = p.home_clearance_m;
     try {
       mission::check_params(protocol);  // the protocol's own ranges
     } catch (const Error&) {
@@ -513,6 +549,7 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
     a.loss_seed = static_cast<uint64_t>(p.loss_seed);
     a.clock = static_cast<ClockMode>(p.clock);
     a.rate = p.rate;
+    a.robots = p.robots;
     plans_.push_back(a);
   } else if (std::strcmp(channel, kReplyChannel) == 0) {
     if (safe_decode(w.reply, data, size) != size) return void(++refused_.undecodable);
@@ -521,7 +558,8 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
     if (r.agent < 0 || r.agent >= team_ || r.status < 1 || r.status > 3 || r.sent < 0 || r.n_keys < 0 ||
         r.n_keys > gather_lcm::tick_reply_t::MAX_KEYS || !finite(r.x) || !finite(r.y) || r.n_measured < 0 ||
         r.n_measured > gather_lcm::tick_reply_t::MAX_MEASURED || r.n_path < 0 ||
-        r.n_path > gather_lcm::tick_reply_t::MAX_PATH)
+        r.n_path > gather_lcm::tick_reply_t::MAX_PATH || r.commands < 0 || !finite(r.heading) || r.nav_state < 0 ||
+        r.nav_state > 4 || r.robot_fault < 0 || r.robot_fault > 3 || !finite(r.late_median_s) || !finite(r.late_max_s))
       return void(++refused_.out_of_range);
     if (r.agent != sender) return auth_.count_wrong_sender();
     for (int i = 0; i < r.n_measured; ++i)
@@ -536,7 +574,15 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
     o.status = static_cast<ReplyStatus>(r.status);
     o.pid = r.pid;
     o.sent = r.sent;
+    o.commands = r.commands;
     o.pose = Point2{r.x, r.y};
+    o.heading = r.heading;
+    o.nav_state = static_cast<NavState>(r.nav_state);
+    o.robot_fault = static_cast<BaseFault>(r.robot_fault);
+    o.contacts = r.contacts, o.robot_dropped = r.robot_dropped, o.robot_faults = r.robot_faults;
+    o.report.legs = r.legs, o.report.legs_late = r.legs_late;
+    o.report.late_median_s = r.late_median_s, o.report.late_max_s = r.late_max_s;
+    o.report.nav_failures = r.nav_failures, o.report.unreachable = r.unreachable;
     o.role = static_cast<RoleKind>(r.role);
     o.phase = r.phase;
     o.report.role = o.role;

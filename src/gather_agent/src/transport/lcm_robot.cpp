@@ -65,10 +65,10 @@ bool encode_robot(const NavCommand& m, std::vector<uint8_t>& out) {
   w.tick = m.tick;
   w.command = m.id;
   w.kind = m.kind == NavCommand::Kind::kGo ? gather_lcm::nav_command_t::GO : gather_lcm::nav_command_t::STOP;
-  w.tolerance = m.tolerance;
   w.n = static_cast<int16_t>(m.n);
-  w.x.resize(m.n), w.y.resize(m.n), w.after.resize(m.n);
-  for (std::size_t i = 0; i < m.n; ++i) w.x[i] = m.points[i].x, w.y[i] = m.points[i].y, w.after[i] = m.after[i];
+  w.x.resize(m.n), w.y.resize(m.n), w.after.resize(m.n), w.tolerance.resize(m.n);
+  for (std::size_t i = 0; i < m.n; ++i)
+    w.x[i] = m.points[i].x, w.y[i] = m.points[i].y, w.after[i] = m.after[i], w.tolerance[i] = m.tolerance[i];
   return encode_wire(w, out);
 }
 
@@ -106,19 +106,19 @@ RobotDecoded decode_robot(const void* data, int size, NavCommand& m) {
   if (w.schema_version != gather_lcm::nav_command_t::SCHEMA_VERSION) return RobotDecoded::kWrongVersion;
   const bool go = w.kind == gather_lcm::nav_command_t::GO, stop = w.kind == gather_lcm::nav_command_t::STOP;
   if (w.agent < 0 || w.agent >= kMaxTeam || w.command <= 0 || !(go || stop) ||
-      (go && (w.n < 1 || w.n > kMaxNavWaypoints)) || (stop && w.n != 0) || !(w.tolerance > 0 && w.tolerance <= 1e3))
+      (go && (w.n < 1 || w.n > kMaxNavWaypoints)) || (stop && w.n != 0))
     return RobotDecoded::kOutOfRange;
-  for (int i = 0; i < w.n; ++i)
-    if (!std::isfinite(w.x[static_cast<std::size_t>(i)]) || !std::isfinite(w.y[static_cast<std::size_t>(i)]) ||
-        !(w.after[static_cast<std::size_t>(i)] >= 0 && w.after[static_cast<std::size_t>(i)] <= 1e9))
+  for (std::size_t i = 0; i < static_cast<std::size_t>(w.n); ++i)
+    if (!std::isfinite(w.x[i]) || !std::isfinite(w.y[i]) || !(w.after[i] >= 0 && w.after[i] <= 1e9) ||
+        !(w.tolerance[i] > 0 && w.tolerance[i] <= 1e3))
       return RobotDecoded::kOutOfRange;
   m.agent = w.agent;
   m.tick = w.tick;
   m.id = w.command;
   m.kind = go ? NavCommand::Kind::kGo : NavCommand::Kind::kStop;
-  m.tolerance = w.tolerance;
   m.n = static_cast<uint16_t>(w.n);
-  for (std::size_t i = 0; i < m.n; ++i) m.points[i] = Point2{w.x[i], w.y[i]}, m.after[i] = w.after[i];
+  for (std::size_t i = 0; i < m.n; ++i)
+    m.points[i] = Point2{w.x[i], w.y[i]}, m.after[i] = w.after[i], m.tolerance[i] = w.tolerance[i];
   return RobotDecoded::kOk;
 }
 

@@ -43,6 +43,13 @@ void check_params(const ProtocolParams& p) {
   require_in_range(p.two_opt_rounds, 0, 10000, "protocol params", "two_opt_rounds");
   require_in_range(p.replan_guard_s, 0.1, 600, "protocol params", "replan_guard_s", " s");
   require_in_range(p.wait_loops, 0, 10, "protocol params", "wait_loops");
+  require_in_range(p.place_tolerance_m, 0.05, 10, "protocol params", "place_tolerance_m", " m");
+  require_in_range(p.home_clearance_m, 0, 5, "protocol params", "home_clearance_m", " m");
+}
+
+ProtocolParams robot_protocol(ProtocolParams p) {
+  p.home_clearance_m = 1.0;  // out of doorways and corridors: room to pass a robot waiting there
+  return p;
 }
 
 int32_t WorkerPolicy::segment_index(Cell c) const {
@@ -171,6 +178,7 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
     // cell), so that a request learned there can be served within its
     // period (mission::request_deadline), wherever the OC itself stands.
     home_ = world.oc_worker_home(segment_cells_);
+    if (protocol.home_clearance_m > 0 && home_.row >= 0) home_ = world.roomy_near(home_, protocol.home_clearance_m);
   }
 
   tmp_.reserve(segment_cells_.size());

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "gather_core/error.hpp"
+#include "gather_core/grid/clearance.hpp"
 #include "gather_core/grid/reachability.hpp"
 #include "gather_core/radio/radio_model.hpp"
 
@@ -61,6 +62,28 @@ Cell World::standing_cell(Point2 p, double radius_m) const {
     if (best_d >= 0) return best;
   }
   return c;
+}
+
+Cell World::roomy_near(Cell from, double clearance) const {
+  const OccupancyGrid& grid = scenario.grid;
+  if (!covered(from)) return from;
+  const ClearanceMap room(grid);
+  // Breadth-first through the coverage, 8-connected, in a fixed order.
+  std::vector<uint8_t> seen(grid.size(), 0);
+  std::vector<Cell> queue{from};
+  seen[grid.index(from)] = 1;
+  for (std::size_t i = 0; i < queue.size(); ++i) {
+    const Cell c = queue[i];
+    if (room.at(c) >= clearance) return c;
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) {
+        const Cell n{c.row + dr, c.col + dc};
+        if ((dr == 0 && dc == 0) || !covered(n) || seen[grid.index(n)]) continue;
+        seen[grid.index(n)] = 1;
+        queue.push_back(n);
+      }
+  }
+  return from;
 }
 
 Cell World::oc_worker_home(const std::vector<Cell>& cells) const {

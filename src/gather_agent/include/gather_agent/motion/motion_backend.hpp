@@ -29,10 +29,13 @@
 namespace gather {
 namespace agent {
 
-// The end of one leg: a point [m] and when the role plans to be there [s].
+// The end of one leg: a point [m], when the role plans to be there [s],
+// and how close counts as there [m] (0: the base's default; an ideal base
+// reaches every waypoint exactly).
 struct Waypoint {
   Point2 point;
   double arrive = 0.0;
+  double tolerance = 0.0;
 };
 
 // The state of the current command, as the base reports it.

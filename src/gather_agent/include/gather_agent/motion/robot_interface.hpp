@@ -36,10 +36,10 @@ struct NavCommand {
   int64_t tick = -1;
   int32_t id = 0;
   Kind kind = Kind::kStop;
-  double tolerance = 0.25;  // [m]
   uint16_t n = 0;
   Point2 points[kMaxNavWaypoints];
-  double after[kMaxNavWaypoints];  // [s] planned time of each, after the command was sent
+  double after[kMaxNavWaypoints];      // [s] planned time of each, after the command was sent
+  double tolerance[kMaxNavWaypoints];  // [m] how close counts as reached
 };
 
 struct NavStatus {

@@ -69,7 +69,6 @@ class CollectorRole : public Role {
   // Driving the route.
   std::vector<Waypoint> legs_;
   bool driving_ = false;                                // a loop commanded and not yet reached
-  bool parked_ = false;                                 // an idle route: sent to the OC once
   double loop_depart_ = 0.0;                            // [s] planned departure of the loop driven
   std::size_t loop_first_ = 1;                          // route vertex of the command's first waypoint
   double next_depart_ = 0.0;                            // [s] the next loop's planned departure, at the earliest

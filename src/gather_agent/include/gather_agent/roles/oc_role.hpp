@@ -76,6 +76,9 @@ class OcRole : public Role {
   // Liveness: the latest news of each agent [s] (its own messages, or a
   // collector's report of its worker), and the repair in force.
   PerAgent<double> heard_;
+  // [s] when each agent said it would be back in touch (a worker's
+  // back_by), and each collector's latest delay behind its timetable.
+  PerAgent<double> back_by_, delay_;
   PerAgent<double> declared_at_;
   PerAgent<double> grace_until_;  // [s] no declaration before (workers moved to the OC)
   const mission::RepairedPlan* repair_ = nullptr;

@@ -221,10 +221,18 @@ class Role {
   bool learn_dead(const RequestPart& part);
   // Writes the known list into a request part passed on.
   void stamp_dead(RequestPart& part) const;
+  // A role declared dead while alive (its messages were lost, or its robot
+  // was slow to come back) stops its work, but what it holds is still
+  // delivered: it drives to the OC and hands its custody over there, then
+  // stands still. Takes the OC's acks from `inbox`.
+  void hand_in(const TeamSetup& team, double now, const Message* const* inbox, std::size_t n, Outbox& out,
+               Custody& custody);
 
   int16_t id_;
   MotionBackend& motion_;
   std::vector<int16_t> dead_;
+  bool handing_in_ = false;       // driving to the OC with what it holds
+  bool hand_in_contact_ = false;  // in contact with the OC at the last step
 };
 
 }  // namespace agent

@@ -65,6 +65,8 @@ class WorkerRole : public Role {
   void skip_overdue(double now);
   void expire_overdue(double now);
   bool settled(double now, bool contact);
+  void settle();            // back in the coverage: it waits to hear the OC
+  bool reaches_oc() const;  // in the coverage, and its radio reaches the OC from where it is
   void decide(double now);
   bool contact(double now) const;  // with its upstream, as predicted by the radio model
   double due_time() const;         // [s] when the next request should reach it
@@ -93,12 +95,15 @@ class WorkerRole : public Role {
   std::vector<int> known_;                // local indices of the learned request's unmeasured goals
   // The plan being executed.
   std::vector<Waypoint> legs_;
-  std::vector<int> leg_goal_;  // local goal index per leg, -1 for the pass / landing
+  std::vector<int> leg_goal_;       // local goal index per leg, -1 for the pass / landing
+  std::vector<Waypoint> old_legs_;  // scratch: the plan under way while deciding again
+  std::vector<int> old_goal_;
   std::size_t n_legs_ = 0, legs_seen_ = 0;
   bool plan_is_work_ = false;
   int target_rv_ = -1, at_rv_ = -1;
   bool ends_at_landing_ = false, at_landing_ = false;
   bool ends_at_meeting_ = false, at_meeting_ = false;
+  bool into_coverage_ = false;  // a worker of the OC on from its landing towards the OC, into the coverage
   double handover_ = 0.0, link_until_ = 0.0, no_meeting_before_ = 0.0;
   double pass_ = 0.0;  // [s] when the plan under way expects its collector at the rendezvous
   // Its collector's delay [s]: as the collector's latest message said

@@ -53,5 +53,7 @@ class AgentFleet {
 // under each CMAKE_PREFIX_PATH entry (catkin devel/install spaces), else PATH.
 // Returns "" if not found.
 std::string find_agent_binary(const std::string& explicit_path);
+// The same for gather_world (package gather_world).
+std::string find_world_binary(const std::string& explicit_path);
 
 }  // namespace gather

@@ -33,6 +33,7 @@
 #include "gather_agent/runner/team_runner.hpp"
 #include "gather_agent/shutdown_signal.hpp"
 #include "gather_agent/transport/lcm_fleet.hpp"
+#include "gather_agent/transport/lcm_robot.hpp"
 
 namespace gather {
 namespace agent {
@@ -47,8 +48,13 @@ class LockstepAgent {
  public:
   // `plan` must outlive the agent. Once its role is built, the agent drops
   // the plan's label image (only the OC needs it; its role keeps its own
-  // segment): 4 B/cell less resident memory.
-  LockstepAgent(LoadedPlan& plan, int id, LcmFleet& fleet);
+  // segment): 4 B/cell less resident memory. `robot` (optional, must
+  // outlive the agent): the robot interface's link (gather_agent --motion
+  // lcm): the agent drives a RobotBase (`robot_params`) through it, says
+  // READY only once its robot has reported, and on the lockstep clock takes
+  // its robot's report of each tick before it steps.
+  LockstepAgent(LoadedPlan& plan, int id, LcmFleet& fleet, LcmRobotLink* robot = nullptr,
+                const RobotBaseParams& robot_params = {});
   // Journals what it carries in `dir` (runner/journal); `rejoin`: this
   // process restarts a crashed one: it replays the journal and joins the
   // mission under way (its first tick with nothing heard yet). Before run().
@@ -63,6 +69,11 @@ class LockstepAgent {
 
  private:
   bool take_plan(std::string* why);
+  // The robot's messages: held by tick (lockstep), or taken at `now` (wall clock).
+  void absorb_robot();
+  bool robot_reported(int64_t tick) const;
+  void feed_robot(int64_t tick, double now);
+  void report_fault(double now);
   void step(const Tick& tick);
   void step_wall(double t);
   bool inbox_complete(const Tick& tick) const;
@@ -96,6 +107,14 @@ class LockstepAgent {
   bool rejoin_ = false;
   std::unique_ptr<JournalKeeper> journal_;
   JournalState rejoin_state_;  // restored at the first tick, at that tick's time (as in one process)
+  // The robot (--motion lcm).
+  LcmRobotLink* robot_ = nullptr;
+  RobotBaseParams robot_params_;
+  RobotBase* base_ = nullptr;  // unit_.motion, when on a robot
+  std::vector<RobotPose> robot_poses_;
+  std::vector<NavStatus> robot_statuses_;
+  bool robot_heard_ = false, waiting_said_ = false;
+  BaseFault fault_said_ = BaseFault::kNone;
 };
 
 struct MasterOptions {
@@ -107,7 +126,11 @@ struct MasterOptions {
   double ready_timeout_s = 60.0;  // for every agent to say READY
   double reply_timeout_s = 10.0;  // for every agent to reply to a tick
   double time_limit = 0.0;        // [s] of mission time; 0: time_limit(team)
-  bool observe = false;           // keep ViewEvents for take_events() (the OC's views)
+  // The agents drive robots through the robot interface (gather_agent
+  // --motion lcm): with the lockstep clock each waits for its robot's
+  // report of every tick, and gather_world for the tick before's commands.
+  bool robots = false;
+  bool observe = false;  // keep ViewEvents for take_events() (the OC's views)
   // Agents to end (SIGKILL to the pid each said READY with; lockstep only).
   std::vector<Kill> kills;
   // Agents whose process is killed and started again (lockstep only): the
@@ -197,6 +220,7 @@ class LockstepMaster {
   uint32_t seq_ = 0;
   int64_t tick_ = 0;
   int32_t sent_before_ = 0;
+  int32_t commands_before_ = 0;  // navigation commands the agents sent in the tick before (robots)
   int next_check_ = 0;
   double limit_ = 0.0;
   int64_t messages_ = 0;

@@ -52,7 +52,9 @@ class PipeWorld : public RobotWorld {
             std::vector<NavStatus>& statuses) override;
 
  private:
-  [[noreturn]] void failed(const std::string& why);
+  // Throws what went wrong: `why`, or the world's own error frame when
+  // `said` is false and it left one; an Error when it exited with status 2.
+  [[noreturn]] void failed(const std::string& why, bool said = false);
   int agents_;
   pid_t pid_ = -1;
   int to_ = -1, from_ = -1;

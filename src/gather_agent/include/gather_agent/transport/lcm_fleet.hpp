@@ -48,16 +48,18 @@ struct PlanAnnounce {
   double loss = 0.0;
   uint64_t loss_seed = 1;
   ClockMode clock = ClockMode::kLockstep;
-  double rate = 1.0;  // wall clock: mission seconds per wall second
+  double rate = 1.0;    // wall clock: mission seconds per wall second
+  bool robots = false;  // the agents drive robots (lockstep: they wait for their robot's report each tick)
 };
 
 struct Tick {
   int64_t tick = 0;
   double t = 0.0;
-  int32_t sent_before = 0;  // radio messages sent in tick - 1 by everyone
-  bool report = false;      // replies carry custody keys
-  bool done = false;        // the mission is over
-  int64_t start_us = 0;     // wall clock: wall time [us since the epoch] of mission time 0
+  int32_t sent_before = 0;      // radio messages sent in tick - 1 by everyone
+  int32_t commands_before = 0;  // navigation commands sent in tick - 1 by everyone (gather_world waits for them)
+  bool report = false;          // replies carry custody keys
+  bool done = false;            // the mission is over
+  int64_t start_us = 0;         // wall clock: wall time [us since the epoch] of mission time 0
 };
 
 enum class ReplyStatus : uint8_t { kReady = 1, kRefused = 2, kStepped = 3 };
@@ -72,7 +74,12 @@ struct Reply {
   ReplyStatus status = ReplyStatus::kStepped;
   int32_t pid = 0;  // the agent's process id (READY replies)
   int32_t sent = 0;
+  int32_t commands = 0;  // navigation commands sent to its robot in this tick
   Point2 pose;
+  double heading = 0.0;  // [rad]
+  NavState nav_state = NavState::kIdle;
+  BaseFault robot_fault = BaseFault::kNone;
+  int32_t contacts = 0, robot_dropped = 0, robot_faults = 0;
   RoleKind role = RoleKind::kWorker;
   int phase = 0;
   RoleReport report;
@@ -107,8 +114,10 @@ class LcmFleet {
   // insecure mode (unsigned, nothing checked; the caller warns). `team`: ids
   // 0..team-1 (kMaxTeam until the plan is known). Throws
   // gather::Error("--lcm-url", ...) naming the URL when LCM cannot open it.
+  // `radio`: subscribe to the fleet radio (false: gather_world, which needs
+  // only the plan and the ticks).
   LcmFleet(const std::string& url, const std::string& reply_url, bool listen_replies, std::optional<FleetKey> key,
-           int team = kMaxTeam);
+           int team = kMaxTeam, bool radio = true);
   ~LcmFleet();
   LcmFleet(const LcmFleet&) = delete;
   LcmFleet& operator=(const LcmFleet&) = delete;
@@ -124,9 +133,10 @@ class LcmFleet {
   bool publish(const Tick& t);
   bool publish(const Reply& r);
 
-  // Dispatches what arrived, waiting up to `timeout_ms` for something;
-  // false when nothing came.
-  bool handle(int timeout_ms);
+  // Dispatches what arrived, waiting up to `timeout_ms` for something (on
+  // its own sockets, or on `also_fd`: another link the caller then handles,
+  // e.g. the robot's); false when nothing came.
+  bool handle(int timeout_ms, int also_fd = -1);
 
   // What arrived, in arrival order; the caller takes and clears.
   std::vector<Message>& radio() { return radio_; }

@@ -78,10 +78,26 @@ struct ProtocolParams {
   // collector's loops past the planned pass; then it tries a later pass.
   // Range [0, 10].
   double wait_loops = 0.5;
+  // [m] how close a robot must come to a place it drives to (a rendezvous,
+  // a meeting point, its home in the coverage, the OC at the end of a
+  // collector's loop) for it to count as there; goals take the robot's own
+  // tolerance. Range [0.05, 10].
+  double place_tolerance_m = 1.0;
+  // [m] a worker of the OC waits for requests at a home with at least this
+  // much room around it (the nearest such coverage cell to its plain home,
+  // World::oc_worker_home): robots parked in a doorway block the others.
+  // 0: its plain home (ideal bases need no room). Range [0, 5].
+  double home_clearance_m = 0.0;
 };
 // Throws gather::Error("protocol params", "<field> = <value> must be in
 // <range>") for a field outside its range.
 void check_params(const ProtocolParams& params);
+
+// The protocol for a team on robots (gather run --robots mrpt, mission.launch
+// robots:=mrpt, robot.launch): `base` with homes that leave room to pass
+// (home_clearance_m). Its ideal-base runs, compared with the robots', run it
+// too (`gather run --protocol robots`).
+ProtocolParams robot_protocol(ProtocolParams base);
 
 // When request `cycle` (issued at cycle * period [s]) reaches a worker of
 // the collector driving `route`, whose meeting area is at arc `meeting_arc`

@@ -48,6 +48,11 @@ struct World {
   // covered). {-1, -1} when no cell of the segment reaches the coverage.
   // The worker policy and the planner's estimate both use it.
   Cell oc_worker_home(const std::vector<Cell>& cells) const;
+  // The coverage cell nearest `from` (a coverage cell; by 8-connected steps
+  // through the coverage) with at least `clearance` [m] to the nearest
+  // blocked cell: `from` itself when it has that room, `from` when no cell
+  // has. Computes the map's clearance (not kept).
+  Cell roomy_near(Cell from, double clearance) const;
 };
 
 }  // namespace mission
