@@ -13,7 +13,7 @@ CYCLES ?= 0
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build run test format format-check tidy bench-fmm-ab test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-signing identity-check partition-report scenario-report regime-report runtime-report clean help
+.PHONY: all deps pylcm build run test format format-check tidy bench-fmm-ab test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-signing identity-check partition-report scenario-report regime-report runtime-report clean help
 
 all: build
 
@@ -24,6 +24,13 @@ help:
 
 deps:
 	@tools/install-deps
+
+# The lcm package (PyPI) and the gather_lcm types for Python (lcm-gen
+# --python), for the example robot driver and its test (docs/robots.md).
+PYLCM := build/pylcm
+pylcm: deps
+	@test -f $(PYLCM)/lcm/__init__.py || $(PYTHON) -m pip install --quiet --disable-pip-version-check --target $(PYLCM) lcm
+	lcm-gen -p --ppath $(PYLCM) src/gather_agent/lcm/*.lcm
 
 build: deps
 	catkin_make -C $(WS) -j$(JOBS) -DPYTHON_EXECUTABLE=$(PYTHON) -DCMAKE_BUILD_TYPE=Release --no-color
@@ -62,7 +69,7 @@ tidy: deps
 # run them twice).
 test-ros: build
 	rm -rf $(WS)/build/test_results
-	tools/netns-run bash -c '$(SETUP) && catkin_make -C $(WS) -j$(JOBS) run_tests_gather_oc --no-color > $(WS)/build/run_tests.log 2>&1' \
+	tools/netns-run bash -c '$(SETUP) && catkin_make -C $(WS) -j$(JOBS) run_tests_gather_oc run_tests_gather_world --no-color > $(WS)/build/run_tests.log 2>&1' \
 	  || { tail -n 60 $(WS)/build/run_tests.log; echo "test-ros: building or running the tests failed" >&2; exit 1; }
 	catkin_test_results --verbose $(WS)/build/test_results | tee $(WS)/build/test_results.txt | tail -n 40
 	@grep -qE "^Summary: [1-9][0-9]* tests, 0 errors, 0 failures" $(WS)/build/test_results.txt \
@@ -103,8 +110,9 @@ test-cli: build
 # The agent runtime over LCM against one process (gather run --lcm), and
 # roslaunch gather_oc mission.launch / review.launch end to end with RViz on a
 # virtual display (screenshots in results/e2e/), in a private network namespace.
-test-e2e: build
+test-e2e: build pylcm
 	tools/netns-run $(PYTHON) tests/e2e/runtime_e2e.py
+	tools/netns-run bash -c '$(SETUP) && $(PYTHON) tests/e2e/robots_e2e.py --pylcm $(PYLCM) --launch'
 	tools/netns-run xvfb-run -a -s "-screen 0 1400x900x24" bash -c '$(SETUP) && $(PYTHON) tests/e2e/mission_e2e.py'
 
 # FMM against scikit-fmm on the shared benchmark grids, one table (docs/fmm.md);

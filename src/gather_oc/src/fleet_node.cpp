@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 
 #include "gather_agent/runner/agent_fleet.hpp"
 #include "gather_agent/runner/team_runner.hpp"
@@ -92,7 +93,7 @@ int main(int argc, char** argv) {
   }
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
-  std::string lcm_url, reply_url, agent_bin, results_dir, kill, restart;
+  std::string lcm_url, reply_url, agent_bin, results_dir, kill, restart, robots, world_bin, world_config;
   double plan_timeout = 300.0;
   pnh.param<std::string>("lcm_url", lcm_url, "");
   pnh.param<std::string>("reply_url", reply_url, "");
@@ -101,6 +102,16 @@ int main(int argc, char** argv) {
   pnh.param<std::string>("kill", kill, "none");
   pnh.param<std::string>("restart", restart, "none");
   pnh.param("plan_timeout", plan_timeout, 300.0);
+  pnh.param<std::string>("robots", robots, "ideal");
+  pnh.param<std::string>("world_bin", world_bin, "auto");
+  pnh.param<std::string>("world_config", world_config, "");
+  if (robots != "ideal" && robots != "mrpt" && robots != "external") {
+    std::fprintf(stderr, "fleet: ~robots must be ideal, mrpt or external, got '%s'\n", robots.substr(0, 40).c_str());
+    return 2;
+  }
+  if (world_bin == "auto") world_bin.clear();
+  if (world_config == "none") world_config.clear();
+  world_config = world_config.empty() ? "" : gather::resolve_launch_path(world_config);
   if (lcm_url == "default") lcm_url.clear();  // mission.launch's "not given"
   if (agent_bin == "auto") agent_bin.clear();
   results_dir = gather::resolve_launch_path(results_dir);
@@ -154,8 +165,35 @@ int main(int argc, char** argv) {
   if (!lcm_url.empty()) command.insert(command.end(), {"--lcm-url", lcm_url});
   if (!restarts.empty())
     command.insert(command.end(), {"--journal", (results_dir.empty() ? "." : results_dir) + "/journal"});
-  command.insert(command.end(),
-                 {"--reply-url", reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(lcm_url) : reply_url});
+  const std::string replies = reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(lcm_url) : reply_url;
+  command.insert(command.end(), {"--reply-url", replies});
+  if (robots != "ideal") command.insert(command.end(), {"--motion", "lcm"});
+  // On gather_world's robots: gather_world beside the agents, on the same LCM.
+  std::unique_ptr<gather::AgentFleet> world;
+  if (robots == "mrpt") {
+    const std::string wbin = gather::find_world_binary(world_bin);
+    if (wbin.empty()) {
+      std::fprintf(stderr, "fleet: gather_world binary not found (%s)\n",
+                   world_bin.empty() ? "searched CMAKE_PREFIX_PATH/lib/gather_world and PATH; source the workspace"
+                                     : ("~world_bin " + world_bin + " is not executable").c_str());
+      return 2;
+    }
+    std::vector<std::string> w{wbin, "--plan", plan_dir, "--reply-url", replies};
+    if (key_file.empty())
+      w.push_back("--insecure");
+    else
+      w.insert(w.end(), {"--key-file", key_file});
+    if (!lcm_url.empty()) w.insert(w.end(), {"--lcm-url", lcm_url});
+    if (!world_config.empty()) w.insert(w.end(), {"--config", world_config});
+    world = std::make_unique<gather::AgentFleet>(w, 1);
+    try {
+      world->start();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "fleet: %s\n", e.what());
+      return 1;
+    }
+    ROS_INFO("fleet: started gather_world (%s) for %d robots", wbin.c_str(), agents);
+  }
   gather::AgentFleet fleet(command, agents);
   try {
     fleet.start();
@@ -192,6 +230,15 @@ int main(int argc, char** argv) {
     ros::WallDuration(0.05).sleep();
   }
   fleet.stop(2.0);
+  if (world) {
+    world->wait(5.0);
+    world->stop(2.0);
+    const int status = world->agents()[0].exit_status;
+    if (status != 0) {
+      ok = false;
+      ROS_ERROR("fleet: gather_world ended with status %d", status);
+    }
+  }
   int slow = 0;
   for (const auto& a : fleet.agents()) {
     if (a.exit_status != 0 && !killed_as_asked(a, kills)) ok = false;

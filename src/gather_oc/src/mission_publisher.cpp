@@ -16,6 +16,7 @@ constexpr double kRefreshEvery = 5.0;  // [s] of mission time: goals and paths a
 MissionPublisher::MissionPublisher(ros::NodeHandle& nh, const agent::TeamSetup& team, const OccupancyGrid& map,
                                    const PublisherOptions& options)
     : team_(team), map_(map), options_(options), style_(map), view_(team, style_, options.frame) {
+  view_.show_robots(options.robots);
   if (options_.sim_time) clock_ = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
   if (options_.publish_map) map_pub_ = nh.advertise<nav_msgs::OccupancyGrid>("map", 1, true);
   plan_ = nh.advertise<visualization_msgs::MarkerArray>("gather/plan_markers", 1, true);

@@ -118,6 +118,23 @@ visualization_msgs::MarkerArray MissionView::team_markers(const std::vector<agen
                         : std::to_string(r.agent);
     if (dead) id.text += " dead";
     out.markers.push_back(id);
+    if (!robots_) continue;
+    // The robot itself, to scale: its footprint and a line along its heading.
+    // Above the agent's symbol (which is drawn larger than a robot, to be
+    // seen on a whole map), in white to stand out on it.
+    Marker f = marker(frame_, stamp, "footprints", r.agent, Marker::LINE_STRIP);
+    f.pose.position.z = kZAgents + m.scale.z;
+    f.scale.x = std::max(0.02, team_.world.scenario.team.radius * 0.2);
+    f.color = style_.footprint;
+    const double rad = team_.world.scenario.team.radius;
+    for (int k = 0; k <= 24; ++k) {
+      const double a = 2.0 * M_PI * k / 24;
+      f.points.push_back(pt(Point2{r.pose.x + rad * std::cos(a), r.pose.y + rad * std::sin(a)}));
+    }
+    f.points.push_back(pt(r.pose));
+    f.points.push_back(
+        pt(Point2{r.pose.x + 1.8 * rad * std::cos(r.heading), r.pose.y + 1.8 * rad * std::sin(r.heading)}));
+    out.markers.push_back(f);
   }
   return out;
 }
@@ -185,7 +202,10 @@ tf2_msgs::TFMessage MissionView::transforms(const std::vector<agent::Reply>& age
   for (const agent::Reply& r : agents) {
     const AgentId a(r.agent);  // the lockstep master's last reply of each team agent
     const double dx = r.pose.x - last_pose_[a].x, dy = r.pose.y - last_pose_[a].y;
-    if (dx * dx + dy * dy > 1e-6) yaw_[a] = std::atan2(dy, dx);  // heading: the way it moved
+    if (robots_)
+      yaw_[a] = r.heading;  // as the robot reports it
+    else if (dx * dx + dy * dy > 1e-6)
+      yaw_[a] = std::atan2(dy, dx);  // an ideal base: the way it moved
     last_pose_[a] = r.pose;
     geometry_msgs::TransformStamped tf;
     tf.header.frame_id = frame_;

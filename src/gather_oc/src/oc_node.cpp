@@ -70,7 +70,7 @@ bool same_map(const gather::OccupancyGrid& a, const gather::OccupancyGrid& b) {
 
 // Settings users change per run (private parameters; mission.launch's arguments).
 struct Settings {
-  std::string results_dir, lcm_url, reply_url, clock, frame, kill, restart, repair, key_file;
+  std::string results_dir, lcm_url, reply_url, clock, frame, kill, restart, repair, key_file, robots;
   int cycles = 0, seed = -1, loss_seed = 1;
   double rate = 0.0, tick = 0.1, loss = 0.0, ready_timeout = 60.0, map_timeout = 30.0, view_period = 0.5;
   double silent_intervals = 2.0;
@@ -106,6 +106,7 @@ std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s
   read(typed_param(pnh, "map_timeout", s.map_timeout, 30.0));
   read(typed_param(pnh, "view_period", s.view_period, 0.5));
   read(typed_param(pnh, "close_on_end", s.close_on_end, false));
+  read(typed_param<std::string>(pnh, "robots", s.robots, "ideal"));
   if (!bad.empty()) return bad;
   nh.param("/use_sim_time", s.sim_time, false);
   s.results_dir = gather::resolve_launch_path(s.results_dir);
@@ -120,6 +121,8 @@ std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s
   if (s.loss_seed < 0) return "~loss_seed must be >= 0";
   if (s.repair != "merge" && s.repair != "none")
     return "~repair must be merge or none, got '" + s.repair.substr(0, 40) + "'";
+  if (s.robots != "ideal" && s.robots != "mrpt" && s.robots != "external")
+    return "~robots must be ideal, mrpt or external, got '" + s.robots.substr(0, 40) + "'";
   if (!(s.silent_intervals >= 1.5 && s.silent_intervals <= 100.0)) return "~silent_intervals must be in [1.5, 100]";
   if (!(s.ready_timeout > 0.0 && s.ready_timeout <= 86400.0)) return "~ready_timeout must be in (0, 86400] s";
   if (!(s.map_timeout > 0.0 && s.map_timeout <= 86400.0)) return "~map_timeout must be in (0, 86400] s";
@@ -256,6 +259,8 @@ int main(int argc, char** argv) {
   if (set.seed >= 0) params.seed = static_cast<unsigned>(set.seed);
   params.repair = set.repair == "none" ? gather::mission::RepairMode::kNone : gather::mission::RepairMode::kMerge;
   params.silent_intervals = set.silent_intervals;
+  // On robots: the protocol's robot settings (mission::robot_protocol), as gather run --robots.
+  if (set.robots != "ideal") params.protocol = gather::mission::robot_protocol(params.protocol);
 
   // What can still be wrong with the plan or the settings is bad input (2);
   // what goes wrong after this is a runtime failure (1).
@@ -296,6 +301,7 @@ int main(int argc, char** argv) {
         if (r.agent == k.agent)
           throw gather::Error("~restart", "agent " + std::to_string(r.agent) + " is also in ~kill");
     if (set.clock == "wall") mo.clock = gather::agent::ClockMode::kWall;
+    mo.robots = set.robots != "ideal";
     master_ptr =
         std::make_unique<gather::agent::LockstepMaster>(*team_ptr, *fleet_ptr, gather::agent::plan_digest(*plan), mo);
   } catch (const std::exception& e) {
@@ -309,6 +315,7 @@ int main(int argc, char** argv) {
   po.publish_map = map_topic.empty();
   po.sim_time = set.sim_time;
   po.view_period = set.view_period;
+  po.robots = set.robots != "ideal";
   gather::MissionPublisher pub(nh, team, scenario.grid, po);
   nh.setParam("/gather/key_file", set.insecure ? std::string() : set.key_file);  // "": --insecure
   nh.setParam("/gather/plan_dir", plan_dir);                                     // fleet_node starts the agents with it

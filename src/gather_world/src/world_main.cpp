@@ -12,9 +12,9 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <memory>
@@ -235,9 +235,9 @@ int run_lcm(world::MrptWorld& w, agent::LoadedPlan& plan, const Options& o, gath
       due.clear();
       for (const agent::NavCommand& c : held)
         if (c.tick < pending.tick) due.push_back(c);
-      held.erase(std::remove_if(held.begin(), held.end(),
-                                [&](const agent::NavCommand& c) { return c.tick < pending.tick; }),
-                 held.end());
+      held.erase(
+          std::remove_if(held.begin(), held.end(), [&](const agent::NavCommand& c) { return c.tick < pending.tick; }),
+          held.end());
       std::stable_sort(due.begin(), due.end(), [](const agent::NavCommand& a, const agent::NavCommand& b) {
         return a.agent != b.agent ? a.agent < b.agent : a.id < b.id;
       });

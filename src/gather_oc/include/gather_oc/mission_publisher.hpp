@@ -21,6 +21,7 @@ struct PublisherOptions {
   bool sim_time = false;      // publish /clock; stamps are mission time
   double view_period = 0.5;   // [s] of mission time between two views (markers, TF, poses)
   double state_period = 1.0;  // [s] of mission time between two /gather/agents and /gather/status
+  bool robots = false;        // the team drives robots: their footprints and headings (MissionView::show_robots)
 };
 
 class MissionPublisher {

@@ -42,6 +42,9 @@ std::string agent_frame(int id);
 class MissionView {
  public:
   MissionView(const agent::TeamSetup& team, const Style& style, std::string frame);
+  // The team drives robots: team_markers() draws each robot's footprint
+  // (the scenario's radius, to scale) and heading where it reports it is.
+  void show_robots(bool on) { robots_ = on; }
 
   // Takes what the master observed since the last call (goal ids outside
   // the OC's ledger are ignored).
@@ -85,6 +88,7 @@ class MissionView {
   const agent::TeamSetup& team_;
   Style style_;
   std::string frame_;
+  bool robots_ = false;
   std::vector<uint8_t> measured_;                // by goal id: reported measured by its worker
   std::vector<agent::HandoverEvent> handovers_;  // recent ones
   PerAgent<uint32_t> shown_path_;                // path revision shown

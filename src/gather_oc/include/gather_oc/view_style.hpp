@@ -33,6 +33,7 @@ struct Style {
   std_msgs::ColorRGBA oc_worker = rgba(0.08f, 0.08f, 0.08f);  // workers that deliver to the OC themselves
   std_msgs::ColorRGBA waiting = rgba(1.0f, 0.55f, 0.0f);      // before the mission starts
   std_msgs::ColorRGBA label = rgba(0.05f, 0.05f, 0.05f);
+  std_msgs::ColorRGBA footprint = rgba(1.0f, 1.0f, 1.0f);  // a robot to scale, on its symbol
   std_msgs::ColorRGBA goal_pending = rgba(1.0f, 0.6f, 0.0f);
   std_msgs::ColorRGBA goal_carried = rgba(0.2f, 0.45f, 1.0f);
   std_msgs::ColorRGBA goal_delivered = rgba(0.1f, 0.7f, 0.2f);
