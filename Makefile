@@ -13,7 +13,7 @@ CYCLES ?= 0
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps pylcm build run test format format-check tidy bench-fmm-ab test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-signing identity-check partition-report scenario-report regime-report runtime-report clean help
+.PHONY: all deps pylcm build run test format format-check tidy bench-fmm-ab test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-robots bench-signing identity-check partition-report scenario-report regime-report runtime-report clean help
 
 all: build
 
@@ -99,6 +99,7 @@ TEST_KEY := $(WS)/build/test_fleet.key
 test-cli: build
 	@for b in $(WS)/devel/lib/gather_oc/fleet_node $(WS)/devel/lib/gather_agent/gather_agent; do \
 	  test -x $$b || { echo "$$b missing" >&2; exit 1; }; if ldd $$b | grep -q libopencv; then echo "$$b must not link OpenCV (figures live in gather_figures)" >&2; exit 1; fi; done
+	@if ldd $(WS)/devel/lib/gather_agent/gather_agent | grep -qE 'libmrpt|libompl'; then echo "gather_agent must not link MRPT or OMPL (MRPT lives in gather_world)" >&2; exit 1; fi
 	test -f $(TEST_KEY) || $(G) keygen $(TEST_KEY)
 	tests/cli/bad_input.sh "$(G) info"
 	tests/cli/bad_input.sh "$(WS)/devel/lib/gather_oc/oc_node"
@@ -148,6 +149,14 @@ runtime-report: build
 # docs/faults_bench.md (~5 min; fails when a target is not met).
 bench-faults: build
 	$(PYTHON) tools/fault_bench.py
+
+# The team on gather_world's MRPT robots beside ideal bases: office and
+# office_a, pap:4 and the best plan, 5 seeds x 10 cycles -> docs/robots_bench.md
+# (delivered goals and both refresh metrics, robots / ideal; late waypoints,
+# collector delays, navigation failures, contacts; x real time). About an hour.
+SEEDS ?= 5
+bench-robots: build
+	$(PYTHON) tools/robots_bench.py --seeds $(SEEDS)
 
 # The cost of signed fleet traffic: sign/verify per message, and the fleet
 # over LCM signed vs unsigned on maps/office (docs/security.md); ~4 min.

@@ -10,7 +10,8 @@
 - the example robot driver in Python (src/gather_agent/examples/robot_driver.py,
   the lcm package from PyPI and the types of lcm-gen --python) driving a
   whole team over LCM on the wall clock (gather run --robots external): the
-  mission ends, goals are delivered, every goal in one final state;
+  mission ends, goals are delivered, every goal in one final state; each
+  agent process on a robot stays within 16 MB resident;
 - with --launch, roslaunch gather_oc mission.launch robots:=mrpt on the same
   plan and seed: the same goals.csv as over LCM, byte for byte;
 - bad input: a world YAML with a bad field, gather_world without a plan:
@@ -66,6 +67,7 @@ def main():
     p = argparse.ArgumentParser()
     p.add_argument("--gather", default=os.path.join(DEVEL, "gather_core", "gather"))
     p.add_argument("--world", default=os.path.join(DEVEL, "gather_world", "gather_world"))
+    p.add_argument("--agent", default=os.path.join(DEVEL, "gather_agent", "gather_agent"))
     p.add_argument("--pylcm", required=True, help="the lcm package and the generated gather_lcm types (make pylcm)")
     p.add_argument("--cycles", type=int, default=1)
     p.add_argument("--launch", action="store_true", help="also through mission.launch (a sourced ROS workspace)")
@@ -96,14 +98,24 @@ def main():
         check("agents.csv counts the robots' legs (%d)" % legs, legs > 0)
 
     # Over LCM: one process per agent, gather_world beside them.
+    # The agents run under a wrapper that records their peak resident memory.
     lcm = os.path.join(tmp, "lcm")
+    wrapper = os.path.join(tmp, "agent_with_memory.sh")
+    with open(wrapper, "w") as f:
+        f.write("#!/bin/bash\n# $2 is the agent id\nexec /usr/bin/time -f %%M -o %s/mem.$2 %s \"$@\"\n" % (tmp, a.agent))
+    os.chmod(wrapper, 0o755)
     t0 = time.time()
     rc, out, err = run([a.gather, "run", plan, "--out", lcm, "--cycles", str(a.cycles), "--robots", "mrpt", "--lcm",
-                        "--key-file", key])
+                        "--key-file", key, "--agent-bin", wrapper])
     if check("gather run --robots mrpt --lcm completes (%.0f s)" % (time.time() - t0), rc == 0, err[-2000:]) and \
             os.path.exists(os.path.join(one, "goals.csv")):
         check("over LCM: goals.csv byte-identical to one process",
               open(os.path.join(lcm, "goals.csv")).read() == open(os.path.join(one, "goals.csv")).read())
+        mem = sorted(int(open(os.path.join(tmp, f)).read().split()[-1]) for f in os.listdir(tmp) if f.startswith("mem."))
+        if check("peak memory of all 20 agents on robots recorded", len(mem) == 20, str(mem)):
+            print("     agent (--motion lcm) peak resident memory [MB]: median %.1f, max %.1f"
+                  % (mem[10] / 1024.0, mem[-1] / 1024.0))
+            check("every agent on a robot within 16 MB resident", mem[-1] <= 16 * 1024, "max %d kB" % mem[-1])
 
     # The same through roslaunch gather_oc mission.launch robots:=mrpt.
     if a.launch:

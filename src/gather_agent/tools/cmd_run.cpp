@@ -291,6 +291,10 @@ int run(int argc, char** argv) {
         std::printf("seed %u: fleet messages dropped before decoding (the OC and every agent): %s; the OC alone: %s\n",
                     team.params.seed, agent::describe(all).c_str(), agent::describe(r.oc_auth).c_str());
     }
+    for (const agent::AgentSummary& a : r.agents)
+      if (!a.robot_fault.empty())
+        std::fprintf(stderr, "seed %u: agent %d: %s (%lld faults)\n", team.params.seed, a.id, a.robot_fault.c_str(),
+                     static_cast<long long>(a.robot.faults));
     files.add(pf, team.params, r);
     // The wall clock paces the whole run (to the last goal resolved), the
     // lockstep's figure is the requested cycles' time, as gather sim's.

@@ -51,6 +51,8 @@ RoleReport CollectorRole::report() const {
   r.dead_known = static_cast<int64_t>(dead_.size());
   r.legs = legs_stats_.legs(), r.legs_late = legs_stats_.late();
   r.late_median_s = legs_stats_.median_late(), r.late_max_s = legs_stats_.max_late();
+  r.loops = loop_stats_.legs();
+  r.loop_late_median_s = loop_stats_.median_late(), r.loop_late_max_s = loop_stats_.max_late();
   return r;
 }
 
@@ -139,7 +141,10 @@ void CollectorRole::drive(double now) {
       legs_stats_.add(motion_.arrived_at(legs_seen_) - planned_at(loop_first_ + legs_seen_));
   if (driving_) {
     switch (motion_.state()) {
-      case NavState::kReached: driving_ = false; break;
+      case NavState::kReached:
+        driving_ = false;
+        loop_stats_.add(motion_.arrived_at(n - 1) - planned_at(route_.waypoints().size() - 1));
+        break;
       case NavState::kFailed: {
         // A waypoint it cannot reach: on to the next one (the last, the OC:
         // again until it gets there).

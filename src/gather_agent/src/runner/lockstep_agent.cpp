@@ -100,6 +100,11 @@ bool LockstepAgent::take_plan(std::string* why) {
     return false;
   }
   base_ = robot_ ? static_cast<RobotBase*>(unit_.motion.get()) : nullptr;
+  if (robot_ && p.clock == ClockMode::kWall && p.rate != 1.0)
+    std::fprintf(stderr,
+                 "gather_agent %d: the mission runs %g x real time: a real robot needs 1 (only a simulated one that "
+                 "runs %g x as fast keeps up)\n",
+                 id_, p.rate, p.rate);
   outbox_ = std::make_unique<Outbox>(kOutbox);
   tick_s_ = p.tick;
   clock_ = p.clock;

@@ -15,7 +15,8 @@ namespace agent {
 const char* const kAgentsCsvHeader =
     "method,collectors,seed,agent,role,measured,expired,skipped,dropped,carried,delivered,sent,received,gated,lost,"
     "bad,overflow,rejected_unsigned,rejected_unknown_key,rejected_bad_mac,rejected_replayed,rejected_wrong_sender,"
-    "legs,legs_late,late_median_s,late_max_s,nav_failures,unreachable,contacts,robot_faults\n";
+    "legs,legs_late,late_median_s,late_max_s,nav_failures,unreachable,contacts,robot_faults,loops,loop_late_median_s,"
+    "loop_late_max_s\n";
 
 LoadedPlan load_plan(const std::string& plan_dir) {
   namespace fs = std::filesystem;
@@ -51,7 +52,7 @@ void append_agent_rows(std::string& out, const plan::PlanFile& plan, unsigned se
     std::snprintf(
         line, sizeof line,
         "%s,%d,%u,%d,%s,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,"
-        "%.1f,%.1f,%lld,%lld,%d,%lld\n",
+        "%.1f,%.1f,%lld,%lld,%d,%lld,%lld,%.1f,%.1f\n",
         plan.method.c_str(), plan.collectors, seed, a.id, role_kind_name(a.role),
         static_cast<long long>(a.report.measured), static_cast<long long>(a.report.expired),
         static_cast<long long>(a.report.skipped), static_cast<long long>(a.report.dropped),
@@ -63,7 +64,8 @@ void append_agent_rows(std::string& out, const plan::PlanFile& plan, unsigned se
         static_cast<long long>(a.auth.replayed), static_cast<long long>(a.auth.wrong_sender),
         static_cast<long long>(a.report.legs), static_cast<long long>(a.report.legs_late), a.report.late_median_s,
         a.report.late_max_s, static_cast<long long>(a.report.nav_failures),
-        static_cast<long long>(a.report.unreachable), a.contacts, static_cast<long long>(a.robot.faults));
+        static_cast<long long>(a.report.unreachable), a.contacts, static_cast<long long>(a.robot.faults),
+        static_cast<long long>(a.report.loops), a.report.loop_late_median_s, a.report.loop_late_max_s);
     out += line;
   }
 }

@@ -284,6 +284,9 @@ bool LcmFleet::publish(const Reply& r) {
   w.contacts = r.contacts;
   w.robot_dropped = r.robot_dropped;
   w.robot_faults = r.robot_faults;
+  w.loops = static_cast<int32_t>(r.report.loops);
+  w.loop_late_median_s = r.report.loop_late_median_s;
+  w.loop_late_max_s = r.report.loop_late_max_s;
   w.role = static_cast<int8_t>(r.role);
   w.phase = static_cast<int8_t>(r.phase);
   w.measured = static_cast<int32_t>(r.report.measured);
@@ -559,7 +562,8 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
         r.n_keys > gather_lcm::tick_reply_t::MAX_KEYS || !finite(r.x) || !finite(r.y) || r.n_measured < 0 ||
         r.n_measured > gather_lcm::tick_reply_t::MAX_MEASURED || r.n_path < 0 ||
         r.n_path > gather_lcm::tick_reply_t::MAX_PATH || r.commands < 0 || !finite(r.heading) || r.nav_state < 0 ||
-        r.nav_state > 4 || r.robot_fault < 0 || r.robot_fault > 3 || !finite(r.late_median_s) || !finite(r.late_max_s))
+        r.nav_state > 4 || r.robot_fault < 0 || r.robot_fault > 3 || !finite(r.late_median_s) ||
+        !finite(r.late_max_s) || !finite(r.loop_late_median_s) || !finite(r.loop_late_max_s))
       return void(++refused_.out_of_range);
     if (r.agent != sender) return auth_.count_wrong_sender();
     for (int i = 0; i < r.n_measured; ++i)
@@ -583,6 +587,8 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
     o.report.legs = r.legs, o.report.legs_late = r.legs_late;
     o.report.late_median_s = r.late_median_s, o.report.late_max_s = r.late_max_s;
     o.report.nav_failures = r.nav_failures, o.report.unreachable = r.unreachable;
+    o.report.loops = r.loops, o.report.loop_late_median_s = r.loop_late_median_s;
+    o.report.loop_late_max_s = r.loop_late_max_s;
     o.role = static_cast<RoleKind>(r.role);
     o.phase = r.phase;
     o.report.role = o.role;

@@ -77,7 +77,7 @@ class CollectorRole : public Role {
   bool contact_prev_ = false;
   double next_beacon_ = 0.0;
   RoleReport counters_;
-  LegStats legs_stats_;
+  LegStats legs_stats_, loop_stats_;
   std::size_t legs_seen_ = 0;  // waypoints of the loop commanded already counted in legs_stats_
   std::vector<int32_t> acks_;
   bool retired_ = false;

@@ -152,6 +152,10 @@ struct RoleReport {
   double late_median_s = 0.0, late_max_s = 0.0;
   int64_t nav_failures = 0;
   int64_t unreachable = 0;
+  // Collectors: loops driven to their end, and how late their robot was
+  // back at the OC (its delay at each loop's end) [s].
+  int64_t loops = 0;
+  double loop_late_median_s = 0.0, loop_late_max_s = 0.0;
 };
 
 // What a role keeps across a restart of its process besides its custody
