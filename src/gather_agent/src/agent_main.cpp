@@ -41,9 +41,12 @@ int main(int argc, char** argv) {
     gather::agent::RobotBaseParams robot_params;
     robot_params.silence_s = opt.robot_silence_s;
     robot_params.tolerance_m = opt.tolerance_m;
-    if (opt.motion == "lcm")
-      robot = std::make_unique<gather::agent::LcmRobotLink>(opt.robot_url.empty() ? opt.lcm_url : opt.robot_url,
-                                                            gather::agent::LcmRobotLink::Side::kAgent,
+    // On the fleet's URL, the robot interface shares its LCM instance.
+    if (opt.motion == "lcm" && (opt.robot_url.empty() || opt.robot_url == opt.lcm_url))
+      robot = std::make_unique<gather::agent::LcmRobotLink>(
+          fleet.radio_lcm(), gather::agent::LcmRobotLink::Side::kAgent, std::vector<int>{opt.id}, key);
+    else if (opt.motion == "lcm")
+      robot = std::make_unique<gather::agent::LcmRobotLink>(opt.robot_url, gather::agent::LcmRobotLink::Side::kAgent,
                                                             std::vector<int>{opt.id}, key);
     gather::agent::LockstepAgent agent(plan, opt.id, fleet, robot.get(), robot_params);
     agent.set_journal(opt.journal, opt.rejoin);

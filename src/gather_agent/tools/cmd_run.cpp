@@ -291,6 +291,9 @@ int run(int argc, char** argv) {
         std::printf("seed %u: fleet messages dropped before decoding (the OC and every agent): %s; the OC alone: %s\n",
                     team.params.seed, agent::describe(all).c_str(), agent::describe(r.oc_auth).c_str());
     }
+    if (r.closed_at_end > 0)
+      std::fprintf(stderr, "seed %u: %lld goals still owed at the time limit (%.0f s): lost with their agents\n",
+                   team.params.seed, static_cast<long long>(r.closed_at_end), r.end_s);
     for (const agent::AgentSummary& a : r.agents)
       if (!a.robot_fault.empty())
         std::fprintf(stderr, "seed %u: agent %d: %s (%lld faults)\n", team.params.seed, a.id, a.robot_fault.c_str(),

@@ -138,6 +138,19 @@ void OcRole::declare_dead(AgentId agent, double now, Outbox& out) {
   if (issued_ > 0) issue(issued_ - 1, kBroadcast, now, out);  // the news, to whoever is in the coverage
 }
 
+std::size_t OcRole::close(double now) {
+  closed_.assign(goals_.size(), 0);
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < requested(); ++i) {
+    mission::GoalRecord& g = goals_[i];
+    if (resolved_[i]) continue;
+    g.lost_at = std::max(now, g.requested_at);
+    resolve(g, mission::GoalState::kLostWithAgent);
+    closed_[i] = 1, ++n;
+  }
+  return n;
+}
+
 void OcRole::resolve(mission::GoalRecord& g, mission::GoalState state) {
   g.state = state;
   resolved_[g.id.index()] = 1;

@@ -522,6 +522,18 @@ void WorkerRole::follow_progress(double now) {
       if (goal >= 0 && std::find(known_.begin(), known_.end(), goal) != known_.end()) {
         known_.erase(std::find(known_.begin(), known_.end(), goal));
         notice(ItemKind::kUnreachable, policy_->goal(static_cast<std::size_t>(goal)).id.value(), now);
+      } else if (goal < 0) {
+        // A place it could not reach (a pass, its home, the way back): the
+        // same decision would send it there again at once; it tries again
+        // after a while, and a worker of the OC heads for the OC itself.
+        decide_after_ = now + kRetryPlace;
+        if (policy_->delivers_to_oc() && !reaches_oc() && !into_coverage_) {
+          legs_[0] = Waypoint{team_.world.scenario.oc, now + 1.0, team_.params.protocol.place_tolerance_m};
+          leg_goal_[0] = -1, n_legs_ = 1, legs_seen_ = 0;
+          ends_at_landing_ = false, into_coverage_ = true;
+          motion_.go(legs_.data(), 1, now);
+          return;
+        }
       }
     }
     TRACE("%.1f robot %s at waypoint %zu of %zu: decide again\n", now, nav_state_name(state), done, n_legs_);
@@ -609,7 +621,7 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
   // pass to meet at, a request due from the collector.
   const bool need = custody_.size() > 0 || phase_ == Phase::kAtPass || (!oc_worker && now >= due_time());
   const bool in_contact = need && contact(now);
-  if (settled(now, in_contact)) decide(now);
+  if (now >= decide_after_ && settled(now, in_contact)) decide(now);
 
   // Custody: everything due goes upstream while in contact; to a collector,
   // measured data once the contact has lasted its transfer time (notices

@@ -379,6 +379,7 @@ RunOutcome LockstepMaster::finish() {
   out.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - started_).count();
   out.ticks = tick_;
   out.end_s = options_.clock == ClockMode::kWall ? now() : (tick_ - 1) * options_.tick;
+  if (!oc().done() && options_.robots) out.closed_at_end = static_cast<int64_t>(oc().close(out.end_s));
   out.completed = oc().done();
   for (const Reply& r : last_) {
     AgentSummary s;

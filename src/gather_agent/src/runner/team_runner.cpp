@@ -71,7 +71,7 @@ void check_lost_goals(const OcRole& oc, const std::vector<const Role*>& roles, c
       }
   }
   for (const mission::GoalRecord& g : oc.goals()) {
-    if (g.state != mission::GoalState::kLostWithAgent) continue;
+    if (g.state != mission::GoalState::kLostWithAgent || oc.closed_at_end(g.id)) continue;
     const bool own = g.worker.valid() && gone[g.worker.index()];
     if (!held_by_gone[g.id.index()] && !own && !skips_held.count({g.cycle, g.worker.value()}))
       throw RuntimeError("faults", to_string(g.id) +
@@ -267,6 +267,9 @@ RunOutcome TeamRunner::run() {
   out.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   out.ticks = ticks_;
   out.end_s = (ticks_ - 1) * options_.tick;
+  // A team on robots ends at its time limit whatever its robots still owe
+  // (one stuck far away, one that never came back): lost with them.
+  if (!oc().done() && options_.robots) out.closed_at_end = static_cast<int64_t>(oc().close(out.end_s));
   out.completed = oc().done();
   std::vector<const Role*> roles;
   std::vector<LinkCounters> links;

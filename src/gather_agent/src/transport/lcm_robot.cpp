@@ -27,7 +27,7 @@ static_assert(gather_lcm::nav_status_t::MAX_WAYPOINTS == kMaxNavWaypoints, "stat
 constexpr std::size_t kBuffer = 16384;  // bytes: the largest robot message (a command of 256 waypoints) fits
 // Messages held between two drains: an agent drains every few ms and its
 // robot reports at 10-50 Hz; gather_world takes a command per agent a tick.
-constexpr std::size_t kAgentQueue = 64, kRobotsQueue = 1024;
+constexpr std::size_t kAgentQueue = 16, kRobotsQueue = 1024;
 
 // The wire objects decoded into and encoded from (kept: their arrays keep
 // their capacity, so converting allocates nothing after the first message).
@@ -155,19 +155,36 @@ RobotDecoded decode_robot(const void* data, int size, NavStatus& m) {
   return RobotDecoded::kOk;
 }
 
+namespace {
+
+std::vector<std::string> channel_names(const std::vector<int>& ids) {
+  std::vector<std::string> names;
+  for (int id : ids)
+    names.insert(names.end(), {robot_command_channel(id), robot_pose_channel(id), robot_status_channel(id)});
+  return names;
+}
+
+}  // namespace
+
 LcmRobotLink::LcmRobotLink(const std::string& url, Side side, std::vector<int> ids, std::optional<FleetKey> key)
-    : side_(side),
+    : side_(side), ids_(std::move(ids)), auth_(std::move(key), channel_names(ids_), kMaxTeam + 1), buffer_(kBuffer) {
+  std::string error;
+  lcm_ = open_lcm_c(url, &error);
+  if (!lcm_) throw Error("--robot-url", error);
+  subscribe();
+}
+
+LcmRobotLink::LcmRobotLink(lcm_t* shared, Side side, std::vector<int> ids, std::optional<FleetKey> key)
+    : lcm_(shared),
+      owned_(false),
+      side_(side),
       ids_(std::move(ids)),
-      auth_(
-          std::move(key),
-          [&] {
-            std::vector<std::string> names;
-            for (int id : ids_)
-              names.insert(names.end(), {robot_command_channel(id), robot_pose_channel(id), robot_status_channel(id)});
-            return names;
-          }(),
-          kMaxTeam + 1),
+      auth_(std::move(key), channel_names(ids_), kMaxTeam + 1),
       buffer_(kBuffer) {
+  subscribe();
+}
+
+void LcmRobotLink::subscribe() {
   envelopes_ = std::make_unique<Envelopes>(auth_, kBuffer);
   for (int id : ids_) {
     command_channels_.push_back(robot_command_channel(id));
@@ -175,15 +192,12 @@ LcmRobotLink::LcmRobotLink(const std::string& url, Side side, std::vector<int> i
     status_channels_.push_back(robot_status_channel(id));
   }
   if (!ids_.empty()) auth_.reserve(*std::max_element(ids_.begin(), ids_.end()) + 1);
-  if (side == Side::kAgent)
+  if (side_ == Side::kAgent)
     poses_.reserve(kAgentQueue), statuses_.reserve(kAgentQueue);
   else
     commands_.reserve(kRobotsQueue);
-  std::string error;
-  lcm_ = open_lcm_c(url, &error);
-  if (!lcm_) throw Error("--robot-url", error);
   for (std::size_t i = 0; i < ids_.size(); ++i) {
-    if (side == Side::kAgent) {
+    if (side_ == Side::kAgent) {
       lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, pose_channels_[i].c_str(), handler, this), 1000);
       lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, status_channels_[i].c_str(), handler, this), 1000);
     } else {
@@ -193,7 +207,7 @@ LcmRobotLink::LcmRobotLink(const std::string& url, Side side, std::vector<int> i
 }
 
 LcmRobotLink::~LcmRobotLink() {
-  if (lcm_) lcm_destroy(lcm_);
+  if (lcm_ && owned_) lcm_destroy(lcm_);
 }
 
 int LcmRobotLink::id_index(int agent) const {

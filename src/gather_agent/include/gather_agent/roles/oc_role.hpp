@@ -45,6 +45,12 @@ class OcRole : public Role {
   int64_t recovered() const { return recovered_; }
   // The plan the OC runs now (the original until it declares a death).
   const mission::MissionPlan& current_plan() const { return repair_ ? repair_->plan : team_.plan; }
+  // A team on robots at the end of its time: every goal not resolved yet is
+  // lost with the agent that owes it (a robot stuck far away with what it
+  // carries, or one that never came back), at `now`. Returns how many; they
+  // are marked (closed_at_end()).
+  std::size_t close(double now);
+  bool closed_at_end(GoalId goal) const { return !closed_.empty() && closed_[goal.index()] != 0; }
 
  private:
   void issue(int cycle, int16_t dest, double now, Outbox& out);
@@ -83,6 +89,7 @@ class OcRole : public Role {
   PerAgent<double> grace_until_;  // [s] no declaration before (workers moved to the OC)
   const mission::RepairedPlan* repair_ = nullptr;
   int64_t recovered_ = 0;
+  std::vector<uint8_t> closed_;  // by goal: lost at the mission's end (close())
 };
 
 }  // namespace agent

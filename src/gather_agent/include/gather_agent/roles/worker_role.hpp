@@ -118,6 +118,9 @@ class WorkerRole : public Role {
   double command_at_ = 0.0;   // [s] when the plan under way was commanded
   double eta_base_ = 0.0;     // [s] its robot's first arrival estimate for the plan under way (+inf: none yet)
   double next_replan_ = 0.0;  // [s] no decision again for drift before then
+  // [s] after its robot failed to reach a place, no decision before then.
+  static constexpr double kRetryPlace = 5.0;
+  double decide_after_ = 0.0;
   // [s] since when the worker is in contact upstream with data on board (-1:
   // not): a hand-over of n goals goes out once that has lasted
   // transfer_s(n) (docs/simulator.md, "Hand-over").

@@ -78,6 +78,9 @@ struct RunOutcome {
   std::vector<Kill> restarts;  // as asked (RunOptions::restarts)
   // In one process: (agent, measured items its journal gave back) per restart.
   std::vector<std::pair<int, int>> restored;
+  // On robots: goals still owed at the time limit, closed as lost with
+  // their agents (OcRole::close); 0 when every goal was resolved in time.
+  int64_t closed_at_end = 0;
 };
 
 class TeamRunner {

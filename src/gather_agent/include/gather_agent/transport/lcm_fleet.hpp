@@ -149,6 +149,8 @@ class LcmFleet {
   int64_t dropped() const { return refused_.total() + auth_.counters().total(); }
   bool secure() const { return auth_.secure(); }
   int64_t publish_failures() const { return publish_failures_; }
+  // Its radio's LCM instance (LcmRobotLink shares it when on the same URL).
+  lcm_t* radio_lcm() const { return lcm_; }
 
   // The reply URL for a radio URL: the same multicast group, port + 1
   // ("udpm://239.255.76.67:7667?ttl=0" -> "...:7668?ttl=0"); other

@@ -49,6 +49,11 @@ class LcmRobotLink : public NavCommandSink {
   // Opens `url`; `key`: the fleet key (empty: unsigned, insecure). Throws
   // gather::Error("--robot-url", ...) naming the URL when LCM cannot open it.
   LcmRobotLink(const std::string& url, Side side, std::vector<int> ids, std::optional<FleetKey> key);
+  // The same on an LCM instance that is already open (the fleet's, when the
+  // robot interface shares its URL: one socket less on a small robot); it
+  // must outlive the link, and whoever handles it dispatches this link's
+  // messages too.
+  LcmRobotLink(lcm_t* shared, Side side, std::vector<int> ids, std::optional<FleetKey> key);
   ~LcmRobotLink() override;
   LcmRobotLink(const LcmRobotLink&) = delete;
   LcmRobotLink& operator=(const LcmRobotLink&) = delete;
@@ -76,7 +81,10 @@ class LcmRobotLink : public NavCommandSink {
   bool seal_and_publish(const std::string& channel, int16_t sender);
   int id_index(int agent) const;  // index of `agent` in ids_, -1 when not one of them
 
+  void subscribe();
+
   lcm_t* lcm_ = nullptr;
+  bool owned_ = true;
   Side side_;
   std::vector<int> ids_;
   std::vector<std::string> command_channels_, pose_channels_, status_channels_;
