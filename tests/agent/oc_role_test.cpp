@@ -1,11 +1,17 @@
 // roles/oc_role: the OC delivers once, counts duplicates, acks all, expires
-// skipped requests and goals in no segment.
+// skipped requests and goals in no segment, takes the later deadline its
+// workers applied, expires what was measured after it, and resolves goals
+// its workers' robots could not reach as unreachable.
 #include "gather_agent/roles/oc_role.hpp"
 
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <vector>
+
 #include "corridor_team.hpp"
 #include "gather_agent/runner/team_runner.hpp"
+#include "gather_core/mission/simulator.hpp"
 
 namespace gather {
 namespace agent {
@@ -74,6 +80,102 @@ TEST(OcRole, AGoalInNoSegmentExpiresWhenTheNextRequestIsDue) {
   EXPECT_FALSE(out.result.goals[1].worker.valid());
   EXPECT_EQ(out.result.goals[1].state, mission::GoalState::kExpired);
   EXPECT_DOUBLE_EQ(out.result.goals[1].expired_at, 100.0);
+}
+// The deadline a worker applied travels with its items: the OC takes it
+// when it is later than the timetable's (the collector handed the request
+// over late), never an earlier one; a measurement after the deadline it
+// adopted is recorded as an expiry (late_items()); an item a robot could
+// not reach resolves its goal as unreachable. The ledger then accounts.
+TEST(OcRole, AdoptsALaterDeadlineExpiresLateMeasurementsAndResolvesUnreachableGoals) {
+  CorridorTeam c(1, {{0, {5.05, 0.25}}, {0, {9.05, 0.25}}, {0, {12.05, 0.25}}, {0, {7.05, 0.25}}});
+  Stepper oc{make_oc(*c.team)};
+  auto& role = static_cast<OcRole&>(*oc.unit.role);
+  oc.step(0.0);
+  ASSERT_EQ(role.requested(), 4u);
+  for (const mission::GoalRecord& g : role.goals()) ASSERT_DOUBLE_EQ(g.deadline, 100.0);  // the timetable's
+  // From its collector (picked up at the meeting), at 110 s:
+  Message d = message(Kind::kData, 0, kOc, 0, Point2{1.0, 0.25});
+  d.data.count = 5;
+  // goal 0: measured at 95 s by a worker that applied 90 s (earlier than
+  // the timetable's: not taken), in time for 100 s: delivered.
+  d.data.items[0] = measured(0, 1, 95.0);
+  d.data.items[0].deadline = 90.0;
+  // goal 1: measured at 103 s, the worker's deadline 104 s (its collector
+  // 4 s late): taken, and in time.
+  d.data.items[1] = measured(1, 1, 103.0);
+  d.data.items[1].deadline = 104.0;
+  // goal 2: measured at 105 s, after the 104 s its worker applied: expired.
+  d.data.items[2] = measured(2, 1, 105.0);
+  d.data.items[2].deadline = 104.0;
+  for (int i = 0; i < 3; ++i) d.data.items[i].picked_up_by = 0, d.data.items[i].picked_up_at = 106.0;
+  // goal 3: its robot gave it up at 7 s.
+  DataItem gone;
+  gone.key = 3, gone.kind = ItemKind::kUnreachable, gone.by = 1, gone.at = 7.0, gone.deadline = 100.0;
+  d.data.items[3] = gone;
+  // A deadline of +inf (a worker of the OC's) is no deadline to take:
+  // goal 0 again, a duplicate.
+  d.data.items[4] = measured(0, 1, 95.0);
+  d.data.items[4].deadline = std::numeric_limits<double>::infinity();
+  oc.step(110.0, {d});
+  ASSERT_NE(oc.sent(Kind::kAck), nullptr);
+  EXPECT_EQ(oc.sent(Kind::kAck)->ack.count, 5u);
+  EXPECT_EQ(role.invalid_items(), 0);
+  EXPECT_EQ(role.duplicate_items(), 1);
+  const std::vector<mission::GoalRecord>& g = role.goals();
+  EXPECT_EQ(g[0].state, mission::GoalState::kDelivered);
+  EXPECT_DOUBLE_EQ(g[0].deadline, 100.0);  // 90 s not taken; +inf neither
+  EXPECT_EQ(g[1].state, mission::GoalState::kDelivered);
+  EXPECT_DOUBLE_EQ(g[1].deadline, 104.0);  // taken
+  EXPECT_DOUBLE_EQ(g[1].measured_at, 103.0);
+  EXPECT_EQ(g[2].state, mission::GoalState::kExpired);
+  EXPECT_DOUBLE_EQ(g[2].deadline, 104.0);
+  EXPECT_DOUBLE_EQ(g[2].expired_at, 104.0);  // at its deadline, not when measured
+  EXPECT_LT(g[2].measured_at, 0.0);          // its data is not a measurement
+  EXPECT_LT(g[2].delivered_at, 0.0);
+  EXPECT_EQ(role.late_items(), 1);
+  EXPECT_EQ(g[3].state, mission::GoalState::kUnreachable);
+  EXPECT_DOUBLE_EQ(g[3].unreachable_at, 7.0);
+  EXPECT_LT(g[3].expired_at, 0.0);
+  EXPECT_EQ(role.delivered_by(AgentId(0)), 2);
+  EXPECT_TRUE(role.done());
+  // The ledger accounts: 2 delivered, 1 expired, 1 unreachable.
+  const std::vector<mission::CycleStats> cycles = mission::account(g, 1, c.team->period);
+  ASSERT_EQ(cycles.size(), 1u);
+  EXPECT_EQ(cycles[0].delivered, 2);
+  EXPECT_EQ(cycles[0].expired, 1);
+  EXPECT_EQ(cycles[0].unreachable, 1);
+}
+
+TEST(OcRole, AnUnreachableItemAfterItsGoalWasResolvedIsADuplicate) {
+  CorridorTeam c(1, {{0, {5.05, 0.25}}});
+  Stepper oc{make_oc(*c.team)};
+  auto& role = static_cast<OcRole&>(*oc.unit.role);
+  oc.step(0.0);
+  DataItem gone;
+  gone.key = 0, gone.kind = ItemKind::kUnreachable, gone.by = 1, gone.at = 3.0, gone.deadline = 100.0;
+  Message d = message(Kind::kData, 0, kOc, 0, Point2{1.0, 0.25});
+  d.data.count = 1, d.data.items[0] = gone;
+  oc.step(5.0, {d});
+  ASSERT_EQ(role.goals()[0].state, mission::GoalState::kUnreachable);
+  // Then data for it (a worker gone wrong): the goal stays unreachable.
+  d.h.seq = 1, d.data.items[0] = measured(0, 1, 4.0);
+  d.data.items[0].picked_up_by = 0, d.data.items[0].picked_up_at = 4.5;
+  oc.step(6.0, {d});
+  EXPECT_EQ(role.goals()[0].state, mission::GoalState::kUnreachable);
+  EXPECT_DOUBLE_EQ(role.goals()[0].unreachable_at, 3.0);
+  EXPECT_LT(role.goals()[0].delivered_at, 0.0);
+  EXPECT_EQ(role.duplicate_items(), 1);
+  // An unreachable notice dated before its request is no news of it.
+  CorridorTeam c2(2, {{0, {5.05, 0.25}}, {1, {7.05, 0.25}}});
+  Stepper oc2{make_oc(*c2.team)};
+  auto& role2 = static_cast<OcRole&>(*oc2.unit.role);
+  oc2.step(0.0);
+  oc2.step(100.0);  // request 1: goal 1
+  gone.key = 1, gone.at = 50.0;
+  d.data.items[0] = gone;
+  oc2.step(101.0, {d});
+  EXPECT_FALSE(role2.resolved(GoalId(1)));
+  EXPECT_EQ(role2.invalid_items(), 1);
 }
 }  // namespace
 }  // namespace agent

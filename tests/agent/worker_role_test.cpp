@@ -1,12 +1,20 @@
 // roles/worker_role: a worker driven by hand on the corridor measures, hands
 // over in contact, resends a lost ack, reports expiry, and ignores a request
-// larger than its mission's.
+// larger than its mission's; on a robot (a RobotBase fed by a scripted
+// robot) a goal its robot fails is unreachable, and one it reaches after the
+// deadline expires.
 #include "gather_agent/roles/worker_role.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <vector>
+
 #include "corridor_team.hpp"
+#include "gather_agent/motion/robot_base.hpp"
+#include "gather_agent/runner/robot_world.hpp"
 #include "gather_agent/runner/team_runner.hpp"
+#include "scripted_world.hpp"
 
 namespace gather {
 namespace agent {
@@ -16,6 +24,8 @@ using agent_testing::CorridorTeam;
 using agent_testing::measured;
 using agent_testing::message;
 using agent_testing::request;
+using agent_testing::RobotScript;
+using agent_testing::ScriptedRobot;
 using agent_testing::Stepper;
 
 TEST(WorkerRole, MeasuresHandsOverInContactResendsALostAckAndReportsExpiry) {
@@ -69,6 +79,138 @@ TEST(WorkerRole, IgnoresARequestLargerThanTheMissionsOwn) {
   w.step(0.0, {request(0, 0, five, grid, kOc, kBroadcast)});
   EXPECT_EQ(static_cast<WorkerRole&>(*w.unit.role).phase(), WorkerRole::Phase::kStart);
   EXPECT_EQ(w.unit.role->newest_request(), -1);
+}
+// A worker on a robot behind the robot interface (a RobotBase), its robot a
+// scripted one: each tick of 0.1 s the robot takes the commands sent the
+// tick before, moves and reports; then the role steps.
+struct WorkerOnRobot {
+  CorridorTeam c{2};
+  CommandQueue queue;
+  AgentUnit unit;
+  ScriptedRobot robot;
+  Outbox out{64};
+  int64_t tick = 0;
+  explicit WorkerOnRobot(RobotScript script)
+      : unit(make_agent(*c.team, AgentId(1), nullptr, &queue)), robot(1, c.team->start_pose(AgentId(1)), script) {}
+  RobotBase& base() { return static_cast<RobotBase&>(*unit.motion); }
+  WorkerRole& role() { return static_cast<WorkerRole&>(*unit.role); }
+  void step(double t, std::vector<Message> in = {}) {
+    for (const NavCommand& cmd : queue.commands) robot.command(cmd);
+    queue.commands.clear();
+    robot.step(t);
+    base().on_pose(robot.pose(tick), t);
+    base().on_status(robot.status(tick), t);
+    ++tick;
+    unit.motion->update(t);
+    std::vector<const Message*> inbox;
+    for (const Message& m : in) inbox.push_back(&m);
+    out.clear();
+    unit.role->step(t, inbox.data(), inbox.size(), out);
+  }
+  const Message* sent(Kind k) const {
+    for (std::size_t i = 0; i < out.size(); ++i)
+      if (out[i].h.kind == k) return &out[i];
+    return nullptr;
+  }
+  // Custody items of `kind`.
+  std::vector<DataItem> held(ItemKind kind) const {
+    std::vector<DataItem> items;
+    const Custody& custody = *unit.role->custody();
+    for (std::size_t i = 0; i < custody.size(); ++i)
+      if (custody.item(i).kind == kind) items.push_back(custody.item(i));
+    return items;
+  }
+};
+
+// Its robot gives up the goal (FAILED on the goal's waypoint): the goal is
+// unreachable, reported as a notice of its own kind, never measured nor
+// expired, and handed on like any notice.
+TEST(WorkerRole, AGoalItsRobotFailsIsUnreachable) {
+  RobotScript fails;
+  fails.fail_waypoint = 0;  // the first waypoint it is sent to: the goal
+  WorkerOnRobot w(fails);
+  const OccupancyGrid& grid = w.c.scenario.grid;
+  w.step(0.0, {request(0, 0, {{5.05, 0.25}}, grid, kOc, kBroadcast)});
+  ASSERT_EQ(w.role().phase(), WorkerRole::Phase::kMoving);
+  ASSERT_EQ(w.queue.commands.size(), 1u);
+  ASSERT_EQ(w.queue.commands[0].n, 2u);  // the goal, then the pass
+  EXPECT_EQ(w.queue.commands[0].points[0].x, grid.cell_center(grid.world_to_cell(Point2{5.05, 0.25})).x);
+  const Message* notice = nullptr;
+  double t = 0.0;
+  for (int i = 1; i <= 50; ++i) {
+    t = i * 0.1;
+    w.step(t);
+    if (!notice && (notice = w.sent(Kind::kData)) != nullptr) {
+      EXPECT_EQ(notice->h.dest, 0);  // to its collector, alongside at the start
+      ASSERT_EQ(notice->data.count, 1u);
+      EXPECT_EQ(notice->data.items[0].kind, ItemKind::kUnreachable);
+      EXPECT_EQ(notice->data.items[0].key, 0);
+      EXPECT_EQ(notice->data.items[0].by, 1);
+    }
+  }
+  EXPECT_NE(notice, nullptr);
+  const RoleReport r = w.role().report();
+  EXPECT_EQ(r.unreachable, 1);
+  EXPECT_EQ(r.nav_failures, 1);
+  EXPECT_EQ(r.measured, 0);
+  EXPECT_EQ(r.expired, 0);
+  EXPECT_EQ(r.pending, 0);
+  const std::vector<DataItem> given_up = w.held(ItemKind::kUnreachable);
+  ASSERT_EQ(given_up.size(), 1u);
+  EXPECT_EQ(given_up[0].key, 0);
+  EXPECT_EQ(given_up[0].by, 1);
+  EXPECT_NEAR(given_up[0].at, 0.1, 1e-9);  // when its robot said so
+  EXPECT_EQ(given_up[0].deadline, w.c.team->deadline(AgentId(1), 0));
+  EXPECT_TRUE(w.held(ItemKind::kMeasured).empty());
+  EXPECT_TRUE(w.held(ItemKind::kExpired).empty());
+  // From where it is, it decided again: the goal is not sent again.
+  EXPECT_EQ(w.role().phase(), WorkerRole::Phase::kMoving);
+  EXPECT_EQ(w.role().report().unreachable, 1);
+}
+
+// Its robot reaches a goal, after the goal's deadline: an expiry, reported
+// with the deadline as its time, not a measurement. The deadline is the
+// timetable's (100 s) shifted by the 0.05 s its collector was late handing
+// the request over, 100.05 s, between two ticks: the robot's report of the
+// waypoint (100.07 s) comes in the tick at 100.1 s, before the deadline
+// itself would expire the goal. In time (99.9 s): measured.
+TEST(WorkerRole, AGoalItsRobotReachesAfterItsDeadlineExpires) {
+  for (const double arrival : {100.07, 99.9}) {
+    CorridorTeam c(2);
+    const Point2 start = c.team->start_pose(AgentId(1));
+    const Point2 goal = c.scenario.grid.cell_center(c.scenario.grid.world_to_cell(Point2{5.05, 0.25}));
+    RobotScript slow;
+    slow.speed = std::hypot(goal.x - start.x, goal.y - start.y) / arrival;
+    WorkerOnRobot w(slow);
+    Message r = request(0, 0, {goal}, w.c.scenario.grid, 0, 1);  // from its collector,
+    r.h.delay = 0.05;                                            // late by 0.05 s
+    w.step(0.0, {r});
+    ASSERT_EQ(w.role().phase(), WorkerRole::Phase::kMoving) << arrival;
+    double t = 0.0;
+    for (int i = 1; i <= 1003; ++i) w.step(t = i * 0.1);
+    ASSERT_GE(w.base().legs_done(), 1u) << arrival;  // the robot got there
+    EXPECT_NEAR(w.base().arrived_at(0), arrival, 1e-6);
+    const RoleReport rep = w.role().report();
+    if (arrival > 100.05) {
+      EXPECT_EQ(rep.measured, 0);
+      EXPECT_EQ(rep.expired, 1);
+      const std::vector<DataItem> expired = w.held(ItemKind::kExpired);
+      ASSERT_EQ(expired.size(), 1u);
+      EXPECT_EQ(expired[0].key, 0);
+      EXPECT_NEAR(expired[0].at, 100.05, 1e-9);
+      EXPECT_NEAR(expired[0].deadline, 100.05, 1e-9);
+      EXPECT_TRUE(w.held(ItemKind::kMeasured).empty());
+    } else {
+      EXPECT_EQ(rep.measured, 1);
+      EXPECT_EQ(rep.expired, 0);
+      const std::vector<DataItem> data = w.held(ItemKind::kMeasured);
+      ASSERT_EQ(data.size(), 1u);
+      EXPECT_NEAR(data[0].at, 99.9, 1e-6);
+      EXPECT_NEAR(data[0].deadline, 100.05, 1e-9);  // the deadline it applied, for the OC
+    }
+    EXPECT_EQ(rep.unreachable, 0);
+    EXPECT_GE(rep.legs, 1);  // its robot's legs are counted
+  }
 }
 }  // namespace
 }  // namespace agent

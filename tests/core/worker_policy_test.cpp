@@ -1,5 +1,7 @@
 // mission/worker_policy: a worker's decisions (where and when to hand over,
-// which goals fit), on the lingering strip by hand.
+// which goals fit), on the lingering strip by hand; what a worker on a real
+// robot knows (WorkerFacts: its collector's delay, its robot's pace) on the
+// corridor by hand.
 #include "gather_core/mission/worker_policy.hpp"
 
 #include <gtest/gtest.h>
@@ -93,6 +95,163 @@ TEST(HandoverTest, TheProtocolsSamplingStepsAreParametersWithRanges) {
   opt.cycles = 1;
   opt.link_probe_s = 0.0;
   EXPECT_THROW(sim.run(opt), Error);
+}
+
+// WorkerFacts on the corridor (tests/core/corridor.hpp): the collector
+// drives OC -> x = 15.05 -> OC in 29 s, three loops a 100 s period; the
+// worker's one pass is at x = 15.05 (arc 14.5 m, at 14.5 s on time), linked
+// from arc 12.5 to 16.5 m (2.07 m of range, sampled every 0.1 m);
+// hand-overs are instant (no bitrate).
+struct CorridorPolicy {
+  Scenario s = testing_support::corridor();
+  mission::World world{s};
+  mission::MissionPlan mp = testing_support::corridor_plan(s);
+  mission::RouteTimetable route{mp.file.routes[CollectorId(0)], s.team.speed, s.mission.period, world.coverage};
+  mission::SharedDistances shared{world};
+  mission::WorkerPolicy policy{world, mp, mp.file.agents[AgentId(1)], &route, shared, 4, mission::ProtocolParams{}};
+  // One goal at x [m], due at 100 s.
+  void goal_at(double x) {
+    const mission::KnownGoal g{GoalId(0), s.grid.world_to_cell(Point2{x, 0.25}), 100.0};
+    policy.learn(&g, 1);
+  }
+  mission::WorkerPolicy::Decision decide(const mission::Spot& at, double t, const mission::WorkerFacts& facts) {
+    const int known[] = {0};
+    return policy.decide(at, t, known, 1, 0, true, 0.0, facts);
+  }
+};
+
+mission::WorkerFacts facts(double delay, double pace) {
+  mission::WorkerFacts f;
+  f.collector_delay = delay, f.pace = pace;
+  return f;
+}
+
+TEST(WorkerFactsTest, TheDefaultsGiveTheDecisionOfAnOnTimeCollectorAndRobot) {
+  CorridorPolicy c;
+  ASSERT_EQ(c.policy.rendezvous().size(), 1u);
+  EXPECT_NEAR(c.policy.link_window(0).first, 12.5, 1e-6);
+  EXPECT_NEAR(c.policy.link_window(0).second, 16.5, 1e-6);
+  c.goal_at(5.05);
+  // From the OC: the goal 4.5 m away at 4.5 s, the pass 10 m on at 14.5 s,
+  // when the collector passes; the hand-over at once.
+  const int known[] = {0};
+  const auto plain = c.policy.decide(mission::Spot{c.world.oc_cell}, 0.0, known, 1, 0, true);
+  ASSERT_EQ(plain.action, mission::WorkerPolicy::Action::kWork);
+  ASSERT_EQ(plain.k, 1u);
+  EXPECT_EQ(plain.rendezvous, 0);
+  EXPECT_NEAR(plain.at[0], 4.5, 1e-3);
+  EXPECT_NEAR(plain.arrive, 14.5, 1e-3);
+  EXPECT_NEAR(plain.pass, 14.5, 1e-9);
+  EXPECT_NEAR(plain.handover, 14.5, 1e-3);
+  EXPECT_NEAR(plain.link_until, 16.5, 1e-6);
+  // Facts{} and {delay 0, pace 1} spelled out: the same decision, to the bit.
+  const double at0 = plain.at[0], arrive = plain.arrive, handover = plain.handover, until = plain.link_until,
+               pass = plain.pass;
+  for (const mission::WorkerFacts& f : {mission::WorkerFacts{}, facts(0.0, 1.0)}) {
+    const auto d = c.decide(mission::Spot{c.world.oc_cell}, 0.0, f);
+    EXPECT_EQ(d.action, mission::WorkerPolicy::Action::kWork);
+    EXPECT_EQ(d.k, 1u);
+    EXPECT_EQ(d.rendezvous, 0);
+    EXPECT_EQ(d.at[0], at0);
+    EXPECT_EQ(d.arrive, arrive);
+    EXPECT_EQ(d.handover, handover);
+    EXPECT_EQ(d.link_until, until);
+    EXPECT_EQ(d.pass, pass);
+  }
+}
+
+TEST(WorkerFactsTest, ACollectorsDelayShiftsItsPassAndTheMeetingByExactlyTheDelay) {
+  CorridorPolicy c;
+  // Waiting at the pass with a goal 1 m back: it measures at 1 s, is back at
+  // 2 s, and the hand-over starts when the collector's link window opens
+  // (arc 12.5 m: 12.5 s on time).
+  c.goal_at(14.05);
+  const mission::Spot at_pass{c.policy.rendezvous()[0], 0};
+  const auto on_time = c.decide(at_pass, 0.0, facts(0.0, 1.0));
+  ASSERT_EQ(on_time.action, mission::WorkerPolicy::Action::kWork);
+  ASSERT_EQ(on_time.k, 1u);
+  EXPECT_NEAR(on_time.at[0], 1.0, 1e-3);
+  EXPECT_NEAR(on_time.arrive, 2.0, 1e-3);
+  EXPECT_NEAR(on_time.pass, 14.5, 1e-9);
+  EXPECT_NEAR(on_time.handover, 12.5, 1e-6);
+  EXPECT_NEAR(on_time.link_until, 16.5, 1e-6);
+  for (const double delay : {0.5, 3.0, 7.25}) {
+    const auto late = c.decide(at_pass, 0.0, facts(delay, 1.0));
+    ASSERT_EQ(late.action, mission::WorkerPolicy::Action::kWork) << delay;
+    ASSERT_EQ(late.k, 1u) << delay;
+    EXPECT_EQ(late.rendezvous, on_time.rendezvous) << delay;
+    EXPECT_NEAR(late.pass - on_time.pass, delay, 1e-9) << delay;
+    EXPECT_NEAR(late.handover - on_time.handover, delay, 1e-9) << delay;
+    EXPECT_NEAR(late.link_until - on_time.link_until, delay, 1e-9) << delay;
+    // Its own way is not the collector's business.
+    EXPECT_EQ(late.at[0], on_time.at[0]) << delay;
+    EXPECT_EQ(late.arrive, on_time.arrive) << delay;
+  }
+  // From the OC, arriving with the collector (14.5 s): 3 s late, the pass
+  // is at 17.5 s and the hand-over starts when its window opens, 15.5 s.
+  c.goal_at(5.05);
+  const auto from_oc = c.decide(mission::Spot{c.world.oc_cell}, 0.0, facts(3.0, 1.0));
+  EXPECT_NEAR(from_oc.pass, 17.5, 1e-9);
+  EXPECT_NEAR(from_oc.handover, 15.5, 1e-6);
+  EXPECT_NEAR(from_oc.link_until, 19.5, 1e-6);
+}
+
+TEST(WorkerFactsTest, ASlowerPaceMakesEveryTravelTimeLongerByOneOverThePace) {
+  CorridorPolicy c;
+  c.goal_at(14.05);
+  const mission::Spot at_pass{c.policy.rendezvous()[0], 0};
+  const double t = 10.0;
+  const auto base = c.decide(at_pass, t, facts(0.0, 1.0));
+  const double to_goal = base.at[0] - t, to_pass = base.arrive - t;
+  EXPECT_NEAR(to_goal, 1.0, 1e-3);
+  EXPECT_NEAR(to_pass, 2.0, 1e-3);
+  for (const double pace : {0.5, 0.8, 2.0}) {
+    const auto d = c.decide(at_pass, t, facts(0.0, pace));
+    ASSERT_EQ(d.action, mission::WorkerPolicy::Action::kWork) << pace;
+    ASSERT_EQ(d.k, 1u) << pace;
+    EXPECT_NEAR(d.at[0] - t, to_goal / pace, 1e-9) << pace;
+    EXPECT_NEAR(d.arrive - t, to_pass / pace, 1e-9) << pace;
+    EXPECT_NEAR(d.pass, 14.5, 1e-9) << pace;  // still in time for the same pass
+  }
+  // From the OC at half pace: the goal at 9 s, the pass reached at 29 s,
+  // after the collector's first loop went by: it meets the second (43.5 s).
+  c.goal_at(5.05);
+  const auto slow = c.decide(mission::Spot{c.world.oc_cell}, 0.0, facts(0.0, 0.5));
+  ASSERT_EQ(slow.action, mission::WorkerPolicy::Action::kWork);
+  ASSERT_EQ(slow.k, 1u);
+  EXPECT_NEAR(slow.at[0], 9.0, 2e-3);
+  EXPECT_NEAR(slow.arrive, 29.0, 2e-3);
+  EXPECT_NEAR(slow.pass, 43.5, 1e-9);
+  EXPECT_NEAR(slow.handover, 41.5, 1e-6);
+  // A goal it would reach only after its deadline at that pace is left out:
+  // 4.5 m at 0.05 m/s is 90 s, past a deadline of 60 s.
+  const mission::KnownGoal due{GoalId(0), c.s.grid.world_to_cell(Point2{5.05, 0.25}), 60.0};
+  c.policy.learn(&due, 1);
+  const int known[] = {0};
+  EXPECT_EQ(c.policy.decide(mission::Spot{c.world.oc_cell}, 0.0, known, 1, 0, true, 0.0, facts(0.0, 0.05)).k, 0u);
+  EXPECT_EQ(c.policy.decide(mission::Spot{c.world.oc_cell}, 0.0, known, 1, 0, true, 0.0, facts(0.0, 1.0)).k, 1u);
+}
+
+TEST(WorkerFactsTest, AWorkerOfTheOcComesBackIntoTheCoverageAtItsPace) {
+  const Scenario s = testing_support::corridor();
+  const mission::World world(s);
+  const mission::MissionPlan mp = testing_support::corridor_plan_without_collector(s);
+  mission::SharedDistances shared(world);
+  mission::WorkerPolicy policy(world, mp, mp.file.agents[AgentId(0)], nullptr, shared, 4, mission::ProtocolParams{});
+  const Cell away{2, 100};  // x = 10.05 m, 7.5 m from the coverage
+  const double way = policy.way_back(away).second;
+  EXPECT_NEAR(way, 7.5, 0.15);
+  const double t = 20.0;
+  const auto plain = policy.decide(mission::Spot{away}, t, nullptr, 0, 0, true);
+  ASSERT_EQ(plain.action, mission::WorkerPolicy::Action::kBackToCoverage);
+  EXPECT_EQ(plain.arrive, t + way);
+  const auto slow = policy.decide(mission::Spot{away}, t, nullptr, 0, 0, true, 0.0, facts(0.0, 0.5));
+  ASSERT_EQ(slow.action, mission::WorkerPolicy::Action::kBackToCoverage);
+  EXPECT_NEAR(slow.arrive - t, way / 0.5, 1e-9);
+  EXPECT_EQ(slow.landing, plain.landing);
+  // A collector's delay means nothing to a worker of the OC.
+  const auto delayed = policy.decide(mission::Spot{away}, t, nullptr, 0, 0, true, 0.0, facts(12.0, 1.0));
+  EXPECT_EQ(delayed.arrive, plain.arrive);
 }
 
 }  // namespace

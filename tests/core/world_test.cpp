@@ -1,14 +1,18 @@
 // mission/world: on the corridor (tests/core/corridor.hpp) by hand: the
 // reachable space, the OC's coverage (x < 2.6 m), its border, the way back
-// into it, and where a worker of the OC waits for requests.
+// into it, where a worker of the OC waits for requests, where a robot stands
+// (a pose off the free space) and the roomy cell near a home.
 #include "gather_core/mission/world.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <vector>
 
 #include "corridor.hpp"
 #include "gather_core/error.hpp"
+#include "gather_core/grid/clearance.hpp"
 
 namespace gather {
 namespace {
@@ -79,6 +83,112 @@ TEST(WorldTest, AWalledInOcIsRefusedNamingTheScenario) {
     EXPECT_NE(std::string(e.what()).find("corridor: no free space is reachable from the OC"), std::string::npos)
         << e.what();
   }
+}
+
+// The corridor with cells set occupied (blocked: rows r0..r1, cols c0..c1).
+Scenario corridor_with_block(int r0, int r1, int c0, int c1) {
+  Scenario s = corridor();
+  std::vector<int8_t> v(s.grid.values());
+  std::vector<uint8_t> f(s.grid.free_mask());
+  for (int r = r0; r <= r1; ++r)
+    for (int c = c0; c <= c1; ++c) {
+      const std::size_t i = s.grid.index(Cell{r, c});
+      v[i] = 100, f[i] = 0;
+    }
+  s.grid = OccupancyGrid(200, 5, 0.1, Point2{0, 0}, v, f);
+  return s;
+}
+
+TEST(WorldTest, ARobotStandsOnItsOwnCellOrTheNearestReachableOne) {
+  const Scenario s = corridor();
+  const mission::World w(s);
+  // On the free space: its own cell.
+  EXPECT_EQ(w.standing_cell(Point2{5.05, 0.25}), (Cell{2, 50}));
+  EXPECT_EQ(w.standing_cell(Point2{0.01, 0.49}), (Cell{4, 0}));
+  // 0.15 m below the map (row -2): the first ring holding a reachable cell
+  // is the second, and (0, 50) is its nearest.
+  EXPECT_EQ(w.standing_cell(Point2{5.05, -0.15}), (Cell{0, 50}));
+  // Past the east end (column 202): (2, 199), three columns back.
+  EXPECT_EQ(w.standing_cell(Point2{20.25, 0.25}), (Cell{2, 199}));
+  // 0.45 m below (row -5): five rings; a radius of 0.45 m looks that far,
+  // 0.35 m (four rings) does not, and the robot's own cell comes back,
+  // which the caller finds unreachable.
+  EXPECT_EQ(w.standing_cell(Point2{5.05, -0.45}, 0.45), (Cell{0, 50}));
+  const Cell short_of = w.standing_cell(Point2{5.05, -0.45}, 0.35);
+  EXPECT_EQ(short_of, (Cell{-5, 50}));
+  EXPECT_FALSE(w.reaches(short_of));
+  // Far off (a localisation gone wild): its own cell, not reachable.
+  const Cell far = w.standing_cell(Point2{-1000.0, -1000.0});
+  EXPECT_EQ(far, (Cell{-10000, -10000}));
+  EXPECT_FALSE(w.reaches(far));
+}
+
+TEST(WorldTest, ARobotOnAnObstacleStandsOnTheNearestReachableCellFirstInRowMajorOrder) {
+  // A 0.3 m x 0.3 m block (rows 1-3, cols 50-52) in the middle of the
+  // corridor: rows 0 and 4 pass it.
+  const Scenario s = corridor_with_block(1, 3, 50, 52);
+  const mission::World w(s);
+  ASSERT_FALSE(w.reaches(Cell{2, 51}));
+  // On the block's centre: ring 1 is all block; in ring 2, (0, 51), (4, 51),
+  // (2, 49) and (2, 53) are 2 cells away; (0, 51) is the first in row-major order.
+  EXPECT_EQ(w.standing_cell(s.grid.cell_center(Cell{2, 51})), (Cell{0, 51}));
+  // On the block's west edge: (2, 49), one cell away.
+  EXPECT_EQ(w.standing_cell(s.grid.cell_center(Cell{2, 50})), (Cell{2, 49}));
+  // On its north-east corner: (3, 53) and (4, 52) are one cell away;
+  // (3, 53) comes first.
+  EXPECT_EQ(w.standing_cell(s.grid.cell_center(Cell{3, 52})), (Cell{3, 53}));
+}
+
+TEST(WorldTest, AFreeCellCutOffFromTheOcIsNotWhereARobotStands) {
+  // Walls across the corridor at columns 100 and 102: column 101 is free
+  // but cut off, as is everything east of it.
+  Scenario s = corridor_with_block(0, 4, 100, 100);
+  {
+    std::vector<int8_t> v(s.grid.values());
+    std::vector<uint8_t> f(s.grid.free_mask());
+    for (int r = 0; r < 5; ++r) {
+      const std::size_t i = s.grid.index(Cell{r, 102});
+      v[i] = 100, f[i] = 0;
+    }
+    s.grid = OccupancyGrid(200, 5, 0.1, Point2{0, 0}, v, f);
+  }
+  const mission::World w(s);
+  ASSERT_TRUE(s.grid.free_mask()[s.grid.index(Cell{2, 101})]);
+  ASSERT_FALSE(w.reaches(Cell{2, 101}));
+  // Standing in the pocket: the nearest reachable cell, west of the wall.
+  EXPECT_EQ(w.standing_cell(s.grid.cell_center(Cell{2, 101})), (Cell{2, 99}));
+  // East of the walls, more than 2 m from anything reachable: its own cell.
+  EXPECT_EQ(w.standing_cell(s.grid.cell_center(Cell{2, 150})), (Cell{2, 150}));
+  EXPECT_FALSE(w.reaches(Cell{2, 150}));
+}
+
+TEST(WorldTest, ARoomyCellNearIsTheNearestCoverageCellWithTheClearance) {
+  const Scenario s = corridor();
+  const mission::World w(s);
+  const ClearanceMap room(s.grid);
+  // The corridor's middle row has 0.3 m to the map's edge, the rows next
+  // to the edge 0.1 m and 0.2 m.
+  ASSERT_NEAR(room.at(Cell{2, 10}), 0.3, 1e-6);  // stored as float
+  ASSERT_NEAR(room.at(Cell{0, 10}), 0.1, 1e-6);
+  // With the room already: itself.
+  EXPECT_EQ(w.roomy_near(Cell{2, 10}, 0.25), (Cell{2, 10}));
+  EXPECT_EQ(w.roomy_near(Cell{0, 10}, 0.05), (Cell{0, 10}));
+  // From the edge row: a middle-row cell two steps away, in the coverage.
+  for (const Cell from : {Cell{0, 10}, Cell{4, 3}, Cell{0, 24}}) {
+    ASSERT_TRUE(w.covered(from));
+    const Cell c = w.roomy_near(from, 0.25);
+    EXPECT_TRUE(w.covered(c)) << from.row << "," << from.col;
+    EXPECT_GE(room.at(c), 0.25);
+    EXPECT_EQ(c.row, 2);
+    EXPECT_EQ(std::max(std::abs(c.row - from.row), std::abs(c.col - from.col)), 2) << c.row << "," << c.col;
+  }
+  // At the coverage's far end the roomy cell is still in the coverage (x < 2.6 m).
+  EXPECT_LT(s.grid.cell_center(w.roomy_near(Cell{0, 24}, 0.25)).x, 2.6);
+  // More room than the corridor has anywhere: where it started.
+  EXPECT_EQ(w.roomy_near(Cell{0, 10}, 1.0), (Cell{0, 10}));
+  // Not a coverage cell: where it started.
+  ASSERT_FALSE(w.covered(Cell{0, 100}));
+  EXPECT_EQ(w.roomy_near(Cell{0, 100}, 0.25), (Cell{0, 100}));
 }
 
 }  // namespace

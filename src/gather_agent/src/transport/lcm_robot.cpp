@@ -148,7 +148,9 @@ RobotDecoded decode_robot(const void* data, int size, NavStatus& m) {
   m.command = w.command;
   m.state = state_from_wire(w.state);
   m.reached = static_cast<uint16_t>(w.reached);
-  std::copy(w.reached_at.begin(), w.reached_at.end(), m.reached_at);
+  // The decoder keeps an earlier message's array for a count of 0: the
+  // counted entries only.
+  std::copy(w.reached_at.begin(), w.reached_at.begin() + w.reached, m.reached_at);
   m.has_eta = w.has_eta;
   m.eta = w.eta;
   m.contacts = w.contacts;

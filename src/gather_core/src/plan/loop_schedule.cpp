@@ -34,8 +34,10 @@ double LoopSchedule::next_departure(double t) const {
 
 double LoopSchedule::last_departure(double t) const {
   if (idle() || t <= 0.0) return 0.0;
-  const double base = std::floor(t / super_) * super_;
-  const double i = std::min<double>(loops_ - 1, std::floor((t - base) / travel_ + 1e-12));
+  // With next_departure()'s tolerance: a departure time it computed (3 x 233.2
+  // = 699.5999999999999) is that departure, not one before it.
+  const double base = std::floor(t / super_ + 1e-9) * super_;
+  const double i = std::clamp(std::floor((t - base) / travel_ + 1e-9), 0.0, loops_ - 1.0);
   return base + i * travel_;
 }
 
