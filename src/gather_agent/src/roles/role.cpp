@@ -108,9 +108,13 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
     meeting_arc_[a.id] = m->arc_m;  // check_plan: there is one
   }
   distances = std::make_unique<mission::SharedDistances>(w, /*from_oc=*/false);  // agents start at their start poses
-  paths = std::make_unique<GridAStar>(grid, w.reachable, &w.coverage_field);
   start_ = PerAgent<Point2>(start_poses(grid, w.scenario.oc, n));
   range_ = radio.free_space_range();
+}
+
+GridAStar& TeamSetup::paths() {
+  if (!paths_) paths_ = std::make_unique<GridAStar>(world.scenario.grid, world.reachable, &world.coverage_field);
+  return *paths_;
 }
 
 bool TeamSetup::linked(Point2 a, Point2 b) const {

@@ -33,7 +33,7 @@ AgentUnit make_agent(TeamSetup& team, AgentId agent, const Point2* at, NavComman
   } else {
     const std::size_t legs = static_cast<std::size_t>(team.params.goals_per_request) + 2;
     if (!robot)
-      u.motion = std::make_unique<SimulatedBase>(team.world.scenario.grid, *team.paths, start, legs, team.speed,
+      u.motion = std::make_unique<SimulatedBase>(team.world.scenario.grid, team.paths(), start, legs, team.speed,
                                                  &team.world.coverage_field, &team.world.coverage);
     u.role = std::make_unique<WorkerRole>(team, agent, *u.motion);
   }

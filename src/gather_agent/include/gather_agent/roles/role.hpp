@@ -72,8 +72,12 @@ class TeamSetup {
   RadioModel radio;
   PerCollector<mission::RouteTimetable> routes;
   std::unique_ptr<mission::SharedDistances> distances;
-  std::unique_ptr<GridAStar> paths;  // A* on the reachable cells, for the simulated bases
-  mission::AreaWeights areas;        // of the refresh interval (plan.yaml's area_tile_m)
+  mission::AreaWeights areas;  // of the refresh interval (plan.yaml's area_tile_m)
+
+  // A* on the reachable cells, for the simulated bases: made on first use
+  // (its per-cell arrays are some MB on a large map; an agent on a robot,
+  // whose robot plans its own way, never makes it).
+  GridAStar& paths();
 
   // The plan's agents (check_plan: valid, distinct and listed by id).
   int agents() const { return plan.file.agents.count(); }
@@ -105,6 +109,7 @@ class TeamSetup {
   double silent_timeout(const mission::MissionPlan& plan, AgentId agent) const;
 
  private:
+  std::unique_ptr<GridAStar> paths_;
   PerCollector<AgentId> collector_agent_;
   PerSegment<AgentId> worker_of_segment_;  // none: no worker
   PerAgent<double> meeting_arc_;           // [m] (workers of collectors)
