@@ -18,6 +18,7 @@
 #include <gather_lcm/nav_command_t.hpp>
 #include <gather_lcm/nav_status_t.hpp>
 #include <gather_lcm/robot_pose_t.hpp>
+#include <gather_lcm/robot_scan_t.hpp>
 
 #include <cmath>
 #include <cstdlib>
@@ -395,7 +396,9 @@ std::vector<uint8_t> sealed(FleetAuth& tx, const std::string& channel, int16_t s
 
 std::vector<std::string> channels_of(std::vector<int> ids) {
   std::vector<std::string> c;
-  for (int id : ids) c.insert(c.end(), {robot_command_channel(id), robot_pose_channel(id), robot_status_channel(id)});
+  for (int id : ids)
+    c.insert(c.end(),
+             {robot_command_channel(id), robot_pose_channel(id), robot_status_channel(id), robot_scan_channel(id)});
   return c;
 }
 
@@ -414,6 +417,81 @@ TEST(LcmRobotLink, TheChannelsAreNamedAfterTheAgent) {
   EXPECT_EQ(robot_command_channel(3), "GATHER_ROBOT_CMD_3");
   EXPECT_EQ(robot_pose_channel(17), "GATHER_ROBOT_POSE_17");
   EXPECT_EQ(robot_status_channel(0), "GATHER_ROBOT_STATUS_0");
+  EXPECT_EQ(robot_scan_channel(12), "GATHER_ROBOT_SCAN_12");
+}
+
+RobotScan a_scan(int16_t agent = 3, int rays = 5) {
+  RobotScan s;
+  s.agent = agent, s.tick = 11, s.stamp = 7.5, s.at = Point2{2.5, -1.25}, s.heading = 0.75;
+  s.angle_min = -1.5f, s.angle_increment = 0.75f, s.range_max = 5.0f;
+  s.rays = static_cast<uint16_t>(rays);
+  for (int k = 0; k < rays; ++k) s.ranges[k] = 0.5f * static_cast<float>(k + 1);
+  s.ranges[rays - 1] = std::numeric_limits<float>::infinity();  // nothing within range
+  return s;
+}
+
+TEST(LcmRobotCodec, AScanSurvivesTheRoundTripAndBadOnesAreRefused) {
+  std::vector<uint8_t> b;
+  ASSERT_TRUE(encode_robot(a_scan(), b));
+  RobotScan g;
+  ASSERT_EQ(decode_robot(b.data(), static_cast<int>(b.size()), g), RobotDecoded::kOk);
+  EXPECT_EQ(g.agent, 3);
+  EXPECT_EQ(g.tick, 11);
+  EXPECT_EQ(g.stamp, 7.5);
+  EXPECT_EQ(g.at.x, 2.5);
+  EXPECT_EQ(g.at.y, -1.25);
+  EXPECT_EQ(g.heading, 0.75);
+  EXPECT_EQ(g.angle_min, -1.5f);
+  EXPECT_EQ(g.angle_increment, 0.75f);
+  EXPECT_EQ(g.range_max, 5.0f);
+  ASSERT_EQ(g.rays, 5u);
+  EXPECT_EQ(g.ranges[0], 0.5f);
+  EXPECT_EQ(g.ranges[3], 2.0f);
+  EXPECT_TRUE(std::isinf(g.ranges[4]));
+  // The largest scan fits the link's buffer; one more ray does not encode.
+  ASSERT_TRUE(encode_robot(a_scan(3, kMaxScanRays), b));
+  EXPECT_LT(b.size(), 16384u - 200u);
+  RobotScan too_many = a_scan();
+  too_many.rays = kMaxScanRays + 1;
+  EXPECT_FALSE(encode_robot(too_many, b));
+  // No rays, a pose that is not a number, no range: refused.
+  gather_lcm::robot_scan_t w{};
+  w.schema_version = gather_lcm::robot_scan_t::SCHEMA_VERSION;
+  w.agent = 3, w.x = 1.0, w.y = 2.0, w.theta = 0.0, w.angle_min = -1.0f, w.angle_increment = 0.5f;
+  w.range_max = 4.0f, w.rays = 2, w.ranges = {1.0f, 2.0f};
+  EXPECT_EQ(decode_wire<RobotScan>(w), RobotDecoded::kOk);
+  gather_lcm::robot_scan_t none = w;
+  none.rays = 0, none.ranges.clear();
+  EXPECT_EQ(decode_wire<RobotScan>(none), RobotDecoded::kOutOfRange);
+  gather_lcm::robot_scan_t nan = w;
+  nan.x = kNaN;
+  EXPECT_EQ(decode_wire<RobotScan>(nan), RobotDecoded::kOutOfRange);
+  gather_lcm::robot_scan_t blind = w;
+  blind.range_max = 0.0f;
+  EXPECT_EQ(decode_wire<RobotScan>(blind), RobotDecoded::kOutOfRange);
+  gather_lcm::robot_scan_t old = w;
+  old.schema_version = 2;
+  EXPECT_EQ(decode_wire<RobotScan>(old), RobotDecoded::kWrongVersion);
+}
+
+TEST(LcmRobotLink, AViewerTakesEachRobotsSignedScansOnly) {
+  const FleetKey key = test_key();
+  LcmRobotLink viewer("memq://", LcmRobotLink::Side::kViewer, {0, 1, 2, 3}, key);
+  FleetAuth robots(key, channels_of({0, 1, 2, 3}), kMaxTeam + 1);
+  const std::string scan_3 = robot_scan_channel(3);
+  hand(viewer, scan_3, sealed(robots, scan_3, 3, payload(a_scan(3))));
+  ASSERT_EQ(viewer.scans().size(), 1u);
+  EXPECT_EQ(viewer.scans()[0].rays, 5u);
+  hand(viewer, scan_3, sealed(robots, scan_3, 2, payload(a_scan(3))));  // another robot's signature
+  hand(viewer, scan_3, sealed(robots, scan_3, 3, payload(a_scan(2))));  // another robot inside
+  EXPECT_EQ(viewer.rejected().wrong_sender, 2);
+  // Poses and statuses are not a viewer's: it does not even listen.
+  EXPECT_FALSE(viewer.publish(a_scan(3)));
+  EXPECT_EQ(viewer.scans().size(), 1u);
+  // The robots' side publishes scans of its own robots only.
+  LcmRobotLink world("memq://", LcmRobotLink::Side::kRobots, {0, 3}, key);
+  EXPECT_TRUE(world.publish(a_scan(3)));
+  EXPECT_FALSE(world.publish(a_scan(1)));
 }
 
 TEST(LcmRobotLink, AnAgentTakesItsRobotsSignedReportsAndRefusesWrongSendersAndReplays) {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <thread>
 
 #include <unistd.h>
@@ -21,6 +22,7 @@
 #include "gather_oc/mission_view.hpp"
 #include "gather_oc/plan_markers.hpp"
 #include "gather_oc/ros_conversions.hpp"
+#include "gather_oc/scan_relay.hpp"
 
 namespace gather {
 namespace {
@@ -254,6 +256,37 @@ TEST(MissionView, GoalsByStateAddUpAndEveryCycleIsReportedOnceResolved) {
   for (const auto& m : g.markers) shown += m.points.size();
   EXPECT_EQ(shown, oc.requested());
   EXPECT_EQ(find(g, "goals_pending", 0)->action, visualization_msgs::Marker::DELETE);
+}
+
+TEST(ScanRelay, AScanIsALaserScanInItsOwnFrameAndPointsInTheMap) {
+  agent::RobotScan s;
+  s.agent = 4, s.stamp = 12.5, s.at = Point2{3.0, 2.0}, s.heading = M_PI / 2;
+  s.angle_min = -M_PI / 2, s.angle_increment = M_PI / 2, s.range_max = 5.0f, s.rays = 3;
+  s.ranges[0] = 1.0f, s.ranges[1] = 2.0f, s.ranges[2] = std::numeric_limits<float>::infinity();
+  const ros::Time stamp(12.5);
+  const sensor_msgs::LaserScan m = to_laser_scan(s, stamp);
+  EXPECT_EQ(m.header.frame_id, "agent_4/laser");
+  EXPECT_EQ(m.header.stamp, stamp);
+  EXPECT_FLOAT_EQ(m.angle_min, -M_PI / 2);
+  EXPECT_FLOAT_EQ(m.angle_max, M_PI / 2);
+  EXPECT_FLOAT_EQ(m.range_max, 5.0f);
+  ASSERT_EQ(m.ranges.size(), 3u);
+  EXPECT_TRUE(std::isinf(m.ranges[2]));
+  const geometry_msgs::TransformStamped t = laser_transform(s, "map", stamp);
+  EXPECT_EQ(t.header.frame_id, "map");
+  EXPECT_EQ(t.child_frame_id, "agent_4/laser");
+  EXPECT_DOUBLE_EQ(t.transform.translation.x, 3.0);
+  EXPECT_NEAR(t.transform.rotation.z, std::sqrt(0.5), 1e-12);
+  // Facing +y: the first ray (right of it) points along +x, the second
+  // along +y; the third met nothing and is no point.
+  const visualization_msgs::Marker p = laser_points(s, "map", stamp, 0.05, view::rgba(1, 0, 0));
+  EXPECT_EQ(p.ns, "laser");
+  EXPECT_EQ(p.id, 4);
+  ASSERT_EQ(p.points.size(), 2u);
+  EXPECT_NEAR(p.points[0].x, 4.0, 1e-6);
+  EXPECT_NEAR(p.points[0].y, 2.0, 1e-6);
+  EXPECT_NEAR(p.points[1].x, 3.0, 1e-6);
+  EXPECT_NEAR(p.points[1].y, 4.0, 1e-6);
 }
 
 TEST(AgentFleet, StartsAndStopsRealAgentsCleanly) {

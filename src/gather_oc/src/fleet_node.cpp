@@ -6,7 +6,9 @@
 // ends the mission; an agent of ~kill (mission.launch's kill:=) that the OC
 // ended with SIGKILL is no failure, and one of ~restart (restart:=) that
 // the OC ended with SIGKILL is started again (respawn) with --rejoin: it
-// replays its journal (results_dir/journal) and joins the mission. Exit status: 0 every agent exited 0
+// replays its journal (results_dir/journal) and joins the mission. On
+// robots with ~laser (mission.launch laser:=true) it starts gather_world
+// with --scans and relays every robot's scan to ROS (gather_oc/scan_relay.hpp). Exit status: 0 every agent exited 0
 // within 1 s of its stop (or was killed as asked), 1 otherwise, 2 bad input.
 #include <ros/ros.h>
 #include <yaml-cpp/yaml.h>
@@ -23,6 +25,8 @@
 #include "gather_core/plan/plan_file.hpp"
 #include "gather_core/scenario/scenario.hpp"
 #include "gather_oc/launch_paths.hpp"
+#include "gather_oc/scan_relay.hpp"
+#include "gather_oc/view_style.hpp"
 
 namespace {
 
@@ -94,7 +98,8 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
   std::string lcm_url, reply_url, agent_bin, results_dir, kill, restart, robots, world_bin, world_config;
-  double plan_timeout = 300.0;
+  double plan_timeout = 300.0, scan_rate = 2.0;
+  bool laser = false;
   pnh.param<std::string>("lcm_url", lcm_url, "");
   pnh.param<std::string>("reply_url", reply_url, "");
   pnh.param<std::string>("agent_bin", agent_bin, "");
@@ -105,8 +110,18 @@ int main(int argc, char** argv) {
   pnh.param<std::string>("robots", robots, "ideal");
   pnh.param<std::string>("world_bin", world_bin, "auto");
   pnh.param<std::string>("world_config", world_config, "");
+  pnh.param("laser", laser, false);
+  pnh.param("scan_rate", scan_rate, 2.0);
   if (robots != "ideal" && robots != "mrpt" && robots != "external") {
     std::fprintf(stderr, "fleet: ~robots must be ideal, mrpt or external, got '%s'\n", robots.substr(0, 40).c_str());
+    return 2;
+  }
+  if (laser && robots == "ideal") {
+    std::fprintf(stderr, "fleet: ~laser needs robots (robots:=mrpt or external): ideal bases have no laser\n");
+    return 2;
+  }
+  if (!(scan_rate > 0 && scan_rate <= 50)) {
+    std::fprintf(stderr, "fleet: ~scan_rate must be in (0, 50] Hz of mission time, got %g\n", scan_rate);
     return 2;
   }
   if (world_bin == "auto") world_bin.clear();
@@ -185,6 +200,7 @@ int main(int argc, char** argv) {
       w.insert(w.end(), {"--key-file", key_file});
     if (!lcm_url.empty()) w.insert(w.end(), {"--lcm-url", lcm_url});
     if (!world_config.empty()) w.insert(w.end(), {"--config", world_config});
+    if (laser) w.insert(w.end(), {"--scans", std::to_string(scan_rate)});
     world = std::make_unique<gather::AgentFleet>(w, 1);
     try {
       world->start();
@@ -193,6 +209,25 @@ int main(int argc, char** argv) {
       return 1;
     }
     ROS_INFO("fleet: started gather_world (%s) for %d robots", wbin.c_str(), agents);
+  }
+  // The robots' scans in ROS, points as large as the view's other marks.
+  std::unique_ptr<gather::ScanRelay> relay;
+  if (laser) {
+    try {
+      const gather::plan::PlanFile pf = gather::plan::read_plan_file(plan_dir + "/plan.yaml");
+      const gather::view::Style style(gather::load_scenario(pf.scenario).grid);
+      bool sim_time = false;
+      nh.param("/use_sim_time", sim_time, false);
+      std::string frame;
+      nh.param<std::string>("/oc/frame_id", frame, "map");
+      relay = std::make_unique<gather::ScanRelay>(
+          nh, lcm_url, agents, gather::agent::fleet_key_from_options(key_file, key_file.empty(), "fleet"), frame,
+          sim_time, 0.35 * style.unit, style.laser);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "fleet: ~laser: %s\n", e.what());
+      return 1;
+    }
+    ROS_INFO("fleet: relaying the robots' laser scans to /gather/agent_<k>/scan and /gather/laser_markers");
   }
   gather::AgentFleet fleet(command, agents);
   try {
@@ -227,7 +262,10 @@ int main(int argc, char** argv) {
         ROS_ERROR("fleet: agent %d ended with status %d", id, status);
       }
     }
-    ros::WallDuration(0.05).sleep();
+    if (relay)
+      relay->spin_once(50);
+    else
+      ros::WallDuration(0.05).sleep();
   }
   fleet.stop(2.0);
   if (world) {

@@ -74,7 +74,7 @@ struct Settings {
   int cycles = 0, seed = -1, loss_seed = 1;
   double rate = 0.0, tick = 0.1, loss = 0.0, ready_timeout = 60.0, map_timeout = 30.0, view_period = 0.5;
   double silent_intervals = 2.0;
-  bool close_on_end = false, sim_time = false, insecure = false;
+  bool close_on_end = false, sim_time = false, insecure = false, laser = false;
 };
 
 // Reads and checks them; "" when they are fine, else what is wrong.
@@ -107,6 +107,7 @@ std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s
   read(typed_param(pnh, "view_period", s.view_period, 0.5));
   read(typed_param(pnh, "close_on_end", s.close_on_end, false));
   read(typed_param<std::string>(pnh, "robots", s.robots, "ideal"));
+  read(typed_param(pnh, "laser", s.laser, false));
   if (!bad.empty()) return bad;
   nh.param("/use_sim_time", s.sim_time, false);
   s.results_dir = gather::resolve_launch_path(s.results_dir);
@@ -123,6 +124,8 @@ std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s
     return "~repair must be merge or none, got '" + s.repair.substr(0, 40) + "'";
   if (s.robots != "ideal" && s.robots != "mrpt" && s.robots != "external")
     return "~robots must be ideal, mrpt or external, got '" + s.robots.substr(0, 40) + "'";
+  if (s.laser && s.robots == "ideal")
+    return "~laser needs robots (robots:=mrpt or external): ideal bases have no laser";
   if (!(s.silent_intervals >= 1.5 && s.silent_intervals <= 100.0)) return "~silent_intervals must be in [1.5, 100]";
   if (!(s.ready_timeout > 0.0 && s.ready_timeout <= 86400.0)) return "~ready_timeout must be in (0, 86400] s";
   if (!(s.map_timeout > 0.0 && s.map_timeout <= 86400.0)) return "~map_timeout must be in (0, 86400] s";

@@ -212,6 +212,7 @@ void legend(visualization_msgs::MarkerArray& out, const Style& style, const Box&
       {"hand-over", Marker::LINE_LIST, style.handover},
       {"coverage", Marker::LINE_LIST, style.oc},
       {"dead agent", Marker::CYLINDER, style.dead},
+      {"laser hit", Marker::CUBE, style.laser},
   };
   const double u = style.unit, h = u * 1.1;  // text height
   double x = below.x0;

@@ -12,6 +12,7 @@ namespace agent {
 std::string robot_pose_channel(int agent) { return "GATHER_ROBOT_POSE_" + std::to_string(agent); }
 std::string robot_command_channel(int agent) { return "GATHER_ROBOT_CMD_" + std::to_string(agent); }
 std::string robot_status_channel(int agent) { return "GATHER_ROBOT_STATUS_" + std::to_string(agent); }
+std::string robot_scan_channel(int agent) { return "GATHER_ROBOT_SCAN_" + std::to_string(agent); }
 
 void check_params(const RobotBaseParams& p) {
   require_in_range(p.silence_s, 0.2, 600, "robot base params", "silence_s", " s");

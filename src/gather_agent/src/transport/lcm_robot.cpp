@@ -1,5 +1,5 @@
 // LcmRobotLink and the robot interface's conversions: the only code that
-// sees the generated robot_pose_t, nav_command_t and nav_status_t.
+// sees the generated robot_pose_t, nav_command_t, nav_status_t and robot_scan_t.
 #include "gather_agent/transport/lcm_robot.hpp"
 
 #include <lcm/lcm.h>
@@ -8,6 +8,7 @@
 #include <gather_lcm/nav_command_t.hpp>
 #include <gather_lcm/nav_status_t.hpp>
 #include <gather_lcm/robot_pose_t.hpp>
+#include <gather_lcm/robot_scan_t.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -23,8 +24,11 @@ namespace {
 
 static_assert(gather_lcm::nav_command_t::MAX_WAYPOINTS == kMaxNavWaypoints, "command size differs from the wire type");
 static_assert(gather_lcm::nav_status_t::MAX_WAYPOINTS == kMaxNavWaypoints, "status size differs from the wire type");
+static_assert(gather_lcm::robot_scan_t::MAX_RAYS == kMaxScanRays, "scan size differs from the wire type");
 
-constexpr std::size_t kBuffer = 16384;  // bytes: the largest robot message (a command of 256 waypoints) fits
+// Bytes: the largest robot message (a command of 256 waypoints, a scan of
+// 2048 rays) fits.
+constexpr std::size_t kBuffer = 16384;
 // Messages held between two drains: an agent drains every few ms and its
 // robot reports at 10-50 Hz; gather_world takes a command per agent a tick.
 constexpr std::size_t kAgentQueue = 16, kRobotsQueue = 1024;
@@ -35,6 +39,7 @@ struct RobotWire {
   gather_lcm::nav_command_t command;
   gather_lcm::nav_status_t status;
   gather_lcm::robot_pose_t pose;
+  gather_lcm::robot_scan_t scan;
 };
 RobotWire& wire() {
   static RobotWire w;
@@ -100,6 +105,20 @@ bool encode_robot(const NavStatus& m, std::vector<uint8_t>& out) {
   return encode_wire(w, out);
 }
 
+bool encode_robot(const RobotScan& m, std::vector<uint8_t>& out) {
+  if (m.rays < 1 || m.rays > kMaxScanRays) return false;
+  gather_lcm::robot_scan_t& w = wire().scan;
+  w.schema_version = gather_lcm::robot_scan_t::SCHEMA_VERSION;
+  w.agent = m.agent;
+  w.tick = m.tick;
+  w.stamp = m.stamp;
+  w.x = m.at.x, w.y = m.at.y, w.theta = m.heading;
+  w.angle_min = m.angle_min, w.angle_increment = m.angle_increment, w.range_max = m.range_max;
+  w.rays = static_cast<int16_t>(m.rays);
+  w.ranges.assign(m.ranges, m.ranges + m.rays);
+  return encode_wire(w, out);
+}
+
 RobotDecoded decode_robot(const void* data, int size, NavCommand& m) {
   gather_lcm::nav_command_t& w = wire().command;
   if (safe_decode(w, data, size) != size) return RobotDecoded::kUndecodable;
@@ -157,12 +176,32 @@ RobotDecoded decode_robot(const void* data, int size, NavStatus& m) {
   return RobotDecoded::kOk;
 }
 
+RobotDecoded decode_robot(const void* data, int size, RobotScan& m) {
+  gather_lcm::robot_scan_t& w = wire().scan;
+  if (safe_decode(w, data, size) != size) return RobotDecoded::kUndecodable;
+  if (w.schema_version != gather_lcm::robot_scan_t::SCHEMA_VERSION) return RobotDecoded::kWrongVersion;
+  if (w.agent < 0 || w.agent >= kMaxTeam || w.rays < 1 || w.rays > kMaxScanRays || !std::isfinite(w.x) ||
+      !std::isfinite(w.y) || !std::isfinite(w.theta) || !std::isfinite(w.angle_min) ||
+      !std::isfinite(w.angle_increment) || !(w.range_max > 0 && w.range_max <= 1e3))
+    return RobotDecoded::kOutOfRange;
+  m.agent = w.agent;
+  m.tick = w.tick;
+  m.stamp = w.stamp;
+  m.at = Point2{w.x, w.y};
+  m.heading = w.theta;
+  m.angle_min = w.angle_min, m.angle_increment = w.angle_increment, m.range_max = w.range_max;
+  m.rays = static_cast<uint16_t>(w.rays);
+  std::copy(w.ranges.begin(), w.ranges.begin() + w.rays, m.ranges);
+  return RobotDecoded::kOk;
+}
+
 namespace {
 
 std::vector<std::string> channel_names(const std::vector<int>& ids) {
   std::vector<std::string> names;
   for (int id : ids)
-    names.insert(names.end(), {robot_command_channel(id), robot_pose_channel(id), robot_status_channel(id)});
+    names.insert(names.end(),
+                 {robot_command_channel(id), robot_pose_channel(id), robot_status_channel(id), robot_scan_channel(id)});
   return names;
 }
 
@@ -192,18 +231,23 @@ void LcmRobotLink::subscribe() {
     command_channels_.push_back(robot_command_channel(id));
     pose_channels_.push_back(robot_pose_channel(id));
     status_channels_.push_back(robot_status_channel(id));
+    scan_channels_.push_back(robot_scan_channel(id));
   }
   if (!ids_.empty()) auth_.reserve(*std::max_element(ids_.begin(), ids_.end()) + 1);
   if (side_ == Side::kAgent)
     poses_.reserve(kAgentQueue), statuses_.reserve(kAgentQueue);
-  else
+  else if (side_ == Side::kRobots)
     commands_.reserve(kRobotsQueue);
+  else
+    scans_.reserve(4 * ids_.size());
   for (std::size_t i = 0; i < ids_.size(); ++i) {
     if (side_ == Side::kAgent) {
       lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, pose_channels_[i].c_str(), handler, this), 1000);
       lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, status_channels_[i].c_str(), handler, this), 1000);
-    } else {
+    } else if (side_ == Side::kRobots) {
       lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, command_channels_[i].c_str(), handler, this), 1000);
+    } else {
+      lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, scan_channels_[i].c_str(), handler, this), 100);
     }
   }
 }
@@ -241,6 +285,12 @@ bool LcmRobotLink::publish(const NavStatus& s) {
   const int i = id_index(s.agent);
   if (side_ != Side::kRobots || i < 0 || !encode_robot(s, buffer_)) return ++publish_failures_, false;
   return seal_and_publish(status_channels_[static_cast<std::size_t>(i)], s.agent);
+}
+
+bool LcmRobotLink::publish(const RobotScan& s) {
+  const int i = id_index(s.agent);
+  if (side_ != Side::kRobots || i < 0 || !encode_robot(s, buffer_)) return ++publish_failures_, false;
+  return seal_and_publish(scan_channels_[static_cast<std::size_t>(i)], s.agent);
 }
 
 int LcmRobotLink::fileno() const { return lcm_get_fileno(lcm_); }
@@ -292,6 +342,16 @@ void LcmRobotLink::on_message(const char* channel, const void* data, int size) {
       if (!count(decode_robot(p, n, statuses_.back()))) return statuses_.pop_back();
       if (statuses_.back().agent != id || sender != id) {
         statuses_.pop_back();
+        return auth_.count_wrong_sender();
+      }
+      return;
+    }
+    if (side_ == Side::kViewer && scan_channels_[i] == channel) {
+      if (scans_.size() >= scans_.capacity()) return void(++refused_.queue_full);
+      scans_.emplace_back();
+      if (!count(decode_robot(p, n, scans_.back()))) return scans_.pop_back();
+      if (scans_.back().agent != id || sender != id) {
+        scans_.pop_back();
         return auth_.count_wrong_sender();
       }
       return;

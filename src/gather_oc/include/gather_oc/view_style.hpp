@@ -43,6 +43,7 @@ struct Style {
   std_msgs::ColorRGBA dead = rgba(0.6f, 0.6f, 0.6f, 0.8f);  // an agent the OC declared dead
   std_msgs::ColorRGBA link = rgba(0.45f, 0.45f, 0.5f, 0.4f);
   std_msgs::ColorRGBA handover = rgba(0.0f, 0.85f, 0.3f);
+  std_msgs::ColorRGBA laser = rgba(0.95f, 0.05f, 0.55f, 0.9f);  // a robot's laser hits (laser:=true)
 
   // A collector's colour, its workers' too.
   std_msgs::ColorRGBA collector(CollectorId collector, float a = 1.0f) const;
