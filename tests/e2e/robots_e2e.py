@@ -12,8 +12,10 @@
   whole team over LCM on the wall clock (gather run --robots external): the
   mission ends, goals are delivered, every goal in one final state; each
   agent process on a robot stays within 16 MB resident;
-- with --launch, roslaunch gather_oc mission.launch robots:=mrpt on the same
-  plan and seed: the same goals.csv as over LCM, byte for byte;
+- with --launch, roslaunch gather_oc mission.launch robots:=mrpt laser:=true
+  record:=true on the same plan and seed: the same goals.csv as over LCM,
+  byte for byte (the scans change nothing), and the bag holds every robot's
+  laser scans (sensor_msgs/LaserScan) and their markers;
 - bad input: a world YAML with a bad field, gather_world without a plan:
   one line, exit status 2.
 
@@ -62,6 +64,26 @@ def accounted(name, path):
     delivered = sum(r["state"] == "delivered" for r in rows)
     check(name + ": goals delivered (%d of %d)" % (delivered, len(rows)), delivered > 0)
     return delivered
+
+
+def scans(bag_path):
+    """laser:=true: every robot's scans in the bag, with returns, in its laser's frame."""
+    import rosbag
+    topics = ["/gather/agent_%d/scan" % k for k in range(TEAM)]
+    per, returns, frames, markers = {t: 0 for t in topics}, 0, set(), 0
+    with rosbag.Bag(bag_path) as bag:
+        for topic, msg, _ in bag.read_messages(topics=topics + ["/gather/laser_markers"]):
+            if topic == "/gather/laser_markers":
+                markers += 1
+                continue
+            per[topic] += 1
+            frames.add(msg.header.frame_id)
+            returns += sum(1 for r in msg.ranges if r <= msg.range_max)
+    check("laser:=true: every robot's scans in the bag (%d to %d each)" % (min(per.values()), max(per.values())),
+          min(per.values()) > 0, str(per))
+    check("laser:=true: scans in frames agent_<k>/laser, with returns (%d)" % returns,
+          frames == {"agent_%d/laser" % k for k in range(TEAM)} and returns > 0, str(sorted(frames)))
+    check("laser:=true: laser markers in the bag (%d)" % markers, markers > 0)
 
 
 def main():
@@ -129,7 +151,7 @@ def main():
         launched = os.path.join(tmp, "launch")
         t0 = time.time()
         rc, out, err = run(["roslaunch", "--log", "gather_oc", "mission.launch", "plan:=" + plan,
-                            "scenario:=" + scenario, "robots:=mrpt",
+                            "scenario:=" + scenario, "robots:=mrpt", "laser:=true", "record:=true",
                             "cycles:=%d" % a.cycles, "results_dir:=" + launched, "key_file:=" + key])
         status = ""
         if os.path.exists(os.path.join(launched, "mission.yaml")):
@@ -140,6 +162,7 @@ def main():
                   open(os.path.join(launched, "goals.csv")).read() == open(os.path.join(lcm, "goals.csv")).read())
             fleet = open(os.path.join(launched, "fleet.yaml")).read()
             check("fleet.yaml: every process exited 0", "status: ok" in fleet, fleet[:500])
+            scans(os.path.join(launched, "mission.bag"))
 
     # The example driver in Python drives the team, on the wall clock.
     env = dict(os.environ)

@@ -1,8 +1,12 @@
 // MrptWorld: the robots on MRPT (vehicle, reactive navigator, laser), their
-// own global planner, and the robot interface's messages. Over 400 lines
-// because the robot, its navigator's interface and the world step read the
-// same state; MRPT's configuration is generated in navigator_config().
+// own global planner, the traffic rules between them (who makes way for
+// whom), and the robot interface's messages. Over 400 lines because the
+// robot, its navigator's interface, the traffic rules and the world step
+// read the same state; MRPT's configuration is generated in
+// navigator_config().
 #include "gather_world/mrpt_world.hpp"
+
+#include <unistd.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/Clock.h>
@@ -14,7 +18,6 @@
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/nav/reactive/CReactiveNavigationSystem.h>
 #include <mrpt/nav/reactive/CRobot2NavInterface.h>
-#include <mrpt/nav/reactive/CLogFileRecord.h>
 #include <mrpt/nav/reactive/TWaypoint.h>
 
 #include <algorithm>
@@ -42,32 +45,65 @@ using Steady = std::chrono::steady_clock;
 constexpr double kPi = 3.14159265358979323846;
 // [s] the vehicle's inner control period (CVehicleSimul_DiffDriven's firmware step).
 constexpr double kFirmwarePeriod = 0.005;
-// [m] targets between two waypoints count as reached this close.
-constexpr double kPassTolerance = 0.5;
-// [m] the way left must shrink by this much to count as progress (less is
-// a robot rocking on the spot).
-constexpr double kProgressStep = 0.2;
+// [m] targets between two waypoints count as reached this close (the
+// robot heads for the next one earlier if it sees it: follow()).
+constexpr double kPassTolerance = 0.25;
+// [m] the global planner keeps its way this much further off the walls
+// than it must where it can (the navigator slows down near them), except
+// within kLooseEnds of a straight piece's ends.
+constexpr double kComfort = 0.15;
+constexpr double kLooseEnds = 0.3;
+// [m] beyond its radius: the clearance of a point the robot is sent to.
+constexpr double kFit = 0.01;
+// [m] a waypoint the robot can get no closer to than its tolerance less
+// this is one it cannot reach.
+constexpr double kMinReach = 0.02;
+// [m] a robot touches a wall once its disc reaches this far into it (a
+// hair, for rounding).
+constexpr double kContactSlack = 0.005;
+// A target on the way that is not a waypoint of the command: a corner of
+// the way (passed once the next one is in sight), or a point to pass a
+// robot met head on at (keep_right).
+constexpr int kCorner = -1;
+constexpr int kPassing = -2;
+// [m] a robot that got this far from where it last made progress makes
+// progress (less is a robot rocking on the spot). Not the way left: a new
+// command, a new way, or a target passed within kPassTolerance changes it
+// by more than a robot standing still.
+constexpr double kProgressStep = 0.4;
 // [s] a robot without progress this long, another robot on its way ahead:
-// one of them makes way.
+// one of them makes way; kHeadOnAfter where each is in the other's way.
 constexpr double kYieldAfter = 3.0;
+constexpr double kHeadOnAfter = 1.0;
+// [s] after finding no spot to make way at, it looks again this much later.
+constexpr double kAskAgain = 1.0;
 // [m] how far along its way a robot looks for robots in it.
 constexpr double kLookAhead = 2.0;
 // [m] how much of the way of the robot given way to the one making way keeps off.
 constexpr double kClearAhead = 6.0;
 // [m] beyond the two radii: a robot this close to a way is in it; one
-// making way keeps this far off it.
-constexpr double kGap = 0.2;
+// making way keeps kKeepOff off it (the navigator passes a robot that
+// leaves it less room only slowly, or not at all).
+constexpr double kInWay = 0.2;
+constexpr double kKeepOff = 0.4;
+constexpr double kKeepOffTight = 0.25;  // where there is no room for kKeepOff (a corridor)
+// [m] beyond the two radii: a spot to make way at is this clear of the other robots.
+constexpr double kSpotGap = 0.1;
 // [m] how far a driving robot may go to make way, and to back off when blocked.
 constexpr double kAsideRange = 3.0;
 constexpr double kBackOffRange = 1.0;
+constexpr double kBackOffStep = 0.4;
 // [m] how far from where it stopped an idle robot may go to make way (a
 // courtesy: it stays about where its agent left it).
 constexpr double kCourtesyRange = 1.0;
 // [m] how close counts as arrived at a spot to make way at.
 constexpr double kAsideTolerance = 0.15;
 // [s] longest drive to such a spot, longest wait there for the other to pass.
-constexpr double kAsideTimeout = 8.0;
-constexpr double kHoldTimeout = 12.0;
+constexpr double kAsideTimeout = 6.0;
+constexpr double kHoldTimeout = 8.0;
+// [m] a robot is past one that made way for it once the point this far
+// along its way is further from that one than itself.
+constexpr double kPassedAhead = 0.4;
 // [rad] a robot whose way turns back further than this turns on the spot
 // until within kTurnDone: the navigator's trajectories do not reach a
 // target right behind (it would drive away from it, or back up all the way).
@@ -75,6 +111,13 @@ constexpr double kTurnStart = 1.75;
 constexpr double kTurnDone = 0.5;
 // [m] the point of its way the robot turns to: this far ahead.
 constexpr double kTurnAim = 1.0;
+// [m] a waypoint closer than this with nothing in between: the robot turns
+// to it and drives straight there once within kDirectAligned [rad].
+constexpr double kDirectRange = 1.0;
+constexpr double kDirectAligned = 0.3;
+// [m/s] its least speed on the way there (it slows down not to pass
+// through its reach between two navigation steps).
+constexpr double kCreep = 0.05;
 
 // The vehicle, stepped an exact number of inner periods a world step:
 // simulateOneTimeStep(dt) runs while its time <= start + dt, one inner step
@@ -98,9 +141,57 @@ class Navigator : public mrpt::nav::CReactiveNavigationSystem {
 };
 
 // MRPT's navigator configuration from the world's parameters: a disc robot
-// with three families of trajectories (arcs both ways, and turning on the
-// spot towards the target), the full-evaluation holonomic method, and a
-// score that prefers a clear way that ends near the target.
+// with two families of forward trajectories (arcs, and turning towards the
+// target), the full-evaluation holonomic method, and a score that prefers
+// a clear way that ends near the target. No arcs backwards: with them a
+// robot whose way starts behind it backs up all of it, and rocks back and
+// forth near a target behind it; it turns on the spot instead (steer()).
+// The PTGs' collision grids, which MRPT computes in seconds and caches on
+// disk: one directory per configuration (its text and the robot's radius)
+// under the temporary directory. A process that finds none fills a private
+// one and renames it into place when done, so no process ever reads a
+// cache another is still writing (worlds start side by side in tests and
+// benchmarks).
+class PtgCache {
+ public:
+  PtgCache(const std::string& config, double radius) {
+    uint64_t h = 1469598103934665603ull;  // FNV-1a
+    char r[32];
+    std::snprintf(r, sizeof r, "%.6f", radius);
+    for (const char c : config + r) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
+    char name[48];
+    std::snprintf(name, sizeof name, "gather_world_ptg_%016llx", static_cast<unsigned long long>(h));
+    final_ = std::filesystem::temp_directory_path() / name;
+    std::error_code ec;
+    if (std::filesystem::is_directory(final_, ec)) {
+      dir_ = final_.string();
+      return;
+    }
+    const std::filesystem::path mine = final_.string() + ".tmp" + std::to_string(::getpid());
+    std::filesystem::remove_all(mine, ec);
+    std::filesystem::create_directories(mine);
+    dir_ = mine.string();
+    filling_ = true;
+  }
+  ~PtgCache() {
+    std::error_code ec;
+    if (filling_) std::filesystem::remove_all(dir_, ec);
+  }
+  const std::string& dir() const { return dir_; }
+  // The grids are written: into place (another process may have been first).
+  void keep() {
+    if (!filling_) return;
+    std::error_code ec;
+    std::filesystem::rename(dir_, final_, ec);
+    if (!ec) filling_ = false;
+  }
+
+ private:
+  std::filesystem::path final_;
+  std::string dir_;
+  bool filling_ = false;
+};
+
 std::string navigator_config(const WorldParams& p, double v, double ref) {
   std::ostringstream s;
   s << "[CAbstractNavigator]\n"
@@ -167,20 +258,18 @@ std::string navigator_config(const WorldParams& p, double v, double ref) {
     << "[CReactiveNavigationSystem]\n"
     << "min_obstacles_height = 0.0\nmax_obstacles_height = 10.0\n"
     << "RobotModel_shape2D_xs = 0.2 0 -0.2 0\nRobotModel_shape2D_ys = 0 0.2 0 -0.2\n"  // replaced by the disc
-    << "PTG_COUNT = " << (getenv("NPTG") ? atoi(getenv("NPTG")) : 3) << "\n";
-  const char* types[3] = {"CPTG_DiffDrive_C", "CPTG_DiffDrive_alpha", "CPTG_DiffDrive_C"};
-  for (int k = 0; k < (getenv("NPTG") ? atoi(getenv("NPTG")) : 3); ++k) {
+    << "PTG_COUNT = 2\n";
+  const char* types[2] = {"CPTG_DiffDrive_C", "CPTG_DiffDrive_alpha"};
+  for (int k = 0; k < 2; ++k)
     s << "PTG" << k << "_Type = " << types[k] << "\n"
       << "PTG" << k << "_resolution = 0.05\n"
       << "PTG" << k << "_refDistance = " << ref << "\n"
       << "PTG" << k << "_num_paths = " << p.paths << "\n"
       << "PTG" << k << "_v_max_mps = " << v << "\n"
       << "PTG" << k << "_w_max_dps = " << p.max_turn_rate << "\n"
-      << "PTG" << k << "_score_priority = " << (k == 2 ? 0.5 : 1.0) << "\n";
-    if (k == 0) s << "PTG0_K = 1.0\n";
-    if (k == 1) s << "PTG1_cte_a0v_deg = 57\nPTG1_cte_a0w_deg = 57\n";
-    if (k == 2) s << "PTG2_K = -1.0\n";
-  }
+      << "PTG" << k << "_score_priority = 1.0\n";
+  s << "PTG0_K = 1.0\n"
+    << "PTG1_cte_a0v_deg = 57\nPTG1_cte_a0w_deg = 57\n";
   return s.str();
 }
 
@@ -204,13 +293,11 @@ class MrptWorld::Impl {
       return true;
     }
     bool changeSpeeds(const mrpt::kinematics::CVehicleVelCmd& cmd) override {
-      if (getenv("NAVDBG") && r_.id == atoi(getenv("NAVDBG"))) { auto g = r_.veh->getCurrentGTPose(); fprintf(stderr, "DBG t=%.1f pose %.3f %.3f %.3f cmd %s\n", w_.t_, g.x, g.y, g.phi, cmd.asString().c_str()); }
       r_.veh->sendVelCmd(cmd);
       r_.last_cmd = w_.t_;
       return true;
     }
     bool changeSpeedsNOP() override {
-      if (getenv("NAVDBG") && r_.id == atoi(getenv("NAVDBG"))) fprintf(stderr, "DBG t=%.1f NOP\n", w_.t_);
       r_.last_cmd = w_.t_;
       return true;
     }
@@ -274,33 +361,39 @@ class MrptWorld::Impl {
     NavCommand cmd;
     bool has_cmd = false;
     NavState state = NavState::kIdle;
-    int reached = 0;                              // waypoints of the command reached
+    int reached = 0;                             // waypoints of the command reached
     double reached_at[agent::kMaxNavWaypoints];  // [s]
-    int fail_at = -1;                             // a waypoint its planner found no way to (-1: none)
-    // The way: targets for the navigator (the waypoint they end at, -1 for
-    // one on the way), their arc positions [m], the first not yet reached,
-    // and the first of the sequence the navigator was given.
+    int fail_at = -1;                            // a waypoint its planner found no way to (-1: none)
+    // The way: targets for the navigator (the waypoint each is, or kCorner,
+    // kPassing), how close counts, their arc positions [m], the first not
+    // yet reached, and the first of the sequence the navigator was given.
     std::vector<Point2> targets;
     std::vector<int> target_waypoint;
+    std::vector<double> target_reach;  // [m] counted reached this close
     std::vector<double> target_arc;
+    Point2 way_from;  // where the way begins
     std::size_t next = 0, issued_from = 0;
     bool nav_ended = false, nav_error = false;
     // Progress, over the commands that replace each other (a robot stuck
-    // is stuck whatever its agent asks next): when the way left last shrank
-    // by kProgressStep, the least way left since the way was planned, when
-    // it last tried a new way, when it may next ask another robot for way.
-    double progress_at = 0.0, least_left = 0.0, retried_at = -1e9, ask_at = 0.0;
+    // is stuck whatever its agent asks next): where and when it last made
+    // progress, when it last tried a new way, when it may next ask another
+    // robot for way.
+    Point2 progress_from;
+    double progress_at = 0.0, retried_at = -1e9, ask_at = 0.0;
     Move move = Move::kRoute;
     int make_way_for = -1;  // the robot it stands aside for (-1: none, a back-off)
     Point2 spot;            // where it drives aside to
-    bool turning = false;   // on the spot, towards its way
+    bool turning = false;   // on the spot, towards its way (steer())
     double move_until = 0.0;
     Point2 home;  // where it stopped: an idle robot makes way kCourtesyRange around it
     double next_nav = 0.0;
     double watchdog = -1.0, last_cmd = 0.0;
     bool touching = false;
     RobotTally tally;
-    std::vector<Point2> scan;  // [m] map frame
+    // Its last scan (for views): where it was taken, when, each ray's range.
+    TPose2D scan_pose;
+    double scan_t = -1.0;
+    std::vector<float> ranges;
   };
 
   Impl(const OccupancyGrid& map, const std::vector<Point2>& starts, double team_speed, double team_radius,
@@ -320,24 +413,29 @@ class MrptWorld::Impl {
     // The laser's map: MRPT stores the probability of a cell being free;
     // anything not free (walls, unknown) stops a ray.
     const GridFrame& f = map.frame();
-    laser_map_.setSize(f.origin.x, f.origin.x + f.width * f.resolution, f.origin.y, f.origin.y + f.height * f.resolution,
-                       static_cast<float>(f.resolution), 1.0f);
+    laser_map_.setSize(f.origin.x, f.origin.x + f.width * f.resolution, f.origin.y,
+                       f.origin.y + f.height * f.resolution, static_cast<float>(f.resolution), 1.0f);
     for (int r = 0; r < f.height; ++r)
-      for (int c = 0; c < f.width; ++c)
-        laser_map_.setCell(c, r, map.free_mask()[map.index(Cell{r, c})] ? 1.0f : 0.0f);
-    // The global planner's map: cells a disc of the robot fits on.
+      for (int c = 0; c < f.width; ++c) laser_map_.setCell(c, r, map.free_mask()[map.index(Cell{r, c})] ? 1.0f : 0.0f);
+    // The global planner's maps: cells a disc of the robot fits on, and
+    // those with room to spare, where it drives at speed.
     const double keep = params.clearance > 0 ? params.clearance : radius_ + 0.05;
-    roomy_ = Mask(f, 0);
-    for (std::size_t i = 0; i < map.size(); ++i)
+    roomy_ = Mask(f, 0), comfy_ = Mask(f, 0);
+    comfy_keep_ = keep + kComfort;
+    for (std::size_t i = 0; i < map.size(); ++i) {
       roomy_[i] = map.free_mask()[i] && clearance_.values()[i] >= keep ? 1 : 0;
+      comfy_[i] = roomy_[i] && clearance_.values()[i] >= comfy_keep_ ? 1 : 0;
+    }
     planner_ = std::make_unique<GridAStar>(map_, roomy_);
+    comfy_planner_ = std::make_unique<GridAStar>(map_, comfy_);
+    label(roomy_, roomy_part_);
+    label(comfy_, comfy_part_);
     cells_.reserve(static_cast<std::size_t>(4 * (f.width + f.height)));
 
     const double ref = std::min(params.ref_distance, 20.0);
-    mrpt::config::CConfigFileMemory config(navigator_config(params, v_, ref));
-    // The PTGs' collision grids are cached on disk, by configuration.
-    const std::string cache = (std::filesystem::temp_directory_path() / "gather_world_ptg").string();
-    std::filesystem::create_directories(cache);
+    const std::string config_text = navigator_config(params, v_, ref);
+    mrpt::config::CConfigFileMemory config(config_text);
+    PtgCache cache(config_text, radius_);
     for (std::size_t k = 0; k < starts.size(); ++k) {
       auto r = std::make_unique<Robot>();
       r->id = static_cast<int>(k);
@@ -356,7 +454,7 @@ class MrptWorld::Impl {
         const double rc = radius_ / std::cos(kPi / 8);
         for (int a = 0; a < 8; ++a) disc.AddVertex(rc * std::cos(a * kPi / 4), rc * std::sin(a * kPi / 4));
         r->nav->changeRobotShape(disc);
-        r->nav->params_abstract_ptg_navigator.ptg_cache_files_directory = cache;
+        r->nav->params_abstract_ptg_navigator.ptg_cache_files_directory = cache.dir();
         r->nav->initialize();
       } catch (const std::exception& e) {
         std::string what = e.what();
@@ -367,17 +465,48 @@ class MrptWorld::Impl {
       r->next_nav = params.nav_period * static_cast<double>(k % 4) / 4.0;  // spread over a period
       robots_.push_back(std::move(r));
     }
+    cache.keep();
   }
 
   ~Impl() { robots_.clear(); }  // navigators first, while the world they call is whole
 
   // --- the robot's own global planner --------------------------------------
 
-  // The nearest cell a disc of the robot fits on, from `p` (p's own cell if
-  // it does), within 1 m; {-1, -1} when there is none.
-  Cell roomy_cell(Point2 p) const {
+  // Numbers the 4-connected parts of `cells` (those A* may join: it takes
+  // no diagonal step past a blocked corner) into `part` (-1 off them): a
+  // search between two parts would visit all of one before it fails.
+  void label(const Mask& cells, std::vector<int32_t>& part) const {
+    part.assign(cells.size(), -1);
+    std::vector<Cell> stack;
+    int32_t next = 0;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      if (!cells[i] || part[i] >= 0) continue;
+      part[i] = next;
+      stack.push_back(map_.cell(i));
+      while (!stack.empty()) {
+        const Cell c = stack.back();
+        stack.pop_back();
+        for (const Cell n :
+             {Cell{c.row + 1, c.col}, Cell{c.row - 1, c.col}, Cell{c.row, c.col + 1}, Cell{c.row, c.col - 1}}) {
+          if (!map_.contains(n)) continue;
+          const std::size_t k = map_.index(n);
+          if (cells[k] && part[k] < 0) part[k] = next, stack.push_back(n);
+        }
+      }
+      ++next;
+    }
+  }
+
+  bool joined(const std::vector<int32_t>& part, Cell a, Cell b) const {
+    return a.row >= 0 && b.row >= 0 && part[map_.index(a)] >= 0 && part[map_.index(a)] == part[map_.index(b)];
+  }
+
+  // The nearest cell of `lanes` to `p` (p's own cell if it is one) within
+  // 1 m, in a straight line through free cells (not across a wall); {-1, -1}
+  // when there is none.
+  Cell lane_cell(const Mask& lanes, Point2 p) const {
     const Cell c = map_.world_to_cell(p);
-    if (map_.contains(c) && roomy_[map_.index(c)]) return c;
+    if (map_.contains(c) && lanes[map_.index(c)]) return c;
     const int rings = static_cast<int>(std::ceil(1.0 / map_.resolution()));
     for (int k = 1; k <= rings; ++k) {
       Cell best{-1, -1};
@@ -387,35 +516,73 @@ class MrptWorld::Impl {
           if (std::max(std::abs(dr), std::abs(dc)) != k) continue;
           const Cell n{c.row + dr, c.col + dc};
           const long d = static_cast<long>(dr) * dr + static_cast<long>(dc) * dc;
-          if (map_.contains(n) && roomy_[map_.index(n)] && (best_d < 0 || d < best_d)) best = n, best_d = d;
+          if (map_.contains(n) && lanes[map_.index(n)] && (best_d < 0 || d < best_d) &&
+              sight(map_.free_mask(), p, map_.cell_center(n), 0.0))
+            best = n, best_d = d;
         }
       if (best_d >= 0) return best;
     }
     return Cell{-1, -1};
   }
 
-  bool sight(Point2 a, Point2 b) const {
-    const double len = std::hypot(b.x - a.x, b.y - a.y);
+  // Whether the straight line a-b keeps to cells of `lanes` (a Mask, or the
+  // map's free mask), or of the roomy ones within `loose` [m] of its ends.
+  template <class Lanes>
+  bool sight(const Lanes& lanes, Point2 a, Point2 b, double loose) const {
+    const double len = distance(a, b);
     const int n = std::max(1, static_cast<int>(std::ceil(len / (0.5 * map_.resolution()))));
     for (int i = 0; i <= n; ++i) {
+      const double s = len * i / n;
       const Cell c = map_.world_to_cell(Point2{a.x + (b.x - a.x) * i / n, a.y + (b.y - a.y) * i / n});
-      if (!map_.contains(c) || !roomy_[map_.index(c)]) return false;
+      if (!map_.contains(c)) return false;
+      const std::size_t k = map_.index(c);
+      if (!lanes[k] && !(roomy_[k] && (s < loose || len - s < loose))) return false;
     }
     return true;
   }
 
-  void add_target(Robot& r, Point2 p, int waypoint) {
-    const Point2 from = r.targets.empty() ? Point2{r.veh->getCurrentGTPose().x, r.veh->getCurrentGTPose().y}
-                                          : r.targets.back();
+  // Targets to `p` (the last the waypoint `waypoint`, counted reached
+  // within `reach`; kCorner for a corner of the way), none further than
+  // max_leg apart.
+  void add_target(Robot& r, Point2 p, int waypoint, double reach = kPassTolerance) {
+    const Point2 from =
+        r.targets.empty() ? Point2{r.veh->getCurrentGTPose().x, r.veh->getCurrentGTPose().y} : r.targets.back();
     const double len = std::hypot(p.x - from.x, p.y - from.y);
     const int pieces = std::max(1, static_cast<int>(std::ceil(len / params_.max_leg)));
     for (int k = 1; k <= pieces; ++k) {
       const Point2 q{from.x + (p.x - from.x) * k / pieces, from.y + (p.y - from.y) * k / pieces};
       const double arc = (r.target_arc.empty() ? 0.0 : r.target_arc.back()) + len / pieces;
       r.targets.push_back(k == pieces ? p : q);
-      r.target_waypoint.push_back(k == pieces ? waypoint : -1);
+      r.target_waypoint.push_back(k == pieces ? waypoint : kCorner);
+      r.target_reach.push_back(k == pieces ? reach : kPassTolerance);
       r.target_arc.push_back(arc);
     }
+  }
+
+  // Where the robot goes for waypoint `p` of tolerance `tolerance`: p, or,
+  // where its disc does not fit, the nearest point within the tolerance
+  // where it does, counted reached within what is left of the tolerance
+  // (`reach`: the waypoint's own is kept). False when none leaves kMinReach.
+  bool approach(Point2 p, double tolerance, Point2& at, double& reach) const {
+    const double fit = radius_ + kFit;
+    if (!hits_wall(p, fit)) {
+      at = p, reach = tolerance;
+      return true;
+    }
+    const Cell c = map_.world_to_cell(p);
+    const int k = static_cast<int>(std::ceil(tolerance / map_.resolution()));
+    double best = tolerance - kMinReach;
+    bool found = false;
+    for (int dr = -k; dr <= k; ++dr)
+      for (int dc = -k; dc <= k; ++dc) {
+        const Cell n{c.row + dr, c.col + dc};
+        if (!map_.contains(n)) continue;
+        const Point2 q = map_.cell_center(n);
+        const double d = distance(p, q);
+        if (d <= best && !hits_wall(q, fit)) best = d, at = q, found = true;
+      }
+    reach = tolerance - best;
+    return found;
   }
 
   // The way from where the robot is through waypoints `first`.. of its
@@ -423,57 +590,80 @@ class MrptWorld::Impl {
   // a straight line would leave them. A waypoint it finds no way to ends
   // the way (fail_at).
   void plan(Robot& r, int first) {
-    // Around the other robots first (they stand where they stand now); if
-    // that finds no way, through them (they move, or make room).
-    block_others(r, true);
+    // Through the other robots; around those on that way, if there is a
+    // way around (a search that finds none visits every cell it can reach:
+    // only when it may pay), else through (they move, or make way).
     plan_way(r, first);
-    block_others(r, false);
-    if (r.fail_at >= 0) plan_way(r, first);
+    if (r.fail_at >= 0 || !block_others(r)) return;
+    std::swap(r.targets, spare_targets_), std::swap(r.target_waypoint, spare_waypoint_);
+    std::swap(r.target_reach, spare_reach_), std::swap(r.target_arc, spare_arc_);
+    plan_way(r, first);
+    for (std::size_t i : blocked_) roomy_[i] = 1, comfy_[i] = clearance_.values()[i] >= comfy_keep_;
+    blocked_.clear();
+    if (r.fail_at < 0) return;
+    std::swap(r.targets, spare_targets_), std::swap(r.target_waypoint, spare_waypoint_);
+    std::swap(r.target_reach, spare_reach_), std::swap(r.target_arc, spare_arc_);
+    r.fail_at = -1, r.next = 0;
   }
 
-  // Marks the cells around every other robot as not roomy (on), or back (off).
-  void block_others(const Robot& r, bool on) {
-    if (!on) {
-      for (std::size_t i : blocked_) roomy_[i] = 1;
-      blocked_.clear();
-      return;
-    }
+  // Marks the cells around each other robot on the robot's way as not
+  // roomy; false when there is none. Not one in a
+  // passage too narrow to pass it (a door, a corridor): the way around it
+  // is long if there is one, it makes way instead.
+  bool block_others(const Robot& r) {
     const int k = static_cast<int>(std::ceil(2.0 * radius_ / map_.resolution()));
-    const TPose2D self = r.veh->getCurrentGTPose();
+    const Point2 self = position(r);
+    way_ahead(r, std::numeric_limits<double>::infinity(), way_);
     for (const auto& o : robots_) {
-      if (o->id == r.id) continue;
-      const TPose2D q = o->veh->getCurrentGTPose();
-      if (std::hypot(q.x - self.x, q.y - self.y) < 3.0 * radius_) continue;  // touching: not in its way, it is in it
-      const Cell c = map_.world_to_cell(Point2{q.x, q.y});
+      const Point2 q = position(*o);
+      if (o->id == r.id || distance_to_way(q, way_) >= 2 * radius_ + kInWay) continue;
+      if (distance(q, self) < 3.0 * radius_) continue;  // touching: not in its way, it is in it
+      const Cell c = map_.world_to_cell(q);
+      if (clearance_.at(c) < 4.0 * radius_) continue;
       for (int dr = -k; dr <= k; ++dr)
         for (int dc = -k; dc <= k; ++dc) {
           const Cell n{c.row + dr, c.col + dc};
           if (dr * dr + dc * dc > k * k || !map_.contains(n)) continue;
           const std::size_t i = map_.index(n);
-          if (roomy_[i]) roomy_[i] = 0, blocked_.push_back(i);
+          if (roomy_[i]) roomy_[i] = comfy_[i] = 0, blocked_.push_back(i);
         }
     }
+    return !blocked_.empty();
   }
 
   void plan_way(Robot& r, int first) {
     ++r.tally.replans;
-    r.targets.clear(), r.target_waypoint.clear(), r.target_arc.clear();
+    r.targets.clear(), r.target_waypoint.clear(), r.target_reach.clear(), r.target_arc.clear();
     r.next = 0, r.fail_at = -1;
     const TPose2D at = r.veh->getCurrentGTPose();
     Point2 from{at.x, at.y};
+    r.way_from = from;
     for (int k = first; k < r.cmd.n; ++k) {
-      const Point2 to = r.cmd.points[k];
-      const Cell a = roomy_cell(from), b = roomy_cell(to);
-      if (a.row < 0 || b.row < 0 || !planner_->find(a, b, cells_)) {
+      Point2 to;
+      double reach = 0.0;
+      if (!approach(r.cmd.points[k], r.cmd.tolerance[k], to, reach)) {
         r.fail_at = k;
         return;
       }
-      Point2 anchor = from;
-      for (std::size_t j = 1; j + 1 < cells_.size(); ++j) {
-        const Point2 next = map_.cell_center(cells_[j + 1]);
-        if (!sight(anchor, next)) anchor = map_.cell_center(cells_[j]), add_target(r, anchor, -1);
+      // On the cells with room to spare, near the ends on any it fits on;
+      // else on any.
+      const Mask* lanes = &comfy_;
+      Cell a = lane_cell(comfy_, from), b = lane_cell(comfy_, to);
+      if (!joined(comfy_part_, a, b) || !comfy_planner_->find(a, b, cells_)) {
+        lanes = &roomy_;
+        a = lane_cell(roomy_, from), b = lane_cell(roomy_, to);
+        if (!joined(roomy_part_, a, b) || !planner_->find(a, b, cells_)) {
+          r.fail_at = k;
+          return;
+        }
       }
-      add_target(r, to, k);
+      Point2 anchor = from;
+      for (std::size_t j = 0; j < cells_.size(); ++j) {
+        const Point2 next = j + 1 < cells_.size() ? map_.cell_center(cells_[j + 1]) : to;
+        if (j > 0 && !sight(*lanes, anchor, next, kLooseEnds))
+          anchor = map_.cell_center(cells_[j]), add_target(r, anchor, kCorner);
+      }
+      add_target(r, to, k, reach);
       from = to;
     }
   }
@@ -497,16 +687,13 @@ class MrptWorld::Impl {
   void issue(Robot& r) {
     r.issued_from = r.next;
     r.nav_ended = r.nav_error = false;
-    r.least_left = way_left(r);
     if (r.next >= r.targets.size()) {
       r.nav->cancel();
       return;
     }
     mrpt::nav::TWaypointSequence seq;
     for (std::size_t k = r.next; k < r.targets.size(); ++k) {
-      const bool waypoint = r.target_waypoint[k] >= 0;
-      const double tolerance = waypoint ? r.cmd.tolerance[r.target_waypoint[k]] : kPassTolerance;
-      seq.waypoints.emplace_back(r.targets[k].x, r.targets[k].y, tolerance, false);
+      seq.waypoints.emplace_back(r.targets[k].x, r.targets[k].y, r.target_reach[k], false);
     }
     seq.waypoints.back().speed_ratio = 0.3;
     r.nav->navigateWaypoints(seq);
@@ -530,7 +717,7 @@ class MrptWorld::Impl {
   }
 
   void progress(Robot& r) {
-    r.progress_at = t_;
+    r.progress_from = position(r), r.progress_at = t_;
     if (r.state == NavState::kBlocked) r.state = NavState::kActive;
   }
 
@@ -539,10 +726,18 @@ class MrptWorld::Impl {
     Robot& r = *robots_[static_cast<std::size_t>(c.agent)];
     if (r.has_cmd && c.id == r.cmd.id) return;  // a repeat
     const bool was_driving = driving(r);
+    if (was_driving && r.fail_at < 0 && same_rest(r, c)) {
+      // The rest of the way it drives (an agent deciding again sends the
+      // same waypoints under a new id): it drives on, waypoints counted anew.
+      for (int& w : r.target_waypoint)
+        if (w >= 0) w = w >= r.reached ? w - r.reached : kCorner;
+      r.cmd = c, r.reached = 0;
+      return;
+    }
     r.cmd = c, r.has_cmd = true;
     r.reached = 0;
     if (c.kind == NavCommand::Kind::kStop || c.n == 0) {
-      r.targets.clear(), r.target_waypoint.clear(), r.target_arc.clear(), r.next = 0;
+      r.targets.clear(), r.target_waypoint.clear(), r.target_reach.clear(), r.target_arc.clear(), r.next = 0;
       r.move = Move::kRoute, r.make_way_for = -1;  // it stops making way too
       park(r, NavState::kIdle);
       return;
@@ -550,14 +745,29 @@ class MrptWorld::Impl {
     // A command that replaces one under way keeps the progress clock: the
     // robot is as stuck as it was (its agent may send a new one every few
     // seconds while it stands).
-    if (!was_driving) r.progress_at = r.ask_at = t_, r.state = NavState::kActive;
-    r.retried_at = t_;
+    if (!was_driving) {
+      r.state = NavState::kActive;
+      progress(r);
+      r.ask_at = t_;
+    }
     plan(r, 0);
     if (r.targets.empty() && r.fail_at >= 0) {
       fail(r);
       return;
     }
     if (r.move == Move::kRoute) issue(r);  // else once it has made way
+  }
+
+  // Whether command `c` is the waypoints robot r has yet to reach of its own.
+  static bool same_rest(const Robot& r, const NavCommand& c) {
+    if (c.kind != NavCommand::Kind::kGo || c.n != r.cmd.n - r.reached) return false;
+    for (int k = 0; k < c.n; ++k) {
+      const int o = k + r.reached;
+      if (c.points[k].x != r.cmd.points[o].x || c.points[k].y != r.cmd.points[o].y ||
+          c.tolerance[k] != r.cmd.tolerance[o])
+        return false;
+    }
+    return true;
   }
 
   // It stops, and stays about there (home) until told otherwise.
@@ -574,6 +784,15 @@ class MrptWorld::Impl {
     park(r, NavState::kFailed);
   }
 
+  // Whether the robot at `at` may head past its next target: a corner, or
+  // a point to pass another robot at that it is past already (nearer the
+  // target after it).
+  static bool passable(const Robot& r, Point2 at) {
+    const int w = r.target_waypoint[r.next];
+    const Point2 after = r.targets[r.next + 1];
+    return w == kCorner || (w == kPassing && distance(at, after) < distance(r.targets[r.next], after));
+  }
+
   // After its navigation step: the end of the way, progress or the lack of
   // it (BLOCKED, another way, FAILED), making way.
   void follow(Robot& r) {
@@ -588,13 +807,20 @@ class MrptWorld::Impl {
           park(r, NavState::kReached);
         return;
       }
-      if (error) {  // the navigator stopped: the rest of the way again
+      // Past targets on the way once it sees the one after (a corner it
+      // need not touch), as long as that one is within max_leg.
+      const Point2 at = position(r);
+      const std::size_t next = r.next;
+      while (r.next + 1 < r.targets.size() && passable(r, at) &&
+             distance(at, r.targets[r.next + 1]) <= params_.max_leg &&
+             sight(comfy_, at, r.targets[r.next + 1], kLooseEnds))
+        ++r.next;
+      if (error || r.next != next) {  // the rest of the way (again, if the navigator stopped)
         r.nav->resetNavError();
         issue(r);
       }
-      const double left = way_left(r);
-      if (left < r.least_left - kProgressStep) r.least_left = left, progress(r);
     }
+    if (distance(position(r), r.progress_from) >= kProgressStep) progress(r);
     const double still = t_ - r.progress_at;
     if (still > params_.give_up_after) {
       r.fail_at = r.reached;
@@ -606,9 +832,9 @@ class MrptWorld::Impl {
       ++r.tally.blocked;
     }
     if (r.move != Move::kRoute) return;
-    if (still > kYieldAfter && t_ >= r.ask_at) {
+    if (t_ >= r.ask_at && make_way(r, still)) {
       r.ask_at = t_ + kYieldAfter;
-      if (make_way(r)) return;
+      return;
     }
     if (r.state == NavState::kBlocked && t_ - std::max(r.progress_at, r.retried_at) > params_.blocked_after)
       back_off(r);
@@ -616,38 +842,80 @@ class MrptWorld::Impl {
 
   // --- making way -----------------------------------------------------------
 
-  // Robot r has made no progress for kYieldAfter. The robot nearest in its
-  // way ahead makes way: an idle one as a courtesy (a short way from where
-  // it stopped); a driving one that r is not in the way of, as it holds r
-  // up; of two in each other's way (a door, a corridor), the higher id, or
-  // the other when it finds no spot off the way. False when nobody moves.
-  bool make_way(Robot& r) {
+  // Robot r has made no progress for `still` [s]. The robot nearest in its
+  // way ahead makes way: of two in each other's way (a door, a corridor),
+  // after kHeadOnAfter, the higher id, or the other when it finds no spot
+  // off the way; after kYieldAfter, an idle one as a courtesy (a short way
+  // from where it stopped), or a driving one that r is not in the way of,
+  // as it holds r up. False when nobody moves.
+  bool make_way(Robot& r, double still) {
     way_ahead(r, kLookAhead, way_);
     Robot* in_way = nullptr;
     double nearest = 0.0;
     const Point2 at = position(r);
     for (const auto& o : robots_) {
-      if (o->id == r.id || distance_to_way(position(*o), way_) >= 2 * radius_ + kGap) continue;
+      if (o->id == r.id || distance_to_way(position(*o), way_) >= 2 * radius_ + kInWay) continue;
       const double d = distance(position(*o), at);
       if (!in_way || d < nearest) in_way = o.get(), nearest = d;
     }
     if (!in_way || in_way->move != Move::kRoute) return false;  // nobody, or it is making way already
     Robot& o = *in_way;
     way_ahead(r, kClearAhead, keep_off_);
+    if (driving(o)) {
+      way_ahead(o, kLookAhead, way_);
+      if (distance_to_way(at, way_) < 2 * radius_ + kInWay) {
+        // Meeting: each keeps right; if neither can, and they stall, one
+        // makes way.
+        if (still < kHeadOnAfter) {
+          const bool r_keeps_right = keep_right(r, o);
+          return keep_right(o, r) || r_keeps_right;
+        }
+        way_ahead(o, kClearAhead, other_keep_off_);
+        r.ask_at = t_ + kAskAgain;
+        if (r.id > o.id)
+          return aside(r, other_keep_off_, at, kAsideRange, o.id) ||
+                 aside(o, keep_off_, position(o), kAsideRange, r.id);
+        return aside(o, keep_off_, position(o), kAsideRange, r.id) || aside(r, other_keep_off_, at, kAsideRange, o.id);
+      }
+    }
+    if (still < kYieldAfter) return false;
+    r.ask_at = t_ + kAskAgain;
     if (!driving(o)) return aside(o, keep_off_, o.home, kCourtesyRange, r.id);
-    way_ahead(o, kLookAhead, way_);
-    if (distance_to_way(at, way_) >= 2 * radius_ + kGap) return aside(o, keep_off_, position(o), kAsideRange, r.id);
-    way_ahead(o, kClearAhead, other_keep_off_);
-    if (r.id > o.id)
-      return aside(r, other_keep_off_, at, kAsideRange, o.id) || aside(o, keep_off_, position(o), kAsideRange, r.id);
-    return aside(o, keep_off_, position(o), kAsideRange, r.id) || aside(r, other_keep_off_, at, kAsideRange, o.id);
+    return aside(o, keep_off_, position(o), kAsideRange, r.id);
+  }
+
+  // Robot r meets robot o head on: it heads first for a point on its right
+  // where its way meets o's (halfway between them), as far aside as two
+  // robots need to pass, or as far as there is room (o keeps right too).
+  // False when there is none.
+  bool keep_right(Robot& r, const Robot& o) {
+    if (r.next < r.targets.size() && r.target_waypoint[r.next] == kPassing) return false;  // passing already
+    const Point2 a = position(r);
+    way_ahead(r, 0.5 * distance(a, position(o)), way_);
+    const Point2 m = way_.back();
+    const double d = distance(a, m);
+    if (d < radius_) return false;
+    Point2 p;
+    bool room = false;
+    for (double side = 2 * radius_ + kInWay; side > 0.5 * radius_ && !room; side -= map_.resolution()) {
+      p = Point2{m.x + (m.y - a.y) / d * side, m.y - (m.x - a.x) / d * side};
+      room = comfy_[map_.index(map_.world_to_cell(p))] && sight(comfy_, a, p, kLooseEnds) &&
+             clear_of_robots(r, p, kSpotGap);
+    }
+    if (!room) return false;
+    r.targets.insert(r.targets.begin() + static_cast<long>(r.next), p);
+    r.target_waypoint.insert(r.target_waypoint.begin() + static_cast<long>(r.next), kPassing);
+    r.target_reach.insert(r.target_reach.begin() + static_cast<long>(r.next), kPassTolerance);
+    r.target_arc.insert(r.target_arc.begin() + static_cast<long>(r.next), r.target_arc[r.next]);
+    issue(r);
+    return true;
   }
 
   // Blocked: it backs off a little from what holds it, then plans a new way.
   void back_off(Robot& r) {
     r.retried_at = t_;
     Point2 spot;
-    if (find_spot(r, {}, position(r), kBackOffRange, 2 * kProgressStep, spot))
+    if (find_spot(r, {}, 0.0, position(r), kBackOffRange, kBackOffStep, spot))
       drive_aside(r, spot, -1);
     else
       resume(r);
@@ -657,7 +925,9 @@ class MrptWorld::Impl {
   // `around`, to make way for robot `for_robot`.
   bool aside(Robot& y, const std::vector<Point2>& keep_off, Point2 around, double range, int for_robot) {
     Point2 spot;
-    if (!find_spot(y, keep_off, around, range, 0.0, spot)) return false;
+    if (!find_spot(y, keep_off, kKeepOff, around, range, 0.0, spot) &&
+        !find_spot(y, keep_off, kKeepOffTight, around, range, 0.0, spot))
+      return false;
     drive_aside(y, spot, for_robot);
     return true;
   }
@@ -705,15 +975,24 @@ class MrptWorld::Impl {
     const Point2 at = position(p), here = position(y);
     const double d = distance(at, here);
     if (d > kClearAhead) return true;
-    way_ahead(p, 2 * kProgressStep, way_);
-    return d > 2 * radius_ + kGap && distance(way_.back(), here) > d;
+    way_ahead(p, kPassedAhead, way_);
+    return d > 2 * radius_ + kInWay && distance(way_.back(), here) > d;
   }
 
-  // The first `length` [m] of the robot's way, from where it stands.
-  static void way_ahead(const Robot& r, double length, std::vector<Point2>& out) {
+  // The first `length` [m] of the robot's way from where it stands: straight
+  // to its next target if it sees it, else back onto the way first.
+  void way_ahead(const Robot& r, double length, std::vector<Point2>& out) const {
     out.clear();
     Point2 from = position(r);
     out.push_back(from);
+    if (r.next < r.targets.size() && !sight(roomy_, from, r.targets[r.next], kLooseEnds)) {
+      const Point2 a = r.next > 0 ? r.targets[r.next - 1] : r.way_from, b = r.targets[r.next];
+      const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+      const double s = len2 > 0 ? std::clamp(((from.x - a.x) * dx + (from.y - a.y) * dy) / len2, 0.0, 1.0) : 0.0;
+      const Point2 onto{a.x + s * dx, a.y + s * dy};
+      length -= distance(from, onto);
+      out.push_back(onto), from = onto;
+    }
     for (std::size_t k = r.next; k < r.targets.size() && length > 0; ++k) {
       const Point2 to = r.targets[k];
       const double d = distance(from, to);
@@ -746,13 +1025,31 @@ class MrptWorld::Impl {
     return true;
   }
 
+  // Whether robot y drives straight from `from` to `to` touching no wall
+  // and passing no other robot closer than kSpotGap beyond the two radii,
+  // or than it is now (a spot past the robot it makes way for is no spot).
+  bool straight_away(const Robot& y, Point2 from, Point2 to) {
+    line_.assign({from, to});
+    for (const auto& o : robots_) {
+      if (o->id == y.id) continue;
+      const Point2 q = position(*o);
+      if (distance_to_way(q, line_) < std::min(2 * radius_ + kSpotGap, distance(q, from) - kContactSlack)) return false;
+    }
+    const double len = distance(from, to);
+    const int n = static_cast<int>(std::ceil(len / map_.resolution()));
+    for (int k = 1; k <= n; ++k)
+      if (touches_wall(Point2{from.x + (to.x - from.x) * k / n, from.y + (to.y - from.y) * k / n})) return false;
+    return true;
+  }
+
   // The spot nearest robot y (breadth first over the cells it fits on,
   // not through other robots) within `range` of `around`, at least
-  // `min_travel` from it, and kGap clear of `keep_off` and of the others.
-  bool find_spot(const Robot& y, const std::vector<Point2>& keep_off, Point2 around, double range, double min_travel,
-                 Point2& spot) {
+  // `min_travel` from it, `gap` beyond the two radii off `keep_off` and
+  // kSpotGap off the others.
+  bool find_spot(const Robot& y, const std::vector<Point2>& keep_off, double gap, Point2 around, double range,
+                 double min_travel, Point2& spot) {
     const Point2 from = position(y);
-    const Cell start = roomy_cell(from);
+    const Cell start = lane_cell(roomy_, from);
     if (start.row < 0) return false;
     if (seen_.size() != map_.size() || ++generation_ == 0) seen_.assign(map_.size(), 0), generation_ = 1;
     queue_.clear();
@@ -761,8 +1058,8 @@ class MrptWorld::Impl {
     for (std::size_t head = 0; head < queue_.size(); ++head) {
       const Cell c = queue_[head];
       const Point2 p = map_.cell_center(c);
-      if (distance(p, from) >= min_travel && distance_to_way(p, keep_off) >= 2 * radius_ + kGap &&
-          clear_of_robots(y, p, kGap)) {
+      if (distance(p, from) >= min_travel && distance_to_way(p, keep_off) >= 2 * radius_ + gap &&
+          clear_of_robots(y, p, kSpotGap) && straight_away(y, from, p)) {
         spot = p;
         return true;
       }
@@ -800,7 +1097,8 @@ class MrptWorld::Impl {
     // it: the navigator would otherwise see every way blocked for good.
     const double closest = radius_ + 0.12;
     out.clear();
-    r.scan.clear();
+    r.scan_pose = p, r.scan_t = t_;
+    r.ranges.assign(static_cast<std::size_t>(n), std::numeric_limits<float>::infinity());
     for (int k = 0; k < n; ++k) {
       const double local = -0.5 * fov + k * step, a = p.phi + local;
       float hit = 0.0f;
@@ -817,38 +1115,111 @@ class MrptWorld::Impl {
         if (h >= 0 && h < d) d = h, valid = true;
       }
       if (!valid) continue;
+      r.ranges[static_cast<std::size_t>(k)] = static_cast<float>(d);  // as far as it really is
       d = std::max(d, closest);
       out.insertPoint(static_cast<float>(d * std::cos(local)), static_cast<float>(d * std::sin(local)), 0.0f);
-      r.scan.push_back(Point2{p.x + d * ux, p.y + d * uy});
     }
   }
 
   // --- stepping -----------------------------------------------------------
 
-  // Turns the robot on the spot instead of a navigation step while its way
-  // (or the spot it drives aside to) lies behind it. Returns whether it did.
-  bool turn(Robot& r) {
-    Point2 aim;
-    if (r.move == Move::kAside) {
-      aim = r.spot;
-    } else if (r.move == Move::kRoute && r.next < r.targets.size()) {
-      way_ahead(r, kTurnAim, way_);
-      aim = way_.back();
-    } else {
+  // Drives the robot itself instead of a navigation step where the
+  // navigator does badly: towards a waypoint (or the spot it makes way at)
+  // close by in the open, straight (its trajectories, metres long, make
+  // a robot circle a point a few decimetres off); and turning on the spot
+  // while its way lies behind it. Returns whether it did.
+  bool steer(Robot& r) {
+    const Point2 at = position(r);
+    Point2 aim = r.spot;
+    double reach = kAsideTolerance;  // closer than this to `aim`, it is there
+    int waypoint = -1;               // the target `aim` is, if a waypoint of the way
+    if (r.move == Move::kRoute && r.next < r.targets.size()) {
+      // Its way's point kTurnAim ahead, or the waypoint before it.
+      Point2 from = at;
+      double left = kTurnAim;
+      for (std::size_t k = r.next; k < r.targets.size(); ++k) {
+        const Point2 to = r.targets[k];
+        const double d = distance(from, to);
+        const int w = r.target_waypoint[k];
+        if (d >= left) {
+          aim = Point2{from.x + (to.x - from.x) * left / d, from.y + (to.y - from.y) * left / d}, reach = 0.0;
+          break;
+        }
+        aim = to, reach = r.target_reach[k];
+        if (w >= 0) {
+          waypoint = static_cast<int>(k);
+          break;
+        }
+        left -= d, from = to;
+      }
+    } else if (r.move != Move::kAside) {
       return r.turning = false;
     }
-    const TPose2D g = r.veh->getCurrentGTPose();
-    const double off = mrpt::math::angDistance(g.phi, std::atan2(aim.y - g.y, aim.x - g.x));
-    r.turning = distance(aim, Point2{g.x, g.y}) > kPassTolerance && std::abs(off) > (r.turning ? kTurnDone : kTurnStart);
-    if (!r.turning) return false;
+    const bool exact = r.move == Move::kAside || waypoint >= 0;
+    const double d = distance(aim, at);
+    if (exact && d <= reach) {  // there: the navigator goes on from the next target
+      r.turning = false;
+      if (r.move == Move::kAside) {
+        hold(r);
+      } else {
+        target_reached(r, waypoint - static_cast<int>(r.issued_from));
+        issue(r);
+      }
+      return true;
+    }
+    const double heading = r.veh->getCurrentGTPose().phi;
+    const double off = mrpt::math::angDistance(heading, std::atan2(aim.y - at.y, aim.x - at.x));
+    const double w_max = params_.max_turn_rate * kPi / 180.0;
     mrpt::kinematics::CVehicleVelCmd_DiffDriven c;
-    c.lin_vel = 0.0;
-    c.ang_vel = std::copysign(params_.max_turn_rate * kPi / 180.0, off);
-    r.iface->changeSpeeds(c);
+    c.ang_vel = std::copysign(std::min(w_max, std::abs(off) / params_.nav_period), off);
+    if (exact && d < kDirectRange && straight_clear(r, at, aim, reach)) {
+      r.turning = false;
+      if (std::abs(off) < kDirectAligned)
+        c.lin_vel = std::clamp((d - reach) / params_.nav_period, kCreep, v_),
+        c.ang_vel = std::clamp(2.0 * off, -w_max, w_max);
+      r.iface->changeSpeeds(c);
+      return true;
+    }
+    r.turning = std::abs(off) > (r.turning ? kTurnDone : kTurnStart);
+    if (r.turning) r.iface->changeSpeeds(c);
+    return r.turning;
+  }
+
+  // Whether the robot at `from` goes straight to within `reach` of `to`
+  // (a little further) touching no wall, keeping kSpotGap off the other robots.
+  bool straight_clear(const Robot& r, Point2 from, Point2 to, double reach) {
+    const double d = std::max(distance(from, to), 1e-9), len = std::max(0.0, d - 0.8 * reach);
+    const int n = static_cast<int>(std::ceil(len / map_.resolution()));
+    const double ux = (to.x - from.x) / d, uy = (to.y - from.y) / d;
+    line_.assign({from, Point2{from.x + ux * len, from.y + uy * len}});
+    for (int k = 1; k <= n; ++k)
+      if (touches_wall(Point2{from.x + ux * len * k / n, from.y + uy * len * k / n})) return false;
+    for (const auto& o : robots_)
+      if (o->id != r.id && distance_to_way(position(*o), line_) < 2 * radius_ + kSpotGap) return false;
     return true;
   }
 
-  bool touches_wall(Point2 p) const { return !clearance_.disc_free(p, 0.95 * radius_); }
+  // Whether a disc of `rad` [m] at p overlaps a cell no robot may enter
+  // (occupied, unknown, off the map), square for square: the clearance
+  // map's bound is up to a cell diagonal short, which near a wall is the
+  // difference between a waypoint in reach and one out of it.
+  bool hits_wall(Point2 p, double rad) const {
+    if (clearance_.free_distance(p) >= rad) return false;
+    const double res = map_.resolution(), half = 0.5 * res;
+    const Cell c = map_.world_to_cell(p);
+    const int k = static_cast<int>(std::ceil(rad / res)) + 1;
+    for (int dr = -k; dr <= k; ++dr)
+      for (int dc = -k; dc <= k; ++dc) {
+        const Cell n{c.row + dr, c.col + dc};
+        if (map_.contains(n) && map_.is_free(n)) continue;
+        const Point2 q = map_.cell_center(n);
+        const double dx = std::max(0.0, std::abs(p.x - q.x) - half), dy = std::max(0.0, std::abs(p.y - q.y) - half);
+        if (dx * dx + dy * dy < rad * rad) return true;
+      }
+    return false;
+  }
+
+  bool touches_wall(Point2 p) const { return hits_wall(p, radius_ - kContactSlack); }
 
   // Walls and robots are solid: a move from `a` into contact with either
   // ends where the contact begins (a robot in contact already may not get
@@ -883,8 +1254,8 @@ class MrptWorld::Impl {
   void step(double t) {
     const double dt = t - t_;
     t_ = t;
-    mrpt::Clock::setSimulatedTime(epoch_ + std::chrono::duration_cast<mrpt::Clock::duration>(
-                                               std::chrono::duration<double>(t)));
+    mrpt::Clock::setSimulatedTime(epoch_ +
+                                  std::chrono::duration_cast<mrpt::Clock::duration>(std::chrono::duration<double>(t)));
     if (dt <= 0) return;
     const auto n0 = Steady::now();
     for (auto& rp : robots_) {
@@ -892,18 +1263,7 @@ class MrptWorld::Impl {
       if (t + 1e-9 < r.next_nav) continue;
       while (r.next_nav <= t + 1e-9) r.next_nav += params_.nav_period;
       if (driving(r) || r.move != Move::kRoute) {
-        const bool dbg = getenv("NAVDBG") && r.id == atoi(getenv("NAVDBG"));
-        if (dbg) r.nav->enableKeepLogRecords(true);
-        if (!turn(r)) r.nav->navigationStep();
-        if (dbg) {
-          mrpt::nav::CLogFileRecord lr; r.nav->getLastLogRecord(lr);
-          fprintf(stderr, "DBG t=%.1f sel=%d", t_, lr.nSelectedPTG);
-          for (auto& ip : lr.infoPerPTG) {
-            fprintf(stderr, " | dir=%.2f v=%.2f ev=%.3f tgt=(%.2f %.2f)", ip.desiredDirection, ip.desiredSpeed, ip.evaluation, ip.TP_Targets.empty() ? 0. : ip.TP_Targets[0].x, ip.TP_Targets.empty() ? 0. : ip.TP_Targets[0].y);
-            for (auto& kv : ip.evalFactors) if (kv.first == "near" || kv.first == "clear" || kv.first == "aimed" || kv.first=="dist_eucl_min" || kv.first=="collision_free_distance") fprintf(stderr, " %s=%.2f", kv.first.c_str(), kv.second);
-          }
-          fprintf(stderr, "\n");
-        }
+        if (!steer(r)) r.nav->navigationStep();
         follow(r);
       }
     }
@@ -965,14 +1325,21 @@ class MrptWorld::Impl {
   const OccupancyGrid& map_;
   double radius_, v_;
   ClearanceMap clearance_;
-  Mask roomy_;
-  std::unique_ptr<GridAStar> planner_;
+  Mask roomy_, comfy_;
+  double comfy_keep_;                             // [m] the clearance of a comfy cell
+  std::vector<int32_t> roomy_part_, comfy_part_;  // their connected parts (label())
+  std::unique_ptr<GridAStar> planner_, comfy_planner_;
   std::vector<Cell> cells_;
   std::vector<std::size_t> blocked_;  // roomy cells taken by other robots while planning
+  // plan()'s first way, while it looks for one around robots standing on it.
+  std::vector<Point2> spare_targets_;
+  std::vector<int> spare_waypoint_;
+  std::vector<double> spare_reach_, spare_arc_;
   mrpt::maps::COccupancyGridMap2D laser_map_;
   std::vector<std::unique_ptr<Robot>> robots_;
   mrpt::Clock::time_point epoch_;
   double t_ = 0.0;
+  mrpt::maps::CSimplePointsMap view_points_;  // scratch of scan()
   double nav_ms_ = 0.0, vehicle_ms_ = 0.0;
 
  private:
@@ -980,16 +1347,15 @@ class MrptWorld::Impl {
     double dx, dy, c;
   };
   std::vector<Near> near_;
-  std::vector<Point2> way_, keep_off_, other_keep_off_;
+  std::vector<Point2> way_, keep_off_, other_keep_off_, line_;
   // find_spot's breadth-first search: cells seen in search `generation_`.
   std::vector<uint32_t> seen_;
   uint32_t generation_ = 0;
   std::vector<Cell> queue_;
 };
 
-
-MrptWorld::MrptWorld(const OccupancyGrid& map, const std::vector<Point2>& starts, double team_speed,
-                     double team_radius, const WorldParams& params)
+MrptWorld::MrptWorld(const OccupancyGrid& map, const std::vector<Point2>& starts, double team_speed, double team_radius,
+                     const WorldParams& params)
     : impl_(std::make_unique<Impl>(map, starts, team_speed, team_radius, params)) {}
 
 MrptWorld::~MrptWorld() = default;
@@ -1006,9 +1372,26 @@ void MrptWorld::step(int64_t tick, double t, const std::vector<agent::NavCommand
 }
 
 int MrptWorld::robots() const { return static_cast<int>(impl_->robots_.size()); }
-const RobotTally& MrptWorld::tally(int robot) const { return impl_->robots_.at(static_cast<std::size_t>(robot))->tally; }
-void MrptWorld::scan(int robot, std::vector<Point2>& out) const {
-  out = impl_->robots_.at(static_cast<std::size_t>(robot))->scan;
+const RobotTally& MrptWorld::tally(int robot) const {
+  return impl_->robots_.at(static_cast<std::size_t>(robot))->tally;
+}
+void MrptWorld::scan(int robot, agent::RobotScan& out) {
+  auto& r = *impl_->robots_.at(static_cast<std::size_t>(robot));
+  const WorldParams& p = impl_->params_;
+  // A robot that is not navigating takes no scans: one now (it changes
+  // nothing the robots do).
+  if (r.scan_t < 0 || impl_->t_ - r.scan_t > p.nav_period + 1e-9) impl_->laser(r, impl_->view_points_);
+  out.agent = static_cast<int16_t>(robot);
+  const double fov = p.laser_fov * kPi / 180.0;
+  const bool full = p.laser_fov >= 359.999;
+  out.stamp = r.scan_t;
+  out.at = Point2{r.scan_pose.x, r.scan_pose.y};
+  out.heading = r.scan_pose.phi;
+  out.angle_min = static_cast<float>(-0.5 * fov);
+  out.angle_increment = static_cast<float>(full ? fov / p.laser_rays : fov / (p.laser_rays - 1));
+  out.range_max = static_cast<float>(p.laser_range);
+  out.rays = static_cast<uint16_t>(std::min<std::size_t>(r.ranges.size(), agent::kMaxScanRays));
+  std::copy(r.ranges.begin(), r.ranges.begin() + out.rays, out.ranges);
 }
 double MrptWorld::radius() const { return impl_->radius_; }
 double MrptWorld::max_speed() const { return impl_->v_; }

@@ -4,7 +4,8 @@
 // LCM: it takes the OC's plan announcement and ticks (lockstep: each tick
 // after every command of the tick before; wall clock: every navigation tick
 // of wall time), the agents' commands, and publishes every robot's pose and
-// status (docs/robots.md).
+// status (docs/robots.md), and with --scans HZ each robot's laser scan HZ
+// times a second of mission time (for views: mission.launch laser:=true).
 // Exit status: 0 the mission ended (or SIGINT/SIGTERM, or the parent's
 // quit), 2 bad input (a flag, the plan, the world YAML, the OC's plan is
 // not this one), 1 a failure while running (the OC went silent, a pipe
@@ -40,12 +41,13 @@ using Clock = std::chrono::steady_clock;
 
 const char* kUsage =
     "usage: gather_world --plan PLAN_DIR [--config WORLD_YAML] (--pipe | (--key-file F | --insecure) "
-    "[--lcm-url URL] [--reply-url URL] [--robot-url URL] [--silence S])";
+    "[--lcm-url URL] [--reply-url URL] [--robot-url URL] [--silence S] [--scans HZ])";
 
 struct Options {
   std::string plan, config, lcm_url, reply_url, robot_url, key_file;
   bool pipe = false, insecure = false, help = false;
   double silence_s = 30.0;
+  double scans_hz = 0.0;  // 0: no scans
 };
 
 Options parse(int argc, char** argv) {
@@ -80,6 +82,12 @@ Options parse(int argc, char** argv) {
       o.silence_s = std::strtod(v.c_str(), &end);
       if (end == v.c_str() || *end != '\0' || !(o.silence_s > 0 && o.silence_s <= 86400))
         throw Error("gather_world", "--silence must be in (0, 86400] s, got '" + v.substr(0, 40) + "'");
+    } else if (a == "--scans") {
+      const std::string v = value();
+      char* end = nullptr;
+      o.scans_hz = std::strtod(v.c_str(), &end);
+      if (end == v.c_str() || *end != '\0' || !(o.scans_hz >= 0 && o.scans_hz <= 50))
+        throw Error("gather_world", "--scans must be in [0, 50] Hz of mission time, got '" + v.substr(0, 40) + "'");
     } else {
       throw Error("gather_world", "unexpected argument '" + a.substr(0, 60) + "' (" + kUsage + ")");
     }
@@ -88,6 +96,7 @@ Options parse(int argc, char** argv) {
   if (o.plan.empty()) throw Error("gather_world", std::string("--plan is required (") + kUsage + ")");
   if (o.pipe && (!o.lcm_url.empty() || !o.robot_url.empty() || !o.key_file.empty() || o.insecure))
     throw Error("gather_world", "--pipe takes no LCM flag (it talks to its parent over stdin and stdout)");
+  if (o.pipe && o.scans_hz > 0) throw Error("gather_world", "--scans needs LCM (with --pipe nobody looks at them)");
   return o;
 }
 
@@ -97,6 +106,25 @@ void publish(agent::LcmRobotLink& link, const std::vector<agent::RobotPose>& pos
   for (const agent::RobotPose& p : poses) link.publish(p);
   for (const agent::NavStatus& s : statuses) link.publish(s);
 }
+
+// Every robot's last scan, when one is due at mission time `t` (--scans).
+class ScanPublisher {
+ public:
+  explicit ScanPublisher(double hz) : period_(hz > 0 ? 1.0 / hz : 0.0) {}
+  void maybe(world::MrptWorld& w, agent::LcmRobotLink& link, int64_t tick, double t) {
+    if (period_ <= 0 || t + 1e-9 < next_) return;
+    for (int k = 0; k < w.robots(); ++k) {
+      w.scan(k, scan_);
+      scan_.tick = tick;
+      if (scan_.rays > 0) link.publish(scan_);
+    }
+    next_ = std::max(next_ + period_, t);
+  }
+
+ private:
+  double period_, next_ = 0.0;
+  agent::RobotScan scan_;
+};
 
 // The child of `gather run`: frames in, frames out, until it says quit.
 int run_pipe(world::MrptWorld& w, int in, int out) {
@@ -123,13 +151,6 @@ int run_pipe(world::MrptWorld& w, int in, int out) {
         std::memcpy(&t, payload.data() + 8, 8);
         w.step(tick, t, commands, poses, statuses);
         commands.clear();
-        if (std::getenv("GATHER_WORLD_DUMP") && tick % 10 == 0) {
-          static FILE* f = std::fopen(std::getenv("GATHER_WORLD_DUMP"), "w");
-          for (std::size_t i = 0; i < poses.size(); ++i)
-            std::fprintf(f, "%.1f %zu %.3f %.3f %.3f %d %d\n", t, i, poses[i].at.x, poses[i].at.y, poses[i].heading,
-                         static_cast<int>(statuses[i].state), statuses[i].reached);
-          std::fflush(f);
-        }
         for (const agent::RobotPose& p : poses)
           if (!agent::encode_robot(p, frame) ||
               !agent::write_frame(out, agent::PipeFrame::kPose, frame.data(), static_cast<uint32_t>(frame.size())))
@@ -160,6 +181,7 @@ int run_lcm(world::MrptWorld& w, agent::LoadedPlan& plan, const Options& o, gath
   std::vector<agent::NavCommand> held, due;
   std::vector<agent::RobotPose> poses;
   std::vector<agent::NavStatus> statuses;
+  ScanPublisher scans(o.scans_hz);
   held.reserve(1024), due.reserve(1024);
   bool planned = false, wall = false;
   double tick_s = 0.1, rate = 1.0;
@@ -223,6 +245,7 @@ int run_lcm(world::MrptWorld& w, agent::LoadedPlan& plan, const Options& o, gath
         w.step(-1, std::max(0.0, t), held, poses, statuses);
         held.clear();
         publish(link, poses, statuses);
+        scans.maybe(w, link, -1, t);
         wall_next = std::max(wall_next + tick_s, t);
       }
     }
@@ -243,6 +266,7 @@ int run_lcm(world::MrptWorld& w, agent::LoadedPlan& plan, const Options& o, gath
       });
       w.step(pending.tick, pending.t, due, poses, statuses);
       publish(link, poses, statuses);
+      scans.maybe(w, link, pending.tick, pending.t);
       next = pending.tick + 1;
       have_tick = false;
     }

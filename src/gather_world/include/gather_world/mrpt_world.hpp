@@ -7,7 +7,12 @@
 // the map, in which the other robots appear as obstacles. Each robot plans
 // its own way between two waypoints (A* on the map kept off the walls) and
 // hands the navigator targets along it, as a robot with a global and a
-// local planner does. It speaks only the robot interface
+// local planner does. The robots keep to simple traffic rules a real fleet
+// has: two meeting head on keep right, or one makes way (the higher id);
+// an idle robot in a moving one's way steps aside (within a metre of where
+// it stopped); one that makes no progress says BLOCKED after
+// blocked_after, backs off and tries another way, and gives the waypoint
+// up (FAILED) after give_up_after. It speaks only the robot interface
 // (agent::RobotWorld: commands in; poses and statuses out), so to its agent
 // each robot is what a real robot would be.
 //
@@ -18,6 +23,7 @@
 #include <memory>
 #include <vector>
 
+#include "gather_agent/motion/robot_interface.hpp"
 #include "gather_agent/runner/robot_world.hpp"
 #include "gather_core/grid/occupancy_grid.hpp"
 #include "gather_world/world_params.hpp"
@@ -27,7 +33,7 @@ namespace world {
 
 // What a world did, per robot.
 struct RobotTally {
-  int64_t contacts = 0;   // times it touched another robot (centres closer than two radii)
+  int64_t contacts = 0;   // times it touched another robot (drove into it, or came within a hair of it)
   int64_t blocked = 0;    // times it reported BLOCKED
   int64_t failed = 0;     // waypoints it gave up
   int64_t replans = 0;    // global paths planned (commands, and again after a block)
@@ -53,9 +59,11 @@ class MrptWorld : public agent::RobotWorld {
 
   int robots() const;
   const RobotTally& tally(int robot) const;
-  // The laser's hits of robot `robot` at its last navigation step, in the
-  // map frame [m] (for views).
-  void scan(int robot, std::vector<Point2>& out) const;
+  // Robot `robot`'s laser scan, at most a navigation period old (for
+  // views: gather_world --scans; taking one changes nothing the robots do).
+  // Ranges are what each ray met (+inf: nothing within laser_range), the
+  // other robots included.
+  void scan(int robot, agent::RobotScan& out);
   double radius() const;     // [m] as used (auto resolved)
   double max_speed() const;  // [m/s] as used
   // Wall time spent [ms]: navigators (laser included), vehicles, the rest.

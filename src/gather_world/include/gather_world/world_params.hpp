@@ -26,8 +26,8 @@ struct WorldParams {
   int paths = 121;              // trajectories per PTG family. [11, 361]
   double max_leg = 3.0;         // [m] (0.2, 20]
   double clearance = 0.0;       // [m] off the walls; 0 (auto): radius + 0.05. [0, 5]
-  double blocked_after = 10.0;  // [s] without getting closer: it reports BLOCKED and plans again. [1, 600]
-  double give_up_after = 60.0;  // [s] blocked on one waypoint: it reports FAILED. [1, 3600]
+  double blocked_after = 10.0;  // [s] without progress: it reports BLOCKED, backs off and plans again. [1, 600]
+  double give_up_after = 60.0;  // [s] without progress: it reports its waypoint FAILED. [1, 3600]
 };
 
 // Reads `path` ("" gives the defaults). Throws gather::Error(path, "<field>
