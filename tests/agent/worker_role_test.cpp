@@ -90,12 +90,16 @@ struct WorkerOnRobot {
   ScriptedRobot robot;
   Outbox out{64};
   int64_t tick = 0;
+  std::vector<int32_t> go_ids;  // the id of every GO command sent (repeats too)
   explicit WorkerOnRobot(RobotScript script)
       : unit(make_agent(*c.team, AgentId(1), nullptr, &queue)), robot(1, c.team->start_pose(AgentId(1)), script) {}
   RobotBase& base() { return static_cast<RobotBase&>(*unit.motion); }
   WorkerRole& role() { return static_cast<WorkerRole&>(*unit.role); }
   void step(double t, std::vector<Message> in = {}) {
-    for (const NavCommand& cmd : queue.commands) robot.command(cmd);
+    for (const NavCommand& cmd : queue.commands) {
+      if (cmd.kind == NavCommand::Kind::kGo) go_ids.push_back(cmd.id);
+      robot.command(cmd);
+    }
     queue.commands.clear();
     robot.step(t);
     base().on_pose(robot.pose(tick), t);
@@ -211,6 +215,28 @@ TEST(WorkerRole, AGoalItsRobotReachesAfterItsDeadlineExpires) {
     EXPECT_EQ(rep.unreachable, 0);
     EXPECT_GE(rep.legs, 1);  // its robot's legs are counted
   }
+}
+// Its robot is slow (half the plan's speed): its arrival estimate drifts
+// past the guard again and again, and the worker decides again each time;
+// the decisions drive the same way, so the command under way is kept (a new
+// command would restart the robot's navigation: a real robot turns on the
+// spot, re-plans, and never gets anywhere). The goal is still measured.
+TEST(WorkerRole, DecidingAgainTheSameWayKeepsItsRobotsCommand) {
+  CorridorTeam c(2);
+  RobotScript slow;
+  slow.speed = 0.5 * c.team->speed;
+  slow.eta = false;  // the agent estimates its arrival from the pose, at the plan's speed: it drifts
+  WorkerOnRobot w(slow);
+  const Point2 goal = c.scenario.grid.cell_center(c.scenario.grid.world_to_cell(Point2{5.05, 0.25}));
+  w.step(0.0, {request(0, 0, {goal}, w.c.scenario.grid, 0, 1)});
+  ASSERT_EQ(w.role().phase(), WorkerRole::Phase::kMoving);
+  for (int i = 1; i <= 400 && w.base().legs_done() == 0; ++i) w.step(i * 0.1);
+  ASSERT_GE(w.base().legs_done(), 1u);
+  ASSERT_FALSE(w.go_ids.empty());
+  // Sent again every second while under way (the robot ignores repeats): one id.
+  EXPECT_GT(w.go_ids.size(), 3u);
+  for (int32_t id : w.go_ids) EXPECT_EQ(id, w.go_ids.front());
+  EXPECT_EQ(w.role().report().measured, 1);
 }
 }  // namespace
 }  // namespace agent

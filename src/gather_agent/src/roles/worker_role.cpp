@@ -371,8 +371,9 @@ void WorkerRole::decide(double now) {
   // Deciding again while its robot drives: the command under way, kept if
   // the new plan drives the same way (a new command would only disturb the
   // robot); its times are the new plan's.
-  const bool driving =
-      phase_ == Phase::kMoving && (motion_.state() == NavState::kActive || motion_.state() == NavState::kBlocked);
+  const bool driving = (phase_ == Phase::kMoving || replan_driving_) &&
+                       (motion_.state() == NavState::kActive || motion_.state() == NavState::kBlocked);
+  replan_driving_ = false;
   const std::size_t old_n = n_legs_, old_seen = legs_seen_;
   if (driving) {
     std::copy(legs_.begin(), legs_.begin() + static_cast<long>(old_n), old_legs_.begin());
@@ -557,6 +558,7 @@ void WorkerRole::follow_progress(double now) {
         now, eta, eta_base_, legs_[n_legs_ - 1].arrive, collector_delay_, delay_used_, pace_);
     next_replan_ = now + guard;
     phase_ = Phase::kReady;
+    replan_driving_ = true;
   }
 }
 

@@ -115,9 +115,10 @@ class WorkerRole : public Role {
   // kPaceMemory a leg; the pace the plan under way assumed.
   static constexpr double kPaceMemory = 0.8, kMinPace = 0.25, kMaxPace = 4.0;
   double pace_ = 1.0, pace_used_ = 1.0, planned_s_ = 0.0, took_s_ = 0.0;
-  double command_at_ = 0.0;   // [s] when the plan under way was commanded
-  double eta_base_ = 0.0;     // [s] its robot's first arrival estimate for the plan under way (+inf: none yet)
-  double next_replan_ = 0.0;  // [s] no decision again for drift before then
+  double command_at_ = 0.0;      // [s] when the plan under way was commanded
+  double eta_base_ = 0.0;        // [s] its robot's first arrival estimate for the plan under way (+inf: none yet)
+  double next_replan_ = 0.0;     // [s] no decision again for drift before then
+  bool replan_driving_ = false;  // deciding again while its robot drives (the command may be kept)
   // [s] after its robot failed to reach a place, no decision before then.
   static constexpr double kRetryPlace = 5.0;
   double decide_after_ = 0.0;
