@@ -151,9 +151,10 @@ bench-faults: build
 	$(PYTHON) tools/fault_bench.py
 
 # The team on gather_world's MRPT robots beside ideal bases: office and
-# office_a, pap:4 and the best plan, 5 seeds x 10 cycles -> docs/robots_bench.md
-# (delivered goals and both refresh metrics, robots / ideal; late waypoints,
-# collector delays, navigation failures, contacts; x real time). About an hour.
+# office_a, pap:4 and the best plan, and the best plan of warehouse, campus and
+# cave, 5 seeds x 10 cycles -> docs/robots_bench.md (delivered goals and both
+# refresh metrics, robots / ideal; late waypoints, collector delays,
+# navigation failures, contacts; x real time). About 40 minutes.
 SEEDS ?= 5
 bench-robots: build
 	$(PYTHON) tools/robots_bench.py --seeds $(SEEDS)

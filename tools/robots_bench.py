@@ -2,7 +2,8 @@
 """The team on gather_world's MRPT robots beside ideal bases (make bench-robots).
 
 For maps/office and ipa/office_a, a pap:4 plan and the scenario's best plan,
-SEEDS seeds x CYCLES cycles each (default 5 x 10): `gather run --robots mrpt`
+and the best plan of maps/warehouse, campus and cave, SEEDS seeds x CYCLES
+cycles each (default 5 x 10): `gather run --robots mrpt`
 and `gather run --protocol robots` (ideal bases, the same protocol), then
 per configuration:
 
@@ -32,8 +33,13 @@ import time
 
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 GATHER = os.path.join(REPO, "catkin_ws", "devel", "lib", "gather_core", "gather")
-SCENARIOS = [("office", os.path.join(REPO, "maps", "office.scenario.yaml")),
-             ("office_a", os.path.join(REPO, "..", "shared", "maps", "ipa", "office_a.scenario.yaml"))]
+# (name, scenario, configurations): office and ipa/office_a with pap:4 and
+# their best plans, and every other shipped scenario's best plan.
+SCENARIOS = [("office", os.path.join(REPO, "maps", "office.scenario.yaml"), ("pap:4", "best")),
+             ("office_a", os.path.join(REPO, "..", "shared", "maps", "ipa", "office_a.scenario.yaml"), ("pap:4", "best")),
+             ("warehouse", os.path.join(REPO, "maps", "warehouse.scenario.yaml"), ("best",)),
+             ("campus", os.path.join(REPO, "maps", "campus.scenario.yaml"), ("best",)),
+             ("cave", os.path.join(REPO, "maps", "cave.scenario.yaml"), ("best",))]
 FINAL = {"delivered", "expired", "dropped_overflow", "lost_with_agent", "unreachable"}
 
 
@@ -65,8 +71,8 @@ def main():
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     lines = []
-    for name, scenario in SCENARIOS:
-        for config in ("pap:4", "best"):
+    for name, scenario, configs in SCENARIOS:
+        for config in configs:
             plan = os.path.join(a.out, "%s_%s" % (name, config.replace(":", "")))
             args = [GATHER, "plan", scenario, "--out", plan]
             if config != "best":

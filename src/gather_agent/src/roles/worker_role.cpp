@@ -143,9 +143,24 @@ void WorkerRole::repair(double now) {
   fresh->reserve_all();
   // The current request's goals, in the same order: the plan under way
   // refers to them by their local index.
+  // Those the new segment does not hold (it can shrink: a collector
+  // suspected, then heard again) are expired now, never an error.
   scratch_.clear();
-  for (std::size_t i = 0; i < policy_->goals(); ++i) scratch_.push_back(policy_->goal(i));
+  std::vector<int> local(policy_->goals(), -1);
+  for (std::size_t i = 0; i < policy_->goals(); ++i)
+    if (fresh->in_segment(policy_->goal(i).cell))
+      local[i] = static_cast<int>(scratch_.size()), scratch_.push_back(policy_->goal(i));
   fresh->learn(scratch_.data(), scratch_.size());
+  std::size_t kept = 0;
+  for (const int k : known_) {
+    if (local[static_cast<std::size_t>(k)] >= 0)
+      known_[kept++] = local[static_cast<std::size_t>(k)];
+    else
+      notice(ItemKind::kExpired, policy_->goal(static_cast<std::size_t>(k)).id.value(), now);
+  }
+  known_.resize(kept);
+  for (std::size_t i = 0; i < n_legs_; ++i)
+    if (leg_goal_[i] >= 0) leg_goal_[i] = local[static_cast<std::size_t>(leg_goal_[i])];
   policy_ = std::move(fresh);
   served_cells_ = cells;
   upstream_ = route ? static_cast<int16_t>(team_.collector_agent(a.delivers_to).value()) : kOc;
@@ -340,6 +355,16 @@ void WorkerRole::decide(double now) {
         oc_worker ? mission::request_deadline(now, kInf, team_.period) : deadline(request_.id, request_.delay);
     learned_delay_ = request_.delay;
     scratch_.assign(request_.mine.begin(), request_.mine.end());
+    // A goal outside its segment (the OC's repaired plan and this worker's
+    // differ for a while on who is dead): expired now, never an error.
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < scratch_.size(); ++i) {
+      if (policy_->in_segment(scratch_[i].cell))
+        scratch_[kept++] = scratch_[i];
+      else
+        notice(ItemKind::kExpired, scratch_[i].id.value(), now);
+    }
+    scratch_.resize(kept);
     for (mission::KnownGoal& g : scratch_) g.deadline = due;
     policy_->reserve(scratch_.size());
     policy_->learn(scratch_.data(), scratch_.size());
