@@ -183,8 +183,12 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
   bool new_owner = false;
   if (g.worker != by) {
     const int32_t now_in = repair_ ? repair_->plan.labels[cell_of_[goal.index()]] : 0;
-    if (now_in <= 0 || team_.worker_of_segment(SegmentId(now_in)) != by) return false;
-    new_owner = true;
+    new_owner = now_in > 0 && team_.worker_of_segment(SegmentId(now_in)) == by;
+    // Another worker's measurement (its view of who is dead differed from
+    // the OC's for a while, and it took over a segment the OC gave another):
+    // the data is real, and acked either way; refused, it would be lost. Its
+    // notices (expired, dropped, unreachable) are the owner's to give.
+    if (!new_owner && item.kind != ItemKind::kMeasured) return false;
   }
   // Times a worker and a collector could have: after the request, not after now.
   const double eps = 1e-6;
