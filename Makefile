@@ -154,7 +154,7 @@ bench-faults: build
 # office_a, pap:4 and the best plan, and the best plan of warehouse, campus and
 # cave, 5 seeds x 10 cycles -> docs/robots_bench.md (delivered goals and both
 # refresh metrics, robots / ideal; late waypoints, collector delays,
-# navigation failures, contacts; x real time). About 40 minutes.
+# navigation failures, contacts; x real time). About 25 minutes.
 SEEDS ?= 5
 bench-robots: build
 	$(PYTHON) tools/robots_bench.py --seeds $(SEEDS)

@@ -43,11 +43,18 @@ SCENARIOS = [("office", os.path.join(REPO, "maps", "office.scenario.yaml"), ("pa
 FINAL = {"delivered", "expired", "dropped_overflow", "lost_with_agent", "unreachable"}
 
 
-def run(args):
+class RunFailed(Exception):
+    pass
+
+
+def run(args, fatal=True):
     t0 = time.time()
     p = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if p.returncode != 0:
-        sys.exit("robots_bench: %s failed (%d): %s" % (" ".join(args[:4]), p.returncode, p.stderr.strip()[-500:]))
+        what = "%s failed (%d): %s" % (" ".join(args[:5]), p.returncode, p.stderr.strip()[-500:])
+        if fatal:
+            sys.exit("robots_bench: " + what)
+        raise RunFailed(what)
     return p.stdout, time.time() - t0
 
 
@@ -68,9 +75,11 @@ def main():
     p.add_argument("--cycles", type=int, default=10)
     p.add_argument("--out", default=os.path.join(REPO, "results", "robots_bench"))
     p.add_argument("--doc", default=os.path.join(REPO, "docs", "robots_bench.md"))
+    p.add_argument("--reuse", action="store_true",
+                   help="keep the runs already in --out (an interrupted bench goes on where it stopped)")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    lines = []
+    lines, failures = [], []
     for name, scenario, configs in SCENARIOS:
         for config in configs:
             plan = os.path.join(a.out, "%s_%s" % (name, config.replace(":", "")))
@@ -85,14 +94,25 @@ def main():
             for seed in range(1, a.seeds + 1):
                 i_out = os.path.join(a.out, "%s_%s_ideal_%d" % (name, config.replace(":", ""), seed))
                 r_out = os.path.join(a.out, "%s_%s_mrpt_%d" % (name, config.replace(":", ""), seed))
-                run([GATHER, "run", plan, "--out", i_out, "--cycles", str(a.cycles), "--seed", str(seed),
-                     "--protocol", "robots"])
-                out, wall = run([GATHER, "run", plan, "--out", r_out, "--cycles", str(a.cycles), "--seed", str(seed),
-                                 "--robots", "mrpt"])
+                timing = os.path.join(r_out, "bench_speed.txt")  # x real time, wall [s] of the robot run
+                if not (a.reuse and os.path.exists(os.path.join(i_out, "summary.csv"))):
+                    run([GATHER, "run", plan, "--out", i_out, "--cycles", str(a.cycles), "--seed", str(seed),
+                         "--protocol", "robots"])
+                if not (a.reuse and os.path.exists(timing)):
+                    try:
+                        out, wall = run([GATHER, "run", plan, "--out", r_out, "--cycles", str(a.cycles), "--seed",
+                                         str(seed), "--robots", "mrpt"], fatal=False)
+                    except RunFailed as e:  # reported under the table, the seed left out of its row
+                        failures.append("%s seed %d: %s" % (label, seed, e))
+                        print(failures[-1], flush=True)
+                        continue
+                    m = re.search(r"run (\d+) ms for (\d+) s of mission", out)
+                    with open(timing, "w") as f:
+                        f.write("%f %f\n" % (float(m.group(2)) / (float(m.group(1)) / 1000.0), wall))
+                x, wall = (float(v) for v in open(timing).read().split())
                 ideal.append(summary(i_out))
                 robots.append(summary(r_out))
-                m = re.search(r"run (\d+) ms for (\d+) s of mission", out)
-                speed.append(float(m.group(2)) / (float(m.group(1)) / 1000.0))
+                speed.append(x)
                 agents += rows(r_out, "agents.csv")
                 g = rows(r_out, "goals.csv")
                 lost += sum(r["state"] not in FINAL for r in g)
@@ -111,7 +131,7 @@ def main():
             loop_med = statistics.median([float(r["loop_late_median_s"]) for r in loops]) if loops else 0.0
             loop_max = max([float(r["loop_late_max_s"]) for r in loops] + [0.0])
             lines.append({
-                "config": label,
+                "config": label + ("" if len(robots) == a.seeds else " [%d of %d seeds]" % (len(robots), a.seeds)),
                 "ideal": mean(ideal, "delivered"), "robots": mean(robots, "delivered"),
                 "ratio": mean(robots, "delivered") / max(1e-9, mean(ideal, "delivered")),
                 "lat": mean(robots, "refresh_mean_s") / max(1e-9, mean(ideal, "refresh_mean_s")),
@@ -121,7 +141,7 @@ def main():
                 "loops": sum(int(r["loops"]) for r in loops), "loop_med": loop_med, "loop_max": loop_max,
                 "fail": sum(int(r["nav_failures"]) for r in agents),
                 "unreach": mean(robots, "unreachable"), "lost": mean(robots, "lost_with_agent"),
-                "contacts": sum(int(r["contacts"]) for r in agents) / a.seeds,
+                "contacts": sum(int(r["contacts"]) for r in agents) / max(1, len(robots)),
                 "bad": lost + twice,
                 "speed": statistics.median(speed), "speed_min": min(speed),
             })
@@ -144,7 +164,8 @@ def main():
            "(must be 0). `x real time`: mission seconds per wall second of the robot runs (20 robots, the agents "
            "in one process, gather_world beside them), median and slowest." % (
                a.seeds, a.cycles, time.strftime("%Y-%m-%d"), a.seeds, a.cycles),
-           ""] + table
+           ""] + table + ([""] + ["Runs that failed (left out of their row):", ""] +
+                          ["- " + f.replace("|", "/") for f in failures] if failures else [])
     with open(a.doc, "w") as f:
         f.write("\n".join(doc) + "\n")
     print("\n".join(table))
