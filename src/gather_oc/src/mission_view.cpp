@@ -207,15 +207,7 @@ tf2_msgs::TFMessage MissionView::transforms(const std::vector<agent::Reply>& age
     else if (dx * dx + dy * dy > 1e-6)
       yaw_[a] = std::atan2(dy, dx);  // an ideal base: the way it moved
     last_pose_[a] = r.pose;
-    geometry_msgs::TransformStamped tf;
-    tf.header.frame_id = frame_;
-    tf.header.stamp = stamp;
-    tf.child_frame_id = agent_frame(r.agent);
-    tf.transform.translation.x = r.pose.x;
-    tf.transform.translation.y = r.pose.y;
-    tf.transform.rotation.z = std::sin(yaw_[a] / 2);
-    tf.transform.rotation.w = std::cos(yaw_[a] / 2);
-    out.transforms.push_back(tf);
+    out.transforms.push_back(planar_transform(frame_, agent_frame(r.agent), stamp, r.pose, yaw_[a]));
   }
   return out;
 }

@@ -24,15 +24,7 @@ sensor_msgs::LaserScan to_laser_scan(const agent::RobotScan& s, const ros::Time&
 
 geometry_msgs::TransformStamped laser_transform(const agent::RobotScan& s, const std::string& map_frame,
                                                 const ros::Time& stamp) {
-  geometry_msgs::TransformStamped t;
-  t.header.stamp = stamp;
-  t.header.frame_id = map_frame;
-  t.child_frame_id = laser_frame(s.agent);
-  t.transform.translation.x = s.at.x;
-  t.transform.translation.y = s.at.y;
-  t.transform.rotation.z = std::sin(0.5 * s.heading);
-  t.transform.rotation.w = std::cos(0.5 * s.heading);
-  return t;
+  return view::planar_transform(map_frame, laser_frame(s.agent), stamp, s.at, s.heading);
 }
 
 visualization_msgs::Marker laser_points(const agent::RobotScan& s, const std::string& map_frame, const ros::Time& stamp,

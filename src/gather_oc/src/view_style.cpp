@@ -1,6 +1,7 @@
 #include "gather_oc/view_style.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace gather {
 namespace view {
@@ -42,6 +43,19 @@ geometry_msgs::Point pt(double x, double y, double z) {
 }
 
 geometry_msgs::Point pt(Point2 p, double z) { return pt(p.x, p.y, z); }
+
+geometry_msgs::TransformStamped planar_transform(const std::string& frame, const std::string& child,
+                                                 const ros::Time& stamp, Point2 at, double yaw) {
+  geometry_msgs::TransformStamped t;
+  t.header.frame_id = frame;
+  t.header.stamp = stamp;
+  t.child_frame_id = child;
+  t.transform.translation.x = at.x;
+  t.transform.translation.y = at.y;
+  t.transform.rotation.z = std::sin(yaw / 2);
+  t.transform.rotation.w = std::cos(yaw / 2);
+  return t;
+}
 
 visualization_msgs::Marker marker(const std::string& frame, const ros::Time& stamp, const std::string& ns, int id,
                                   int type) {

@@ -325,48 +325,22 @@ void LcmRobotLink::on_message(const char* channel, const void* data, int size) {
     }
     return false;
   };
-  // The message's agent must be its channel's and its signed sender.
+  // The message's agent must be its channel's and its signed sender; it
+  // goes into `queue` (up to its capacity).
+  auto take = [&](auto& queue, int id) {
+    if (queue.size() >= queue.capacity()) return void(++refused_.queue_full);
+    queue.emplace_back();
+    if (!count(decode_robot(p, n, queue.back()))) return queue.pop_back();
+    if (queue.back().agent != id || sender != id) {
+      queue.pop_back();
+      return auth_.count_wrong_sender();
+    }
+  };
   for (std::size_t i = 0; i < ids_.size(); ++i) {
-    const int id = ids_[i];
-    if (side_ == Side::kAgent && pose_channels_[i] == channel) {
-      if (poses_.size() >= poses_.capacity()) return void(++refused_.queue_full);
-      RobotPose m;
-      if (!count(decode_robot(p, n, m))) return;
-      if (m.agent != id || sender != id) return auth_.count_wrong_sender();
-      poses_.push_back(m);
-      return;
-    }
-    if (side_ == Side::kAgent && status_channels_[i] == channel) {
-      if (statuses_.size() >= statuses_.capacity()) return void(++refused_.queue_full);
-      statuses_.emplace_back();
-      if (!count(decode_robot(p, n, statuses_.back()))) return statuses_.pop_back();
-      if (statuses_.back().agent != id || sender != id) {
-        statuses_.pop_back();
-        return auth_.count_wrong_sender();
-      }
-      return;
-    }
-    if (side_ == Side::kViewer && scan_channels_[i] == channel) {
-      if (scans_.size() >= scans_.capacity()) return void(++refused_.queue_full);
-      scans_.emplace_back();
-      if (!count(decode_robot(p, n, scans_.back()))) return scans_.pop_back();
-      if (scans_.back().agent != id || sender != id) {
-        scans_.pop_back();
-        return auth_.count_wrong_sender();
-      }
-      return;
-    }
-    if (side_ == Side::kRobots && command_channels_[i] == channel) {
-      if (commands_.size() >= commands_.capacity()) return void(++refused_.queue_full);
-      commands_.emplace_back();
-      const RobotDecoded d = decode_robot(p, n, commands_.back());
-      if (!count(d)) return commands_.pop_back();
-      if (commands_.back().agent != id || sender != id) {
-        commands_.pop_back();
-        return auth_.count_wrong_sender();
-      }
-      return;
-    }
+    if (side_ == Side::kAgent && pose_channels_[i] == channel) return take(poses_, ids_[i]);
+    if (side_ == Side::kAgent && status_channels_[i] == channel) return take(statuses_, ids_[i]);
+    if (side_ == Side::kViewer && scan_channels_[i] == channel) return take(scans_, ids_[i]);
+    if (side_ == Side::kRobots && command_channels_[i] == channel) return take(commands_, ids_[i]);
   }
 }
 

@@ -2,6 +2,7 @@
 // How the mission looks in RViz: colours (the PNG figures' palette, see
 // gather_core/figures/palette.hpp), marker sizes scaled to the map, heights
 // that keep overlapping layers in order in a top-down view.
+#include <geometry_msgs/TransformStamped.h>
 #include <std_msgs/ColorRGBA.h>
 #include <visualization_msgs/Marker.h>
 #include <visualization_msgs/MarkerArray.h>
@@ -60,6 +61,10 @@ Box reachable_box(const Mask& reachable);
 // A point [m] at height z.
 geometry_msgs::Point pt(Point2 p, double z = 0.0);
 geometry_msgs::Point pt(double x, double y, double z = 0.0);
+// The transform from `frame` to `child`: at `at` [m], turned by `yaw` [rad]
+// about z (a robot's base, its laser).
+geometry_msgs::TransformStamped planar_transform(const std::string& frame, const std::string& child,
+                                                 const ros::Time& stamp, Point2 at, double yaw);
 
 // A marker with the frame, stamp, namespace, id and type set, identity pose.
 visualization_msgs::Marker marker(const std::string& frame, const ros::Time& stamp, const std::string& ns, int id,
