@@ -1,7 +1,8 @@
 // roles/oc_role: the OC delivers once, counts duplicates, acks all, expires
 // skipped requests and goals in no segment, takes the later deadline its
-// workers applied, expires what was measured after it, and resolves goals
-// its workers' robots could not reach as unreachable.
+// workers applied, expires what was measured after it, resolves goals its
+// workers' robots could not reach as unreachable, and delivers a goal one
+// worker gave up that another measured.
 #include "gather_agent/roles/oc_role.hpp"
 
 #include <gtest/gtest.h>
@@ -176,6 +177,47 @@ TEST(OcRole, AnUnreachableItemAfterItsGoalWasResolvedIsADuplicate) {
   oc2.step(101.0, {d});
   EXPECT_FALSE(role2.resolved(GoalId(1)));
   EXPECT_EQ(role2.invalid_items(), 1);
+}
+
+// A goal its owner gave up (expired) that another worker measured after
+// all (it took the segment over while the OC and the owner disagreed on
+// who is dead): the data is real, delivered; acked and dropped, it would
+// be lost (gather run's conservation check stopped the cave, seed 2).
+TEST(OcRole, AMeasurementOfAGoalAnotherWorkerGaveUpIsDelivered) {
+  CorridorTeam c(1, {{0, {5.05, 0.25}}, {0, {6.05, 0.25}}});
+  Stepper oc{make_oc(*c.team)};
+  auto& role = static_cast<OcRole&>(*oc.unit.role);
+  oc.step(0.0);
+  DataItem gave_up;
+  gave_up.key = 0, gave_up.kind = ItemKind::kExpired, gave_up.by = 1, gave_up.at = 3.0, gave_up.deadline = 3.0;
+  Message d = message(Kind::kData, 1, kOc, 0, Point2{1.0, 0.25});
+  d.data.count = 1, d.data.items[0] = gave_up;
+  oc.step(5.0, {d});
+  ASSERT_EQ(role.goals()[0].state, mission::GoalState::kExpired);
+  // Agent 0's measurement of it.
+  Message m = message(Kind::kData, 0, kOc, 0, Point2{1.0, 0.25});
+  m.data.count = 1, m.data.items[0] = measured(0, 0, 4.0);
+  oc.step(6.0, {m});
+  EXPECT_EQ(role.goals()[0].state, mission::GoalState::kDelivered);
+  EXPECT_EQ(role.goals()[0].measured_by, AgentId(0));
+  EXPECT_DOUBLE_EQ(role.goals()[0].measured_at, 4.0);
+  EXPECT_LT(role.goals()[0].expired_at, 0.0);
+  EXPECT_EQ(role.overridden(), 1);
+  EXPECT_EQ(role.duplicate_items(), 0);
+  ASSERT_NE(oc.sent(Kind::kAck), nullptr);
+  // The same measurement again: a duplicate, still delivered once.
+  m.h.seq = 1;
+  oc.step(7.0, {m});
+  EXPECT_EQ(role.duplicate_items(), 1);
+  EXPECT_EQ(role.overridden(), 1);
+  // Its owner contradicting itself (expired, then data) is not news: goal 1.
+  gave_up.key = 1;
+  d.h.seq = 1, d.data.items[0] = gave_up;
+  oc.step(8.0, {d});
+  d.h.seq = 2, d.data.items[0] = measured(1, 1, 4.5);
+  oc.step(9.0, {d});
+  EXPECT_EQ(role.goals()[1].state, mission::GoalState::kExpired);
+  EXPECT_EQ(role.duplicate_items(), 2);
 }
 }  // namespace
 }  // namespace agent

@@ -43,6 +43,7 @@ OcRole::OcRole(TeamSetup& team, MotionBackend& station) : Role(kOc, station), te
     cell_of_.push_back(static_cast<uint32_t>(grid.index(d.cell)));
   }
   resolved_.assign(goals_.size(), 0);
+  resolved_by_.assign(goals_.size(), -1);
   issued_at_.assign(static_cast<std::size_t>(team.params.cycles), 0.0);
   answered_at_.assign(team.agents(), -std::numeric_limits<double>::infinity());
   for (const mission::GoalRecord& g : goals_)
@@ -90,15 +91,25 @@ void OcRole::issue(int cycle, int16_t dest, double now, Outbox& out) {
   }
 }
 
-bool OcRole::open(GoalId goal) {
+bool OcRole::open(GoalId goal, const DataItem* item) {
   if (!resolved_[goal.index()]) return true;
   mission::GoalRecord& g = goals_[goal.index()];
-  if (g.state != mission::GoalState::kLostWithAgent) return false;
-  g.lost_at = -1.0;
+  if (g.state == mission::GoalState::kLostWithAgent) {
+    g.lost_at = -1.0;
+    ++recovered_;
+  } else if (item && item->kind == ItemKind::kMeasured && resolved_by_[goal.index()] != item->by &&
+             (g.state == mission::GoalState::kExpired || g.state == mission::GoalState::kDropped ||
+              g.state == mission::GoalState::kUnreachable)) {
+    g.expired_at = g.dropped_at = g.unreachable_at = g.measured_at = -1.0;
+    g.measured_by = AgentId();
+    ++overridden_;
+  } else {
+    return false;
+  }
   g.state = mission::GoalState::kPending;
   resolved_[goal.index()] = 0;
+  resolved_by_[goal.index()] = -1;
   --resolved_count_;
-  ++recovered_;
   return true;
 }
 
@@ -172,6 +183,7 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
       if (g.worker != by || !open(g.id)) continue;
       g.expired_at = std::max(item.at, g.requested_at);
       resolve(g, mission::GoalState::kExpired);
+      resolved_by_[g.id.index()] = item.by;
     }
     return true;
   }
@@ -196,7 +208,7 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
   if (item.kind == ItemKind::kMeasured && item.picked_up_by >= 0 &&
       !(item.picked_up_at >= item.at - 1e-3 && item.picked_up_at <= now + eps))
     return false;
-  if (!open(goal)) {
+  if (!open(goal, &item)) {
     ++duplicates_;
     return true;
   }
@@ -221,6 +233,7 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
         ++late_;
         g.expired_at = std::max(g.deadline, g.requested_at);
         resolve(g, mission::GoalState::kExpired);
+        resolved_by_[goal.index()] = item.by;  // its own data, late: sent again, still late
         break;
       }
       g.measured_at = item.at, g.measured_by = by;
@@ -233,15 +246,18 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
     case ItemKind::kExpired:
       g.expired_at = std::max(item.at, g.requested_at);
       resolve(g, mission::GoalState::kExpired);
+      resolved_by_[goal.index()] = item.by;
       break;
     case ItemKind::kDropped:
       g.measured_at = item.at, g.measured_by = by;
       g.dropped_at = item.at;
       resolve(g, mission::GoalState::kDropped);
+      resolved_by_[goal.index()] = item.by;
       break;
     case ItemKind::kUnreachable:
       g.unreachable_at = std::max(item.at, g.requested_at);
       resolve(g, mission::GoalState::kUnreachable);
+      resolved_by_[goal.index()] = item.by;
       break;
     default: return false;
   }

@@ -43,6 +43,9 @@ class OcRole : public Role {
   // did not), and goals it had declared lost that a survivor resolved later.
   double declared_dead_at(AgentId agent) const { return declared_at_[agent]; }
   int64_t recovered() const { return recovered_; }
+  // Measurements of goals another agent's notice (or the OC) had resolved
+  // without data, delivered all the same (open()).
+  int64_t overridden() const { return overridden_; }
   // The plan the OC runs now (the original until it declares a death).
   const mission::MissionPlan& current_plan() const { return repair_ ? repair_->plan : team_.plan; }
   // A team on robots at the end of its time: every goal not resolved yet is
@@ -59,8 +62,12 @@ class OcRole : public Role {
   bool apply(const DataItem& item, AgentId sender, double now);
   void resolve(mission::GoalRecord& g, mission::GoalState state);
   // A goal resolved by news from an agent: unresolved, or declared lost
-  // with an agent (the news overrides that; counted as recovered).
-  bool open(GoalId goal);
+  // with an agent (the news overrides that; counted as recovered), or, for
+  // a measurement (`item`), resolved without data by a notice of another
+  // agent or by the OC: expired, dropped, unreachable (the data is real: a
+  // worker that took the segment over measured what its owner gave up;
+  // counted as overridden). A worker contradicting its own notice is not.
+  bool open(GoalId goal, const DataItem* item = nullptr);
   const plan::AgentAssignment& assigned(AgentId agent) const { return current_plan().file.agents[agent]; }
   // Declares `agent` dead at `now`: repairs the plan, declares lost what was
   // its own (docs/faults.md), and tells whoever is in the coverage.
@@ -71,8 +78,9 @@ class OcRole : public Role {
   std::vector<mission::GoalRecord> goals_;  // every cycle's, drawn up front; requested_at set at the issue
   std::vector<uint32_t> cell_of_;           // grid index of each goal's cell
   std::vector<uint8_t> resolved_;
-  std::vector<GoalId> unassigned_;  // goals in no worker's segment, not yet expired
-  std::vector<double> issued_at_;   // [s] by cycle
+  std::vector<int16_t> resolved_by_;  // by goal: the agent whose notice resolved it (-1: the OC, or data)
+  std::vector<GoalId> unassigned_;    // goals in no worker's segment, not yet expired
+  std::vector<double> issued_at_;     // [s] by cycle
   std::size_t resolved_count_ = 0;
   int issued_ = 0;
   PerAgent<double> answered_at_;  // [s] last time it was passed the newest request
@@ -88,7 +96,7 @@ class OcRole : public Role {
   PerAgent<double> declared_at_;
   PerAgent<double> grace_until_;  // [s] no declaration before (workers moved to the OC)
   const mission::RepairedPlan* repair_ = nullptr;
-  int64_t recovered_ = 0;
+  int64_t recovered_ = 0, overridden_ = 0;
   std::vector<uint8_t> closed_;  // by goal: lost at the mission's end (close())
 };
 
