@@ -63,6 +63,8 @@ class ScriptedRobot {
     v_ = script_.speed;
     if (reached_ == command_.n) state_ = NavState::kReached;
   }
+  // Moved by hand (it stepped aside for another robot, or was pushed).
+  void place(Point2 p) { at_ = p; }
   bool talks(double t) const { return t < script_.silent_from; }
   RobotPose pose(int64_t tick) const {
     RobotPose p;

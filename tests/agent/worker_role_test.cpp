@@ -1,8 +1,9 @@
 // roles/worker_role: a worker driven by hand on the corridor measures, hands
 // over in contact, resends a lost ack, reports expiry, and ignores a request
 // larger than its mission's; on a robot (a RobotBase fed by a scripted
-// robot) a goal its robot fails is unreachable, and one it reaches after the
-// deadline expires.
+// robot) a goal its robot fails is unreachable, one it reaches after the
+// deadline expires, and a worker of the OC moved out of touch while it
+// waits goes back in.
 #include "gather_agent/roles/worker_role.hpp"
 
 #include <gtest/gtest.h>
@@ -238,6 +239,122 @@ TEST(WorkerRole, DecidingAgainTheSameWayKeepsItsRobotsCommand) {
   for (int32_t id : w.go_ids) EXPECT_EQ(id, w.go_ids.front());
   EXPECT_EQ(w.role().report().measured, 1);
 }
+
+// A worker of the OC on a robot, with the robot protocol (homes apart): an
+// open floor, agent 0 owning it; the OC answers every hello and acks every
+// item.
+Scenario one_agent_floor() {
+  // An open 10 m x 6 m floor, the OC at its west edge (coverage: the half
+  // disc of 2 m around it): room for a home off the coverage's edge.
+  Scenario s = testing_support::open_strip("floor", 100, 60, Point2{0.55, 3.05});
+  s.team.agents = 1, s.team.radius = 0.05, s.mission.period = 100.0;
+  return s;
+}
+
+struct OcWorkerOnRobot {
+  Scenario scenario = one_agent_floor();
+  mission::World world{scenario};
+  mission::MissionPlan plan = testing_support::corridor_plan_without_collector(scenario);
+  MissionParams params;
+  std::unique_ptr<TeamSetup> team;
+  CommandQueue queue;
+  std::unique_ptr<AgentUnit> unit;
+  std::unique_ptr<ScriptedRobot> robot;
+  Outbox out{64};
+  int64_t tick = 0;
+  std::vector<Message> replies;  // the OC's answers to what the worker sent, in the next step
+  std::vector<int32_t> go_ids;
+  std::vector<Point2> go_ends;  // the last waypoint of each new GO command
+  OcWorkerOnRobot() {
+    params.cycles = 3;
+    params.goals_per_request = 4;
+    params.protocol = mission::robot_protocol(params.protocol);
+    team = std::make_unique<TeamSetup>(world, plan, params);
+    unit = std::make_unique<AgentUnit>(make_agent(*team, AgentId(0), nullptr, &queue));
+    robot = std::make_unique<ScriptedRobot>(0, team->start_pose(AgentId(0)), RobotScript{});
+  }
+  RobotBase& base() { return static_cast<RobotBase&>(*unit->motion); }
+  WorkerRole& role() { return static_cast<WorkerRole&>(*unit->role); }
+  void step(double t, std::vector<Message> in = {}) {
+    for (const NavCommand& cmd : queue.commands) {
+      if (cmd.kind == NavCommand::Kind::kGo && (go_ids.empty() || go_ids.back() != cmd.id)) {
+        go_ids.push_back(cmd.id);
+        go_ends.push_back(cmd.points[cmd.n - 1]);
+      }
+      robot->command(cmd);
+    }
+    queue.commands.clear();
+    robot->step(t);
+    base().on_pose(robot->pose(tick), t);
+    base().on_status(robot->status(tick), t);
+    ++tick;
+    unit->motion->update(t);
+    for (Message& m : replies) in.push_back(m);
+    replies.clear();
+    std::vector<const Message*> inbox;
+    for (const Message& m : in) inbox.push_back(&m);
+    out.clear();
+    unit->role->step(t, inbox.data(), inbox.size(), out);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const Message& m = out[i];
+      if (m.h.dest != kOc || !team->linked(m.h.pos, scenario.oc)) continue;
+      Message a = message(Kind::kAck, kOc, 0, 0, scenario.oc, 0);
+      a.ack.count = 0;
+      if (m.h.kind == Kind::kData)
+        for (uint16_t k = 0; k < m.data.count; ++k) a.ack.keys[a.ack.count++] = m.data.items[k].key;
+      replies.push_back(a);
+    }
+  }
+  bool told_oc(Kind k) const {
+    for (std::size_t i = 0; i < out.size(); ++i)
+      if (out[i].h.kind == k && out[i].h.dest == kOc) return true;
+    return false;
+  }
+};
+
+// On robots a worker of the OC comes back to a home of its own, tells the
+// OC when it sets off when it will be back, and, waiting, goes back in when
+// its robot is moved out of touch with the OC (it stepped aside for
+// another robot): it would never hear the next request there.
+TEST(WorkerRole, AWorkerOfTheOcOutOfTouchWhileWaitingGoesBackIn) {
+  OcWorkerOnRobot w;
+  const Cell home = w.role().policy().home();
+  ASSERT_TRUE(w.world.covered(home));
+  const Point2 home_at = w.scenario.grid.cell_center(home);
+  const Point2 goal = w.scenario.grid.cell_center(w.scenario.grid.world_to_cell(Point2{5.05, 3.05}));
+  w.step(0.0, {request(0, 0, {goal}, w.scenario.grid, kOc, kBroadcast)});
+  ASSERT_EQ(w.role().phase(), WorkerRole::Phase::kMoving);
+  EXPECT_TRUE(w.told_oc(Kind::kState));  // when it will be back, before it leaves the coverage
+  ASSERT_EQ(w.go_ids.size(), 0u);        // the command goes out in the next step
+  double t = 0.0;
+  for (int i = 1; i <= 300 && !(w.role().phase() == WorkerRole::Phase::kWaiting); ++i) w.step(t = i * 0.1);
+  ASSERT_EQ(w.role().phase(), WorkerRole::Phase::kWaiting);
+  EXPECT_EQ(w.role().report().measured, 1);
+  EXPECT_EQ(w.role().custody()->data(), 0u);  // delivered
+  // Its command went to the goal and back to its home, not to the border.
+  ASSERT_FALSE(w.go_ends.empty());
+  EXPECT_EQ(w.go_ends.front().x, home_at.x);
+  EXPECT_EQ(w.go_ends.front().y, home_at.y);
+  const Point2 at = w.robot->pose(0).at;
+  EXPECT_LE(std::hypot(at.x - home_at.x, at.y - home_at.y), w.params.protocol.place_tolerance_m);
+  // Waiting there, it stays (no new command).
+  const std::size_t commands = w.go_ids.size();
+  for (int i = 0; i < 20; ++i) w.step(t += 0.1);
+  EXPECT_EQ(w.go_ids.size(), commands);
+  EXPECT_EQ(w.role().phase(), WorkerRole::Phase::kWaiting);
+  // Moved out of touch (x = 4 m: the coverage ends at 2.6 m): it drives
+  // back home and waits there again.
+  w.robot->place(Point2{4.05, 3.05});
+  for (int i = 0; i < 100 && !(w.go_ids.size() > commands && w.role().phase() == WorkerRole::Phase::kWaiting); ++i)
+    w.step(t += 0.1);
+  ASSERT_GT(w.go_ids.size(), commands);
+  EXPECT_EQ(w.go_ends.back().x, home_at.x);
+  EXPECT_EQ(w.role().phase(), WorkerRole::Phase::kWaiting);
+  const Point2 back = w.robot->pose(0).at;
+  EXPECT_TRUE(w.world.covered(w.scenario.grid.world_to_cell(back)));
+  EXPECT_TRUE(w.team->linked(back, w.scenario.oc));
+}
+
 }  // namespace
 }  // namespace agent
 }  // namespace gather

@@ -1,11 +1,12 @@
 // mission/worker_policy: a worker's decisions (where and when to hand over,
 // which goals fit), on the lingering strip by hand; what a worker on a real
-// robot knows (WorkerFacts: its collector's delay, its robot's pace) on the
-// corridor by hand.
+// robot knows (WorkerFacts: its collector's delay, its robot's pace), and
+// where a worker of the OC on a robot comes back to, on the corridor by hand.
 #include "gather_core/mission/worker_policy.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -252,6 +253,62 @@ TEST(WorkerFactsTest, AWorkerOfTheOcComesBackIntoTheCoverageAtItsPace) {
   // A collector's delay means nothing to a worker of the OC.
   const auto delayed = policy.decide(mission::Spot{away}, t, nullptr, 0, 0, true, 0.0, facts(12.0, 1.0));
   EXPECT_EQ(delayed.arrive, plain.arrive);
+}
+
+TEST(WorkerFactsTest, OnRobotsAWorkerOfTheOcComesBackToItsHomeAndStaysNearIt) {
+  // An open 10 m x 6 m floor, the OC at its west edge (coverage: the half
+  // disc of 2 m around it), one worker of the OC owning all of it.
+  Scenario s = testing_support::open_strip("floor", 100, 60, Point2{0.55, 3.05});
+  s.team.agents = 1, s.team.radius = 0.05, s.mission.period = 100.0;
+  const mission::World world(s);
+  const mission::MissionPlan mp = testing_support::corridor_plan_without_collector(s);
+  mission::SharedDistances shared(world);
+  mission::WorkerPolicy ideal(world, mp, mp.file.agents[AgentId(0)], nullptr, shared, 4, mission::ProtocolParams{});
+  const mission::ProtocolParams robots = mission::robot_protocol(mission::ProtocolParams{});
+  mission::WorkerPolicy policy(world, mp, mp.file.agents[AgentId(0)], nullptr, shared, 4, robots);
+  EXPECT_FALSE(ideal.back_to_home());
+  ASSERT_TRUE(policy.back_to_home());
+  ASSERT_TRUE(world.covered(policy.home()));
+  EXPECT_NE(policy.home(), ideal.home());  // the plain home is a corner of the coverage, with no room
+  // The way back from x = 9 m: into the coverage where the ideal base
+  // comes back (a border cell), then on to the home.
+  const Cell away{30, 90};
+  const auto border = ideal.way_back(away);
+  const auto back = policy.way_back(away);
+  EXPECT_EQ(back.first, policy.home());
+  const Point2 h = s.grid.cell_center(policy.home());
+  const Point2 b = s.grid.cell_center(border.first);
+  EXPECT_NEAR(back.second, border.second + std::hypot(b.x - h.x, b.y - h.y), 0.15);
+  const double t = 20.0;
+  const auto d = policy.decide(mission::Spot{away}, t, nullptr, 0, 0, true);
+  ASSERT_EQ(d.action, mission::WorkerPolicy::Action::kBackToCoverage);
+  EXPECT_EQ(d.landing, policy.home());
+  EXPECT_NEAR(d.arrive, t + back.second, 1e-9);
+  // Covered cells 0.5 m and 1.5 m from the home.
+  auto covered_at = [&](double dist) {
+    for (std::size_t i = 0; i < s.grid.size(); ++i) {
+      const Cell c = s.grid.cell(i);
+      const Point2 p = s.grid.cell_center(c);
+      if (world.covered(c) && std::abs(std::hypot(p.x - h.x, p.y - h.y) - dist) < 0.05) return c;
+    }
+    return Cell{-1, -1};
+  };
+  const Cell near = covered_at(0.5), far_off = covered_at(1.5);
+  ASSERT_GE(near.row, 0);
+  ASSERT_GE(far_off.row, 0);
+  // Its robot stopped within the place tolerance (1 m) of the home, back
+  // from a trip: it waits there (it does not send its robot home again).
+  mission::Spot landed{near};
+  landed.landing = true;
+  EXPECT_EQ(policy.decide(landed, t, nullptr, 0, 0, true).action, mission::WorkerPolicy::Action::kWait);
+  // Not back from a trip, or further than the tolerance: home.
+  EXPECT_EQ(policy.decide(mission::Spot{near}, t, nullptr, 0, 0, true).action,
+            mission::WorkerPolicy::Action::kGoToMeeting);
+  mission::Spot beyond{far_off};
+  beyond.landing = true;
+  EXPECT_EQ(policy.decide(beyond, t, nullptr, 0, 0, true).action, mission::WorkerPolicy::Action::kGoToMeeting);
+  // Ideal bases (no room asked) wait on the home cell only.
+  EXPECT_EQ(ideal.decide(landed, t, nullptr, 0, 0, true).action, mission::WorkerPolicy::Action::kGoToMeeting);
 }
 
 }  // namespace

@@ -1,12 +1,13 @@
 // mission/world: on the corridor (tests/core/corridor.hpp) by hand: the
 // reachable space, the OC's coverage (x < 2.6 m), its border, the way back
 // into it, where a worker of the OC waits for requests, where a robot stands
-// (a pose off the free space) and the roomy cell near a home.
+// (a pose off the free space) and the homes of workers of the OC on robots.
 #include "gather_core/mission/world.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <vector>
 
@@ -162,33 +163,65 @@ TEST(WorldTest, AFreeCellCutOffFromTheOcIsNotWhereARobotStands) {
   EXPECT_FALSE(w.reaches(Cell{2, 150}));
 }
 
-TEST(WorldTest, ARoomyCellNearIsTheNearestCoverageCellWithTheClearance) {
-  const Scenario s = corridor();
+TEST(WorldTest, HomesOnRobotsHaveRoomInTheCoverageAndStandApart) {
+  // An open 10 m x 6 m floor, the OC at its west edge: the coverage is the
+  // half disc of 2 m around it. Three segments east of it, out of the
+  // coverage, share one plain home on its east border.
+  Scenario s = testing_support::open_strip("floor", 100, 60, Point2{0.55, 3.05});
   const mission::World w(s);
-  const ClearanceMap room(s.grid);
-  // The corridor's middle row has 0.3 m to the map's edge, the rows next
-  // to the edge 0.1 m and 0.2 m.
-  ASSERT_NEAR(room.at(Cell{2, 10}), 0.3, 1e-6);  // stored as float
-  ASSERT_NEAR(room.at(Cell{0, 10}), 0.1, 1e-6);
-  // With the room already: itself.
-  EXPECT_EQ(w.roomy_near(Cell{2, 10}, 0.25), (Cell{2, 10}));
-  EXPECT_EQ(w.roomy_near(Cell{0, 10}, 0.05), (Cell{0, 10}));
-  // From the edge row: a middle-row cell two steps away, in the coverage.
-  for (const Cell from : {Cell{0, 10}, Cell{4, 3}, Cell{0, 24}}) {
-    ASSERT_TRUE(w.covered(from));
-    const Cell c = w.roomy_near(from, 0.25);
-    EXPECT_TRUE(w.covered(c)) << from.row << "," << from.col;
-    EXPECT_GE(room.at(c), 0.25);
-    EXPECT_EQ(c.row, 2);
-    EXPECT_EQ(std::max(std::abs(c.row - from.row), std::abs(c.col - from.col)), 2) << c.row << "," << c.col;
+  std::vector<std::vector<Cell>> segments(3);
+  for (int k = 0; k < 3; ++k)  // x from 7, 8 and 9 m, y 2.5-3.5 m
+    for (int r = 25; r < 35; ++r)
+      for (int c = 70 + 10 * k; c < 80 + 10 * k; ++c) segments[static_cast<std::size_t>(k)].push_back(Cell{r, c});
+  const Cell plain = w.oc_worker_home(segments[0]);
+  ASSERT_TRUE(w.covered(plain));
+  // One plain home for the three: the coverage's east tip.
+  ASSERT_EQ(w.oc_worker_home(segments[1]), plain);
+  ASSERT_EQ(w.oc_worker_home(segments[2]), plain);
+  // No room asked: the plain homes.
+  const std::vector<Cell> same = w.oc_worker_homes(segments, 0.0);
+  ASSERT_EQ(same.size(), 3u);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(same[static_cast<std::size_t>(k)], w.oc_worker_home(segments[k]));
+  // 0.5 m of room inside the coverage, 1 m apart.
+  std::vector<int8_t> cv(s.grid.size(), 100);
+  std::vector<uint8_t> cf(s.grid.size(), 0);
+  for (std::size_t i = 0; i < s.grid.size(); ++i)
+    if (w.coverage[i]) cv[i] = 0, cf[i] = 1;
+  const OccupancyGrid coverage_only(100, 60, 0.1, Point2{0, 0}, cv, cf);
+  const ClearanceMap room(coverage_only);  // room inside the coverage
+  const std::vector<Cell> homes = w.oc_worker_homes(segments, 0.5);
+  ASSERT_EQ(homes.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_TRUE(w.covered(homes[k])) << k;
+    EXPECT_GE(room.at(homes[k]), 0.5) << k;
+    for (std::size_t j = 0; j < k; ++j) {
+      const Point2 a = s.grid.cell_center(homes[k]), b = s.grid.cell_center(homes[j]);
+      EXPECT_GE(std::hypot(a.x - b.x, a.y - b.y), 1.0) << k << " " << j;
+    }
   }
-  // At the coverage's far end the roomy cell is still in the coverage (x < 2.6 m).
-  EXPECT_LT(s.grid.cell_center(w.roomy_near(Cell{0, 24}, 0.25)).x, 2.6);
-  // More room than the corridor has anywhere: where it started.
-  EXPECT_EQ(w.roomy_near(Cell{0, 10}, 1.0), (Cell{0, 10}));
-  // Not a coverage cell: where it started.
-  ASSERT_FALSE(w.covered(Cell{0, 100}));
-  EXPECT_EQ(w.roomy_near(Cell{0, 100}, 0.25), (Cell{0, 100}));
+  // The first is the nearest such cell to the plain home: within the room
+  // it needs (plus a cell's diagonal) of it.
+  const Point2 h = s.grid.cell_center(homes[0]), p = s.grid.cell_center(plain);
+  EXPECT_LE(std::hypot(h.x - p.x, h.y - p.y), 0.5 + 0.15);
+  // More room than the coverage holds (it is 2 m deep): the room halves
+  // until it fits; every home still in the coverage, all of them apart.
+  const std::vector<Cell> crowded = w.oc_worker_homes(segments, 4.0);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_TRUE(w.covered(crowded[k])) << k;
+    EXPECT_GE(room.at(crowded[k]), 0.5) << k;  // 4 -> 2 -> 1 -> 0.5 m at the most
+    for (std::size_t j = 0; j < k; ++j) EXPECT_NE(crowded[k], crowded[j]);
+  }
+  // The same homes every time (each agent computes them for itself).
+  EXPECT_EQ(w.oc_worker_homes(segments, 0.5), homes);
+  // A segment that reaches no coverage has no home.
+  Scenario walled = s;
+  std::vector<int8_t> v(100 * 60, 0);
+  std::vector<uint8_t> f(100 * 60, 1);
+  for (int r = 0; r < 60; ++r)
+    v[static_cast<std::size_t>(r) * 100 + 50] = 100, f[static_cast<std::size_t>(r) * 100 + 50] = 0;
+  walled.grid = OccupancyGrid(100, 60, 0.1, Point2{0, 0}, v, f);
+  const mission::World ww(walled);
+  EXPECT_EQ(ww.oc_worker_homes({segments[0]}, 0.5)[0], (Cell{-1, -1}));
 }
 
 }  // namespace

@@ -405,7 +405,7 @@ void WorkerRole::decide(double now) {
     std::copy(leg_goal_.begin(), leg_goal_.begin() + static_cast<long>(old_n), old_goal_.begin());
   }
   n_legs_ = 0, legs_seen_ = 0;
-  plan_is_work_ = false, ends_at_landing_ = false, ends_at_meeting_ = false, target_rv_ = -1;
+  plan_is_work_ = false, ends_at_landing_ = false, ends_at_meeting_ = false, target_rv_ = -1, back_in_ = false;
   // Goals and the landing back into the coverage (a border cell: near is
   // not in) take the robot's own tolerance; places it waits at, the place
   // tolerance.
@@ -432,6 +432,7 @@ void WorkerRole::decide(double now) {
     case Action::kBackToCoverage:
       leg(grid.cell_center(d.landing), d.arrive, -1, true);
       ends_at_landing_ = true;
+      back_in_ = policy_->back_to_home();
       break;
     case Action::kGoToMeeting:  // a worker of the OC: its home in the coverage
       leg(grid.cell_center(d.landing), d.arrive, -1);
@@ -453,6 +454,7 @@ void WorkerRole::decide(double now) {
           const auto back = policy_->way_back(last);
           leg(grid.cell_center(back.first), d.at[d.k - 1] + back.second / (team_.speed * pace_), -1, true);
           ends_at_landing_ = true;
+          back_in_ = policy_->back_to_home();
         }
       }
       break;
@@ -535,6 +537,15 @@ void WorkerRole::follow_progress(double now) {
   if (into_coverage_ && reaches_oc()) {
     motion_.stop(now);
     at_landing_ = true;
+    settle();
+    return;
+  }
+  // On robots, on the way back in to its home (the goals behind it): in
+  // touch with the OC it settles while its robot drives on; what it decides
+  // then keeps the command (home) or replaces it (new goals).
+  if (back_in_ && legs_seen_ + 1 == n_legs_ && reaches_oc()) {
+    TRACE("%.1f back in touch with the OC on the way home\n", now);
+    back_in_ = false;
     settle();
     return;
   }
@@ -644,11 +655,20 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
   }
   skip_overdue(now);
   expire_overdue(now);
+  // A worker of the OC waiting out of touch with it: its robot came to rest
+  // past the place (it coasted on, or stepped aside for another robot). It
+  // decides again from where it is, which takes it back in.
+  if (oc_worker && phase_ == Phase::kWaiting && !reaches_oc()) {
+    TRACE("%.1f waiting out of touch with the OC: back in\n", now);
+    at_landing_ = false;
+    phase_ = Phase::kReady;
+  }
   // The radio model is asked only when contact matters: data to hand on, a
   // pass to meet at, a request due from the collector.
   const bool need = custody_.size() > 0 || phase_ == Phase::kAtPass || (!oc_worker && now >= due_time());
   const bool in_contact = need && contact(now);
-  if (now >= decide_after_ && settled(now, in_contact)) decide(now);
+  const bool decided = now >= decide_after_ && settled(now, in_contact);
+  if (decided) decide(now);
 
   // Custody: everything due goes upstream while in contact; to a collector,
   // measured data once the contact has lasted its transfer time (notices
@@ -688,7 +708,11 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
   const bool settling = phase_ == Phase::kSettling && !(heard_oc_ && oc_newest_ <= newest_request());
   const bool overdue = (phase_ == Phase::kWaiting || phase_ == Phase::kStart) &&
                        now >= due_time() + team_.params.ask_after && !(request_.complete() && request_.id > resolved_);
-  if (oc_worker && (settling || overdue) && now - last_hello_ >= resend) {
+  // On robots, a worker of the OC that sets off tells the OC at once when
+  // it will be back (its robot may leave the coverage before its next
+  // beacon: the OC would wait on the back_by it had).
+  const bool leaving = decided && oc_worker && policy_->back_to_home() && phase_ == Phase::kMoving && reaches_oc();
+  if (oc_worker && (((settling || overdue) && now - last_hello_ >= resend) || leaving)) {
     state(kOc);
     last_hello_ = now;
   } else if (!oc_worker && in_contact && now >= due_time() && (!contact_prev_ || now - last_hello_ >= resend)) {

@@ -48,7 +48,7 @@ void check_params(const ProtocolParams& p) {
 }
 
 ProtocolParams robot_protocol(ProtocolParams p) {
-  p.home_clearance_m = 1.0;  // out of doorways and corridors: room to pass a robot waiting there
+  p.home_clearance_m = 1.5;  // out of doorways and corridors: room to pass a robot waiting there
   return p;
 }
 
@@ -177,8 +177,34 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
     // nearest its segment (where it comes back to from the segment's nearest
     // cell), so that a request learned there can be served within its
     // period (mission::request_deadline), wherever the OC itself stands.
-    home_ = world.oc_worker_home(segment_cells_);
-    if (protocol.home_clearance_m > 0 && home_.row >= 0) home_ = world.roomy_near(home_, protocol.home_clearance_m);
+    // On robots (home_clearance_m > 0) the workers of the OC take homes
+    // with room around them and apart from each other, in the order of
+    // their ids: every worker finds the same homes (World::oc_worker_homes).
+    if (protocol.home_clearance_m > 0) {
+      std::vector<std::vector<Cell>> segments;
+      std::vector<int> slot(static_cast<std::size_t>(pf.workers) + 1, -1);  // by segment label
+      int mine = -1;
+      for (const plan::AgentAssignment& o : pf.agents) {
+        if (o.collector || o.delivers_to.valid() || !o.segment.within(pf.workers)) continue;
+        if (o.id == a.id) mine = static_cast<int>(segments.size());
+        slot[static_cast<std::size_t>(o.segment.label())] = static_cast<int>(segments.size());
+        segments.emplace_back();
+      }
+      for (std::size_t i = 0; i < mp.labels.size() && i < grid.size(); ++i) {
+        const int l = mp.labels[i];
+        if (l > 0 && l <= pf.workers && slot[static_cast<std::size_t>(l)] >= 0 && world.reachable[i])
+          segments[static_cast<std::size_t>(slot[static_cast<std::size_t>(l)])].push_back(grid.cell(i));
+      }
+      if (mine < 0) throw Error(where, to_string(a.id) + " is not among the plan's workers of the OC");
+      home_ = world.oc_worker_homes(segments, protocol.home_clearance_m)[static_cast<std::size_t>(mine)];
+      if (home_.row >= 0) {
+        home_to_border_.resize(world.coverage_border.size());
+        march(home_, world.coverage_border, home_to_border_.data());
+        place_tolerance_m_ = protocol.place_tolerance_m;
+      }
+    } else {
+      home_ = world.oc_worker_home(segment_cells_);
+    }
   }
 
   tmp_.reserve(segment_cells_.size());
@@ -423,7 +449,11 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
       d.arrive = t + back.second / v_;
       return d;
     }
-    if (more_requests && home_.row >= 0 && !(at.cell == home_)) {
+    // At home: on its cell, or on robots back within the place tolerance.
+    const Point2 h = world_.scenario.grid.cell_center(home_), p = world_.scenario.grid.cell_center(at.cell);
+    const bool at_home =
+        at.cell == home_ || (back_to_home() && at.landing && std::hypot(h.x - p.x, h.y - p.y) <= place_tolerance_m_);
+    if (more_requests && home_.row >= 0 && !at_home) {
       // Nothing to do in the coverage: wait for the next request at home.
       double dist = kInf;
       march_one(at.cell, home_, dist);
@@ -530,6 +560,10 @@ std::pair<Cell, double> WorkerPolicy::way_back(Cell from) const {
   const double dist = world_.coverage_field.time(from);
   const int label = world_.coverage_field.label(from);
   if (!(dist < kInf) || label < 0) bug("worker " + std::to_string(agent_.value()) + " cannot reach the OC's coverage");
+  if (back_to_home()) {
+    const double on = home_to_border_[static_cast<std::size_t>(label)];
+    if (on < kInf) return {home_, dist + on};
+  }
   return {world_.coverage_border[static_cast<std::size_t>(label)], dist};
 }
 

@@ -64,26 +64,83 @@ Cell World::standing_cell(Point2 p, double radius_m) const {
   return c;
 }
 
-Cell World::roomy_near(Cell from, double clearance) const {
+std::vector<Cell> World::oc_worker_homes(const std::vector<std::vector<Cell>>& segments, double clearance) const {
   const OccupancyGrid& grid = scenario.grid;
-  if (!covered(from)) return from;
-  const ClearanceMap room(grid);
-  // Breadth-first through the coverage, 8-connected, in a fixed order.
-  std::vector<uint8_t> seen(grid.size(), 0);
-  std::vector<Cell> queue{from};
-  seen[grid.index(from)] = 1;
-  for (std::size_t i = 0; i < queue.size(); ++i) {
-    const Cell c = queue[i];
-    if (room.at(c) >= clearance) return c;
-    for (int dr = -1; dr <= 1; ++dr)
-      for (int dc = -1; dc <= 1; ++dc) {
-        const Cell n{c.row + dr, c.col + dc};
-        if ((dr == 0 && dc == 0) || !covered(n) || seen[grid.index(n)]) continue;
-        seen[grid.index(n)] = 1;
-        queue.push_back(n);
-      }
+  std::vector<Cell> homes;
+  homes.reserve(segments.size());
+  if (!(clearance > 0)) {
+    for (const std::vector<Cell>& cells : segments) homes.push_back(oc_worker_home(cells));
+    return homes;
   }
-  return from;
+  // Room inside the coverage: to the nearest wall or cell out of touch with
+  // the OC (a robot that stops near its home, or steps aside there, stays
+  // in touch). Computed on the coverage's bounding box (ClearanceMap counts
+  // the box's edge as out, as every cell beyond it is): an agent on a robot
+  // keeps to its memory budget.
+  int r0 = grid.height(), r1 = -1, c0 = grid.width(), c1 = -1;
+  for (std::size_t i = 0; i < coverage.size(); ++i)
+    if (coverage[i]) {
+      const Cell c = grid.cell(i);
+      r0 = std::min(r0, c.row), r1 = std::max(r1, c.row), c0 = std::min(c0, c.col), c1 = std::max(c1, c.col);
+    }
+  const int bw = std::max(0, c1 - c0 + 1), bh = std::max(0, r1 - r0 + 1);
+  std::vector<int8_t> values(static_cast<std::size_t>(bw) * static_cast<std::size_t>(bh), 100);
+  std::vector<uint8_t> open(values.size(), 0);
+  for (int r = r0; r <= r1; ++r)
+    for (int c = c0; c <= c1; ++c)
+      if (covered(Cell{r, c})) {
+        const std::size_t k =
+            static_cast<std::size_t>(r - r0) * static_cast<std::size_t>(bw) + static_cast<std::size_t>(c - c0);
+        values[k] = 0, open[k] = 1;
+      }
+  const OccupancyGrid box(bw, bh, grid.resolution(), grid.origin(), std::move(values), std::move(open));
+  const ClearanceMap box_room(box);
+  auto room_at = [&](Cell q) { return covered(q) ? box_room.at(Cell{q.row - r0, q.col - c0}) : 0.0; };
+  auto clear_of_others = [&](Cell c, double apart) {
+    const Point2 p = grid.cell_center(c);
+    for (Cell h : homes) {
+      if (h.row < 0) continue;
+      const Point2 q = grid.cell_center(h);
+      if (std::hypot(p.x - q.x, p.y - q.y) < apart) return false;
+    }
+    return true;
+  };
+  // Less room, and closer to the others, where the coverage is crowded:
+  // the room halves (and the spacing with it) down to two cells. One
+  // breadth-first search a worker, from its plain home through the free
+  // space reachable from the OC (past a pocket of coverage, 8-connected, a
+  // fixed order): the nearest cell of each level, the roomiest level that
+  // has one.
+  std::vector<double> levels;
+  for (double c = clearance; c >= 2 * grid.resolution(); c *= 0.5) levels.push_back(c);
+  std::vector<uint8_t> seen(grid.size());
+  std::vector<uint32_t> queue;  // grid indices
+  std::vector<Cell> found;
+  for (const std::vector<Cell>& cells : segments) {
+    const Cell plain = oc_worker_home(cells);
+    found.assign(levels.size(), Cell{-1, -1});
+    if (plain.row >= 0 && !levels.empty()) {
+      std::fill(seen.begin(), seen.end(), 0);
+      queue.assign(1, static_cast<uint32_t>(grid.index(plain)));
+      seen[grid.index(plain)] = 1;
+      for (std::size_t i = 0; i < queue.size() && found[0].row < 0; ++i) {
+        const Cell q = grid.cell(queue[i]);
+        const double r = room_at(q);
+        for (std::size_t k = 0; k < levels.size(); ++k)  // roomiest first
+          if (r >= levels[k] && found[k].row < 0 && clear_of_others(q, 2 * levels[k])) found[k] = q;
+        for (int dr = -1; dr <= 1; ++dr)
+          for (int dc = -1; dc <= 1; ++dc) {
+            const Cell n{q.row + dr, q.col + dc};
+            if ((dr == 0 && dc == 0) || !reaches(n) || seen[grid.index(n)]) continue;
+            seen[grid.index(n)] = 1;
+            queue.push_back(static_cast<uint32_t>(grid.index(n)));
+          }
+      }
+    }
+    const auto best = std::find_if(found.begin(), found.end(), [](Cell c) { return c.row >= 0; });
+    homes.push_back(best != found.end() ? *best : plain);
+  }
+  return homes;
 }
 
 Cell World::oc_worker_home(const std::vector<Cell>& cells) const {

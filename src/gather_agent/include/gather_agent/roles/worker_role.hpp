@@ -104,6 +104,9 @@ class WorkerRole : public Role {
   bool ends_at_landing_ = false, at_landing_ = false;
   bool ends_at_meeting_ = false, at_meeting_ = false;
   bool into_coverage_ = false;  // a worker of the OC on from its landing towards the OC, into the coverage
+  // A worker of the OC on robots driving back in to its home
+  // (WorkerPolicy::back_to_home): in touch with the OC on the way, it settles.
+  bool back_in_ = false;
   double handover_ = 0.0, link_until_ = 0.0, no_meeting_before_ = 0.0;
   double pass_ = 0.0;  // [s] when the plan under way expects its collector at the rendezvous
   // Its collector's delay [s]: as the collector's latest message said

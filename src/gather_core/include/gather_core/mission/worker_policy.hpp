@@ -232,10 +232,16 @@ class WorkerPolicy {
   Decision decide(const Spot& at, double t, const int* known, std::size_t n_known, std::size_t carried,
                   bool more_requests, double no_meeting_before = 0.0, const Facts& facts = Facts{});
 
-  // OC workers: the nearest cell of the coverage from `from` and the way's
-  // length [m] (the labelled march from the coverage border). Throws
+  // OC workers: where they come back into the coverage from `from` and the
+  // way's length [m]: the nearest cell of the coverage (the labelled march
+  // from the coverage border); on robots (homes apart, home_clearance_m >
+  // 0) on through that cell to the worker's home, so that robots coming
+  // back do not all stop on the same border cell of a corridor (the way
+  // through the border cell: an upper bound of the shortest). Throws
   // gather::Error when the coverage cannot be reached.
   std::pair<Cell, double> way_back(Cell from) const;
+  // On robots: the way back ends at the worker's home (see way_back).
+  bool back_to_home() const { return !home_to_border_.empty(); }
 
   // Distances [m] between the current request's goals (local indices), and
   // from goal i to rendezvous r.
@@ -286,6 +292,11 @@ class WorkerPolicy {
   std::vector<int32_t> box_index_;
   Cell meeting_cell_{-1, -1};
   Cell home_{-1, -1};
+  // On robots (homes apart): [m] from the home to each coverage border cell
+  // (World::coverage_border), and how near its home a robot that came back
+  // stands at home (ProtocolParams::place_tolerance_m). Empty otherwise.
+  std::vector<double> home_to_border_;
+  double place_tolerance_m_ = 0.0;
   std::vector<float> meeting_to_cell_;  // [m] from the meeting point to every cell of the segment
   std::vector<double> meeting_to_rv_;   // [m] from the meeting point to each rendezvous
   // Marches between goals stay in the segment's window (a way that leaves

@@ -48,11 +48,19 @@ struct World {
   // covered). {-1, -1} when no cell of the segment reaches the coverage.
   // The worker policy and the planner's estimate both use it.
   Cell oc_worker_home(const std::vector<Cell>& cells) const;
-  // The coverage cell nearest `from` (a coverage cell; by 8-connected steps
-  // through the coverage) with at least `clearance` [m] to the nearest
-  // blocked cell: `from` itself when it has that room, `from` when no cell
-  // has. Computes the map's clearance (not kept).
-  Cell roomy_near(Cell from, double clearance) const;
+  // Where the workers of the OC wait on robots, one home per segment
+  // (`segments[k]`: the cells of worker k's segment, row-major; the order
+  // of the workers, e.g. by agent id, decides who comes first): the cell
+  // nearest its plain home (oc_worker_home; by 8-connected steps through the
+  // free space, so past a pocket of coverage) with `clearance` [m] of room
+  // in the coverage (to the nearest wall or cell out of the coverage: a
+  // robot that stops near its home, or steps aside there, stays in touch
+  // with the OC) and 2 x `clearance` from the homes of the workers before
+  // it (parked robots leave room to pass between them). Where no cell has
+  // that, half the room at half the spacing, and so on down to two cells;
+  // then the plain home. {-1, -1} for a segment that reaches no coverage.
+  // Computes the coverage's clearance once.
+  std::vector<Cell> oc_worker_homes(const std::vector<std::vector<Cell>>& segments, double clearance) const;
 };
 
 }  // namespace mission
