@@ -318,10 +318,10 @@ int run(int argc, char** argv) {
       }
       std::printf(
           "seed %u: %s%sdeclared dead: %s; goals delivered %d, expired %d, dropped %d, lost with an agent %d "
-          "(%lld declared lost and recovered later)\n",
+          "(%lld declared lost and recovered later; %lld given up by one worker and measured by another)\n",
           team.params.seed, restarted.empty() ? "" : "restarted: ", restarted.empty() ? "" : (restarted + "; ").c_str(),
           dead.empty() ? "none" : dead.c_str(), r.result.delivered, r.result.expired, r.result.dropped,
-          r.result.lost_with_agent, static_cast<long long>(r.recovered));
+          r.result.lost_with_agent, static_cast<long long>(r.recovered), static_cast<long long>(r.overridden));
     }
   }
   files.write(out);

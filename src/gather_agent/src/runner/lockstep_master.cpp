@@ -396,6 +396,7 @@ RunOutcome LockstepMaster::finish() {
   out.invalid_items = oc().invalid_items();
   out.duplicate_items = oc().duplicate_items();
   out.recovered = oc().recovered();
+  out.overridden = oc().overridden();
   out.kills = options_.kills;
   out.restarts = options_.restarts;
   for (int16_t a : oc().dead()) out.declared_dead.emplace_back(a, oc().declared_dead_at(AgentId(a)));

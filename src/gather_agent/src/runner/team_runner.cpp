@@ -287,6 +287,7 @@ RunOutcome TeamRunner::run() {
   out.invalid_items = oc().invalid_items();
   out.duplicate_items = oc().duplicate_items();
   out.recovered = oc().recovered();
+  out.overridden = oc().overridden();
   out.kills = options_.kills;
   out.restarts = options_.restarts;
   out.restored = restored_;

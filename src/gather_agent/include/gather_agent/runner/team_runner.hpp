@@ -71,9 +71,10 @@ struct RunOutcome {
   int64_t invalid_items = 0;  // items the OC could not place
   int64_t duplicate_items = 0;
   // Faults: agents the OC declared dead (id, when), by declaration; goals it
-  // declared lost that a survivor resolved later.
+  // declared lost that a survivor resolved later; goals one agent gave up
+  // (or the OC expired) that another measured, delivered (OcRole::open).
   std::vector<std::pair<int, double>> declared_dead;
-  int64_t recovered = 0;
+  int64_t recovered = 0, overridden = 0;
   std::vector<Kill> kills;     // as asked (RunOptions::kills)
   std::vector<Kill> restarts;  // as asked (RunOptions::restarts)
   // In one process: (agent, measured items its journal gave back) per restart.
