@@ -108,7 +108,6 @@ bool OcRole::open(GoalId goal, const DataItem* item) {
   }
   g.state = mission::GoalState::kPending;
   resolved_[goal.index()] = 0;
-  resolved_by_[goal.index()] = -1;
   --resolved_count_;
   return true;
 }
@@ -162,9 +161,10 @@ std::size_t OcRole::close(double now) {
   return n;
 }
 
-void OcRole::resolve(mission::GoalRecord& g, mission::GoalState state) {
+void OcRole::resolve(mission::GoalRecord& g, mission::GoalState state, int16_t by) {
   g.state = state;
   resolved_[g.id.index()] = 1;
+  resolved_by_[g.id.index()] = by;
   ++resolved_count_;
 }
 
@@ -182,8 +182,7 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
       mission::GoalRecord& g = goals_[i];
       if (g.worker != by || !open(g.id)) continue;
       g.expired_at = std::max(item.at, g.requested_at);
-      resolve(g, mission::GoalState::kExpired);
-      resolved_by_[g.id.index()] = item.by;
+      resolve(g, mission::GoalState::kExpired, item.by);
     }
     return true;
   }
@@ -232,8 +231,7 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
       if (item.at > g.deadline + 1e-9) {  // measured too late: it expired, whatever the data says
         ++late_;
         g.expired_at = std::max(g.deadline, g.requested_at);
-        resolve(g, mission::GoalState::kExpired);
-        resolved_by_[goal.index()] = item.by;  // its own data, late: sent again, still late
+        resolve(g, mission::GoalState::kExpired, item.by);  // its own data, late: sent again, still late
         break;
       }
       g.measured_at = item.at, g.measured_by = by;
@@ -245,19 +243,16 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
       break;
     case ItemKind::kExpired:
       g.expired_at = std::max(item.at, g.requested_at);
-      resolve(g, mission::GoalState::kExpired);
-      resolved_by_[goal.index()] = item.by;
+      resolve(g, mission::GoalState::kExpired, item.by);
       break;
     case ItemKind::kDropped:
       g.measured_at = item.at, g.measured_by = by;
       g.dropped_at = item.at;
-      resolve(g, mission::GoalState::kDropped);
-      resolved_by_[goal.index()] = item.by;
+      resolve(g, mission::GoalState::kDropped, item.by);
       break;
     case ItemKind::kUnreachable:
       g.unreachable_at = std::max(item.at, g.requested_at);
-      resolve(g, mission::GoalState::kUnreachable);
-      resolved_by_[goal.index()] = item.by;
+      resolve(g, mission::GoalState::kUnreachable, item.by);
       break;
     default: return false;
   }

@@ -60,7 +60,9 @@ class OcRole : public Role {
   // Applies one item from `sender` at `now`; false if it names no goal of
   // this mission (it is acked all the same, so its sender lets go).
   bool apply(const DataItem& item, AgentId sender, double now);
-  void resolve(mission::GoalRecord& g, mission::GoalState state);
+  // Resolves g as `state`; `by`: the agent whose notice said so (-1: data,
+  // or the OC itself).
+  void resolve(mission::GoalRecord& g, mission::GoalState state, int16_t by = -1);
   // A goal resolved by news from an agent: unresolved, or declared lost
   // with an agent (the news overrides that; counted as recovered), or, for
   // a measurement (`item`), resolved without data by a notice of another
