@@ -243,16 +243,8 @@ TEST(WorkerRole, DecidingAgainTheSameWayKeepsItsRobotsCommand) {
 // A worker of the OC on a robot, with the robot protocol (homes apart): an
 // open floor, agent 0 owning it; the OC answers every hello and acks every
 // item.
-Scenario one_agent_floor() {
-  // An open 10 m x 6 m floor, the OC at its west edge (coverage: the half
-  // disc of 2 m around it): room for a home off the coverage's edge.
-  Scenario s = testing_support::open_strip("floor", 100, 60, Point2{0.55, 3.05});
-  s.team.agents = 1, s.team.radius = 0.05, s.mission.period = 100.0;
-  return s;
-}
-
 struct OcWorkerOnRobot {
-  Scenario scenario = one_agent_floor();
+  Scenario scenario = testing_support::one_agent_floor();
   mission::World world{scenario};
   mission::MissionPlan plan = testing_support::corridor_plan_without_collector(scenario);
   MissionParams params;
@@ -353,6 +345,43 @@ TEST(WorkerRole, AWorkerOfTheOcOutOfTouchWhileWaitingGoesBackIn) {
   const Point2 back = w.robot->pose(0).at;
   EXPECT_TRUE(w.world.covered(w.scenario.grid.world_to_cell(back)));
   EXPECT_TRUE(w.team->linked(back, w.scenario.oc));
+}
+
+// A worker of the OC on a robot at half the team speed, whose arrival
+// estimate drifts from the plan (it decides again about every second on
+// the way): its robot's pace counts the whole way to its first goal, not
+// the bit since it last decided, so the time it tells the OC it will be
+// back by is its robot's, not the plan's (the OC declares it dead on that
+// time).
+TEST(WorkerRole, ASlowRobotsPaceCountsTheWholeWayAndTellsTheOcWhenItWillBeBack) {
+  OcWorkerOnRobot w;
+  RobotScript slow;
+  slow.speed = 0.5 * w.team->speed;
+  slow.eta = false;  // the agent estimates its arrival from the pose, at the plan's speed: it drifts
+  w.robot = std::make_unique<ScriptedRobot>(0, w.team->start_pose(AgentId(0)), slow);
+  const OccupancyGrid& grid = w.scenario.grid;
+  const Point2 near = grid.cell_center(grid.world_to_cell(Point2{5.05, 3.05}));
+  const Point2 far = grid.cell_center(grid.world_to_cell(Point2{8.05, 3.05}));
+  w.step(0.0, {request(0, 0, {near, far}, grid, kOc, kBroadcast)});
+  double t = 0.0;
+  for (int i = 1; i <= 600 && w.base().legs_done() == 0; ++i) w.step(t = i * 0.1);
+  ASSERT_EQ(w.base().legs_done(), 1u);
+  EXPECT_EQ(w.role().report().measured, 1);
+  // Its next beacon says when it will be back home.
+  double back_by = -1.0, told_at = 0.0;
+  for (int i = 0; i < 100 && back_by < 0.0; ++i) {
+    w.step(t += 0.1);
+    for (std::size_t k = 0; k < w.out.size(); ++k)
+      if (w.out[k].h.kind == Kind::kState && w.out[k].h.dest == kBroadcast)
+        back_by = w.out[k].state.back_by, told_at = t;
+  }
+  ASSERT_GE(back_by, 0.0);
+  for (int i = 0; i < 2000 && w.role().phase() != WorkerRole::Phase::kWaiting; ++i) w.step(t += 0.1);
+  ASSERT_EQ(w.role().phase(), WorkerRole::Phase::kWaiting);
+  EXPECT_EQ(w.role().report().measured, 2);
+  // Back when it said, give or take a tenth of the way (at the plan's pace
+  // it would have said half the time).
+  EXPECT_NEAR(back_by, t, 0.1 * (t - told_at)) << "told at " << told_at;
 }
 
 }  // namespace

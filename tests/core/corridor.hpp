@@ -25,6 +25,15 @@ inline Scenario open_strip(const char* name, int w, int h, Point2 oc) {
   return s;
 }
 
+// An open 10 m x 6 m floor at 0.1 m/cell, the OC at its west edge
+// (coverage: the half disc of 2 m around it), for one agent: room for a
+// home off the coverage's edge (the robot protocol's).
+inline Scenario one_agent_floor() {
+  Scenario s = open_strip("floor", 100, 60, Point2{0.55, 3.05});
+  s.team.agents = 1, s.team.radius = 0.05, s.mission.period = 100.0;
+  return s;
+}
+
 // A 20 m x 0.5 m open corridor at 0.1 m/cell, team speed 1 m/s, radio range
 // 2.07 m (coverage: cell centres within 2 m of the OC at x = 0.55 m, i.e. x < 2.6 m).
 inline Scenario corridor() {

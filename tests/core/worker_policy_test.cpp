@@ -255,17 +255,24 @@ TEST(WorkerFactsTest, AWorkerOfTheOcComesBackIntoTheCoverageAtItsPace) {
   EXPECT_EQ(delayed.arrive, plain.arrive);
 }
 
+// One worker of the OC owning an open floor (testing_support::one_agent_floor):
+// its policy with the ideal protocol and with the robot protocol.
+struct FloorWorker {
+  Scenario s = testing_support::one_agent_floor();
+  mission::World world{s};
+  mission::MissionPlan mp = testing_support::corridor_plan_without_collector(s);
+  mission::SharedDistances shared{world};
+  mission::WorkerPolicy ideal{world, mp, mp.file.agents[AgentId(0)], nullptr, shared, 4, mission::ProtocolParams{}};
+  mission::WorkerPolicy robots{
+      world, mp, mp.file.agents[AgentId(0)], nullptr, shared, 4, mission::robot_protocol(mission::ProtocolParams{})};
+};
+
 TEST(WorkerFactsTest, OnRobotsAWorkerOfTheOcComesBackToItsHomeAndStaysNearIt) {
-  // An open 10 m x 6 m floor, the OC at its west edge (coverage: the half
-  // disc of 2 m around it), one worker of the OC owning all of it.
-  Scenario s = testing_support::open_strip("floor", 100, 60, Point2{0.55, 3.05});
-  s.team.agents = 1, s.team.radius = 0.05, s.mission.period = 100.0;
-  const mission::World world(s);
-  const mission::MissionPlan mp = testing_support::corridor_plan_without_collector(s);
-  mission::SharedDistances shared(world);
-  mission::WorkerPolicy ideal(world, mp, mp.file.agents[AgentId(0)], nullptr, shared, 4, mission::ProtocolParams{});
-  const mission::ProtocolParams robots = mission::robot_protocol(mission::ProtocolParams{});
-  mission::WorkerPolicy policy(world, mp, mp.file.agents[AgentId(0)], nullptr, shared, 4, robots);
+  FloorWorker f;
+  const Scenario& s = f.s;
+  const mission::World& world = f.world;
+  mission::WorkerPolicy& ideal = f.ideal;
+  mission::WorkerPolicy& policy = f.robots;
   EXPECT_FALSE(ideal.back_to_home());
   ASSERT_TRUE(policy.back_to_home());
   ASSERT_TRUE(world.covered(policy.home()));
@@ -309,6 +316,38 @@ TEST(WorkerFactsTest, OnRobotsAWorkerOfTheOcComesBackToItsHomeAndStaysNearIt) {
   EXPECT_EQ(policy.decide(beyond, t, nullptr, 0, 0, true).action, mission::WorkerPolicy::Action::kGoToMeeting);
   // Ideal bases (no room asked) wait on the home cell only.
   EXPECT_EQ(ideal.decide(landed, t, nullptr, 0, 0, true).action, mission::WorkerPolicy::Action::kGoToMeeting);
+}
+
+// On robots a worker of the OC plans at the team speed whatever its robot's
+// pace (a goal its robot may still reach in time is worth the drive; it
+// tells the OC when it will be back at its pace); with the ideal protocol
+// it plans at its robot's pace, as a worker of a collector does.
+TEST(WorkerFactsTest, OnRobotsAWorkerOfTheOcPlansAtTheTeamSpeed) {
+  FloorWorker f;
+  const Scenario& s = f.s;
+  mission::WorkerPolicy& ideal = f.ideal;
+  mission::WorkerPolicy& robots = f.robots;
+  EXPECT_FALSE(ideal.tours_at_team_speed());
+  ASSERT_TRUE(robots.tours_at_team_speed());
+  // A goal about 8 m from the home (x = 9.05 m), due in 12 s: in time at
+  // the team speed (1 m/s here), not at half of it.
+  const Point2 goal{9.05, 3.05};
+  const mission::KnownGoal due{GoalId(0), s.grid.world_to_cell(goal), 12.0};
+  ideal.learn(&due, 1);
+  robots.learn(&due, 1);
+  const int known[] = {0};
+  const double t = 0.0;
+  const auto on_plan = robots.decide(mission::Spot{robots.home()}, t, known, 1, 0, true, 0.0, facts(0.0, 1.0));
+  const auto slow = robots.decide(mission::Spot{robots.home()}, t, known, 1, 0, true, 0.0, facts(0.0, 0.5));
+  ASSERT_EQ(slow.action, mission::WorkerPolicy::Action::kWork);
+  ASSERT_EQ(slow.k, 1u);
+  EXPECT_EQ(slow.pace, 1.0);
+  EXPECT_EQ(slow.at[0], on_plan.at[0]);
+  EXPECT_LT(slow.at[0], 12.0);
+  EXPECT_GT(2.0 * slow.at[0], 12.0);
+  const auto slow_ideal = ideal.decide(mission::Spot{ideal.home()}, t, known, 1, 0, true, 0.0, facts(0.0, 0.5));
+  EXPECT_EQ(slow_ideal.pace, 0.5);
+  EXPECT_EQ(slow_ideal.k, 0u);  // at half pace it would be there after 12 s
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 // gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT]
 //                     [--loss P] [--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none]
 //                     [--silent-intervals K] [--restart ID@T[,ID@T...]]
-//                     [--robots ideal|mrpt [--world-config YAML] [--world-bin FILE]]
+//                     [--robots ideal|mrpt [--world-config YAML] [--world-bin FILE]] [--protocol ideal|robots]
+//                     [--speed-factor F]
 //                     [--lcm (--key-file F | --insecure) [--lcm-url URL] [--reply-url URL]
 //                            [--agent-bin FILE] [--rate R] [--clock lockstep|wall]]:
 // runs the plan with the agent runtime for K seeds: every role in this
@@ -166,18 +167,18 @@ int keygen(int argc, char** argv) {
 }
 
 int run(int argc, char** argv) {
-  cli::Args args(
-      argc, argv, 2,
-      {"--cycles",           "--seeds",     "--seed",      "--out",    "--tick",         "--loss",      "--loss-seed",
-       "--lcm-url",          "--reply-url", "--agent-bin", "--rate",   "--clock",        "--kill",      "--repair",
-       "--silent-intervals", "--restart",   "--key-file",  "--robots", "--world-config", "--world-bin", "--protocol"},
-      {"--lcm", "--insecure"});
+  cli::Args args(argc, argv, 2, {"--cycles",   "--seeds",       "--seed",    "--out",          "--tick",
+                                 "--loss",     "--loss-seed",   "--lcm-url", "--reply-url",    "--agent-bin",
+                                 "--rate",     "--clock",       "--kill",    "--repair",       "--silent-intervals",
+                                 "--restart",  "--key-file",    "--robots",  "--world-config", "--world-bin",
+                                 "--protocol", "--speed-factor"},
+                 {"--lcm", "--insecure"});
   if (args.positional().size() != 1 || !args.has("--out"))
     throw cli::UsageError(
         "usage: gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT] [--loss P] "
         "[--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none] [--silent-intervals K] [--restart "
         "ID@T[,ID@T...]] [--robots ideal|mrpt|external [--world-config YAML] [--world-bin FILE]] [--protocol "
-        "ideal|robots] "
+        "ideal|robots] [--speed-factor F] "
         "[--lcm (--key-file F | "
         "--insecure) [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R] [--clock lockstep|wall]]");
   const bool over_lcm = args.on("--lcm");
@@ -223,7 +224,15 @@ int run(int argc, char** argv) {
   if (wall_clock && !(rate > 0.0))
     throw cli::UsageError("--rate must be > 0 with --clock wall (mission seconds per wall second)");
   const auto t_start = std::chrono::steady_clock::now();
-  const agent::LoadedPlan loaded = agent::load_plan(args.positional()[0]);
+  agent::LoadedPlan loaded = agent::load_plan(args.positional()[0]);
+  // Ideal bases at a fraction of the team speed, the plan as it is (its
+  // cycle period, its segments): what a team that holds only that pace
+  // delivers, to set robots' results beside (docs/robots.md).
+  if (args.has("--speed-factor")) {
+    if (robots_kind != "ideal" || over_lcm)
+      throw cli::UsageError("--speed-factor needs ideal bases in this process (not --robots or --lcm)");
+    loaded.scenario.team.speed *= args.get_double("--speed-factor", 1.0, 0.05, 1.0);
+  }
   agent::MissionParams params = agent::mission_params(loaded.scenario);
   params.cycles = args.get_int("--cycles", params.cycles, 1, 10000);
   // The protocol's tuning for robots (mission::robot_protocol), by default

@@ -55,6 +55,8 @@ WorkerRole::WorkerRole(TeamSetup& team, AgentId agent, MotionBackend& motion)
   leg_goal_.resize(g + 2);
   old_legs_.resize(g + 2);
   old_goal_.resize(g + 2);
+  leg_nominal_.resize(g + 2);
+  old_nominal_.resize(g + 2);
   policy_->reserve_all();  // no allocation in the control step after this
   if (motion.max_legs() < g + 2)
     throw Error(to_string(agent), "its motion backend takes " + std::to_string(motion.max_legs()) +
@@ -387,9 +389,8 @@ void WorkerRole::decide(double now) {
   const mission::WorkerPolicy::Decision d =
       policy_->decide(spot, now, known_.data(), known_.size(), custody_.data(), more, no_meeting_before_, facts);
   delay_used_ = collector_delay_;
-  pace_used_ = pace_;
+  pace_used_ = d.pace;
   eta_base_ = kInf;
-  command_at_ = now;
   TRACE("%.1f decide: resolved %d known %zu carrying %zu -> action %d k %zu rv %d arrive %.1f handover %.1f\n", now,
         resolved_, known_.size(), custody_.data(), static_cast<int>(d.action), d.k, d.rendezvous, d.arrive, d.handover);
 
@@ -403,6 +404,7 @@ void WorkerRole::decide(double now) {
   if (driving) {
     std::copy(legs_.begin(), legs_.begin() + static_cast<long>(old_n), old_legs_.begin());
     std::copy(leg_goal_.begin(), leg_goal_.begin() + static_cast<long>(old_n), old_goal_.begin());
+    std::copy(leg_nominal_.begin(), leg_nominal_.begin() + static_cast<long>(old_n), old_nominal_.begin());
   }
   n_legs_ = 0, legs_seen_ = 0;
   plan_is_work_ = false, ends_at_landing_ = false, ends_at_meeting_ = false, target_rv_ = -1, back_in_ = false;
@@ -452,7 +454,7 @@ void WorkerRole::decide(double now) {
         const Cell last = policy_->goal(static_cast<std::size_t>(d.tour[d.k - 1])).cell;
         if (!team_.world.covered(last)) {
           const auto back = policy_->way_back(last);
-          leg(grid.cell_center(back.first), d.at[d.k - 1] + back.second / (team_.speed * pace_), -1, true);
+          leg(grid.cell_center(back.first), d.at[d.k - 1] + back.second / (team_.speed * d.pace), -1, true);
           ends_at_landing_ = true;
           back_in_ = policy_->back_to_home();
         }
@@ -464,6 +466,12 @@ void WorkerRole::decide(double now) {
     phase_ = Phase::kReady;
     return;
   }
+  // Each leg's travel time at the team speed: its planned time at the pace
+  // this decision assumed. A leg to a pass is left out (its planned time
+  // may hold a wait for the collector).
+  for (std::size_t i = 0; i < n_legs_; ++i)
+    leg_nominal_[i] =
+        oc_worker || leg_goal_[i] >= 0 ? (legs_[i].arrive - (i == 0 ? now : legs_[i - 1].arrive)) * pace_used_ : -1.0;
   bool same = driving && n_legs_ == old_n - old_seen;
   for (std::size_t i = 0; same && i < n_legs_; ++i)
     same = legs_[i].point.x == old_legs_[old_seen + i].point.x && legs_[i].point.y == old_legs_[old_seen + i].point.y &&
@@ -475,13 +483,29 @@ void WorkerRole::decide(double now) {
     }
     std::copy(old_legs_.begin(), old_legs_.begin() + static_cast<long>(old_seen), legs_.begin());
     std::copy(old_goal_.begin(), old_goal_.begin() + static_cast<long>(old_seen), leg_goal_.begin());
+    // The legs as first planned: their travel times, and when the one
+    // under way began, stay.
+    std::copy(old_nominal_.begin(), old_nominal_.begin() + static_cast<long>(old_n), leg_nominal_.begin());
     n_legs_ = old_n, legs_seen_ = old_seen;
   } else {
+    // A new command whose first leg drives on to where the robot was
+    // driving: the same leg, begun when it began.
+    const bool goes_on = driving && old_seen < old_n && legs_[0].point.x == old_legs_[old_seen].point.x &&
+                         legs_[0].point.y == old_legs_[old_seen].point.y && leg_goal_[0] == old_goal_[old_seen];
+    if (goes_on)
+      leg_nominal_[0] = old_nominal_[old_seen];
+    else
+      leg_began_ = now;
     motion_.go(legs_.data(), n_legs_, now);
   }
   phase_ = Phase::kMoving;
   into_coverage_ = false;
   at_rv_ = -1, at_landing_ = false, at_meeting_ = false;
+}
+
+double WorkerRole::back_by(double now) const {
+  const double end = legs_[n_legs_ - 1].arrive;
+  return std::max(now, pace_used_ == pace_ ? end : now + (end - now) * pace_used_ / pace_);
 }
 
 bool WorkerRole::reaches_oc() const {
@@ -503,12 +527,13 @@ void WorkerRole::follow_progress(double now) {
   for (; legs_seen_ < done; ++legs_seen_) {
     const std::size_t i = legs_seen_;
     legs_stats_.add(motion_.arrived_at(i) - legs_[i].arrive);
-    // Its robot's pace: how long the legs took against how long they were
-    // planned to take at the team speed (recent legs weigh more).
-    const double planned = (legs_[i].arrive - (i == 0 ? command_at_ : legs_[i - 1].arrive)) * pace_used_;
-    const double took = motion_.arrived_at(i) - (i == 0 ? command_at_ : motion_.arrived_at(i - 1));
+    // Its robot's pace: how long the legs took from when they began against
+    // their travel time at the team speed (recent driving weighs more).
+    const double planned = leg_nominal_[i], took = motion_.arrived_at(i) - leg_began_;
+    leg_began_ = motion_.arrived_at(i);
     if (took > 0.5 && planned > 0.0) {
-      planned_s_ = kPaceMemory * planned_s_ + planned, took_s_ = kPaceMemory * took_s_ + took;
+      const double keep = std::exp(-took / kPaceHorizon_s);
+      planned_s_ = keep * planned_s_ + planned, took_s_ = keep * took_s_ + took;
       pace_ = std::clamp(planned_s_ / took_s_, kMinPace, kMaxPace);
     }
     if (leg_goal_[i] >= 0) measure(leg_goal_[i], motion_.arrived_at(i));
@@ -525,7 +550,7 @@ void WorkerRole::follow_progress(double now) {
       // Its robot stopped short of the coverage (within its tolerance of
       // the border): on towards the OC, until it is in.
       legs_[0] = Waypoint{team_.world.scenario.oc, now + 1.0, team_.params.protocol.place_tolerance_m};
-      leg_goal_[0] = -1, n_legs_ = 1, legs_seen_ = 0;
+      leg_goal_[0] = -1, leg_nominal_[0] = -1.0, n_legs_ = 1, legs_seen_ = 0, leg_began_ = now;
       ends_at_landing_ = false, into_coverage_ = true;
       motion_.go(legs_.data(), 1, now);
     } else {
@@ -566,7 +591,7 @@ void WorkerRole::follow_progress(double now) {
         decide_after_ = now + kRetryPlace;
         if (policy_->delivers_to_oc() && !reaches_oc() && !into_coverage_) {
           legs_[0] = Waypoint{team_.world.scenario.oc, now + 1.0, team_.params.protocol.place_tolerance_m};
-          leg_goal_[0] = -1, n_legs_ = 1, legs_seen_ = 0;
+          leg_goal_[0] = -1, leg_nominal_[0] = -1.0, n_legs_ = 1, legs_seen_ = 0, leg_began_ = now;
           ends_at_landing_ = false, into_coverage_ = true;
           motion_.go(legs_.data(), 1, now);
           return;
@@ -698,7 +723,7 @@ void WorkerRole::step(double now, const Message* const* inbox, std::size_t n, Ou
       m->state.notices = static_cast<uint16_t>(std::min<std::size_t>(custody_.notices(), 65535));
       m->state.pending = static_cast<uint16_t>(std::min<std::size_t>(known_.size(), 65535));
       m->state.measured = static_cast<int32_t>(counters_.measured);
-      m->state.back_by = phase_ == Phase::kMoving && n_legs_ > 0 ? std::max(now, legs_[n_legs_ - 1].arrive) : now;
+      m->state.back_by = phase_ == Phase::kMoving && n_legs_ > 0 ? back_by(now) : now;
     }
   };
   const double resend = team_.params.resend_after;

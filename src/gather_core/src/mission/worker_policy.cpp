@@ -420,9 +420,11 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
                                             std::size_t carried, bool more_requests, double no_meeting_before,
                                             const Facts& facts) {
   const double collector_delay = facts.collector_delay;
-  v_ = speed_ * facts.pace;
+  const double pace = tours_at_team_speed() ? 1.0 : facts.pace;
+  v_ = speed_ * pace;
   const bool carrying = carried > 0;
   Decision d;
+  d.pace = pace;
   d.tour = tour_.data();
   d.at = at_.data();
   std::size_t kmax = 0;

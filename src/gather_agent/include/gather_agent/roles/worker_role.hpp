@@ -67,6 +67,9 @@ class WorkerRole : public Role {
   bool settled(double now, bool contact);
   void settle();            // back in the coverage: it waits to hear the OC
   bool reaches_oc() const;  // in the coverage, and its radio reaches the OC from where it is
+  // [s] when its robot will be where the plan under way ends: the plan's
+  // time, stretched by its robot's pace where the plan assumed another.
+  double back_by(double now) const;
   void decide(double now);
   bool contact(double now) const;  // with its upstream, as predicted by the radio model
   double due_time() const;         // [s] when the next request should reach it
@@ -98,6 +101,12 @@ class WorkerRole : public Role {
   std::vector<int> leg_goal_;       // local goal index per leg, -1 for the pass / landing
   std::vector<Waypoint> old_legs_;  // scratch: the plan under way while deciding again
   std::vector<int> old_goal_;
+  // [s] each leg's travel time at the team speed as first planned (kept
+  // when a decision again keeps the leg; < 0: a leg whose planned time is
+  // not travel alone, left out of the pace), and when the leg under way
+  // began.
+  std::vector<double> leg_nominal_, old_nominal_;
+  double leg_began_ = 0.0;
   std::size_t n_legs_ = 0, legs_seen_ = 0;
   bool plan_is_work_ = false;
   int target_rv_ = -1, at_rv_ = -1;
@@ -114,11 +123,12 @@ class WorkerRole : public Role {
   double collector_delay_ = 0.0, delay_used_ = 0.0;
   double learned_delay_ = 0.0;  // [s] the delay the learned request came with (its deadline's shift)
   // Its robot's pace (WorkerPolicy::Facts::pace), measured over the legs it
-  // drove: planned seconds over seconds taken, each sum decaying by
-  // kPaceMemory a leg; the pace the plan under way assumed.
-  static constexpr double kPaceMemory = 0.8, kMinPace = 0.25, kMaxPace = 4.0;
+  // drove: their travel time at the team speed, as first planned, over the
+  // time they took from when each began (deciding again on the way changes
+  // neither), each sum decaying with the time driven (kPaceHorizon_s); the
+  // pace the plan under way assumed.
+  static constexpr double kPaceHorizon_s = 120.0, kMinPace = 0.25, kMaxPace = 4.0;
   double pace_ = 1.0, pace_used_ = 1.0, planned_s_ = 0.0, took_s_ = 0.0;
-  double command_at_ = 0.0;      // [s] when the plan under way was commanded
   double eta_base_ = 0.0;        // [s] its robot's first arrival estimate for the plan under way (+inf: none yet)
   double next_replan_ = 0.0;     // [s] no decision again for drift before then
   bool replan_driving_ = false;  // deciding again while its robot drives (the command may be kept)

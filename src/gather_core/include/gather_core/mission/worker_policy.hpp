@@ -126,9 +126,9 @@ struct WorkerFacts {
   // [s] how far behind its timetable the worker believes its collector to
   // be: its passes come that much later.
   double collector_delay = 0.0;
-  // Its robot's pace: the plan's times over the times its robot took on
-  // the way so far (1: as planned); travel times are planned at the team
-  // speed times this.
+  // Its robot's pace: its speed over the team speed, as measured on the
+  // way so far (1: as planned); travel times are planned at the team speed
+  // times this (WorkerPolicy::Decision::pace).
   double pace = 1.0;
 };
 
@@ -154,6 +154,7 @@ class WorkerPolicy {
     double link_until = 0.0;  // [s] when that pass's link window ends (the worker gives up after it)
     double pass = 0.0;        // [s] when the collector passes the rendezvous then
     Cell landing;             // kBackToCoverage: the coverage cell; kGoToMeeting: the meeting point's cell
+    double pace = 1.0;        // the robot's pace the times assume (Facts::pace, or 1: tours_at_team_speed)
   };
 
   // Worker `agent` of `plan` (not a collector). `route`: its collector's
@@ -242,6 +243,13 @@ class WorkerPolicy {
   std::pair<Cell, double> way_back(Cell from) const;
   // On robots: the way back ends at the worker's home (see way_back).
   bool back_to_home() const { return !home_to_border_.empty(); }
+  // On robots a worker of the OC plans its times at the team speed, not at
+  // its robot's pace: a goal its robot may still reach in time is worth the
+  // drive (reached late, it is cut on the way; planned at the pace, goals
+  // it would have reached were left out: docs/robots.md). It tells the OC
+  // when it will be back as it sets off, at its robot's pace. A worker of a
+  // collector plans at the pace: it has to be at a pass on time.
+  bool tours_at_team_speed() const { return delivers_to_oc() && back_to_home(); }
 
   // Distances [m] between the current request's goals (local indices), and
   // from goal i to rendezvous r.
