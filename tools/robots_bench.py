@@ -7,7 +7,10 @@ cycles each (default 5 x 10): `gather run --robots mrpt`
 and `gather run --protocol robots` (ideal bases, the same protocol), then
 per configuration:
 
-- delivered goals on robots and on ideal bases, and their ratio;
+- delivered goals on robots and on ideal bases, and their ratio; and on
+  ideal bases at 0.9 and 0.8 times the team speed (`--speed-factor`), the
+  same plan: what a team that holds only that pace delivers (a lone MRPT
+  robot holds about 0.8-0.9 of it: docs/robots.md);
 - both refresh metrics (latency: delivered - requested; interval: per area,
   between two deliveries), robots / ideal;
 - what the robots did: waypoints reached, the share reached late (more than
@@ -40,6 +43,7 @@ SCENARIOS = [("office", os.path.join(REPO, "maps", "office.scenario.yaml"), ("pa
              ("warehouse", os.path.join(REPO, "maps", "warehouse.scenario.yaml"), ("best",)),
              ("campus", os.path.join(REPO, "maps", "campus.scenario.yaml"), ("best",)),
              ("cave", os.path.join(REPO, "maps", "cave.scenario.yaml"), ("best",))]
+SLOW = (0.9, 0.8)  # ideal bases at these fractions of the team speed
 FINAL = {"delivered", "expired", "dropped_overflow", "lost_with_agent", "unreachable"}
 
 
@@ -90,7 +94,7 @@ def main():
             method = re.search(r"^method: (\w+)", open(os.path.join(plan, "plan.yaml")).read(), re.M).group(1)
             nc = int(re.search(r"^collectors: (\d+)", open(os.path.join(plan, "plan.yaml")).read(), re.M).group(1))
             label = "%s %s (%s:%d)" % (name, config, method, nc)
-            ideal, robots, speed, agents, lost, twice = [], [], [], [], 0, 0
+            ideal, robots, speed, agents, lost, twice, slow = [], [], [], [], 0, 0, {}
             for seed in range(1, a.seeds + 1):
                 i_out = os.path.join(a.out, "%s_%s_ideal_%d" % (name, config.replace(":", ""), seed))
                 r_out = os.path.join(a.out, "%s_%s_mrpt_%d" % (name, config.replace(":", ""), seed))
@@ -98,6 +102,11 @@ def main():
                 if not (a.reuse and os.path.exists(os.path.join(i_out, "summary.csv"))):
                     run([GATHER, "run", plan, "--out", i_out, "--cycles", str(a.cycles), "--seed", str(seed),
                          "--protocol", "robots"])
+                for f in SLOW:
+                    f_out = "%s_x%02d" % (i_out, round(100 * f))
+                    if not (a.reuse and os.path.exists(os.path.join(f_out, "summary.csv"))):
+                        run([GATHER, "run", plan, "--out", f_out, "--cycles", str(a.cycles), "--seed", str(seed),
+                             "--protocol", "robots", "--speed-factor", str(f)])
                 if not (a.reuse and os.path.exists(timing)):
                     try:
                         out, wall = run([GATHER, "run", plan, "--out", r_out, "--cycles", str(a.cycles), "--seed",
@@ -111,6 +120,8 @@ def main():
                         f.write("%f %f\n" % (float(m.group(2)) / (float(m.group(1)) / 1000.0), wall))
                 x, wall = (float(v) for v in open(timing).read().split())
                 ideal.append(summary(i_out))
+                for f in SLOW:
+                    slow.setdefault(f, []).append(summary("%s_x%02d" % (i_out, round(100 * f))))
                 robots.append(summary(r_out))
                 speed.append(x)
                 agents += rows(r_out, "agents.csv")
@@ -133,6 +144,7 @@ def main():
             lines.append({
                 "config": label + ("" if len(robots) == a.seeds else " [%d of %d seeds]" % (len(robots), a.seeds)),
                 "ideal": mean(ideal, "delivered"), "robots": mean(robots, "delivered"),
+                "slow": " / ".join("%.1f" % mean(slow[f], "delivered") for f in SLOW),
                 "ratio": mean(robots, "delivered") / max(1e-9, mean(ideal, "delivered")),
                 "lat": mean(robots, "refresh_mean_s") / max(1e-9, mean(ideal, "refresh_mean_s")),
                 "int": mean(robots, "interval_mean_s") / max(1e-9, mean(ideal, "interval_mean_s")),
@@ -145,21 +157,24 @@ def main():
                 "bad": lost + twice,
                 "speed": statistics.median(speed), "speed_min": min(speed),
             })
-    head = ("| configuration | delivered, ideal | delivered, robots | robots / ideal | latency r/i | interval r/i | "
+    head = ("| configuration | delivered, ideal | delivered, robots | robots / ideal | ideal at %s x speed | "
+            % " / ".join("%.1f" % f for f in SLOW) + "latency r/i | interval r/i | "
             "waypoints (late %) | late median / max [s] | collector loops: late median / max [s] | nav failures | "
             "unreachable | lost with an agent | contacts | not accounted | x real time (min) |")
     table = [head, "|" + "---|" * (head.count("|") - 1)]
     for l in lines:
-        table.append("| %s | %.1f | %.1f | **%.2f** | %.2f | %.2f | %d (%.0f%%) | %.1f / %.1f | %d: %.1f / %.1f | %d | "
-                     "%.1f | %.1f | %.1f | %d | %.1f (%.1f) |"
-                     % (l["config"], l["ideal"], l["robots"], l["ratio"], l["lat"], l["int"], l["legs"], l["late"],
+        table.append("| %s | %.1f | %.1f | **%.2f** | %s | %.2f | %.2f | %d (%.0f%%) | %.1f / %.1f | %d: %.1f / %.1f | "
+                     "%d | %.1f | %.1f | %.1f | %d | %.1f (%.1f) |"
+                     % (l["config"], l["ideal"], l["robots"], l["ratio"], l["slow"], l["lat"], l["int"], l["legs"],
+                        l["late"],
                         l["late_med"], l["late_max"], l["loops"], l["loop_med"], l["loop_max"], l["fail"],
                         l["unreach"], l["lost"], l["contacts"], l["bad"], l["speed"], l["speed_min"]))
     doc = ["# The team on MRPT robots beside ideal bases",
            "",
            "Made by `make bench-robots` (`tools/robots_bench.py --seeds %d --cycles %d`) on %s, this machine: %d seeds "
            "x %d cycles a configuration; delivered goals are means per run, the metrics' ratios robots / ideal "
-           "(ideal bases run the robots' protocol, `--protocol robots`); waypoints and failures summed over the "
+           "(ideal bases run the robots' protocol, `--protocol robots`; at 0.9 / 0.8 x speed: ideal bases at that "
+           "fraction of the team speed, the same plan, `--speed-factor`); waypoints and failures summed over the "
            "runs, contacts per run. `not accounted`: goals not in exactly one final state, or delivered twice "
            "(must be 0). `x real time`: mission seconds per wall second of the robot runs (20 robots, the agents "
            "in one process, gather_world beside them), median and slowest." % (
