@@ -33,8 +33,8 @@ double number(const char* s, const char* what) {
   char* end = nullptr;
   const double v = std::strtod(s, &end);
   if (*s == '\0' || *end != '\0' || !std::isfinite(v))
-    throw gather::Error("gather_world_pace", std::string(what) + " must be a finite number, got '" +
-                                                 std::string(s).substr(0, 40) + "'");
+    throw gather::Error("gather_world_pace",
+                        std::string(what) + " must be a finite number, got '" + std::string(s).substr(0, 40) + "'");
   return v;
 }
 
@@ -74,8 +74,8 @@ int main(int argc, char** argv) {
     const world::WorldParams params = world::load_world_params(config);
     for (std::size_t j = 0; j + 1 < xy.size(); j += 2)
       if (!s.grid.is_free(s.grid.world_to_cell(Point2{xy[j], xy[j + 1]})))
-        throw Error("gather_world_pace", "point " + point_text(Point2{xy[j], xy[j + 1]}) +
-                                             " is not on the free space of " + s.map_path);
+        throw Error("gather_world_pace",
+                    "point " + point_text(Point2{xy[j], xy[j + 1]}) + " is not on the free space of " + s.map_path);
     world::MrptWorld w(s.grid, {s.oc}, s.team.speed, s.team.radius, params);
     const double tolerance = agent::RobotBaseParams{}.tolerance_m;
     std::vector<agent::RobotPose> poses;
@@ -83,8 +83,8 @@ int main(int argc, char** argv) {
     Point2 at = s.oc;
     int64_t tick = 0;
     double planned_sum = 0.0, took_sum = 0.0;
-    std::printf("%-22s %9s %9s %9s %6s %9s %8s\n", "leg to [m]", "way [m]", "plan [s]", "took [s]", "pace",
-                "drove [m]", "stood [s]");
+    std::printf("%-22s %9s %9s %9s %6s %9s %8s\n", "leg to [m]", "way [m]", "plan [s]", "took [s]", "pace", "drove [m]",
+                "stood [s]");
     for (std::size_t j = 0; j + 1 < xy.size(); j += 2) {
       const Point2 to{xy[j], xy[j + 1]};
       const Cell c = s.grid.world_to_cell(to);
