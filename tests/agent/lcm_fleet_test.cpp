@@ -5,6 +5,8 @@
 // trusted and never a crash (a mutation fuzz of valid encodings included).
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include <gather_lcm/ack_t.hpp>
 #include <gather_lcm/agent_state_t.hpp>
 #include <gather_lcm/data_t.hpp>
@@ -387,6 +389,32 @@ TEST(LcmFleet, TheRepliesUrlIsTheRadiosPortPlusOne) {
   EXPECT_EQ(LcmFleet::reply_url_for("udpm://239.1.2.3:9000"), "udpm://239.1.2.3:9001");
   EXPECT_EQ(LcmFleet::reply_url_for("udpm://239.1.2.3"), "udpm://239.1.2.3:7668");
   EXPECT_EQ(LcmFleet::reply_url_for("memq://"), "memq://");
+}
+
+// An agent that heard nothing from the OC says why it may be: messages that
+// failed their check (another key), messages it could not read (another
+// version), ttl=0 (nothing leaves the computer), or else the OC or the route.
+TEST(LcmFleet, AnAgentThatHearsNothingSaysTheLikelyCause) {
+  const AuthCounters none;
+  const TransportCounters clean;
+  AuthCounters bad_mac;
+  bad_mac.bad_mac = 3;
+  TransportCounters old;
+  old.wrong_version = 2;
+  const std::string host = kHostFleetUrl, robots = kRobotFleetUrl;
+  EXPECT_NE(silence_cause(robots, bad_mac, clean).find("dropped 3 fleet messages"), std::string::npos);
+  EXPECT_NE(silence_cause(robots, bad_mac, clean).find("fleet key"), std::string::npos);
+  EXPECT_NE(silence_cause(robots, none, old).find("could not read 2"), std::string::npos);
+  EXPECT_NE(silence_cause(host, none, clean).find("ttl=0 keeps LCM multicast on this computer"), std::string::npos);
+  EXPECT_NE(silence_cause(host, none, clean).find(robots), std::string::npos);  // what to use instead
+  EXPECT_NE(silence_cause(robots, none, clean).find("does multicast reach this computer"), std::string::npos);
+  EXPECT_EQ(silence_cause("memq://", none, clean), "is the OC running on this URL?");
+  // The URL: the one given, else LCM_DEFAULT_URL, else the fallback.
+  EXPECT_EQ(effective_url("memq://", kRobotFleetUrl), "memq://");
+  if (!std::getenv("LCM_DEFAULT_URL")) {
+    EXPECT_EQ(effective_url("", kRobotFleetUrl), robots);
+    EXPECT_EQ(effective_url(""), host);
+  }
 }
 
 }  // namespace

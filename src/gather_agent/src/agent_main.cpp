@@ -34,15 +34,19 @@ int main(int argc, char** argv) {
     std::optional<gather::agent::FleetKey> key =
         gather::agent::fleet_key_from_options(opt.key_file, opt.insecure, "gather_agent " + std::to_string(opt.id));
     gather::agent::LoadedPlan plan = gather::agent::load_plan(opt.plan);
+    // On a robot (--motion lcm) the fleet is a radio network: its default
+    // URL reaches the other robots and the OC (ttl=1); a simulation's stays
+    // on its host.
+    const std::string url = gather::agent::effective_url(
+        opt.lcm_url, opt.motion == "lcm" ? gather::agent::kRobotFleetUrl : gather::agent::kHostFleetUrl);
     gather::agent::LcmFleet fleet(
-        opt.lcm_url, opt.reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(opt.lcm_url) : opt.reply_url, false,
-        key);
+        url, opt.reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(url) : opt.reply_url, false, key);
     std::unique_ptr<gather::agent::LcmRobotLink> robot;
     gather::agent::RobotBaseParams robot_params;
     robot_params.silence_s = opt.robot_silence_s;
     robot_params.tolerance_m = opt.tolerance_m;
     // On the fleet's URL, the robot interface shares its LCM instance.
-    if (opt.motion == "lcm" && (opt.robot_url.empty() || opt.robot_url == opt.lcm_url))
+    if (opt.motion == "lcm" && (opt.robot_url.empty() || opt.robot_url == url))
       robot = std::make_unique<gather::agent::LcmRobotLink>(
           fleet.radio_lcm(), gather::agent::LcmRobotLink::Side::kAgent, std::vector<int>{opt.id}, key);
     else if (opt.motion == "lcm")
@@ -50,8 +54,8 @@ int main(int argc, char** argv) {
                                                             std::vector<int>{opt.id}, key);
     gather::agent::LockstepAgent agent(plan, opt.id, fleet, robot.get(), robot_params);
     agent.set_journal(opt.journal, opt.rejoin);
-    std::printf("gather_agent %d: plan %s (%s, %d collectors), waiting for the OC\n", opt.id, opt.plan.c_str(),
-                plan.plan.file.method.c_str(), plan.plan.file.collectors);
+    std::printf("gather_agent %d: plan %s (%s, %d collectors), waiting for the OC on %s\n", opt.id, opt.plan.c_str(),
+                plan.plan.file.method.c_str(), plan.plan.file.collectors, url.c_str());
     std::fflush(stdout);
     std::string why;
     gather::agent::LockstepAgent::End end;
@@ -71,7 +75,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "gather_agent %d: %s\n", opt.id, why.c_str());
         return 2;
       case gather::agent::LockstepAgent::End::kSilent:
-        std::fprintf(stderr, "gather_agent %d: %s\n", opt.id, why.c_str());
+        std::fprintf(stderr, "gather_agent %d: %s on %s: %s\n", opt.id, why.c_str(), url.c_str(),
+                     gather::agent::silence_cause(url, fleet.rejected(), fleet.refused()).c_str());
         return 1;
     }
   } catch (const std::exception& e) {

@@ -36,6 +36,7 @@
 #include "gather_agent/runner/pipe_world.hpp"
 #include "gather_agent/runner/run_files.hpp"
 #include "gather_agent/runner/team_runner.hpp"
+#include "gather_agent/transport/lcm_fleet.hpp"
 #include "gather_core/error.hpp"
 #include "gather_core/mission/mission_csv.hpp"
 #include "gather_core/mission/mission_plan.hpp"
@@ -191,7 +192,7 @@ int run(int argc, char** argv) {
     const char* netns = std::getenv("GATHER_NETNS");
     if (!netns || std::string(netns) != "1")
       throw cli::UsageError("--lcm sends UDP multicast: run it inside tools/netns-run, or give --lcm-url");
-    lcm_url = "udpm://239.255.76.67:7667?ttl=0";
+    lcm_url = agent::kHostFleetUrl;
   }
   const std::string robots_kind = args.get("--robots", "ideal");
   if (robots_kind != "ideal" && robots_kind != "mrpt" && robots_kind != "external")

@@ -128,6 +128,9 @@ int main(int argc, char** argv) {
   if (world_config == "none") world_config.clear();
   world_config = world_config.empty() ? "" : gather::resolve_launch_path(world_config);
   if (lcm_url == "default") lcm_url.clear();  // mission.launch's "not given"
+  // The URL the OC opens, given to every process it starts (an agent with
+  // --motion lcm would take the robots' default otherwise).
+  lcm_url = gather::agent::effective_url(lcm_url);
   if (agent_bin == "auto") agent_bin.clear();
   results_dir = gather::resolve_launch_path(results_dir);
   const std::string bin = gather::find_agent_binary(agent_bin);

@@ -93,10 +93,31 @@ void clock_handler(const lcm_recv_buf_t* rbuf, const char* channel, void* user) 
 
 }  // namespace
 
+std::string effective_url(const std::string& url, const char* fallback) {
+  if (!url.empty()) return url;
+  const char* env = std::getenv("LCM_DEFAULT_URL");
+  return env && *env ? env : fallback;
+}
+
+std::string silence_cause(const std::string& url, const AuthCounters& rejected, const TransportCounters& refused) {
+  if (rejected.total() > 0)
+    return "it dropped " + std::to_string(rejected.total()) + " fleet messages that failed their check (" +
+           describe(rejected) + "): does it hold the OC's fleet key?";
+  if (refused.total() > 0)
+    return "it could not read " + std::to_string(refused.total()) +
+           " fleet messages (another schema version, or out of range): is the OC the same version of gather?";
+  if (url.compare(0, 7, "udpm://") == 0 && url.find("ttl=0") != std::string::npos)
+    return "ttl=0 keeps LCM multicast on this computer: with the OC on another one use ttl=1 (" +
+           std::string(kRobotFleetUrl) + ", docs/robots.md)";
+  if (url.compare(0, 7, "udpm://") == 0)
+    return "is the OC running on this URL, and does multicast reach this computer (a route for the group to the "
+           "radio's interface, docs/robots.md)?";
+  return "is the OC running on this URL?";
+}
+
 std::string LcmFleet::reply_url_for(const std::string& url) {
   const std::string scheme = "udpm://";
-  std::string u = url.empty() ? (std::getenv("LCM_DEFAULT_URL") ? std::getenv("LCM_DEFAULT_URL") : "") : url;
-  if (u.empty()) u = "udpm://239.255.76.67:7667?ttl=0";
+  const std::string u = effective_url(url);
   if (u.compare(0, scheme.size(), scheme) != 0) return u;
   const std::size_t q = u.find('?', scheme.size());
   const std::string hostport = u.substr(scheme.size(), q == std::string::npos ? std::string::npos : q - scheme.size());

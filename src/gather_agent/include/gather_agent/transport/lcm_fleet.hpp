@@ -98,6 +98,16 @@ struct Reply {
 };
 
 // Every counter of what the transport refused.
+// The fleet's LCM URL when none is given (nor LCM_DEFAULT_URL): on one
+// host, a simulation (ttl=0: no packet leaves the host), and on robots
+// (gather_agent --motion lcm: ttl=1, a packet crosses one link of the
+// radio network to the other robots and the OC, and no router).
+inline constexpr const char* kHostFleetUrl = "udpm://239.255.76.67:7667?ttl=0";
+inline constexpr const char* kRobotFleetUrl = "udpm://239.255.76.67:7667?ttl=1";
+
+// `url`, or else LCM_DEFAULT_URL, or else `fallback`: the URL LCM opens.
+std::string effective_url(const std::string& url, const char* fallback = kHostFleetUrl);
+
 struct TransportCounters {
   int64_t undecodable = 0;    // does not decode as its channel's type
   int64_t wrong_version = 0;  // another schema version
@@ -105,6 +115,13 @@ struct TransportCounters {
   int64_t queue_full = 0;     // arrived while the receive queue was full
   int64_t total() const { return undecodable + wrong_version + out_of_range + queue_full; }
 };
+
+// Why an agent may have heard nothing from the OC on `url` (as
+// effective_url), in one clause for its last line: fleet messages that
+// came but were dropped (`rejected`: another fleet key?; `refused`:
+// another version?), ttl=0 on udpm (no packet leaves the host), or neither
+// (the OC not running there, or multicast not routed to this computer).
+std::string silence_cause(const std::string& url, const AuthCounters& rejected, const TransportCounters& refused);
 
 class LcmFleet {
  public:
