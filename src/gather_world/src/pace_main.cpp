@@ -77,6 +77,7 @@ int main(int argc, char** argv) {
         throw Error("gather_world_pace",
                     "point " + point_text(Point2{xy[j], xy[j + 1]}) + " is not on the free space of " + s.map_path);
     world::MrptWorld w(s.grid, {s.oc}, s.team.speed, s.team.radius, params);
+    fmm::FastMarching fm(s.grid);
     const double tolerance = agent::RobotBaseParams{}.tolerance_m;
     std::vector<agent::RobotPose> poses;
     std::vector<agent::NavStatus> statuses;
@@ -88,7 +89,6 @@ int main(int argc, char** argv) {
     for (std::size_t j = 0; j + 1 < xy.size(); j += 2) {
       const Point2 to{xy[j], xy[j + 1]};
       const Cell c = s.grid.world_to_cell(to);
-      fmm::FastMarching fm(s.grid);
       fm.solve({fmm::Source::at_point(at)});
       const double way = fm.time(c);
       if (!(way < 1e18))
@@ -99,8 +99,7 @@ int main(int argc, char** argv) {
       const double t0 = static_cast<double>(tick) * kTick;
       double drove = 0.0, stood = 0.0, t = t0;
       agent::NavState state = agent::NavState::kActive;
-      for (bool first = true; state == agent::NavState::kActive || state == agent::NavState::kBlocked ||
-                              (first && state == agent::NavState::kIdle);
+      for (bool first = true; state == agent::NavState::kActive || state == agent::NavState::kBlocked;
            first = false, ++tick) {
         t = static_cast<double>(tick) * kTick;
         if (t - t0 > kLongest) break;

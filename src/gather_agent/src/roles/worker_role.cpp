@@ -466,12 +466,6 @@ void WorkerRole::decide(double now) {
     phase_ = Phase::kReady;
     return;
   }
-  // Each leg's travel time at the team speed: its planned time at the pace
-  // this decision assumed. A leg to a pass is left out (its planned time
-  // may hold a wait for the collector).
-  for (std::size_t i = 0; i < n_legs_; ++i)
-    leg_nominal_[i] =
-        oc_worker || leg_goal_[i] >= 0 ? (legs_[i].arrive - (i == 0 ? now : legs_[i - 1].arrive)) * pace_used_ : -1.0;
   bool same = driving && n_legs_ == old_n - old_seen;
   for (std::size_t i = 0; same && i < n_legs_; ++i)
     same = legs_[i].point.x == old_legs_[old_seen + i].point.x && legs_[i].point.y == old_legs_[old_seen + i].point.y &&
@@ -488,6 +482,12 @@ void WorkerRole::decide(double now) {
     std::copy(old_nominal_.begin(), old_nominal_.begin() + static_cast<long>(old_n), leg_nominal_.begin());
     n_legs_ = old_n, legs_seen_ = old_seen;
   } else {
+    // Each leg's travel time at the team speed: its planned time at the
+    // pace this decision assumed. A leg to a pass is left out (its planned
+    // time may hold a wait for the collector: no_meeting_before).
+    for (std::size_t i = 0; i < n_legs_; ++i)
+      leg_nominal_[i] =
+          oc_worker || leg_goal_[i] >= 0 ? (legs_[i].arrive - (i == 0 ? now : legs_[i - 1].arrive)) * pace_used_ : -1.0;
     // A new command whose first leg drives on to where the robot was
     // driving: the same leg, begun when it began.
     const bool goes_on = driving && old_seen < old_n && legs_[0].point.x == old_legs_[old_seen].point.x &&

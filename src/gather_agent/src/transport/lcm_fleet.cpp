@@ -106,13 +106,12 @@ std::string silence_cause(const std::string& url, const AuthCounters& rejected, 
   if (refused.total() > 0)
     return "it could not read " + std::to_string(refused.total()) +
            " fleet messages (another schema version, or out of range): is the OC the same version of gather?";
-  if (url.compare(0, 7, "udpm://") == 0 && url.find("ttl=0") != std::string::npos)
+  if (url.compare(0, 7, "udpm://") != 0) return "is the OC running on this URL?";
+  if (url.find("ttl=0") != std::string::npos)
     return "ttl=0 keeps LCM multicast on this computer: with the OC on another one use ttl=1 (" +
            std::string(kRobotFleetUrl) + ", docs/robots.md)";
-  if (url.compare(0, 7, "udpm://") == 0)
-    return "is the OC running on this URL, and does multicast reach this computer (a route for the group to the "
-           "radio's interface, docs/robots.md)?";
-  return "is the OC running on this URL?";
+  return "is the OC running on this URL, and does multicast reach this computer (a route for the group to the "
+         "radio's interface, docs/robots.md)?";
 }
 
 std::string LcmFleet::reply_url_for(const std::string& url) {

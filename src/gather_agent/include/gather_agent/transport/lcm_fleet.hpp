@@ -97,7 +97,6 @@ struct Reply {
   std::vector<Point2> path;
 };
 
-// Every counter of what the transport refused.
 // The fleet's LCM URL when none is given (nor LCM_DEFAULT_URL): on one
 // host, a simulation (ttl=0: no packet leaves the host), and on robots
 // (gather_agent --motion lcm: ttl=1, a packet crosses one link of the
@@ -108,6 +107,7 @@ inline constexpr const char* kRobotFleetUrl = "udpm://239.255.76.67:7667?ttl=1";
 // `url`, or else LCM_DEFAULT_URL, or else `fallback`: the URL LCM opens.
 std::string effective_url(const std::string& url, const char* fallback = kHostFleetUrl);
 
+// Every counter of what the transport refused.
 struct TransportCounters {
   int64_t undecodable = 0;    // does not decode as its channel's type
   int64_t wrong_version = 0;  // another schema version
