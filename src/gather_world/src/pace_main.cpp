@@ -116,8 +116,10 @@ int main(int argc, char** argv) {
       const char* end = state == agent::NavState::kReached  ? ""
                         : state == agent::NavState::kFailed ? "  FAILED"
                                                             : "  not there";
-      std::printf("(%8.2f, %8.2f)  %9.1f %9.1f %9.1f %6.2f %9.1f %8.1f%s\n", to.x, to.y, way, planned, took,
-                  planned / took, drove, stood, end);
+      char pace[16] = "-";  // a leg over in its first step (the point where the robot stands) has none
+      if (took > 0.0) std::snprintf(pace, sizeof pace, "%.2f", planned / took);
+      std::printf("(%8.2f, %8.2f)  %9.1f %9.1f %9.1f %6s %9.1f %8.1f%s\n", to.x, to.y, way, planned, took, pace, drove,
+                  stood, end);
       if (state == agent::NavState::kReached) planned_sum += planned, took_sum += took;
     }
     if (took_sum > 0.0)
