@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "gather_agent/agent_options.hpp"
 #include "gather_agent/transport/fleet_auth.hpp"
 #include "gather_core/plan/plan_export.hpp"
 
@@ -127,6 +128,23 @@ void expect_bad_input(const std::vector<std::string>& args, const std::string& n
   EXPECT_NE(err.find(needle), std::string::npos) << err;
 }
 
+// How long an agent waits for a silent OC: a simulation's process 30 s, an
+// agent on a robot (the radio may be gone for minutes) kRobotSilence_s; an
+// explicit --silence wins.
+TEST(AgentOptions, OnARobotTheAgentWaitsLongerForTheOc) {
+  using gather::kRobotSilence_s;
+  auto parse = [](std::vector<std::string> args) {
+    args.insert(args.begin(), "gather_agent");
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    return gather::parse_agent_options(static_cast<int>(argv.size()), argv.data());
+  };
+  EXPECT_EQ(parse({"--id", "1", "--plan", "p"}).silence_s, 30.0);
+  EXPECT_EQ(parse({"--id", "1", "--plan", "p", "--motion", "lcm"}).silence_s, kRobotSilence_s);
+  EXPECT_EQ(parse({"--id", "1", "--plan", "p", "--silence", "5", "--motion", "lcm"}).silence_s, 5.0);
+  EXPECT_EQ(parse({"--id", "1", "--plan", "p", "--clock-skew", "-4.5"}).clock_skew_s, -4.5);
+}
+
 TEST(AgentProcess, BadInputGivesOneLineAndStatus2) {
   const std::string bin = GATHER_AGENT_BIN, plan = plan_dir(), key = key_file();
   expect_bad_input({bin, "--plan", plan}, "--id is required");
@@ -142,6 +160,8 @@ TEST(AgentProcess, BadInputGivesOneLineAndStatus2) {
                    "--motion must be sim (an ideal base) or lcm");
   expect_bad_input({bin, "--id", "0", "--motion", "wheels", "--plan", plan}, "--motion must be sim");
   expect_bad_input({bin, "--id", "0", "--robot-url", "memq://", "--plan", plan}, "--robot-url needs --motion lcm");
+  expect_bad_input({bin, "--id", "0", "--clock-skew", "4000", "--plan", plan}, "--clock-skew must be in");
+  expect_bad_input({bin, "--id", "0", "--clock-skew", "nan", "--plan", plan}, "--clock-skew expects a number");
   // Signed fleet traffic: a key or an explicit --insecure, never both; a key
   // others can read is refused.
   expect_bad_input({bin, "--id", "0", "--plan", plan}, "--key-file");

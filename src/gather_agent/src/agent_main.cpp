@@ -8,6 +8,7 @@
 // failure (the OC went silent).
 #include <malloc.h>
 
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <memory>
@@ -41,6 +42,9 @@ int main(int argc, char** argv) {
         opt.lcm_url, opt.motion == "lcm" ? gather::agent::kRobotFleetUrl : gather::agent::kHostFleetUrl);
     gather::agent::LcmFleet fleet(
         url, opt.reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(url) : opt.reply_url, false, key);
+    // Its host's clock may be off: the fleet's time is the OC's
+    // (transport/fleet_clock.hpp); --clock-skew puts this one off on purpose.
+    fleet.time_from_oc(static_cast<int16_t>(opt.id), static_cast<int64_t>(std::llround(opt.clock_skew_s * 1e6)));
     std::unique_ptr<gather::agent::LcmRobotLink> robot;
     gather::agent::RobotBaseParams robot_params;
     robot_params.silence_s = opt.robot_silence_s;

@@ -26,12 +26,12 @@ double parse_number(const std::string& flag, const char* s) {
 const char* agent_usage() {
   return "usage: gather_agent --id K --plan PLAN_DIR (--key-file F | --insecure) [--lcm-url URL] [--reply-url URL] "
          "[--motion sim|lcm [--robot-url URL] [--robot-silence S] [--waypoint-tolerance M]] [--silence S] "
-         "[--journal DIR [--rejoin]]";
+         "[--journal DIR [--rejoin]] [--clock-skew S]";
 }
 
 AgentOptions parse_agent_options(int argc, char** argv) {
   AgentOptions o;
-  bool have_id = false;
+  bool have_id = false, silence_given = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&](const std::string& flag) -> const char* {
@@ -79,13 +79,21 @@ AgentOptions parse_agent_options(int argc, char** argv) {
       o.insecure = true;
     } else if (a == "--rejoin") {
       o.rejoin = true;
+    } else if (a == "--clock-skew") {
+      o.clock_skew_s = parse_number(a, value(a));
+      if (!(std::abs(o.clock_skew_s) <= 3600)) throw Error(kWhere, "--clock-skew must be in [-3600, 3600] s");
     } else if (a == "--silence") {
       o.silence_s = parse_number(a, value(a));
+      silence_given = true;
       if (!(o.silence_s > 0 && o.silence_s <= 86400)) throw Error(kWhere, "--silence must be in (0, 86400] s");
     } else {
       throw Error(kWhere, "unexpected argument '" + a.substr(0, 60) + "' (" + agent_usage() + ")");
     }
   }
+  // On a robot the radio may be gone for minutes (out of range, a
+  // partition): the agent keeps what it carries and waits far longer than a
+  // simulation's process would.
+  if (!silence_given && o.motion == "lcm") o.silence_s = kRobotSilence_s;
   if (!have_id) throw Error(kWhere, std::string("--id is required (") + agent_usage() + ")");
   if (o.plan.empty()) throw Error(kWhere, std::string("--plan is required (") + agent_usage() + ")");
   if (o.rejoin && o.journal.empty()) throw Error(kWhere, "--rejoin needs --journal (the journal it replays)");

@@ -290,9 +290,17 @@ LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, 
   auto tick_since = Clock::now();
   for (;;) {
     if (signal.wait_until(Clock::now())) return End::kStopped;
+    fleet_.keep_time();
     fleet_.handle(have_tick ? 20 : wall_start_us_ > 0 ? wall_wait_ms_ : 100, robot_ ? robot_->fileno() : -1);
     absorb(fleet_, held_, link_);
     absorb_robot();
+    if (fleet_.clock().synced() && !offset_said_) {
+      offset_said_ = true;
+      std::printf("gather_agent %d: clock offset to the OC %+.3f s (round trip %.1f ms)\n", id_,
+                  static_cast<double>(fleet_.clock().offset_us()) * 1e-6,
+                  static_cast<double>(fleet_.clock().round_trip_us()) * 1e-3);
+      std::fflush(stdout);
+    }
     if (!fleet_.plans().empty()) {
       heard = Clock::now();
       if (!team_ && !take_plan(why)) {
@@ -331,7 +339,8 @@ LockstepAgent::End LockstepAgent::run(ShutdownSignal& signal, double silence_s, 
     fleet_.ticks().clear();
     if (clock_ == ClockMode::kWall && wall_start_us_ > 0) {
       // Mission time from the wall clock; a step each tick_s_ / rate_ of wall time.
-      const double t = static_cast<double>(realtime_us() - wall_start_us_) * 1e-6 * rate_;
+      // The fleet's time: this host's clock corrected by its offset to the OC.
+      const double t = static_cast<double>(fleet_.clock().now_us() - wall_start_us_) * 1e-6 * rate_;
       if (t >= wall_next_) {
         step_wall(std::max(0.0, t));
         wall_next_ = std::max(wall_next_ + tick_s_, t);

@@ -172,7 +172,7 @@ void LockstepMaster::start(ShutdownSignal* signal) {
   collect_replies(-1, ReplyStatus::kReady, options_.ready_timeout_s, signal);
   started_ = Clock::now();
   if (options_.clock == ClockMode::kWall) {
-    start_us_ = realtime_us() + 200000;  // every agent hears the start before it comes
+    start_us_ = fleet_.clock().now_us() + 200000;  // every agent hears the start before it comes
     fleet_.publish(clock_tick(0, 0.0, start_us_));
     clock_said_ = Clock::now();
   }
@@ -182,7 +182,7 @@ bool LockstepMaster::tick_wall(ShutdownSignal* signal) {
   // Wait for the next step's wall time, taking messages meanwhile.
   const double target = tick_ * options_.tick;
   for (;;) {
-    const double t = static_cast<double>(realtime_us() - start_us_) * 1e-6 * options_.rate;
+    const double t = static_cast<double>(fleet_.clock().now_us() - start_us_) * 1e-6 * options_.rate;
     if (t >= target) break;
     if (signalled(signal)) throw Error("lockstep", "stopped by a signal at t = " + std::to_string(t) + " s");
     const auto w0 = Clock::now();
@@ -196,7 +196,7 @@ bool LockstepMaster::tick_wall(ShutdownSignal* signal) {
   }
   fleet_.handle(0);
   absorb(fleet_, held_, link_);
-  const double t = static_cast<double>(realtime_us() - start_us_) * 1e-6 * options_.rate;
+  const double t = static_cast<double>(fleet_.clock().now_us() - start_us_) * 1e-6 * options_.rate;
   wall_now_ = t;
   const auto o0 = Clock::now();
   Role& oc_role = *oc_.role;

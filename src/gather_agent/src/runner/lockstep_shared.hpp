@@ -20,13 +20,6 @@ constexpr std::size_t kOutbox = 64;  // messages a role sends in one tick
 
 inline double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Wall time [us since the epoch]: what every process of a fleet on one
-// host (or on NTP-synchronised robots) agrees on.
-inline int64_t realtime_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
 inline bool signalled(ShutdownSignal* s) { return s && s->wait_until(Clock::now()); }
 
 // Moves the messages of `tick` - 1 from `held` into `current` (and drops,

@@ -171,8 +171,14 @@ std::string describe(const AuthCounters& a) {
   return s.empty() ? "none" : s;
 }
 
-FleetAuth::FleetAuth(std::optional<FleetKey> key, std::vector<std::string> channels, int senders)
-    : key_(std::move(key)), channels_(std::move(channels)), senders_(senders), started_us_(wall_clock_us()) {
+FleetAuth::FleetAuth(std::optional<FleetKey> key, std::vector<std::string> channels, int senders,
+                     const FleetClock* clock)
+    : key_(std::move(key)),
+      channels_(std::move(channels)),
+      senders_(senders),
+      clock_(clock),
+      started_local_us_(clock ? clock->local_us() : wall_clock_us()),
+      without_window_(channels_.size(), false) {
   need_sodium();
   if (key_) crypto_auth_hmacsha512256_init(&keyed_, key_->key.data(), key_->key.size());
 }
@@ -182,6 +188,15 @@ FleetAuth::~FleetAuth() { sodium_memzero(&keyed_, sizeof keyed_); }
 void FleetAuth::reserve(int team) {
   const std::size_t n = static_cast<std::size_t>(std::clamp(team + 1, 0, senders_)) * channels_.size();
   if (accepted_.size() < n) accepted_.resize(n, 0);
+}
+
+int64_t FleetAuth::now_us() const { return clock_ ? clock_->now_us() : wall_clock_us(); }
+
+void FleetAuth::start_now() { started_local_us_ = clock_ ? clock_->local_us() : wall_clock_us(); }
+
+void FleetAuth::without_window(const char* channel) {
+  const int c = channel_index(channel);
+  if (c >= 0) without_window_[static_cast<std::size_t>(c)] = true;
 }
 
 int FleetAuth::channel_index(const char* channel) const {
@@ -219,7 +234,7 @@ void FleetAuth::sign(const char* channel, int16_t sender, const uint8_t* payload
   const int c = channel_index(channel);
   int64_t fallback = 0;
   int64_t& last = (c >= 0 && sender >= -1 && sender + 1 < senders_) ? slot(sent_, c, sender) : fallback;
-  last = std::max(last + 1, wall_clock_us());
+  last = std::max(last + 1, now_us());
   head.counter = last;
   if (!key_) {
     head.key_id = 0;
@@ -242,7 +257,11 @@ Verdict FleetAuth::verify(const char* channel, const EnvelopeHead& head, const u
   if (crypto_verify_32(expected, mac) != 0) return ++counters_.bad_mac, Verdict::kBadMac;
   int64_t& last = slot(accepted_, c, head.sender);
   if (head.counter <= last) return ++counters_.replayed, Verdict::kReplayed;
-  if (last == 0 && (head.counter < started_us_ - kClockSkewUs || head.counter > wall_clock_us() + kClockSkewUs))
+  // When this receiver started, in the fleet's time (its offset may have
+  // been measured since).
+  const int64_t started_us = started_local_us_ + (clock_ ? clock_->offset_us() : 0);
+  if (last == 0 && !without_window_[static_cast<std::size_t>(c)] &&
+      (head.counter < started_us - kClockSkewUs || head.counter > now_us() + kClockSkewUs))
     return ++counters_.replayed, Verdict::kReplayed;  // sent before this receiver started: a capture
   last = head.counter;
   return Verdict::kAccepted;

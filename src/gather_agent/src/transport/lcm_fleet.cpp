@@ -15,6 +15,7 @@
 #include <gather_lcm/request_t.hpp>
 #include <gather_lcm/tick_reply_t.hpp>
 #include <gather_lcm/tick_t.hpp>
+#include <gather_lcm/time_sync_t.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -37,6 +38,8 @@ const char* const kStateChannel = "GATHER_STATE";
 const char* const kPlanChannel = "GATHER_PLAN";
 const char* const kTickChannel = "GATHER_TICK";
 const char* const kReplyChannel = "GATHER_REPLY";
+const char* const kTimeAskChannel = "GATHER_TIME_ASK";
+const char* const kTimeChannel = "GATHER_TIME";
 
 namespace {
 
@@ -64,6 +67,7 @@ struct Wire {
   gather_lcm::plan_t plan;
   gather_lcm::tick_t tick;
   gather_lcm::tick_reply_t reply;
+  gather_lcm::time_sync_t time;
 };
 Wire& wire() {
   static Wire w;
@@ -90,6 +94,11 @@ void radio_handler(const lcm_recv_buf_t* rbuf, const char* channel, void* user) 
 void clock_handler(const lcm_recv_buf_t* rbuf, const char* channel, void* user) {
   static_cast<LcmFleet*>(user)->on_clock(channel, rbuf->data, static_cast<int>(rbuf->data_size));
 }
+
+constexpr int64_t kQuickAskUs = 250'000;  // between asks until kQuickExchanges
+constexpr int kQuickExchanges = 4;
+constexpr int64_t kAskUs = 5'000'000;     // between asks after that
+constexpr int64_t kGiveUpUs = 1'000'000;  // an ask unanswered this long is given up
 
 }  // namespace
 
@@ -134,9 +143,12 @@ LcmFleet::LcmFleet(const std::string& url, const std::string& reply_url, bool li
       listen_replies_(listen_replies),
       buffer_(kBuffer),
       auth_(std::move(key),
-            {kRequestChannel, kDataChannel, kAckChannel, kStateChannel, kPlanChannel, kTickChannel, kReplyChannel},
-            kMaxTeam + 1),
+            {kRequestChannel, kDataChannel, kAckChannel, kStateChannel, kPlanChannel, kTickChannel, kReplyChannel,
+             kTimeAskChannel, kTimeChannel},
+            kMaxTeam + 1, &clock_),
       envelopes_(std::make_unique<Envelopes>(auth_, kBuffer)) {
+  auth_.without_window(kTimeAskChannel);
+  auth_.without_window(kTimeChannel);
   if (team < kMaxTeam) auth_.reserve(team);  // an agent learns its team from the plan (set_team)
   std::string error;
   lcm_ = open_lcm_c(url, &error);
@@ -152,8 +164,34 @@ LcmFleet::LcmFleet(const std::string& url, const std::string& reply_url, bool li
       lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, ch, radio_handler, this), 10000);
   lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, kPlanChannel, clock_handler, this), 100);
   lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, kTickChannel, clock_handler, this), 1000);
-  if (listen_replies)
+  lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, kTimeChannel, clock_handler, this), 1000);
+  if (listen_replies) {
     lcm_subscription_set_queue_capacity(lcm_subscribe(reply_lcm_, kReplyChannel, clock_handler, this), 100000);
+    lcm_subscription_set_queue_capacity(lcm_subscribe(reply_lcm_, kTimeAskChannel, clock_handler, this), 1000);
+  }
+}
+
+void LcmFleet::time_from_oc(int16_t agent, int64_t skew_us) {
+  clock_ = FleetClock(false, skew_us);
+  auth_.start_now();
+  time_agent_ = agent;
+  time_asked_us_ = 0;
+  time_next_us_ = 0;
+}
+
+void LcmFleet::keep_time() {
+  if (time_agent_ < 0) return;
+  const int64_t now = clock_.local_us();
+  if (time_asked_us_ != 0 && now - time_asked_us_ < kGiveUpUs) return;  // waiting for its answer
+  if (now < time_next_us_) return;
+  gather_lcm::time_sync_t& w = wire().time;
+  w.schema_version = gather_lcm::time_sync_t::SCHEMA_VERSION;
+  w.agent = time_agent_;
+  w.t0 = now, w.t1 = 0, w.t2 = 0;
+  time_asked_us_ = now;
+  time_next_us_ = now + (clock_.exchanges() < kQuickExchanges ? kQuickAskUs : kAskUs);
+  const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+  if (n < 0 || !send(reply_lcm_, kTimeAskChannel, time_agent_, n)) ++publish_failures_;
 }
 
 LcmFleet::~LcmFleet() {
@@ -398,15 +436,44 @@ const uint8_t* LcmFleet::open(const char* channel, const void* data, int size, i
 }
 
 void LcmFleet::on_radio(const char* channel, const void* data, int size) {
+  if (!clock_.synced()) return;  // its clock may be off: nothing checks yet (time_from_oc)
   int n = 0;
   int16_t sender = 0;
   if (const uint8_t* p = open(channel, data, size, n, sender)) on_radio_payload(channel, p, n, sender);
 }
 
 void LcmFleet::on_clock(const char* channel, const void* data, int size) {
+  const bool time = std::strcmp(channel, kTimeChannel) == 0 || std::strcmp(channel, kTimeAskChannel) == 0;
+  if (!clock_.synced() && !time) return;  // its clock may be off: nothing checks yet (time_from_oc)
   int n = 0;
   int16_t sender = 0;
-  if (const uint8_t* p = open(channel, data, size, n, sender)) on_clock_payload(channel, p, n, sender);
+  const uint8_t* p = open(channel, data, size, n, sender);
+  if (p && time)
+    on_time(channel, p, n, sender);
+  else if (p)
+    on_clock_payload(channel, p, n, sender);
+}
+
+void LcmFleet::on_time(const char* channel, const void* data, int size, int16_t sender) {
+  const int64_t received = clock_.local_us();
+  gather_lcm::time_sync_t& w = wire().time;
+  if (safe_decode(w, data, size) != size) return void(++refused_.undecodable);
+  if (w.schema_version != gather_lcm::time_sync_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
+  if (w.agent < 0 || w.agent >= team_ || w.t0 <= 0 || w.t1 < 0 || w.t2 < w.t1) return void(++refused_.out_of_range);
+  if (std::strcmp(channel, kTimeAskChannel) == 0) {  // the OC: answer at once
+    if (!listen_replies_ || time_agent_ >= 0) return;
+    if (w.agent != sender) return auth_.count_wrong_sender();
+    w.t1 = received + clock_.offset_us();
+    w.t2 = clock_.now_us();
+    const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+    if (n < 0 || !send(lcm_, kTimeChannel, kOc, n)) ++publish_failures_;
+    return;
+  }
+  if (sender != kOc) return auth_.count_wrong_sender();
+  // An agent: only the answer to its own last ask, once.
+  if (w.agent != time_agent_ || w.t0 != time_asked_us_) return;
+  time_asked_us_ = 0;
+  clock_.add(w.t0, w.t1, w.t2, received);
 }
 
 void LcmFleet::on_radio_payload(const char* channel, const void* data, int size, int16_t sender) {

@@ -19,8 +19,10 @@
 // Wall-clock mode (for real robots; MasterOptions::clock): after the plan
 // the OC announces the wall time of the mission's start; every process then
 // steps its role every tick / rate seconds of wall time with whatever
-// arrived meanwhile, mission time = wall time since the start x rate. No
-// ticks, no replies, no per-agent counters at the OC, not reproducible.
+// arrived meanwhile, mission time = wall time since the start x rate. The
+// wall time is the fleet's (the OC's clock): each agent measures its host's
+// offset to it (transport/fleet_clock.hpp) before anything else. No ticks,
+// no replies, no per-agent counters at the OC, not reproducible.
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -114,6 +116,7 @@ class LockstepAgent {
   std::vector<RobotPose> robot_poses_;
   std::vector<NavStatus> robot_statuses_;
   bool robot_heard_ = false, waiting_said_ = false;
+  bool offset_said_ = false;  // its clock offset to the OC printed
   BaseFault fault_said_ = BaseFault::kNone;
 };
 

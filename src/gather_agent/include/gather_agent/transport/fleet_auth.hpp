@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "gather_agent/transport/auth_counters.hpp"
+#include "gather_agent/transport/fleet_clock.hpp"
 
 namespace gather {
 namespace agent {
@@ -89,7 +90,11 @@ class FleetAuth {
   // `key` empty: insecure mode (messages go unsigned, and nothing is checked).
   // `channels`: the channel names, in a fixed order (counters are kept per
   // sender and channel); `senders`: ids -1 (the OC) .. senders - 2.
-  FleetAuth(std::optional<FleetKey> key, std::vector<std::string> channels, int senders);
+  // `clock` (must outlive this; nullptr: the host's wall clock): the time
+  // counters are signed with and checked against (an agent's: the fleet's
+  // time, its host's clock corrected by the offset it measured to the OC).
+  FleetAuth(std::optional<FleetKey> key, std::vector<std::string> channels, int senders,
+            const FleetClock* clock = nullptr);
   ~FleetAuth();
   FleetAuth(const FleetAuth&) = delete;
   FleetAuth& operator=(const FleetAuth&) = delete;
@@ -105,6 +110,17 @@ class FleetAuth {
   // Counts every refusal in counters(). Insecure mode accepts everything.
   Verdict verify(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
                  const uint8_t* mac);
+
+  // The first message of a sender on `channel` is taken without the
+  // freshness window (its counter still has to rise, and its MAC to hold):
+  // the clock exchange's channels, which carry what puts a clock that is off
+  // right; a replayed ask only gets an answer that echoes a stale t0, which
+  // the asker refuses (LcmFleet).
+  void without_window(const char* channel);
+
+  // This receiver starts now (on its clock, which was just replaced): the
+  // freshness window's lower end.
+  void start_now();
 
   // A message that passed verify() but whose own sender field differs.
   void count_wrong_sender() { ++counters_.wrong_sender; }
@@ -124,7 +140,10 @@ class FleetAuth {
   std::optional<FleetKey> key_;
   std::vector<std::string> channels_;
   int senders_;
-  int64_t started_us_;  // wall clock when this receiver started
+  int64_t now_us() const;  // the clock's, or the host's
+  const FleetClock* clock_;
+  int64_t started_local_us_;          // this host's clock when this receiver started
+  std::vector<bool> without_window_;  // per channel
   // HMAC's state once the key is absorbed (its inner and outer pads hashed):
   // each message starts from a copy instead of hashing the key twice again.
   crypto_auth_hmacsha512256_state keyed_{};

@@ -19,6 +19,7 @@
 #include "gather_agent/messages.hpp"
 #include "gather_agent/roles/role.hpp"
 #include "gather_agent/transport/fleet_auth.hpp"
+#include "gather_agent/transport/fleet_clock.hpp"
 #include "gather_agent/transport/range_gate.hpp"
 
 typedef struct _lcm_t lcm_t;
@@ -36,6 +37,8 @@ extern const char* const kStateChannel;    // GATHER_STATE
 extern const char* const kPlanChannel;     // GATHER_PLAN
 extern const char* const kTickChannel;     // GATHER_TICK
 extern const char* const kReplyChannel;    // GATHER_REPLY
+extern const char* const kTimeAskChannel;  // GATHER_TIME_ASK (agents' asks, on the replies' URL)
+extern const char* const kTimeChannel;     // GATHER_TIME (the OC's answers)
 
 enum class ClockMode : uint8_t { kLockstep = 0, kWall = 1 };
 
@@ -144,6 +147,22 @@ class LcmFleet {
     auth_.reserve(agents);
   }
 
+  // The fleet's time (transport/fleet_clock.hpp). The OC's side answers
+  // every agent's ask; every other process is on the OC's host (its clock is
+  // the fleet's) until time_from_oc().
+  //
+  // An agent's fleet: from now on its clock is its host's (plus `skew_us`:
+  // gather_agent --clock-skew, tests only), not yet synced, and keep_time()
+  // measures its offset to the OC. Until the first exchange it takes nothing
+  // but the OC's answers: the others' signing counters are in the fleet's
+  // time, and its own clock may be seconds off.
+  void time_from_oc(int16_t agent, int64_t skew_us = 0);
+  // Sends an ask when one is due: every 0.25 s until 4 exchanges, then
+  // every 5 s; an ask unanswered for 1 s is given up (a later answer to it
+  // is refused, as is any answer that does not echo the last ask's t0).
+  void keep_time();
+  const FleetClock& clock() const { return clock_; }
+
   // Publish; false (and counted) when LCM refuses.
   bool publish(const Message& m);
   bool publish(const PlanAnnounce& p);
@@ -168,6 +187,8 @@ class LcmFleet {
   int64_t publish_failures() const { return publish_failures_; }
   // Its radio's LCM instance (LcmRobotLink shares it when on the same URL).
   lcm_t* radio_lcm() const { return lcm_; }
+  // Its replies' LCM instance (tests: what an agent publishes there).
+  lcm_t* reply_lcm() const { return reply_lcm_; }
 
   // The reply URL for a radio URL: the same multicast group, port + 1
   // ("udpm://239.255.76.67:7667?ttl=0" -> "...:7668?ttl=0"); other
@@ -186,6 +207,7 @@ class LcmFleet {
   const uint8_t* open(const char* channel, const void* data, int size, int& payload_size, int16_t& sender);
   void on_radio_payload(const char* channel, const void* data, int size, int16_t sender);
   void on_clock_payload(const char* channel, const void* data, int size, int16_t sender);
+  void on_time(const char* channel, const void* data, int size, int16_t sender);
 
   lcm_t* lcm_ = nullptr;
   lcm_t* reply_lcm_ = nullptr;
@@ -198,6 +220,10 @@ class LcmFleet {
   TransportCounters refused_;
   int64_t publish_failures_ = 0;
   std::vector<uint8_t> buffer_;  // encoding: the payload
+  FleetClock clock_;             // before auth_, which reads it
+  int16_t time_agent_ = -1;      // time_from_oc: who asks (-1: nobody; the OC answers)
+  int64_t time_asked_us_ = 0;    // t0 of the ask not yet answered (0: none)
+  int64_t time_next_us_ = 0;     // local time of the next ask
   FleetAuth auth_;
   std::unique_ptr<Envelopes> envelopes_;  // sealing and opening (transport/envelope.hpp)
 };

@@ -1,0 +1,191 @@
+#!/usr/bin/env python3
+"""The team with every robot its own host (docs/robots.md, "Every robot its
+own host"): run me under tools/hosts-run N, N = the plan's agents.
+
+The OC (`gather run --lcm --clock wall`) runs on host `oc`, agent k on host
+`rk` (each a network namespace on one bridge, UDP multicast with ttl=1
+across the links, as on a radio network). Each agent's clock is put seconds
+off (--clock-skew); the fleet runs on the OC's time, each agent measuring its
+offset. In the middle of the mission one robot's link goes down for a
+minute. Checks: the mission completes, every agent measured its offset,
+every goal ends in one final state, none lost with an agent, none recorded
+twice, and what the partition cost against the same plan in one process
+(lockstep, no partition) is printed. Then the same topology with a ttl=0 URL:
+the agents say in one line what is wrong and exit 1.
+"""
+import argparse
+import csv
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+DEVEL = os.path.join(REPO, "catkin_ws", "devel", "lib")
+FAILURES = []
+SKEWS = (-6.0, -3.0, 0.0, 3.0, 6.0)  # [s] agent k's clock: SKEWS[k % 5] off
+FINAL = {"delivered", "expired", "dropped_overflow", "unreachable"}
+
+
+def check(name, ok, detail=""):
+    print(("PASS " if ok else "FAIL ") + name + ("" if ok or not detail else "\n     " + detail.replace("\n", "\n     ")))
+    if not ok:
+        FAILURES.append(name)
+    return ok
+
+
+def run(args, timeout=300):
+    p = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=timeout)
+    return p.returncode, p.stdout, p.stderr
+
+
+def agents_of(plan):
+    """(id, role, collector) of every agent of plan.yaml."""
+    out = []
+    for line in open(os.path.join(plan, "plan.yaml")):
+        m = re.match(r"\s*- \{id: (\d+), role: (\w+), segment: -?\d+, collector: (-?\d+)\}", line)
+        if m:
+            out.append((int(m.group(1)), m.group(2), int(m.group(3))))
+    return out
+
+
+def goals(path):
+    return list(csv.DictReader(open(path)))
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--gather", default=os.path.join(DEVEL, "gather_core", "gather"))
+    ap.add_argument("--agent", default=os.path.join(DEVEL, "gather_agent", "gather_agent"))
+    ap.add_argument("--config", default="pap:4")
+    ap.add_argument("--rate", type=float, default=5.0, help="mission seconds per wall second")
+    ap.add_argument("--cycles", type=int, default=7)
+    ap.add_argument("--down-at", type=float, default=25.0, help="[s of wall time after the start] the link goes down")
+    ap.add_argument("--down-for", type=float, default=60.0, help="[s of wall time]")
+    ap.add_argument("--keep", default="", help="keep the run's files here")
+    a = ap.parse_args()
+    hosts = os.environ.get("GATHER_HOSTS", "").split()
+    if not hosts:
+        print("hosts_e2e: run me under tools/hosts-run N (N = the plan's agents)", file=sys.stderr)
+        return 2
+    tmp = a.keep or tempfile.mkdtemp(prefix="gather_hosts_e2e_")
+    os.makedirs(tmp, exist_ok=True)
+    key = os.path.join(tmp, "fleet.key")
+    if not os.path.exists(key):
+        run([a.gather, "keygen", key])
+    plan = os.path.join(tmp, "plan")
+    rc, out, err = run([a.gather, "plan", os.path.join(REPO, "maps", "office.scenario.yaml"), "--config", a.config,
+                        "--association", "off", "--out", plan])
+    if not check("plan office %s" % a.config, rc == 0, err):
+        return 1
+    agents = agents_of(plan)
+    if not check("one robot host per agent (%d agents, hosts %s)" % (len(agents), " ".join(hosts)),
+                 len(hosts) == len(agents) + 1 and hosts[0] == "oc"):
+        return 1
+    # The robot whose link goes down: a worker of a collector if the plan has
+    # one (its data travels two hops), else the first worker.
+    workers = [i for i, role, c in agents if role == "worker"]
+    of_collector = [i for i, role, c in agents if role == "worker" and c >= 0]
+    victim = (of_collector or workers)[0]
+
+    # Every agent on its own host, its clock off by SKEWS[k % 5].
+    wrapper = os.path.join(tmp, "agent_on_its_host.sh")
+    with open(wrapper, "w") as f:
+        f.write("#!/bin/bash\n# gather run starts agent k as: $0 --id k ...: run it on host rk, its clock off.\n"
+                "skews=(%s)\nid=$2\nexec host-exec r$id %s \"$@\" --clock-skew ${skews[$((id %% %d))]} --silence 300\n"
+                % (" ".join("%g" % s for s in SKEWS), a.agent, len(SKEWS)))
+    os.chmod(wrapper, 0o755)
+    url = "udpm://239.255.76.67:7667?ttl=1"
+    out_dir = os.path.join(tmp, "run")
+    cmd = ["host-exec", "oc", a.gather, "run", plan, "--out", out_dir, "--cycles", str(a.cycles), "--lcm",
+           "--key-file", key, "--lcm-url", url, "--clock", "wall", "--rate", str(a.rate), "--agent-bin", wrapper]
+    print("the OC on host oc, %d agents on hosts r0..r%d (clocks off by %s s), robot %d's link down from %g s for %g s"
+          % (len(agents), len(agents) - 1, "/".join("%+g" % s for s in SKEWS), victim, a.down_at, a.down_for))
+    t0 = time.time()
+    oc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    partition = {}
+
+    def cut():
+        time.sleep(a.down_at)
+        if oc.poll() is None:
+            partition["down"] = time.time() - t0
+            subprocess.run(["host-link", "r%d" % victim, "down"], check=True)
+            time.sleep(a.down_for)
+            subprocess.run(["host-link", "r%d" % victim, "up"], check=True)
+            partition["up"] = time.time() - t0
+
+    cutter = threading.Thread(target=cut)
+    cutter.start()
+    try:
+        stdout, stderr = oc.communicate(timeout=a.down_at + a.down_for + a.cycles * 200.0 / a.rate + 300)
+    except subprocess.TimeoutExpired:
+        oc.kill()
+        stdout, stderr = oc.communicate()
+    cutter.join()
+    wall = time.time() - t0
+    if not check("the mission over %d hosts completes (status %d, %.0f s)" % (len(hosts), oc.returncode, wall),
+                 oc.returncode == 0, (stdout[-1500:] + stderr[-1500:])):
+        return 1
+    check("the link was down in the middle of the mission (%.0f s to %.0f s of %.0f s)"
+          % (partition.get("down", -1), partition.get("up", -1), wall),
+          "up" in partition and partition["up"] < wall - 10)
+    # Each agent measured its clock's offset to the OC.
+    offsets = {int(m.group(1)): float(m.group(2))
+               for m in re.finditer(r"gather_agent (\d+): clock offset to the OC ([-+0-9.]+) s", stdout)}
+    wrong = {k: v for k, v in offsets.items() if abs(v + SKEWS[k % len(SKEWS)]) > 0.05}
+    check("every agent measured its clock's offset to the OC within 50 ms (%d of %d)" % (len(offsets), len(agents)),
+          len(offsets) == len(agents) and not wrong, "off: %s" % wrong)
+    # Every goal once, in one final state; none lost.
+    rows = goals(os.path.join(out_dir, "goals.csv"))
+    ids = [r["goal"] for r in rows]
+    check("every goal recorded once (%d goals)" % len(ids), len(ids) == len(set(ids)) and len(ids) > 0)
+    states = {}
+    for r in rows:
+        states[r["state"]] = states.get(r["state"], 0) + 1
+    check("every goal in a final state %s" % states, set(states) <= FINAL)
+    check("none lost with an agent", states.get("lost_with_agent", 0) == 0)
+    bad = [r["goal"] for r in rows if r["state"] == "delivered" and (r["delivered_by"] == "-1" or r["measured_by"] == "-1")]
+    check("every delivered goal has its measurement and its delivery", not bad, str(bad[:10]))
+    # What the partition cost: against the same plan in one process.
+    ref_dir = os.path.join(tmp, "reference")
+    rc, _, err = run([a.gather, "run", plan, "--out", ref_dir, "--cycles", str(a.cycles)])
+    if check("the same plan in one process (lockstep, no partition)", rc == 0, err):
+        ref = goals(os.path.join(ref_dir, "goals.csv"))
+        check("the same goals requested (%d)" % len(ref), sorted(r["goal"] for r in ref) == sorted(ids))
+        got = sum(r["state"] == "delivered" for r in rows)
+        want = sum(r["state"] == "delivered" for r in ref)
+        seg = {r["goal"]: r["worker"] for r in ref}
+        mine_ref = sum(r["state"] == "delivered" and r["worker"] == str(victim) for r in ref)
+        mine = sum(r["state"] == "delivered" and seg.get(r["goal"]) == str(victim) for r in rows)
+        by_victim = [r for r in rows if r["measured_by"] == str(victim)]
+        print("partition cost: %d goals delivered over the hosts against %d in one process (%+d); of robot %d's "
+              "segment %d against %d; robot %d measured %d goals, %d of them delivered"
+              % (got, want, got - want, victim, mine, mine_ref, victim, len(by_victim),
+                 sum(r["state"] == "delivered" for r in by_victim)))
+        check("the partition cost at most robot %d's own goals plus 10%% of the rest" % victim,
+              want - got <= mine_ref + 0.1 * want, "%d delivered against %d" % (got, want))
+
+    # The same topology, a ttl=0 URL: nothing crosses a link. Each agent says
+    # what is wrong in one line and exits 1 (an agent on r0 alone is enough).
+    oc_side = subprocess.Popen(["host-exec", "oc", a.gather, "run", plan, "--out", os.path.join(tmp, "ttl0"), "--lcm",
+                                "--key-file", key, "--lcm-url", "udpm://239.255.76.67:7667?ttl=0", "--clock", "wall",
+                                "--cycles", "1", "--agent-bin", "/bin/true"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(1.0)  # the OC announces its plan (on its own host only)
+    rc, out, err = run(["host-exec", "r0", a.agent, "--id", "0", "--plan", plan, "--key-file", key, "--lcm-url",
+                        "udpm://239.255.76.67:7667?ttl=0", "--silence", "3"], timeout=60)
+    oc_side.kill()
+    oc_side.communicate()
+    lines = [l for l in err.splitlines() if l.startswith("gather_agent 0:")]
+    check("ttl=0 across hosts: the agent exits 1 with one line naming the URL and ttl=0",
+          rc == 1 and len(lines) == 1 and "ttl=0" in lines[0] and "udpm://239.255.76.67:7667?ttl=0" in lines[0],
+          "status %d: %s" % (rc, err[-800:]))
+    print("hosts_e2e: %d failed" % len(FAILURES) if FAILURES else "hosts_e2e: all passed")
+    return 1 if FAILURES else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
