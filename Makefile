@@ -113,11 +113,14 @@ test-cli: build
 # The agent runtime over LCM against one process (gather run --lcm), and
 # roslaunch gather_oc mission.launch / review.launch end to end with RViz on a
 # virtual display (screenshots in results/e2e/), in a private network namespace;
-# then a mission with the OC and every robot its own host (tools/hosts-run).
+# then two robots through robot.launch, robot_bridge and move_base's topics
+# (world_move_base on gather_world), and a mission with the OC and every
+# robot its own host (tools/hosts-run).
 test-e2e: build pylcm
 	tools/netns-run $(PYTHON) tests/e2e/runtime_e2e.py
 	tools/netns-run bash -c '$(SETUP) && $(PYTHON) tests/e2e/robots_e2e.py --pylcm $(PYLCM) --launch'
 	tools/netns-run xvfb-run -a -s "-screen 0 1400x900x24" bash -c '$(SETUP) && $(PYTHON) tests/e2e/mission_e2e.py'
+	tools/netns-run bash -c '$(SETUP) && $(PYTHON) tests/e2e/bridge_e2e.py'
 	tools/hosts-run 20 $(PYTHON) tests/e2e/hosts_e2e.py
 
 # FMM against scikit-fmm on the shared benchmark grids, one table (docs/fmm.md);

@@ -38,6 +38,7 @@ AgentOptions parse_agent_options(int argc, char** argv) {
       if (i + 1 >= argc) throw Error(kWhere, flag + " needs a value");
       return argv[++i];
     };
+    if (a.find(":=") != std::string::npos) continue;  // a ROS remapping (roslaunch adds __name:=, __log:=)
     if (a == "--help" || a == "-h") {
       o.help = true;
       return o;

@@ -4,7 +4,7 @@
 //                     [--robots ideal|mrpt [--world-config YAML] [--world-bin FILE]] [--protocol ideal|robots]
 //                     [--speed-factor F]
 //                     [--lcm (--key-file F | --insecure) [--lcm-url URL] [--reply-url URL]
-//                            [--agent-bin FILE] [--rate R] [--clock lockstep|wall]]:
+//                            [--agent-bin FILE] [--rate R] [--clock lockstep|wall] [--agents spawn|external]]:
 // runs the plan with the agent runtime for K seeds: every role in this
 // process over an in-memory bus under the range gate and the lockstep
 // clock, or with --lcm one gather_agent process per agent over LCM (this
@@ -21,7 +21,9 @@
 // (docs/faults.md). --robots mrpt runs the team on gather_world's robots
 // (docs/robots.md): with the agents in this process, gather_world is its
 // child over a pipe; with --lcm, one more process speaking the robot
-// interface over LCM, every agent started with --motion lcm.
+// interface over LCM, every agent started with --motion lcm. --agents
+// external (with --robots external --clock wall): this process is only the
+// OC; the agents run on the robots (robot.launch) and join within 300 s.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -56,11 +58,17 @@ struct Robots {
   bool any() const { return external || !world_bin.empty(); }
 };
 
+// Agents this process does not start (--agents external): they run on the
+// robots (robot.launch) and join over LCM.
+struct Fleet {
+  bool external = false;
+};
+
 // One run with one gather_agent process per agent; this process is the OC.
 agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& plan, uint64_t digest,
                                const agent::RunOptions& opt, double rate, bool wall, const std::string& url,
                                const std::string& reply_url, const std::string& agent_bin, const std::string& key_file,
-                               const std::optional<agent::FleetKey>& key, const Robots& robots) {
+                               const std::optional<agent::FleetKey>& key, const Robots& robots, const Fleet& fleet_of) {
   agent::LcmFleet fleet(url, reply_url, true, key, team.agents());
   std::vector<std::string> command{agent_bin,   "--id", "{id}",        "--plan", plan.dir,
                                    "--lcm-url", url,    "--reply-url", reply_url};
@@ -81,7 +89,13 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
     world->start();
   }
   AgentFleet processes(command, team.agents());
-  processes.start();
+  if (fleet_of.external) {
+    std::printf("waiting up to %.0f s for the %d agents of the plan on %s (started on the robots: robot.launch)\n",
+                agent::kExternalReadyTimeout_s, team.agents(), url.c_str());
+    std::fflush(stdout);
+  } else {
+    processes.start();
+  }
   try {
     agent::MasterOptions mo;
     mo.tick = opt.tick, mo.loss = opt.loss, mo.loss_seed = opt.loss_seed, mo.rate = rate;
@@ -91,6 +105,7 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
     mo.kill_agent = [&processes](int id) { processes.kill(id); };
     if (wall) mo.clock = agent::ClockMode::kWall;
     mo.robots = robots.any();
+    if (fleet_of.external) mo.ready_timeout_s = agent::kExternalReadyTimeout_s;
     agent::LockstepMaster master(team, fleet, digest, mo);
     const auto t0 = std::chrono::steady_clock::now();
     master.start(nullptr);
@@ -116,6 +131,7 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
         master.publish_ms() / ticks, master.inbox_ms() / ticks, master.oc_ms() / ticks, master.wait_ms() / ticks,
         master.agents_step_ms() / ticks, team.agents(),
         (out.wall_ms - master.publish_ms() - master.inbox_ms() - master.oc_ms() - master.wait_ms()) / ticks);
+    if (fleet_of.external) return out;
     processes.wait(5.0);  // they end by themselves on the last tick
     processes.stop(2.0);
     if (world) {
@@ -168,11 +184,11 @@ int keygen(int argc, char** argv) {
 }
 
 int run(int argc, char** argv) {
-  cli::Args args(argc, argv, 2, {"--cycles",   "--seeds",       "--seed",    "--out",          "--tick",
-                                 "--loss",     "--loss-seed",   "--lcm-url", "--reply-url",    "--agent-bin",
-                                 "--rate",     "--clock",       "--kill",    "--repair",       "--silent-intervals",
-                                 "--restart",  "--key-file",    "--robots",  "--world-config", "--world-bin",
-                                 "--protocol", "--speed-factor"},
+  cli::Args args(argc, argv, 2, {"--cycles",   "--seeds",        "--seed",    "--out",          "--tick",
+                                 "--loss",     "--loss-seed",    "--lcm-url", "--reply-url",    "--agent-bin",
+                                 "--rate",     "--clock",        "--kill",    "--repair",       "--silent-intervals",
+                                 "--restart",  "--key-file",     "--robots",  "--world-config", "--world-bin",
+                                 "--protocol", "--speed-factor", "--agents"},
                  {"--lcm", "--insecure"});
   if (args.positional().size() != 1 || !args.has("--out"))
     throw cli::UsageError(
@@ -181,9 +197,10 @@ int run(int argc, char** argv) {
         "ID@T[,ID@T...]] [--robots ideal|mrpt|external [--world-config YAML] [--world-bin FILE]] [--protocol "
         "ideal|robots] [--speed-factor F] "
         "[--lcm (--key-file F | "
-        "--insecure) [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R] [--clock lockstep|wall]]");
+        "--insecure) [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R] [--clock lockstep|wall] "
+        "[--agents spawn|external]]");
   const bool over_lcm = args.on("--lcm");
-  for (const char* flag : {"--lcm-url", "--reply-url", "--agent-bin", "--rate", "--clock", "--key-file"})
+  for (const char* flag : {"--lcm-url", "--reply-url", "--agent-bin", "--rate", "--clock", "--key-file", "--agents"})
     if (args.has(flag) && !over_lcm) throw cli::UsageError(std::string(flag) + " needs --lcm");
   if (args.on("--insecure") && !over_lcm) throw cli::UsageError("--insecure needs --lcm");
   std::string lcm_url = args.get("--lcm-url", "");
@@ -257,6 +274,19 @@ int run(int argc, char** argv) {
     for (const agent::Kill& k : opt.kills)
       if (r.agent == k.agent)
         throw cli::UsageError("--restart: agent " + std::to_string(r.agent) + " is also killed (--kill)");
+  Fleet fleet_of;
+  const std::string agents_kind = args.get("--agents", "spawn");
+  if (agents_kind != "spawn" && agents_kind != "external")
+    throw cli::UsageError(
+        "--agents must be spawn (this process starts them) or external (they run on the robots: "
+        "robot.launch), got '" +
+        agents_kind.substr(0, 40) + "'");
+  fleet_of.external = agents_kind == "external";
+  if (fleet_of.external && (!wall_clock || !robots.external))
+    throw cli::UsageError("--agents external needs --robots external --clock wall (agents on real robots)");
+  if (fleet_of.external && (!opt.kills.empty() || !opt.restarts.empty() || args.has("--agent-bin")))
+    throw cli::UsageError("--agents external: this process starts no agent (no --kill, --restart, --agent-bin)");
+  if (fleet_of.external && seeds != 1) throw cli::UsageError("--agents external runs one seed");
   if (!opt.restarts.empty() && wall_clock) throw cli::UsageError("--restart needs the lockstep clock");
   if (!opt.kills.empty() && wall_clock) throw cli::UsageError("--kill needs the lockstep clock");
   if (params.cycles < 1 || params.cycles > 100000) throw cli::UsageError("--cycles must be in 1..100000");
@@ -278,8 +308,8 @@ int run(int argc, char** argv) {
   uint64_t digest = 0;
   std::optional<agent::FleetKey> key;
   if (over_lcm) {
-    agent_bin = find_agent_binary(args.get("--agent-bin", ""));
-    if (agent_bin.empty())
+    if (!fleet_of.external) agent_bin = find_agent_binary(args.get("--agent-bin", ""));
+    if (agent_bin.empty() && !fleet_of.external)
       throw Error(args.has("--agent-bin") ? "--agent-bin" : "gather run --lcm",
                   args.has("--agent-bin") ? "'" + args.get("--agent-bin") + "' is not an executable file"
                                           : "gather_agent not found beside gather, in CMAKE_PREFIX_PATH or PATH");
@@ -291,7 +321,7 @@ int run(int argc, char** argv) {
     const agent::RunOutcome r = over_lcm
                                     ? run_over_lcm(team, loaded, digest, opt, rate, wall_clock, lcm_url,
                                                    args.get("--reply-url", agent::LcmFleet::reply_url_for(lcm_url)),
-                                                   agent_bin, args.get("--key-file", ""), key, robots)
+                                                   agent_bin, args.get("--key-file", ""), key, robots, fleet_of)
                                     : run_in_process(team, loaded, opt, robots);
     if (!r.completed) throw RuntimeError(args.positional()[0], r.failure);
     if (over_lcm) {

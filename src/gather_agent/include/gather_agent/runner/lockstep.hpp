@@ -120,6 +120,10 @@ class LockstepAgent {
   BaseFault fault_said_ = BaseFault::kNone;
 };
 
+// How long the OC waits for the READY of agents it did not start (on the
+// robots: gather run --agents external) [s].
+constexpr double kExternalReadyTimeout_s = 300.0;
+
 struct MasterOptions {
   ClockMode clock = ClockMode::kLockstep;  // kWall: no ticks; mission time is wall time x rate
   double tick = 0.1;                       // [s] of mission time per tick (wall clock: per control step)
