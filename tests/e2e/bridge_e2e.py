@@ -77,8 +77,15 @@ def main():
                         "--config", "pap:0", "--out", plan])
     if not check("plan office with two robots", rc == 0, err):
         return 1
-    oc_at = "5.525,17.775"
     url = "udpm://239.255.76.67:7667?ttl=1"
+    # The OC alone (--agents external) only with robots of their own on the wall clock: else one line, status 2.
+    for extra, needle in ((["--robots", "external", "--clock", "wall", "--agents", "bogus"], "--agents must be"),
+                          (["--agents", "external"], "--agents external needs --robots external --clock wall"),
+                          (["--robots", "external", "--clock", "wall", "--agents", "external", "--kill", "0@10"],
+                           "starts no agent")):
+        rc, _, err = run([a.gather, "run", plan, "--out", os.path.join(tmp, "bad"), "--lcm", "--key-file", key] + extra)
+        check("gather run %s: status 2, one line" % " ".join(extra), rc == 2 and err.count("\n") == 1 and needle in err,
+              "status %d: %s" % (rc, err))
     # The master (on a real team: the robots' own ROS), then each robot's
     # launch in its own namespace, as on its own computer.
     master = subprocess.Popen(["roscore", "-p", "11311"], stdout=subprocess.DEVNULL,
