@@ -10,7 +10,7 @@ interface served by world_move_base on one of gather_world's MRPT robots
 external --robots external --clock wall`: it starts no agent, the robots'
 launches do. Agent 0's clock is put 2.5 s off. Checks: the mission completes
 and every goal ends in a final state with goals measured and delivered by
-both robots, through real ROS topics; the bridges sent move_base goals; the
+both robots, through real ROS topics; each move_base took goals from its bridge; the
 agents ended by themselves and their launches with them; robot_bridge's bad
 parameters give one line and status 2.
 """
@@ -173,6 +173,10 @@ def main():
         check("agent %d ended by itself at the mission's end, and its launch with it" % k,
               ended[k] and re.search(r"REQUIRED process \[r%d/agent_%d-\d+\] has died!\s*process has finished cleanly"
                                      % (k, k), launch_out) is not None)
+    for k in range(2):
+        log = open(os.path.join(tmp, "move_base%d.log" % k)).read()
+        goals = len(re.findall(r"world_move_base %d: world-%d-\d+ (succeeded|preempted|aborted)" % (k, k), log))
+        check("robot %d's move_base took %d goals from robot_bridge" % (k, goals), goals >= 2, log[-500:])
     m = re.search(r"gather_agent 0: clock offset to the OC ([-+0-9.]+) s", launch_out)
     check("agent 0 (its clock 2.5 s off) measured its offset (%s s)" % (m.group(1) if m else "?"),
           m is not None and abs(float(m.group(1)) + 2.5) < 0.05)

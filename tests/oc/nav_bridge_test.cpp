@@ -46,14 +46,17 @@ TEST(NavBridge, WaypointsGoOneByOneAndCountByPoseOrByMoveBase) {
   EXPECT_EQ(b.status().reached, 1);
   EXPECT_EQ(b.status().reached_at[0], 3.0);
   // move_base: an older goal's status is not about this one; this one's success counts.
-  EXPECT_EQ(b.goal_status(GoalStatus::kSucceeded, 1.0, 3.5).kind, Kind::kNone);
+  EXPECT_EQ(b.goal_status({{"mb-1", 1.0, GoalStatus::kSucceeded}}, 3.5).kind, Kind::kNone);
   EXPECT_EQ(b.status().reached, 1);
-  o = b.goal_status(GoalStatus::kSucceeded, 3.01, 4.0);
+  o = b.goal_status({{"mb-1", 1.0, GoalStatus::kPreempted}, {"mb-2", 3.01, GoalStatus::kSucceeded}}, 4.0);
   ASSERT_EQ(o.kind, Kind::kGoal);
   EXPECT_EQ(o.at.x, 0.0);
   EXPECT_NEAR(o.yaw, M_PI, 1e-9);  // the last: as it came
   EXPECT_EQ(b.status().reached, 2);
-  b.pose({0.1, 2.0}, M_PI, 5.0);
+  b.goal_status({{"mb-3", 4.01, GoalStatus::kActive}}, 4.5);
+  o = b.pose({0.1, 2.0}, M_PI, 5.0);  // within the last one's tolerance: stop there
+  EXPECT_EQ(o.kind, Kind::kCancel);
+  EXPECT_EQ(o.goal_id, "mb-3");
   EXPECT_EQ(b.status().state, NavState::kReached);
   EXPECT_EQ(b.status().reached, 3);
   EXPECT_EQ(b.status().reached_at[2], 5.0);
@@ -61,14 +64,15 @@ TEST(NavBridge, WaypointsGoOneByOneAndCountByPoseOrByMoveBase) {
 }
 
 TEST(NavBridge, MoveBaseGivingUpIsFailedAtThatWaypoint) {
-  for (GoalStatus s : {GoalStatus::kAborted, GoalStatus::kRejected, GoalStatus::kPreempted, GoalStatus::kLost}) {
+  for (GoalStatus s : {GoalStatus::kAborted, GoalStatus::kRejected, GoalStatus::kPreempted, GoalStatus::kRecalled,
+                       GoalStatus::kLost}) {
     NavBridge b(0);
     b.pose({0, 0}, 0.0, 1.0);
     b.command(go(4, {{0.1, 0}, {5, 0}}), 1.0);  // stands on the first: it counts at once
     EXPECT_EQ(b.status().reached, 1);
-    b.goal_status(GoalStatus::kActive, 1.0, 1.5);
+    b.goal_status({{"mb-7", 1.0, GoalStatus::kActive}}, 1.5);
     EXPECT_EQ(b.status().state, NavState::kActive);
-    b.goal_status(s, 1.0, 2.0);
+    b.goal_status({{"mb-7", 1.0, s}}, 2.0);
     EXPECT_EQ(b.status().state, NavState::kFailed) << static_cast<int>(s);
     EXPECT_EQ(b.status().reached, 1);
     EXPECT_EQ(b.tick(10.0).kind, Kind::kNone);  // nothing goes out again
@@ -81,7 +85,7 @@ TEST(NavBridge, NoProgressIsBlockedUntilItMovesAndAnUnheardGoalGoesOutAgain) {
   b.command(go(1, {{10, 0}}), 0.0);
   EXPECT_EQ(b.tick(1.0).kind, Kind::kNone);
   EXPECT_EQ(b.tick(2.5).kind, Kind::kGoal);  // move_base never reported it
-  b.goal_status(GoalStatus::kActive, 2.5, 2.6);
+  b.goal_status({{"mb-1", 2.5, GoalStatus::kActive}}, 2.6);
   EXPECT_EQ(b.tick(6.0).kind, Kind::kNone);  // heard: no resend
   b.pose({0.01, 0}, 0.0, 4.0);
   EXPECT_EQ(b.status().state, NavState::kActive);
@@ -100,9 +104,43 @@ TEST(NavBridge, StopCancelsAndIsIdle) {
   EXPECT_EQ(b.command(stop, 1.0).kind, Kind::kCancel);
   EXPECT_EQ(b.status().state, NavState::kIdle);
   EXPECT_EQ(b.status().command, 2);
-  EXPECT_EQ(b.goal_status(GoalStatus::kAborted, 5.0, 5.0).kind, Kind::kNone);  // the cancelled goal's end
+  EXPECT_EQ(b.goal_status({{"mb-1", 0.0, GoalStatus::kAborted}}, 5.0).kind, Kind::kNone);  // the cancelled goal's end
   EXPECT_EQ(b.status().state, NavState::kIdle);
   EXPECT_EQ(b.tick(10.0).kind, Kind::kNone);
+}
+
+// Someone else's goal (RViz, a teleop tool) takes move_base over: its
+// success is not ours; ours is FAILED at the waypoint it was driving to.
+TEST(NavBridge, SomeoneElsesNewerGoalIsNeverOursAndEndsOurCommand) {
+  NavBridge b(0);
+  b.pose({0, 0}, 0.0, 0.0);
+  b.command(go(1, {{10, 0}, {20, 0}}), 0.0);
+  b.goal_status({{"ours", 0.01, GoalStatus::kActive}}, 0.5);
+  EXPECT_EQ(b.status().state, NavState::kActive);
+  b.goal_status({{"ours", 0.01, GoalStatus::kPreempted}, {"rviz", 1.0, GoalStatus::kActive}}, 1.5);
+  EXPECT_EQ(b.status().state, NavState::kFailed);
+  EXPECT_EQ(b.status().reached, 0);
+  NavBridge c(0);  // the other goal succeeds first: still not ours
+  c.pose({0, 0}, 0.0, 0.0);
+  c.command(go(1, {{10, 0}}), 0.0);
+  c.goal_status({{"ours", 0.01, GoalStatus::kActive}}, 0.5);
+  c.goal_status({{"ours", 0.01, GoalStatus::kActive}, {"rviz", 1.0, GoalStatus::kSucceeded}}, 1.5);
+  EXPECT_EQ(c.status().reached, 0);
+  EXPECT_NE(c.status().state, NavState::kReached);
+}
+
+// A new command whose waypoints the robot already stands on: the goal of
+// the command before must not go on driving it away.
+TEST(NavBridge, ANewCommandAlreadyReachedStopsTheGoalBefore) {
+  NavBridge b(0);
+  b.pose({0, 0}, 0.0, 0.0);
+  b.command(go(1, {{10, 0}}), 0.0);
+  b.goal_status({{"mb-1", 0.01, GoalStatus::kActive}}, 0.5);
+  const MoveBaseOrder o = b.command(go(2, {{0.1, 0.0}}), 1.0);
+  EXPECT_EQ(o.kind, Kind::kCancel);
+  EXPECT_EQ(o.goal_id, "mb-1");
+  EXPECT_EQ(b.status().state, NavState::kReached);
+  EXPECT_EQ(b.status().reached, 1);
 }
 
 }  // namespace

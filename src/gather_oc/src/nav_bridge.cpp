@@ -33,7 +33,18 @@ MoveBaseOrder NavBridge::goal_for(int k, double now) {
   o.at = p;
   o.yaw = (to.x == from.x && to.y == from.y) ? pose_.heading : std::atan2(to.y - from.y, to.x - from.x);
   goal_sent_at_ = now, goal_heard_ = false;
+  goal_id_.clear();
   ++goals_sent_;
+  return o;
+}
+
+MoveBaseOrder NavBridge::cancel_ours() {
+  const bool out = goal_sent_at_ >= 0;
+  goal_sent_at_ = -1.0;
+  if (!out) return {};
+  MoveBaseOrder o;
+  o.kind = MoveBaseOrder::Kind::kCancel;
+  o.goal_id = goal_id_;  // "" when move_base has not reported it: every goal
   return o;
 }
 
@@ -48,10 +59,9 @@ MoveBaseOrder NavBridge::command(const NavCommand& c, double now) {
   still_at_ = pose_.at, still_since_ = now;
   if (c.kind == NavCommand::Kind::kStop || c.n == 0) {
     status_.state = NavState::kIdle;
-    goal_sent_at_ = -1.0;
     cancelled_ = true;
-    MoveBaseOrder o;
-    o.kind = MoveBaseOrder::Kind::kCancel;
+    MoveBaseOrder o = cancel_ours();
+    o.kind = MoveBaseOrder::Kind::kCancel;  // stop, whatever was out
     return o;
   }
   cancelled_ = false;
@@ -60,10 +70,9 @@ MoveBaseOrder NavBridge::command(const NavCommand& c, double now) {
   // Waypoints it already stands on count at once.
   while (has_pose_ && current_ < c.n && distance(pose_.at, c.points[current_]) <= c.tolerance[current_])
     status_.reached_at[status_.reached++] = now, ++current_;
-  if (current_ == c.n) {
+  if (current_ == c.n) {  // there already: the goal of the command before stops
     status_.state = NavState::kReached;
-    goal_sent_at_ = -1.0;
-    return {};
+    return cancel_ours();
   }
   return goal_for(current_, now);
 }
@@ -72,10 +81,9 @@ MoveBaseOrder NavBridge::reached(double now) {
   status_.reached_at[status_.reached++] = now;
   changed_ = true;
   ++current_;
-  if (current_ >= command_.n) {
+  if (current_ >= command_.n) {  // within the last one's tolerance: stop there
     set_state(NavState::kReached);
-    goal_sent_at_ = -1.0;
-    return {};
+    return cancel_ours();
   }
   return goal_for(current_, now);
 }
@@ -102,14 +110,32 @@ MoveBaseOrder NavBridge::pose(Point2 at, double heading, double now) {
   return {};
 }
 
-MoveBaseOrder NavBridge::goal_status(GoalStatus s, double goal_stamp, double now) {
-  if (goal_sent_at_ < 0 || cancelled_ || goal_stamp + 1e-3 < goal_sent_at_) return {};  // not about our goal
+MoveBaseOrder NavBridge::goal_status(const std::vector<GoalReport>& goals, double now) {
+  if (goal_sent_at_ < 0 || cancelled_) return {};
+  const GoalReport* ours = nullptr;
+  if (goal_id_.empty()) {  // the first goal move_base took after ours went out
+    for (const GoalReport& g : goals)
+      if (g.stamp + 1e-3 >= goal_sent_at_ && (!ours || g.stamp < ours->stamp)) ours = &g;
+    if (!ours) return {};
+    goal_id_ = ours->id, goal_stamp_ = ours->stamp;
+  } else {
+    for (const GoalReport& g : goals)
+      if (g.id == goal_id_) ours = &g;
+    if (!ours) return {};
+  }
   goal_heard_ = true;
-  switch (s) {
+  for (const GoalReport& g : goals)  // someone else's goal, newer, under way: ours is over
+    if (g.id != goal_id_ && g.stamp > goal_stamp_ &&
+        (g.status == GoalStatus::kPending || g.status == GoalStatus::kActive)) {
+      set_state(NavState::kFailed);
+      goal_sent_at_ = -1.0;
+      return {};
+    }
+  switch (ours->status) {
     case GoalStatus::kSucceeded: return reached(now);
     case GoalStatus::kAborted:
     case GoalStatus::kRejected:
-    case GoalStatus::kPreempted:  // someone else's goal took over
+    case GoalStatus::kPreempted:
     case GoalStatus::kRecalled:
     case GoalStatus::kLost:
       set_state(NavState::kFailed);  // reached: the waypoints before this one

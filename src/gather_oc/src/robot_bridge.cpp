@@ -6,7 +6,8 @@
 // from ~status_topic (actionlib_msgs/GoalStatusArray) and the robot's pose
 // from TF (~map_frame -> ~base_frame), and reports both to the agent
 // (GATHER_ROBOT_POSE_<agent> at ~pose_rate, GATHER_ROBOT_STATUS_<agent> on
-// every change and every second). STOP cancels on ~cancel_topic. What it
+// every change and every second; a pose only when TF has a newer one, with
+// its stamp). STOP cancels on ~cancel_topic. What it
 // decides is gather_oc/nav_bridge.hpp. Exit status: 0 on shutdown, 2 bad
 // input (one line naming the parameter).
 #include <actionlib_msgs/GoalID.h>
@@ -110,18 +111,19 @@ int main(int argc, char** argv) {
       g.pose.orientation.z = std::sin(o.yaw / 2.0), g.pose.orientation.w = std::cos(o.yaw / 2.0);
       goal_pub.publish(g);
     } else if (o.kind == Kind::kCancel) {
-      cancel_pub.publish(actionlib_msgs::GoalID());  // an empty id cancels every goal
+      actionlib_msgs::GoalID c;
+      c.id = o.goal_id;  // empty: every goal
+      cancel_pub.publish(c);
     }
   };
+  std::vector<gather::oc::GoalReport> reports;
   ros::Subscriber status_sub = nh.subscribe<actionlib_msgs::GoalStatusArray>(
       s.status_topic, 10, [&](const actionlib_msgs::GoalStatusArray::ConstPtr& m) {
-        // The newest goal move_base reports: ours if sent after our last one.
-        const actionlib_msgs::GoalStatus* newest = nullptr;
+        reports.clear();
         for (const actionlib_msgs::GoalStatus& g : m->status_list)
-          if (!newest || g.goal_id.stamp > newest->goal_id.stamp) newest = &g;
-        if (newest && newest->status <= 9)
-          obey(bridge.goal_status(static_cast<gather::oc::GoalStatus>(newest->status), newest->goal_id.stamp.toSec(),
-                                  ros::Time::now().toSec()));
+          if (g.status <= 9)
+            reports.push_back({g.goal_id.id, g.goal_id.stamp.toSec(), static_cast<gather::oc::GoalStatus>(g.status)});
+        obey(bridge.goal_status(reports, ros::Time::now().toSec()));
       });
   std::printf("robot_bridge %d: the robot interface on %s, move_base on %s and %s, pose from TF %s -> %s\n", s.agent,
               s.robot_url.c_str(), nh.resolveName(s.goal_topic).c_str(), nh.resolveName(s.status_topic).c_str(),
@@ -130,6 +132,7 @@ int main(int argc, char** argv) {
   ros::Rate rate(s.pose_rate);
   ros::Time status_said;
   bool tf_said = false;
+  double last_pose = -1.0;  // [s] stamp of the last pose sent
   gather::agent::NavState said_state = gather::agent::NavState::kIdle;
   while (ros::ok()) {
     ros::spinOnce();
@@ -138,10 +141,16 @@ int main(int argc, char** argv) {
     for (const gather::agent::NavCommand& c : link->commands()) obey(bridge.command(c, now));
     link->commands().clear();
     try {
+      // The newest pose TF has, stamped when it was valid; none when TF has
+      // nothing newer (a localisation that stopped falls silent to the agent).
       const geometry_msgs::TransformStamped t = tf.lookupTransform(s.map_frame, s.base_frame, ros::Time(0));
-      obey(bridge.pose({t.transform.translation.x, t.transform.translation.y}, yaw_of(t.transform.rotation), now));
-      gather::agent::RobotPose p = bridge.robot_pose();
-      link->publish(p);
+      const double stamp = t.header.stamp.toSec();
+      if (stamp > last_pose) {
+        last_pose = stamp;
+        obey(bridge.pose({t.transform.translation.x, t.transform.translation.y}, yaw_of(t.transform.rotation), stamp));
+        gather::agent::RobotPose p = bridge.robot_pose();
+        link->publish(p);
+      }
       tf_said = false;
     } catch (const tf2::TransformException& e) {
       if (!tf_said) std::fprintf(stderr, "robot_bridge %d: no pose yet: %s\n", s.agent, e.what());

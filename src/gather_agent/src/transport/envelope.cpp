@@ -22,7 +22,7 @@ int Envelopes::seal(const char* channel, int16_t sender, const uint8_t* payload,
   return e_.encode(out_.data(), 0, static_cast<int>(out_.size()));
 }
 
-Envelopes::Opened Envelopes::open(const char* channel, const void* data, int size) {
+Envelopes::Opened Envelopes::open(const char* channel, const void* data, int size, bool counters) {
   // The envelope's size field is checked before its payload is read (LCM's
   // decode allocates what the size says).
   // LCM's encoding: an 8-byte fingerprint, then version, key_id, sender
@@ -40,7 +40,7 @@ Envelopes::Opened Envelopes::open(const char* channel, const void* data, int siz
   if (safe_decode(e_, data, size) != size || e_.payload.size() != static_cast<std::size_t>(e_.size))
     return Opened::kUndecodable;
   const EnvelopeHead head{e_.version, e_.key_id, e_.sender, e_.counter};
-  if (auth_.verify(channel, head, e_.payload.data(), e_.payload.size(), e_.mac) != Verdict::kAccepted)
+  if (auth_.verify(channel, head, e_.payload.data(), e_.payload.size(), e_.mac, counters) != Verdict::kAccepted)
     return Opened::kRejected;
   if (e_.version != gather_lcm::envelope_t::VERSION) return Opened::kWrongVersion;
   return Opened::kOk;

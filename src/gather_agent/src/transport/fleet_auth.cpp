@@ -178,7 +178,7 @@ FleetAuth::FleetAuth(std::optional<FleetKey> key, std::vector<std::string> chann
       senders_(senders),
       clock_(clock),
       started_local_us_(clock ? clock->local_us() : wall_clock_us()),
-      without_window_(channels_.size(), false) {
+      mac_only_(channels_.size(), false) {
   need_sodium();
   if (key_) crypto_auth_hmacsha512256_init(&keyed_, key_->key.data(), key_->key.size());
 }
@@ -194,9 +194,9 @@ int64_t FleetAuth::now_us() const { return clock_ ? clock_->now_us() : wall_cloc
 
 void FleetAuth::start_now() { started_local_us_ = clock_ ? clock_->local_us() : wall_clock_us(); }
 
-void FleetAuth::without_window(const char* channel) {
+void FleetAuth::mac_only(const char* channel) {
   const int c = channel_index(channel);
-  if (c >= 0) without_window_[static_cast<std::size_t>(c)] = true;
+  if (c >= 0) mac_only_[static_cast<std::size_t>(c)] = true;
 }
 
 int FleetAuth::channel_index(const char* channel) const {
@@ -246,7 +246,7 @@ void FleetAuth::sign(const char* channel, int16_t sender, const uint8_t* payload
 }
 
 Verdict FleetAuth::verify(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
-                          const uint8_t* mac) {
+                          const uint8_t* mac, bool counters) {
   if (!key_) return Verdict::kAccepted;
   if (head.key_id == 0) return ++counters_.unsigned_msgs, Verdict::kUnsigned;
   if (head.key_id != key_->id || head.version != kVersion) return ++counters_.unknown_key, Verdict::kUnknownKey;
@@ -255,13 +255,13 @@ Verdict FleetAuth::verify(const char* channel, const EnvelopeHead& head, const u
   uint8_t expected[kMacBytes];
   mac_of(channel, head, payload, size, expected);
   if (crypto_verify_32(expected, mac) != 0) return ++counters_.bad_mac, Verdict::kBadMac;
+  if (!counters || mac_only_[static_cast<std::size_t>(c)]) return Verdict::kAccepted;
   int64_t& last = slot(accepted_, c, head.sender);
   if (head.counter <= last) return ++counters_.replayed, Verdict::kReplayed;
   // When this receiver started, in the fleet's time (its offset may have
   // been measured since).
   const int64_t started_us = started_local_us_ + (clock_ ? clock_->offset_us() : 0);
-  if (last == 0 && !without_window_[static_cast<std::size_t>(c)] &&
-      (head.counter < started_us - kClockSkewUs || head.counter > now_us() + kClockSkewUs))
+  if (last == 0 && (head.counter < started_us - kClockSkewUs || head.counter > now_us() + kClockSkewUs))
     return ++counters_.replayed, Verdict::kReplayed;  // sent before this receiver started: a capture
   last = head.counter;
   return Verdict::kAccepted;

@@ -147,8 +147,8 @@ LcmFleet::LcmFleet(const std::string& url, const std::string& reply_url, bool li
              kTimeAskChannel, kTimeChannel},
             kMaxTeam + 1, &clock_),
       envelopes_(std::make_unique<Envelopes>(auth_, kBuffer)) {
-  auth_.without_window(kTimeAskChannel);
-  auth_.without_window(kTimeChannel);
+  auth_.mac_only(kTimeAskChannel);
+  auth_.mac_only(kTimeChannel);
   if (team < kMaxTeam) auth_.reserve(team);  // an agent learns its team from the plan (set_team)
   std::string error;
   lcm_ = open_lcm_c(url, &error);
@@ -436,7 +436,7 @@ const uint8_t* LcmFleet::open(const char* channel, const void* data, int size, i
 }
 
 void LcmFleet::on_radio(const char* channel, const void* data, int size) {
-  if (!clock_.synced()) return;  // its clock may be off: nothing checks yet (time_from_oc)
+  if (!clock_.synced()) return not_yet(channel, data, size);
   int n = 0;
   int16_t sender = 0;
   if (const uint8_t* p = open(channel, data, size, n, sender)) on_radio_payload(channel, p, n, sender);
@@ -444,7 +444,7 @@ void LcmFleet::on_radio(const char* channel, const void* data, int size) {
 
 void LcmFleet::on_clock(const char* channel, const void* data, int size) {
   const bool time = std::strcmp(channel, kTimeChannel) == 0 || std::strcmp(channel, kTimeAskChannel) == 0;
-  if (!clock_.synced() && !time) return;  // its clock may be off: nothing checks yet (time_from_oc)
+  if (!clock_.synced() && !time) return not_yet(channel, data, size);
   int n = 0;
   int16_t sender = 0;
   const uint8_t* p = open(channel, data, size, n, sender);
@@ -452,6 +452,13 @@ void LcmFleet::on_clock(const char* channel, const void* data, int size) {
     on_time(channel, p, n, sender);
   else if (p)
     on_clock_payload(channel, p, n, sender);
+}
+
+void LcmFleet::not_yet(const char* channel, const void* data, int size) {
+  // Before its first clock exchange an agent cannot judge counters (they are
+  // on the fleet's time): it checks the key and MAC only, so that traffic
+  // under another key is counted (silence_cause names it), and takes nothing.
+  envelopes_->open(channel, data, size, /*counters=*/false);
 }
 
 void LcmFleet::on_time(const char* channel, const void* data, int size, int16_t sender) {

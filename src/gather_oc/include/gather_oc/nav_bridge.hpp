@@ -8,6 +8,8 @@
 // command FAILED at that waypoint; no progress for a while is BLOCKED.
 // Times are the robot's clock [s] (ROS time).
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "gather_agent/motion/robot_interface.hpp"
 #include "gather_core/grid/raster.hpp"
@@ -35,11 +37,19 @@ enum class GoalStatus : uint8_t {
   kLost = 9,
 };
 
+// One goal of move_base/status.
+struct GoalReport {
+  std::string id;
+  double stamp = 0.0;  // [s] its goal id's stamp (when move_base took it)
+  GoalStatus status = GoalStatus::kPending;
+};
+
 // What to do with move_base.
 struct MoveBaseOrder {
   enum class Kind : uint8_t { kNone, kGoal, kCancel } kind = Kind::kNone;
-  Point2 at;         // kGoal: [m] map frame
-  double yaw = 0.0;  // kGoal: [rad] the heading to arrive with
+  Point2 at;            // kGoal: [m] map frame
+  double yaw = 0.0;     // kGoal: [rad] the heading to arrive with
+  std::string goal_id;  // kCancel: the goal to cancel ("": every goal)
 };
 
 class NavBridge {
@@ -50,9 +60,11 @@ class NavBridge {
   MoveBaseOrder command(const agent::NavCommand& c, double now);
   // The robot's pose (from TF).
   MoveBaseOrder pose(Point2 at, double heading, double now);
-  // move_base's status of the newest goal it reports that was sent at or
-  // after the bridge's last goal (`goal_stamp` [s]: its goal id's stamp).
-  MoveBaseOrder goal_status(GoalStatus s, double goal_stamp, double now);
+  // move_base's status (every goal it reports). The bridge's goal is the
+  // first one stamped at or after it went out (its id is kept from then);
+  // a newer goal of another id that is under way took move_base over
+  // (someone else's goal): FAILED.
+  MoveBaseOrder goal_status(const std::vector<GoalReport>& goals, double now);
   // Called every cycle: a goal move_base has not taken goes out again.
   MoveBaseOrder tick(double now);
 
@@ -70,6 +82,7 @@ class NavBridge {
  private:
   MoveBaseOrder goal_for(int k, double now);
   MoveBaseOrder reached(double now);  // the current waypoint counts as reached
+  MoveBaseOrder cancel_ours();        // a cancel of the goal out, if any
   void set_state(agent::NavState s);
 
   NavBridgeParams params_;
@@ -78,6 +91,8 @@ class NavBridge {
   int current_ = 0;             // waypoint under way
   double goal_sent_at_ = -1.0;  // when its goal went out (-1: none out)
   bool goal_heard_ = false;     // move_base reported that goal
+  std::string goal_id_;         // its id in move_base/status, once heard
+  double goal_stamp_ = 0.0;     // and its stamp
   bool cancelled_ = false;
   agent::NavStatus status_{};
   agent::RobotPose pose_{};

@@ -108,15 +108,18 @@ class FleetAuth {
 
   // Checks a received envelope; on kAccepted the sender's counter moves on.
   // Counts every refusal in counters(). Insecure mode accepts everything.
+  // `counters` false: the key and the MAC only, nothing moves (an agent
+  // before it knows the fleet's time counts traffic under another key).
   Verdict verify(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
-                 const uint8_t* mac);
+                 const uint8_t* mac, bool counters = true);
 
-  // The first message of a sender on `channel` is taken without the
-  // freshness window (its counter still has to rise, and its MAC to hold):
-  // the clock exchange's channels, which carry what puts a clock that is off
-  // right; a replayed ask only gets an answer that echoes a stale t0, which
-  // the asker refuses (LcmFleet).
-  void without_window(const char* channel);
+  // Messages on `channel` are checked for their key and MAC only, not for
+  // their counter: the clock exchange's channels, which carry what puts a
+  // clock that is off right (a counter stamped by that clock proves
+  // nothing). Their replays are harmless by design: an ask only earns an
+  // answer that echoes its t0, and an answer counts only when it echoes the
+  // asker's last t0, once (LcmFleet).
+  void mac_only(const char* channel);
 
   // This receiver starts now (on its clock, which was just replaced): the
   // freshness window's lower end.
@@ -142,8 +145,8 @@ class FleetAuth {
   int senders_;
   int64_t now_us() const;  // the clock's, or the host's
   const FleetClock* clock_;
-  int64_t started_local_us_;          // this host's clock when this receiver started
-  std::vector<bool> without_window_;  // per channel
+  int64_t started_local_us_;    // this host's clock when this receiver started
+  std::vector<bool> mac_only_;  // per channel
   // HMAC's state once the key is absorbed (its inner and outer pads hashed):
   // each message starts from a copy instead of hashing the key twice again.
   crypto_auth_hmacsha512256_state keyed_{};

@@ -9,7 +9,8 @@
 //   offset = ((t1 - t0) + (t2 - t3)) / 2, round trip = (t3 - t0) - (t2 - t1).
 // Of its last kSamples exchanges it keeps the offset of the one with the
 // shortest round trip (the least delayed by queues; the offset's error is at
-// most half that round trip). The wall-clock mode's mission time and the
+// most half that round trip). An exchange whose offset the kept one cannot
+// explain (a clock stepped) starts the samples afresh. The wall-clock mode's mission time and the
 // signing counters and their freshness checks (FleetAuth) read now_us().
 #include <array>
 #include <cstdint>
@@ -38,6 +39,8 @@ class FleetClock {
   int64_t round_trip_us() const { return round_trip_us_; }
   bool synced() const { return synced_; }
   int exchanges() const { return exchanges_; }
+  // Times the samples started afresh because a clock stepped.
+  int steps() const { return steps_; }
 
   // One exchange (t0..t3 as above); false, and ignored, when its round trip
   // is negative or longer than kMaxRoundTripUs.
@@ -52,6 +55,9 @@ class FleetClock {
   int64_t offset_us_ = 0;
   int64_t round_trip_us_ = 0;
   int exchanges_ = 0;
+  int steps_ = 0;
+  int kept_ = 0;  // samples that count (the last kept_ written)
+  int next_ = 0;  // where the next one goes
   std::array<Sample, kSamples> samples_{};
 };
 

@@ -208,6 +208,7 @@ class LcmFleet {
   void on_radio_payload(const char* channel, const void* data, int size, int16_t sender);
   void on_clock_payload(const char* channel, const void* data, int size, int16_t sender);
   void on_time(const char* channel, const void* data, int size, int16_t sender);
+  void not_yet(const char* channel, const void* data, int size);
 
   lcm_t* lcm_ = nullptr;
   lcm_t* reply_lcm_ = nullptr;
