@@ -9,9 +9,10 @@ interface served by world_move_base on one of gather_world's MRPT robots
 /tf; gather_world plans the robot's way). The OC is `gather run --agents
 external --robots external --clock wall`: it starts no agent, the robots'
 launches do. Agent 0's clock is put 2.5 s off. Checks: the mission completes
-and every goal ends in a final state with goals measured and delivered by
-both robots, through real ROS topics; each move_base took goals from its bridge; the
-agents ended by themselves and their launches with them; robot_bridge's bad
+and every goal ends in a final state, with at least half as many goals
+delivered through real ROS topics as with the agents driving the same
+robots directly; each move_base took goals from its bridge; the agents
+ended by themselves and their launches with them; robot_bridge's bad
 parameters give one line and status 2.
 """
 import argparse
@@ -29,7 +30,7 @@ DEVEL = os.path.join(REPO, "catkin_ws", "devel", "lib")
 FAILURES = []
 FINAL = {"delivered", "expired", "dropped_overflow", "unreachable"}
 RATE = 5.0  # mission seconds per wall second (gather_world's robots keep up)
-CYCLES = 3
+CYCLES = 2
 
 
 def check(name, ok, detail=""):
@@ -158,14 +159,15 @@ def main():
         states[r["state"]] = states.get(r["state"], 0) + 1
     check("every goal in a final state %s" % states, rows and set(states) <= FINAL)
     by = {k: sum(r["measured_by"] == str(k) and r["state"] == "delivered" for r in rows) for k in range(2)}
-    check("both robots measured and delivered goals through move_base %s" % by, all(v > 0 for v in by.values()))
     # Beside the same robots driven by their agents directly (gather run --robots mrpt, in one process).
     ref = os.path.join(tmp, "direct")
     rc, _, err = run([a.gather, "run", plan, "--out", ref, "--robots", "mrpt", "--cycles", str(CYCLES)])
     if check("the same plan on gather_world's robots without ROS", rc == 0, err[-800:]):
         direct = sum(r["state"] == "delivered" for r in csv.DictReader(open(os.path.join(ref, "goals.csv"))))
-        print("delivered through robot_bridge and move_base: %d of %d goals; with the agents driving gather_world's "
-              "robots directly (lockstep): %d" % (states.get("delivered", 0), len(rows), direct))
+        got = states.get("delivered", 0)
+        check("delivered through robot_bridge and move_base: %d of %d goals (by robot %s); with the agents driving "
+              "gather_world's robots directly (lockstep): %d" % (got, len(rows), by, direct),
+              got >= 1 and 2 * got >= direct)
     for k in range(2):
         check("robot_bridge %d started on the robot interface" % k,
               re.search(r"robot_bridge %d: the robot interface on udpm://239.255.76.67:7669\?ttl=0, move_base on "

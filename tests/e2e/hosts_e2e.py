@@ -62,8 +62,8 @@ def main():
     ap.add_argument("--agent", default=os.path.join(DEVEL, "gather_agent", "gather_agent"))
     ap.add_argument("--config", default="pap:4")
     ap.add_argument("--rate", type=float, default=5.0, help="mission seconds per wall second")
-    ap.add_argument("--cycles", type=int, default=7)
-    ap.add_argument("--down-at", type=float, default=25.0, help="[s of wall time after the start] the link goes down")
+    ap.add_argument("--cycles", type=int, default=6)
+    ap.add_argument("--down-at", type=float, default=20.0, help="[s of wall time after the start] the link goes down")
     ap.add_argument("--down-for", type=float, default=60.0, help="[s of wall time]")
     ap.add_argument("--keep", default="", help="keep the run's files here")
     a = ap.parse_args()
@@ -138,6 +138,10 @@ def main():
     wrong = {k: v for k, v in offsets.items() if abs(v + SKEWS[k % len(SKEWS)]) > 0.05}
     check("every agent measured its clock's offset to the OC within 50 ms (%d of %d)" % (len(offsets), len(agents)),
           len(offsets) == len(agents) and not wrong, "off: %s" % wrong)
+    # The OC refused nothing: every agent signed on the OC's time, whatever its host's clock.
+    rejected = list(csv.DictReader(open(os.path.join(out_dir, "oc_rejected.csv"))))[0]
+    bad = {k: v for k, v in rejected.items() if k.startswith("rejected_") and v != "0"}
+    check("the OC refused no agent's message (signing on the corrected clocks)", not bad, str(bad))
     # Every goal once, in one final state; none lost.
     rows = goals(os.path.join(out_dir, "goals.csv"))
     ids = [r["goal"] for r in rows]

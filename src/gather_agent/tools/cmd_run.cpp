@@ -118,8 +118,12 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
     if (wall) {
       std::printf("over LCM on the wall clock at %g x: %lld control steps of the OC, %lld radio messages from the OC\n",
                   rate, static_cast<long long>(out.ticks), static_cast<long long>(out.messages));
+      if (fleet_of.external) return out;
       processes.wait(5.0);
       processes.stop(2.0);
+      for (const AgentProcess& p : processes.agents())  // stopped ones exit 0 (SIGTERM)
+        if (p.exit_status != 0)
+          throw RuntimeError("agent " + std::to_string(p.id), "exited with status " + std::to_string(p.exit_status));
       return out;
     }
     std::printf(
