@@ -104,6 +104,12 @@ def main():
            "--key-file", key, "--lcm-url", url, "--clock", "wall", "--rate", str(a.rate), "--agent-bin", wrapper]
     print("the OC on host oc, %d agents on hosts r0..r%d (clocks off by %s s), robot %d's link down from %g s for %g s"
           % (len(agents), len(agents) - 1, "/".join("%+g" % s for s in SKEWS), victim, a.down_at, a.down_for))
+    # What the fleet said, recorded at the OC's host (docs/robots.md, "Recording what the fleet said").
+    logs = [os.path.join(tmp, "fleet.lcmlog"), os.path.join(tmp, "replies.lcmlog")]
+    loggers = [subprocess.Popen(["host-exec", "oc", "lcm-logger", "-f", "--lcm-url=" + u, f],
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+               for u, f in ((url, logs[0]), ("udpm://239.255.76.67:7668?ttl=1", logs[1]))]
+    time.sleep(0.5)
     t0 = time.time()
     oc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     partition = {}
@@ -126,6 +132,10 @@ def main():
         stdout, stderr = oc.communicate()
     cutter.join()
     wall = time.time() - t0
+    time.sleep(0.5)
+    for p in loggers:
+        p.terminate()
+        p.wait()
     if not check("the mission over %d hosts completes (status %d, %.0f s)" % (len(hosts), oc.returncode, wall),
                  oc.returncode == 0, (stdout[-1500:] + stderr[-1500:])):
         return 1
@@ -171,6 +181,24 @@ def main():
                  sum(r["state"] == "delivered" for r in by_victim)))
         check("the partition cost at most robot %d's own goals plus 10%% of the rest" % victim,
               want - got <= mine_ref + 0.1 * want, "%d delivered against %d" % (got, want))
+
+    # The recording played back: the OC's role again on what it heard, the same goals.csv.
+    replay_dir = os.path.join(tmp, "replay")
+    rc, out, err = run([a.gather, "run", plan, "--out", replay_dir, "--lcm", "--key-file", key, "--replay",
+                        ",".join(logs)])
+    if check("gather run --replay of lcm-logger's recordings (%s)" % (out.strip().splitlines() or ["?"])[-2:-1],
+             rc == 0, err[-1000:]):
+        again = {r["goal"]: r["state"] for r in goals(os.path.join(replay_dir, "goals.csv"))}
+        same = sum(again.get(r["goal"]) == r["state"] for r in rows)
+        check("played back: %d of %d goals end as in the mission" % (same, len(rows)),
+              len(again) == len(rows) and same >= 0.98 * len(rows))
+    rc, _, err = run([a.gather, "run", plan, "--out", replay_dir, "--lcm", "--key-file", key, "--replay",
+                      os.path.join(tmp, "nothing.lcmlog")])
+    check("--replay of a log that is not there: status 2, one line naming it",
+          rc == 2 and err.count("\n") == 1 and "nothing.lcmlog" in err, err)
+    rc, _, err = run([a.gather, "run", plan, "--out", replay_dir, "--lcm", "--key-file", key, "--replay",
+                      ",".join(logs), "--cycles", "2"])
+    check("--replay with a setting of its own: status 2, one line", rc == 2 and "--replay takes" in err, err)
 
     # The same topology, a ttl=0 URL: nothing crosses a link. Each agent says
     # what is wrong in one line and exits 1 (an agent on r0 alone is enough).

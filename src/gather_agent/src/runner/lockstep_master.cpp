@@ -172,7 +172,8 @@ void LockstepMaster::start(ShutdownSignal* signal) {
   collect_replies(-1, ReplyStatus::kReady, options_.ready_timeout_s, signal);
   started_ = Clock::now();
   if (options_.clock == ClockMode::kWall) {
-    start_us_ = fleet_.clock().now_us() + 200000;  // every agent hears the start before it comes
+    // Every agent hears the start before it comes (a replay takes the recorded one).
+    start_us_ = options_.start_us > 0 ? options_.start_us : fleet_.clock().now_us() + 200000;
     fleet_.publish(clock_tick(0, 0.0, start_us_));
     clock_said_ = Clock::now();
   }

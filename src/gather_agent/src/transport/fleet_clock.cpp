@@ -8,6 +8,7 @@ namespace gather {
 namespace agent {
 
 int64_t FleetClock::local_us() const {
+  if (virtual_) return virtual_us_;
   return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
              .count() +
          skew_us_;

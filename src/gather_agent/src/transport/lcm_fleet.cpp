@@ -4,6 +4,7 @@
 // is one converter per message type, each next to the checks of its fields.
 #include "gather_agent/transport/lcm_fleet.hpp"
 
+#include <lcm/eventlog.h>
 #include <lcm/lcm.h>
 #include <poll.h>
 #include <unistd.h>
@@ -192,6 +193,68 @@ void LcmFleet::keep_time() {
   time_next_us_ = now + (clock_.exchanges() < kQuickExchanges ? kQuickAskUs : kAskUs);
   const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
   if (n < 0 || !send(reply_lcm_, kTimeAskChannel, time_agent_, n)) ++publish_failures_;
+}
+
+struct LcmFleet::Recording {
+  std::string path;
+  lcm_eventlog_t* log = nullptr;
+  lcm_eventlog_event_t* next = nullptr;  // nullptr: the log is over
+  void advance() {
+    if (next) lcm_eventlog_free_event(next);
+    next = lcm_eventlog_read_next_event(log);
+  }
+  ~Recording() {
+    if (next) lcm_eventlog_free_event(next);
+    if (log) lcm_eventlog_destroy(log);
+  }
+};
+
+void LcmFleet::replay(const std::vector<std::string>& logs) {
+  int64_t first = 0;
+  for (const std::string& path : logs) {
+    auto r = std::make_unique<Recording>();
+    r->path = path;
+    r->log = lcm_eventlog_create(path.c_str(), "r");
+    if (!r->log) throw Error(path, "cannot read this LCM log (lcm-logger's format)");
+    r->advance();
+    if (r->next && (first == 0 || r->next->timestamp < first)) first = r->next->timestamp;
+    recordings_.push_back(std::move(r));
+  }
+  clock_ = FleetClock(true);
+  clock_.set_virtual(first);
+  auth_.start_now();  // counters are judged on the recording's time
+}
+
+bool LcmFleet::replay_over() const {
+  for (const auto& r : recordings_)
+    if (r->next) return false;
+  return true;
+}
+
+bool LcmFleet::replay_handle(int timeout_ms) {
+  const int64_t until = clock_.local_us() + std::max(timeout_ms, 1) * 1000;
+  bool any = false;
+  for (;;) {
+    Recording* soonest = nullptr;
+    for (const auto& r : recordings_)
+      if (r->next && r->next->timestamp <= until && (!soonest || r->next->timestamp < soonest->next->timestamp))
+        soonest = r.get();
+    if (!soonest) break;
+    const lcm_eventlog_event_t& e = *soonest->next;
+    clock_.set_virtual(std::max(clock_.local_us(), e.timestamp));
+    const std::string channel(static_cast<const char*>(e.channel), static_cast<std::size_t>(e.channellen));
+    const char* ch = channel.c_str();
+    if (std::strcmp(ch, kRequestChannel) == 0 || std::strcmp(ch, kDataChannel) == 0 ||
+        std::strcmp(ch, kAckChannel) == 0 || std::strcmp(ch, kStateChannel) == 0)
+      on_radio(ch, e.data, e.datalen);
+    else if (std::strcmp(ch, kPlanChannel) == 0 || std::strcmp(ch, kTickChannel) == 0 ||
+             (std::strcmp(ch, kReplyChannel) == 0 && listen_replies_))
+      on_clock(ch, e.data, e.datalen);
+    ++replayed_, any = true;
+    soonest->advance();
+  }
+  clock_.set_virtual(until);
+  return any;
 }
 
 LcmFleet::~LcmFleet() {
@@ -397,6 +460,7 @@ bool LcmFleet::send(lcm_t* lcm, const char* channel, int16_t sender, int n) {
 }
 
 bool LcmFleet::handle(int timeout_ms, int also_fd) {
+  if (!recordings_.empty()) return replay_handle(timeout_ms);
   // An agent never asks for the replies' file descriptor: with LCM's udpm
   // that would join the replies' group, and every agent would receive every
   // other agent's replies.

@@ -133,6 +133,7 @@ struct MasterOptions {
   double ready_timeout_s = 60.0;  // for every agent to say READY
   double reply_timeout_s = 10.0;  // for every agent to reply to a tick
   double time_limit = 0.0;        // [s] of mission time; 0: time_limit(team)
+  int64_t start_us = 0;           // wall clock: the mission's start [us since the epoch]; 0: 0.2 s after READY
   // The agents drive robots through the robot interface (gather_agent
   // --motion lcm): with the lockstep clock each waits for its robot's
   // report of every tick, and gather_world for the tick before's commands.

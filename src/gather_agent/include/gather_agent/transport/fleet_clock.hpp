@@ -42,6 +42,10 @@ class FleetClock {
   // Times the samples started afresh because a clock stepped.
   int steps() const { return steps_; }
 
+  // A clock that reads `us` until set again (a recording played back:
+  // LcmFleet::replay).
+  void set_virtual(int64_t us) { virtual_ = true, virtual_us_ = us; }
+
   // One exchange (t0..t3 as above); false, and ignored, when its round trip
   // is negative or longer than kMaxRoundTripUs.
   bool add(int64_t t0, int64_t t1, int64_t t2, int64_t t3);
@@ -52,6 +56,8 @@ class FleetClock {
   };
   int64_t skew_us_;
   bool synced_;
+  bool virtual_ = false;
+  int64_t virtual_us_ = 0;
   int64_t offset_us_ = 0;
   int64_t round_trip_us_ = 0;
   int exchanges_ = 0;

@@ -163,6 +163,16 @@ class LcmFleet {
   void keep_time();
   const FleetClock& clock() const { return clock_; }
 
+  // Plays back recordings of the fleet's traffic (lcm-logger logs of the
+  // fleet's URL and of the replies' URL) instead of listening: handle()
+  // dispatches the recorded messages in time order (checked as live ones,
+  // on a clock that follows the recording), and what this fleet publishes
+  // goes nowhere. Throws gather::Error naming a log that does not open.
+  void replay(const std::vector<std::string>& logs);
+  // Every recorded message played back.
+  bool replay_over() const;
+  int64_t replayed() const { return replayed_; }
+
   // Publish; false (and counted) when LCM refuses.
   bool publish(const Message& m);
   bool publish(const PlanAnnounce& p);
@@ -227,6 +237,10 @@ class LcmFleet {
   int64_t time_next_us_ = 0;     // local time of the next ask
   FleetAuth auth_;
   std::unique_ptr<Envelopes> envelopes_;  // sealing and opening (transport/envelope.hpp)
+  struct Recording;
+  std::vector<std::unique_ptr<Recording>> recordings_;  // replay(): the logs, each at its next event
+  int64_t replayed_ = 0;
+  bool replay_handle(int timeout_ms);
 };
 
 }  // namespace agent
