@@ -17,6 +17,7 @@ import argparse
 import csv
 import os
 import re
+import struct
 import subprocess
 import sys
 import tempfile
@@ -196,6 +197,12 @@ def main():
                       os.path.join(tmp, "nothing.lcmlog")])
     check("--replay of a log that is not there: status 2, one line naming it",
           rc == 2 and err.count("\n") == 1 and "nothing.lcmlog" in err, err)
+    damaged = os.path.join(tmp, "damaged.lcmlog")  # an event that says it holds 2 GB
+    with open(damaged, "wb") as f:
+        f.write(struct.pack(">IqqII", 0xEDA1DA01, 0, 1, 10, 0x7FFFFFFF) + b"GATHER_ACK" + b"x" * 100)
+    rc, _, err = run([a.gather, "run", plan, "--out", replay_dir, "--lcm", "--key-file", key, "--replay", damaged])
+    check("--replay of a damaged log: status 2, one line naming it, nothing allocated for it",
+          rc == 2 and err.count("\n") == 1 and "damaged.lcmlog" in err, err)
     rc, _, err = run([a.gather, "run", plan, "--out", replay_dir, "--lcm", "--key-file", key, "--replay",
                       ",".join(logs), "--cycles", "2"])
     check("--replay with a setting of its own: status 2, one line", rc == 2 and "--replay takes" in err, err)

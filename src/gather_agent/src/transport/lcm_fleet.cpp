@@ -4,7 +4,6 @@
 // is one converter per message type, each next to the checks of its fields.
 #include "gather_agent/transport/lcm_fleet.hpp"
 
-#include <lcm/eventlog.h>
 #include <lcm/lcm.h>
 #include <poll.h>
 #include <unistd.h>
@@ -19,6 +18,7 @@
 #include <gather_lcm/time_sync_t.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -195,17 +195,42 @@ void LcmFleet::keep_time() {
   if (n < 0 || !send(reply_lcm_, kTimeAskChannel, time_agent_, n)) ++publish_failures_;
 }
 
+// An lcm-logger log read event by event: a sync word, the event number and
+// its time [us], the channel's and the data's lengths (big endian), then
+// both. Read here, not with LCM's reader, so that a damaged log's lengths
+// are checked before anything is allocated: a log ends at the first event
+// that is not whole or out of bounds.
 struct LcmFleet::Recording {
+  static constexpr uint32_t kSync = 0xEDA1DA01;
+  static constexpr uint32_t kMaxChannel = 256, kMaxData = 1 << 20;
   std::string path;
-  lcm_eventlog_t* log = nullptr;
-  lcm_eventlog_event_t* next = nullptr;  // nullptr: the log is over
+  std::FILE* file = nullptr;
+  bool has_next = false;
+  int64_t timestamp = 0;
+  std::string channel;
+  std::vector<uint8_t> data;
+  static uint64_t be(const uint8_t* p, int n) {
+    uint64_t v = 0;
+    for (int i = 0; i < n; ++i) v = v << 8 | p[i];
+    return v;
+  }
   void advance() {
-    if (next) lcm_eventlog_free_event(next);
-    next = lcm_eventlog_read_next_event(log);
+    has_next = false;
+    uint8_t head[4 + 8 + 8 + 4 + 4];
+    if (!file || std::fread(head, 1, sizeof head, file) != sizeof head) return;
+    const uint32_t channel_len = static_cast<uint32_t>(be(head + 20, 4)),
+                   data_len = static_cast<uint32_t>(be(head + 24, 4));
+    if (be(head, 4) != kSync || channel_len == 0 || channel_len > kMaxChannel || data_len > kMaxData) return;
+    timestamp = static_cast<int64_t>(be(head + 12, 8));
+    channel.resize(channel_len);
+    data.resize(data_len);
+    if (std::fread(channel.data(), 1, channel_len, file) != channel_len ||
+        std::fread(data.data(), 1, data_len, file) != data_len)
+      return;
+    has_next = true;
   }
   ~Recording() {
-    if (next) lcm_eventlog_free_event(next);
-    if (log) lcm_eventlog_destroy(log);
+    if (file) std::fclose(file);
   }
 };
 
@@ -214,10 +239,11 @@ void LcmFleet::replay(const std::vector<std::string>& logs) {
   for (const std::string& path : logs) {
     auto r = std::make_unique<Recording>();
     r->path = path;
-    r->log = lcm_eventlog_create(path.c_str(), "r");
-    if (!r->log) throw Error(path, "cannot read this LCM log (lcm-logger's format)");
+    r->file = std::fopen(path.c_str(), "rb");
+    if (!r->file) throw Error(path, std::string("cannot read this LCM log: ") + std::strerror(errno));
     r->advance();
-    if (r->next && (first == 0 || r->next->timestamp < first)) first = r->next->timestamp;
+    if (!r->has_next) throw Error(path, "not an LCM log (lcm-logger's format), or empty");
+    if (first == 0 || r->timestamp < first) first = r->timestamp;
     recordings_.push_back(std::move(r));
   }
   clock_ = FleetClock(true);
@@ -227,7 +253,7 @@ void LcmFleet::replay(const std::vector<std::string>& logs) {
 
 bool LcmFleet::replay_over() const {
   for (const auto& r : recordings_)
-    if (r->next) return false;
+    if (r->has_next) return false;
   return true;
 }
 
@@ -237,19 +263,17 @@ bool LcmFleet::replay_handle(int timeout_ms) {
   for (;;) {
     Recording* soonest = nullptr;
     for (const auto& r : recordings_)
-      if (r->next && r->next->timestamp <= until && (!soonest || r->next->timestamp < soonest->next->timestamp))
-        soonest = r.get();
+      if (r->has_next && r->timestamp <= until && (!soonest || r->timestamp < soonest->timestamp)) soonest = r.get();
     if (!soonest) break;
-    const lcm_eventlog_event_t& e = *soonest->next;
-    clock_.set_virtual(std::max(clock_.local_us(), e.timestamp));
-    const std::string channel(static_cast<const char*>(e.channel), static_cast<std::size_t>(e.channellen));
-    const char* ch = channel.c_str();
+    clock_.set_virtual(std::max(clock_.local_us(), soonest->timestamp));
+    const char* ch = soonest->channel.c_str();
+    const int n = static_cast<int>(soonest->data.size());
     if (std::strcmp(ch, kRequestChannel) == 0 || std::strcmp(ch, kDataChannel) == 0 ||
         std::strcmp(ch, kAckChannel) == 0 || std::strcmp(ch, kStateChannel) == 0)
-      on_radio(ch, e.data, e.datalen);
+      on_radio(ch, soonest->data.data(), n);
     else if (std::strcmp(ch, kPlanChannel) == 0 || std::strcmp(ch, kTickChannel) == 0 ||
              (std::strcmp(ch, kReplyChannel) == 0 && listen_replies_))
-      on_clock(ch, e.data, e.datalen);
+      on_clock(ch, soonest->data.data(), n);
     ++replayed_, any = true;
     soonest->advance();
   }
