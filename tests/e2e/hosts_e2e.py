@@ -197,6 +197,13 @@ def main():
                       os.path.join(tmp, "nothing.lcmlog")])
     check("--replay of a log that is not there: status 2, one line naming it",
           rc == 2 and err.count("\n") == 1 and "nothing.lcmlog" in err, err)
+    cut = os.path.join(tmp, "cut.lcmlog")  # the fleet's recording cut in the middle of the mission
+    with open(logs[0], "rb") as f, open(cut, "wb") as g:
+        g.write(f.read(os.path.getsize(logs[0]) // 2))
+    rc, _, err = run([a.gather, "run", plan, "--out", replay_dir, "--lcm", "--key-file", key, "--replay",
+                      cut + "," + logs[1]])
+    check("--replay of a recording cut short: status 1, it says where it ends (no made-up losses)",
+          rc == 1 and "before the mission did" in err and "cut.lcmlog" in err, "status %d: %s" % (rc, err))
     damaged = os.path.join(tmp, "damaged.lcmlog")  # an event that says it holds 2 GB
     with open(damaged, "wb") as f:
         f.write(struct.pack(">IqqII", 0xEDA1DA01, 0, 1, 10, 0x7FFFFFFF) + b"GATHER_ACK" + b"x" * 100)

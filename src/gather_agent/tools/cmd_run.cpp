@@ -82,7 +82,8 @@ Recorded recorded_mission(const std::vector<std::string>& logs, const std::optio
     fleet.handle(1000);
     if (!planned && !fleet.plans().empty()) r.plan = fleet.plans().front(), planned = true;
     for (const agent::Tick& t : fleet.ticks())
-      if (r.start_us == 0 && t.start_us > 0) r.start_us = t.start_us;
+      if (r.start_us == 0 && t.start_us > 0 && std::llabs(t.start_us - fleet.clock().now_us()) < 60'000'000)
+        r.start_us = t.start_us;  // (a start far from when it was said is not the OC's)
     fleet.plans().clear(), fleet.ticks().clear(), fleet.radio().clear(), fleet.replies().clear();
   }
   const std::string what = logs.front() + (logs.size() > 1 ? " (and the other logs)" : "");
@@ -150,6 +151,12 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
     master.start(nullptr);
     const double ready_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     while (master.tick(nullptr)) {
+      // A recording that ends before the mission: what the OC would decide
+      // on the silence after it never happened.
+      if (replaying && fleet.replay_over() && fleet.clock().now_us() > fleet.replay_end_us() + 2'000'000)
+        throw RuntimeError(fleet_of.replay.front(),
+                           "the recording ends at t = " + std::to_string(static_cast<int>(master.now())) +
+                               " s, before the mission did");
     }
     agent::RunOutcome out = master.finish();
     // Where the time goes (wall of the ticks, and the agents' own CPU).
@@ -199,9 +206,10 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
     // An agent that refused the plan is bad input (its files differ);
     // anything else here happened while running.
     if (std::string(e.what()).find("refused the plan") != std::string::npos) throw;
-    if (replaying)  // the agents' READY travels on the replies' URL
-      throw RuntimeError("", std::string(e.what()) + " in the recording: record the replies' URL too (" +
-                                 agent::LcmFleet::reply_url_for(url) + ", docs/robots.md)");
+    if (replaying && std::string(e.what()).find("did not answer the plan announcement") != std::string::npos)
+      throw RuntimeError("", std::string(e.what()) +  // the agents' READY travels on the replies' URL
+                                 " in the recording: record the replies' URL too (the fleet's port + 1, "
+                                 "docs/robots.md)");
     throw RuntimeError("", e.what());
   }
 }
@@ -294,7 +302,8 @@ int run(int argc, char** argv) {
   std::optional<agent::FleetKey> replay_key;
   if (args.has("--replay")) {
     for (const char* flag : {"--clock", "--rate", "--agents", "--robots", "--cycles", "--seed", "--seeds", "--kill",
-                             "--restart", "--loss", "--agent-bin", "--lcm-url", "--reply-url", "--tick", "--protocol"})
+                             "--restart", "--loss", "--loss-seed", "--agent-bin", "--lcm-url", "--reply-url", "--tick",
+                             "--protocol", "--repair", "--silent-intervals", "--speed-factor"})
       if (args.has(flag))
         throw cli::UsageError(std::string("--replay takes the mission's settings from the recording: no ") + flag);
     std::string list = args.get("--replay");
@@ -304,6 +313,11 @@ int run(int argc, char** argv) {
       at = comma + 1;
     }
     if (fleet_of.replay.empty()) throw cli::UsageError("--replay needs LOG[,LOG...] (lcm-logger recordings)");
+    if (fleet_of.replay.size() > 16) throw cli::UsageError("--replay takes at most 16 logs");
+    for (std::size_t i = 0; i < fleet_of.replay.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j)
+        if (fleet_of.replay[i] == fleet_of.replay[j])
+          throw cli::UsageError("--replay: " + fleet_of.replay[i].substr(0, 200) + " is given twice");
     replay_key = agent::fleet_key_from_options(args.get("--key-file", ""), args.on("--insecure"), "gather run");
     recorded = recorded_mission(fleet_of.replay, replay_key);
     wall_clock = true, fleet_of.external = true, fleet_of.start_us = recorded.start_us;
@@ -332,15 +346,9 @@ int run(int argc, char** argv) {
   if (protocol != "ideal" && protocol != "robots")
     throw cli::UsageError("--protocol must be ideal or robots, got '" + protocol.substr(0, 40) + "'");
   if (protocol == "robots") params.protocol = mission::robot_protocol(params.protocol);
-  if (!fleet_of.replay.empty()) {  // the recorded OC's settings, as it announced them
-    const agent::MissionParams& r = recorded.plan.params;
-    params.cycles = r.cycles, params.seed = r.seed, params.goals_per_request = r.goals_per_request;
-    params.data_capacity = r.data_capacity, params.notice_capacity = r.notice_capacity;
-    params.beacon_period = r.beacon_period, params.resend_after = r.resend_after, params.repair = r.repair;
-    params.silent_intervals = r.silent_intervals, params.ask_after = r.ask_after, params.protocol = r.protocol;
-  }
   const int seeds = args.get_int("--seeds", 1, 1, 1000);
-  const int seed0 = args.get_int("--seed", static_cast<int>(params.seed), 0, 2147483647);
+  const int seed0 = fleet_of.replay.empty() ? args.get_int("--seed", static_cast<int>(params.seed), 0, 2147483647)
+                                            : static_cast<int>(recorded.plan.params.seed);
   agent::RunOptions opt;
   opt.tick = args.get_double("--tick", opt.tick, 0.001, 10.0);
   opt.loss = args.get_double("--loss", opt.loss, 0.0, 0.999);
@@ -349,6 +357,13 @@ int run(int argc, char** argv) {
   if (!fleet_of.replay.empty()) opt.loss_seed = recorded.plan.loss_seed;
   params.repair = mission::parse_repair_mode(args.get("--repair", "merge"), "--repair");
   params.silent_intervals = args.get_double("--silent-intervals", params.silent_intervals, 1.5, 100.0);
+  if (!fleet_of.replay.empty()) {  // the recorded OC's settings, as it announced them
+    const agent::MissionParams& r = recorded.plan.params;
+    params.cycles = r.cycles, params.seed = r.seed, params.goals_per_request = r.goals_per_request;
+    params.data_capacity = r.data_capacity, params.notice_capacity = r.notice_capacity;
+    params.beacon_period = r.beacon_period, params.resend_after = r.resend_after, params.repair = r.repair;
+    params.silent_intervals = r.silent_intervals, params.ask_after = r.ask_after, params.protocol = r.protocol;
+  }
   opt.kills = agent::parse_kills(args.get("--kill", ""), static_cast<int>(loaded.plan.file.agents.size()), "--kill");
   opt.restarts =
       agent::parse_kills(args.get("--restart", ""), static_cast<int>(loaded.plan.file.agents.size()), "--restart");

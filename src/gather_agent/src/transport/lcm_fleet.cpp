@@ -214,7 +214,15 @@ struct LcmFleet::Recording {
     for (int i = 0; i < n; ++i) v = v << 8 | p[i];
     return v;
   }
+  // A log ends early (one line on stderr) at an event that is not whole, out
+  // of bounds, or stamped before the epoch or over an hour from the one
+  // before (a damaged log: its time would stall or wrap the replay's clock).
+  void stop_at(const char* why) {
+    std::fprintf(stderr, "gather: %s: the log ends at byte %ld: %s\n", path.c_str(), std::ftell(file), why);
+    has_next = false;
+  }
   void advance() {
+    const bool had = has_next;
     has_next = false;
     uint8_t head[4 + 8 + 8 + 4 + 4];
     if (!file || std::fread(head, 1, sizeof head, file) != sizeof head) return;
@@ -226,7 +234,7 @@ struct LcmFleet::Recording {
     data.resize(data_len);
     if (std::fread(channel.data(), 1, channel_len, file) != channel_len ||
         std::fread(data.data(), 1, data_len, file) != data_len)
-      return;
+      return had ? stop_at("an event cut short") : void();
     has_next = true;
   }
   ~Recording() {
@@ -235,7 +243,7 @@ struct LcmFleet::Recording {
 };
 
 void LcmFleet::replay(const std::vector<std::string>& logs) {
-  int64_t first = 0;
+  std::optional<int64_t> first;
   for (const std::string& path : logs) {
     auto r = std::make_unique<Recording>();
     r->path = path;
@@ -243,11 +251,11 @@ void LcmFleet::replay(const std::vector<std::string>& logs) {
     if (!r->file) throw Error(path, std::string("cannot read this LCM log: ") + std::strerror(errno));
     r->advance();
     if (!r->has_next) throw Error(path, "not an LCM log (lcm-logger's format), or empty");
-    if (first == 0 || r->timestamp < first) first = r->timestamp;
+    if (!first || r->timestamp < *first) first = r->timestamp;
     recordings_.push_back(std::move(r));
   }
   clock_ = FleetClock(true);
-  clock_.set_virtual(first);
+  clock_.set_virtual(*first);
   auth_.start_now();  // counters are judged on the recording's time
 }
 
@@ -275,6 +283,7 @@ bool LcmFleet::replay_handle(int timeout_ms) {
              (std::strcmp(ch, kReplyChannel) == 0 && listen_replies_))
       on_clock(ch, soonest->data.data(), n);
     ++replayed_, any = true;
+    replay_end_us_ = soonest->timestamp;
     soonest->advance();
   }
   clock_.set_virtual(until);
@@ -480,6 +489,7 @@ bool LcmFleet::publish(const Reply& r) {
 
 bool LcmFleet::send(lcm_t* lcm, const char* channel, int16_t sender, int n) {
   const int m = envelopes_->seal(channel, sender, buffer_.data(), n);
+  if (!recordings_.empty()) return m >= 0;  // a replay: nobody to hear it (memq would keep it)
   return m >= 0 && lcm_publish(lcm, channel, envelopes_->bytes(), static_cast<unsigned>(m)) == 0;
 }
 

@@ -172,6 +172,8 @@ class LcmFleet {
   // Every recorded message played back.
   bool replay_over() const;
   int64_t replayed() const { return replayed_; }
+  // [us] the time of the last recorded message played back.
+  int64_t replay_end_us() const { return replay_end_us_; }
 
   // Publish; false (and counted) when LCM refuses.
   bool publish(const Message& m);
@@ -240,6 +242,7 @@ class LcmFleet {
   struct Recording;
   std::vector<std::unique_ptr<Recording>> recordings_;  // replay(): the logs, each at its next event
   int64_t replayed_ = 0;
+  int64_t replay_end_us_ = 0;
   bool replay_handle(int timeout_ms);
 };
 
