@@ -153,7 +153,7 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
     while (master.tick(nullptr)) {
       // A recording that ends before the mission: what the OC would decide
       // on the silence after it never happened.
-      if (replaying && fleet.replay_over() && fleet.clock().now_us() > fleet.replay_end_us() + 2'000'000)
+      if (replaying && fleet.clock().now_us() > fleet.replay_end_us() + 3'000'000)
         throw RuntimeError(fleet_of.replay.front(),
                            "the recording ends at t = " + std::to_string(static_cast<int>(master.now())) +
                                " s, before the mission did");

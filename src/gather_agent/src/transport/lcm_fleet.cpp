@@ -276,14 +276,15 @@ bool LcmFleet::replay_handle(int timeout_ms) {
     clock_.set_virtual(std::max(clock_.local_us(), soonest->timestamp));
     const char* ch = soonest->channel.c_str();
     const int n = static_cast<int>(soonest->data.size());
-    if (std::strcmp(ch, kRequestChannel) == 0 || std::strcmp(ch, kDataChannel) == 0 ||
-        std::strcmp(ch, kAckChannel) == 0 || std::strcmp(ch, kStateChannel) == 0)
+    const bool radio = std::strcmp(ch, kRequestChannel) == 0 || std::strcmp(ch, kDataChannel) == 0 ||
+                       std::strcmp(ch, kAckChannel) == 0 || std::strcmp(ch, kStateChannel) == 0;
+    const bool clock = std::strcmp(ch, kPlanChannel) == 0 || std::strcmp(ch, kTickChannel) == 0;
+    if (radio)
       on_radio(ch, soonest->data.data(), n);
-    else if (std::strcmp(ch, kPlanChannel) == 0 || std::strcmp(ch, kTickChannel) == 0 ||
-             (std::strcmp(ch, kReplyChannel) == 0 && listen_replies_))
+    else if (clock || (std::strcmp(ch, kReplyChannel) == 0 && listen_replies_))
       on_clock(ch, soonest->data.data(), n);
+    if (radio || clock) replay_end_us_ = soonest->timestamp;
     ++replayed_, any = true;
-    replay_end_us_ = soonest->timestamp;
     soonest->advance();
   }
   clock_.set_virtual(until);

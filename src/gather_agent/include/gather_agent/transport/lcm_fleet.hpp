@@ -172,7 +172,9 @@ class LcmFleet {
   // Every recorded message played back.
   bool replay_over() const;
   int64_t replayed() const { return replayed_; }
-  // [us] the time of the last recorded message played back.
+  // [us] the time of the last recorded message of the fleet's URL played
+  // back (the radio, the plan, the clock: the OC says its start every
+  // second, so a gap of seconds is the end of that recording).
   int64_t replay_end_us() const { return replay_end_us_; }
 
   // Publish; false (and counted) when LCM refuses.
