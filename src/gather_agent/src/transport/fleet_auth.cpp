@@ -39,11 +39,6 @@ void put_be(uint8_t* p, uint64_t v, int bytes) {
 
 }  // namespace
 
-int64_t wall_clock_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
 FleetKey load_fleet_key(const std::string& path) {
   // Opened once, its mode checked on that descriptor (no check-then-open
   // gap), a symbolic link as the last component refused.
@@ -176,8 +171,8 @@ FleetAuth::FleetAuth(std::optional<FleetKey> key, std::vector<std::string> chann
     : key_(std::move(key)),
       channels_(std::move(channels)),
       senders_(senders),
-      clock_(clock),
-      started_local_us_(clock ? clock->local_us() : wall_clock_us()),
+      clock_(clock ? clock : &host_clock_),
+      started_local_us_(clock_->local_us()),
       mac_only_(channels_.size(), false) {
   need_sodium();
   if (key_) crypto_auth_hmacsha512256_init(&keyed_, key_->key.data(), key_->key.size());
@@ -190,9 +185,7 @@ void FleetAuth::reserve(int team) {
   if (accepted_.size() < n) accepted_.resize(n, 0);
 }
 
-int64_t FleetAuth::now_us() const { return clock_ ? clock_->now_us() : wall_clock_us(); }
-
-void FleetAuth::start_now() { started_local_us_ = clock_ ? clock_->local_us() : wall_clock_us(); }
+void FleetAuth::start_now() { started_local_us_ = clock_->local_us(); }
 
 void FleetAuth::mac_only(const char* channel) {
   const int c = channel_index(channel);
@@ -234,7 +227,7 @@ void FleetAuth::sign(const char* channel, int16_t sender, const uint8_t* payload
   const int c = channel_index(channel);
   int64_t fallback = 0;
   int64_t& last = (c >= 0 && sender >= -1 && sender + 1 < senders_) ? slot(sent_, c, sender) : fallback;
-  last = std::max(last + 1, now_us());
+  last = std::max(last + 1, clock_->now_us());
   head.counter = last;
   if (!key_) {
     head.key_id = 0;
@@ -260,8 +253,8 @@ Verdict FleetAuth::verify(const char* channel, const EnvelopeHead& head, const u
   if (head.counter <= last) return ++counters_.replayed, Verdict::kReplayed;
   // When this receiver started, in the fleet's time (its offset may have
   // been measured since).
-  const int64_t started_us = started_local_us_ + (clock_ ? clock_->offset_us() : 0);
-  if (last == 0 && (head.counter < started_us - kClockSkewUs || head.counter > now_us() + kClockSkewUs))
+  const int64_t started_us = started_local_us_ + clock_->offset_us();
+  if (last == 0 && (head.counter < started_us - kClockSkewUs || head.counter > clock_->now_us() + kClockSkewUs))
     return ++counters_.replayed, Verdict::kReplayed;  // sent before this receiver started: a capture
   last = head.counter;
   return Verdict::kAccepted;

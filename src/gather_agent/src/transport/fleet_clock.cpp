@@ -7,12 +7,12 @@
 namespace gather {
 namespace agent {
 
-int64_t FleetClock::local_us() const {
-  if (virtual_) return virtual_us_;
+int64_t wall_clock_us() {
   return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
-             .count() +
-         skew_us_;
+      .count();
 }
+
+int64_t FleetClock::local_us() const { return virtual_ ? virtual_us_ : wall_clock_us() + skew_us_; }
 
 bool FleetClock::add(int64_t t0, int64_t t1, int64_t t2, int64_t t3) {
   const int64_t round_trip = (t3 - t0) - (t2 - t1);

@@ -143,8 +143,8 @@ class FleetAuth {
   std::optional<FleetKey> key_;
   std::vector<std::string> channels_;
   int senders_;
-  int64_t now_us() const;  // the clock's, or the host's
-  const FleetClock* clock_;
+  FleetClock host_clock_;       // when no clock is given: the host's (a reference)
+  const FleetClock* clock_;     // the one counters are signed and checked on
   int64_t started_local_us_;    // this host's clock when this receiver started
   std::vector<bool> mac_only_;  // per channel
   // HMAC's state once the key is absorbed (its inner and outer pads hashed):
@@ -155,9 +155,6 @@ class FleetAuth {
   std::vector<int64_t> sent_;      // last counter signed
   std::vector<int64_t> accepted_;  // last counter accepted
 };
-
-// Wall-clock time [us since the epoch].
-int64_t wall_clock_us();
 
 }  // namespace agent
 }  // namespace gather

@@ -18,6 +18,9 @@
 namespace gather {
 namespace agent {
 
+// This host's wall-clock time [us since the epoch].
+int64_t wall_clock_us();
+
 class FleetClock {
  public:
   static constexpr int kSamples = 8;
