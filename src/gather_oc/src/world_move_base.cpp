@@ -15,7 +15,6 @@
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
 
-#include <cmath>
 #include <cstdio>
 #include <deque>
 #include <memory>
@@ -24,6 +23,7 @@
 
 #include "gather_agent/transport/lcm_robot.hpp"
 #include "gather_oc/params.hpp"
+#include "gather_oc/view_style.hpp"
 
 namespace {
 
@@ -121,13 +121,7 @@ int main(int argc, char** argv) {
     link->handle(0);
     for (const gather::agent::RobotPose& p : link->poses()) {
       at = p.at;
-      geometry_msgs::TransformStamped t;
-      t.header.stamp = ros::Time::now();
-      t.header.frame_id = map_frame;
-      t.child_frame_id = base_frame;
-      t.transform.translation.x = p.at.x, t.transform.translation.y = p.at.y;
-      t.transform.rotation.z = std::sin(p.heading / 2.0), t.transform.rotation.w = std::cos(p.heading / 2.0);
-      tf.sendTransform(t);
+      tf.sendTransform(gather::view::planar_transform(map_frame, base_frame, ros::Time::now(), p.at, p.heading));
     }
     link->poses().clear();
     for (const gather::agent::NavStatus& s : link->statuses()) {
