@@ -6,14 +6,16 @@ Two robots, each `roslaunch gather_oc robot.launch` (its agent with --motion
 lcm, and robot_bridge) in its own ROS namespace, each with move_base's
 interface served by world_move_base on one of gather_world's MRPT robots
 (goals on move_base_simple/goal, status on move_base/status, its pose on
-/tf; gather_world plans the robot's way). The OC is `gather run --agents
-external --robots external --clock wall`: it starts no agent, the robots'
-launches do. Agent 0's clock is put 2.5 s off. Checks: the mission completes
-and every goal ends in a final state, with at least half as many goals
+/tf; gather_world plans the robot's way). The OC is `roslaunch gather_oc
+mission.launch agents:=external robots:=external clock:=wall record:=true`:
+it starts no agent, the robots' launches do, and its views go into a bag.
+Agent 0's clock is put 2.5 s off. Checks: the mission completes and every
+goal ends in a final state, with at least half as many goals
 delivered through real ROS topics as with the agents driving the same
 robots directly; each move_base took goals from its bridge; the agents
-ended by themselves and their launches with them; robot_bridge's bad
-parameters give one line and status 2.
+ended by themselves and their launches with them; the bag holds the OC's
+views; robot_bridge's and `gather run --agents external`'s bad parameters
+give one line and status 2.
 """
 import argparse
 import csv
@@ -55,6 +57,24 @@ def stop(p):
             p.wait()
 
 
+def check_bag(path, goals_csv):
+    """mission.launch record:=true with the agents on the robots: the OC's views, on the wall clock."""
+    if not check("the OC's views recorded (%s)" % path, os.path.exists(path)):
+        return
+    import rosbag  # Debian's python3-rosbag (gather_msgs types come from the bag's own definitions)
+    bag = rosbag.Bag(path)
+    topics = bag.get_type_and_topic_info().topics
+    want = ["/map", "/tf", "/gather/plan_markers", "/gather/team_markers", "/gather/status", "/gather/agent_1/pose"]
+    check("the bag holds the OC's views", all(t in topics for t in want),
+          "missing: %s" % [t for t in want if t not in topics])
+    statuses = [m for _, m, _ in bag.read_messages(topics=["/gather/status"])]
+    delivered = sum(r["state"] == "delivered" for r in csv.DictReader(open(goals_csv)))
+    check("its last status says done, %d delivered (goals.csv: %d)" % (statuses[-1].delivered if statuses else -1,
+                                                                      delivered),
+          statuses and statuses[-1].state == "done" and statuses[-1].delivered == delivered)
+    bag.close()
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--gather", default=os.path.join(DEVEL, "gather_core", "gather"))
@@ -74,7 +94,8 @@ def main():
     if not os.path.exists(key):
         run([a.gather, "keygen", key])
     plan = os.path.join(tmp, "plan")
-    rc, out, err = run([a.gather, "plan", os.path.join(REPO, "tests", "oc", "fixtures", "office2.scenario.yaml"),
+    scenario = os.path.join(REPO, "tests", "oc", "fixtures", "office2.scenario.yaml")
+    rc, out, err = run([a.gather, "plan", scenario,
                         "--config", "pap:0", "--out", plan])
     if not check("plan office with two robots", rc == 0, err):
         return 1
@@ -131,9 +152,20 @@ def main():
             check("robot_bridge %s: status 2, one line naming %s" % (" ".join(params), needle),
                   rc == 2 and err.count("\n") == 1 and needle in err, "status %d: %s" % (rc, err))
 
-        rc, oc_out, oc_err = run([a.gather, "run", plan, "--out", out_dir, "--lcm", "--key-file", key, "--lcm-url", url,
-                                  "--robots", "external", "--agents", "external", "--clock", "wall", "--rate",
-                                  str(RATE), "--cycles", str(CYCLES)], timeout=600)
+        oc_node = os.path.join(DEVEL, "gather_oc", "oc_node")
+        for params, needle in ((["_agents:=bogus"], "~agents must be"),
+                               (["_agents:=external", "_robots:=external"], "~agents external needs"),
+                               (["_agents:=external", "_robots:=external", "_clock:=wall", "_kill:=0@10"],
+                                "starts no agent")):
+            rc, out, err = run([oc_node, scenario, plan, "__name:=bad_oc_%d" % len(params)] + params, timeout=30)
+            check("oc_node %s: status 2, one line" % " ".join(params),
+                  rc == 2 and err.count("\n") == 1 and needle in err, "status %d: %s" % (rc, err))
+        rc, oc_out, oc_err = run(
+            ["roslaunch", "--screen", "gather_oc", "mission.launch", "scenario:=" + scenario, "plan:=" + plan,
+             "agents:=external", "robots:=external", "clock:=wall", "rate:=%g" % RATE, "cycles:=%d" % CYCLES,
+             "lcm_url:=" + url, "key_file:=" + key, "results_dir:=" + out_dir, "record:=true"], timeout=600)
+        # roslaunch ends 0 whatever its nodes did: the OC's own word is its summary line.
+        rc = rc if rc != 0 or "oc: mission done" in oc_out + oc_err else 1
         ended = []
         for p in launches:
             try:
@@ -152,7 +184,10 @@ def main():
     if not check("the OC ran the mission with the robots' agents (status %d)" % rc, rc == 0,
                  oc_out[-1000:] + oc_err[-1500:] + "\n--- roslaunch:\n" + launch_out[-3000:]):
         return 1
-    check("the OC started no agent, it waited for them", "waiting up to 300 s for the 2 agents" in oc_out, oc_out[:500])
+    check("the OC started no agent, it waited for them",
+          "waiting up to 300 s for the 2 agents" in oc_out + oc_err and "fleet_node" not in oc_out + oc_err,
+          (oc_out + oc_err)[:1500])
+    check_bag(os.path.join(out_dir, "mission.bag"), os.path.join(out_dir, "goals.csv"))
     rows = list(csv.DictReader(open(os.path.join(out_dir, "goals.csv"))))
     states = {}
     for r in rows:

@@ -57,10 +57,63 @@ def goals(path):
     return list(csv.DictReader(open(path)))
 
 
+def check_bag(a, plan, key, logs, tmp, replayed_goals):
+    """The recording into a bag for review.launch (mission_bag): what it
+    holds, and that it tells the same mission as gather run --replay."""
+    bag_dir = os.path.join(tmp, "bag")
+    rc, out, err = run([a.mission_bag, plan, "--replay", ",".join(logs), "--key-file", key, "--out", bag_dir])
+    if not check("mission_bag: the recording into a bag for review.launch (status %d)" % rc, rc == 0, err[-1000:]):
+        return
+    with open(os.path.join(bag_dir, "goals.csv")) as f, open(replayed_goals) as g:
+        check("mission_bag: the same goals.csv as gather run --replay", f.read() == g.read())
+    import rosbag  # Debian's python3-rosbag (gather_msgs types come from the bag's own definitions)
+    path = os.path.join(bag_dir, "mission.bag")
+    bag = rosbag.Bag(path)
+    topics = bag.get_type_and_topic_info().topics
+    want = ["/map", "/clock", "/tf", "/gather/plan_markers", "/gather/team_markers", "/gather/goal_markers",
+            "/gather/path_markers", "/gather/status", "/gather/agents", "/gather/cycle", "/gather/agent_0/pose"]
+    check("mission_bag: the topics mission.launch record:=true records", all(t in topics for t in want),
+          "missing: %s" % [t for t in want if t not in topics])
+    latched = set()
+    for c in bag._get_connections():
+        if c.header.get("latching") in (b"1", "1"):
+            latched.add(c.topic)
+    check("mission_bag: the map and the plan's markers are latched (review_player shows them from any start)",
+          {"/map", "/gather/plan_markers", "/gather/status"} <= latched, sorted(latched))
+    statuses = [m for _, m, _ in bag.read_messages(topics=["/gather/status"])]
+    cycles = sum(1 for _ in bag.read_messages(topics=["/gather/cycle"]))
+    rows = goals(os.path.join(bag_dir, "goals.csv"))
+    delivered = sum(r["state"] == "delivered" for r in rows)
+    last = statuses[-1] if statuses else None
+    check("mission_bag: its last status says done, %d delivered, %d cycles (goals.csv: %d)"
+          % (last.delivered if last else -1, cycles, delivered),
+          last is not None and last.state == "done" and last.delivered == delivered and cycles == last.cycles,
+          str(last)[:400])
+    clocks = [m.clock.to_sec() for _, m, _ in bag.read_messages(topics=["/clock"])]
+    check("mission_bag: /clock is the mission's time, from 0 to its end (%.0f s)" % (clocks[-1] if clocks else -1),
+          clocks and clocks[0] == 0 and all(b >= c for c, b in zip(clocks, clocks[1:])) and
+          abs(clocks[-1] - last.time) < 1.0)
+    bag.close()
+    # A recording cut in the middle: status 1, and the bag holds the mission up to there.
+    cut = os.path.join(tmp, "cut_for_bag.lcmlog")
+    with open(logs[0], "rb") as f, open(cut, "wb") as g:
+        g.write(f.read(os.path.getsize(logs[0]) // 2))
+    cut_dir = os.path.join(tmp, "bag_cut")
+    rc, _, err = run([a.mission_bag, plan, "--replay", cut + "," + logs[1], "--key-file", key, "--out", cut_dir])
+    kept = os.path.join(cut_dir, "mission.bag")
+    end = rosbag.Bag(kept).get_end_time() if os.path.exists(kept) else -1
+    check("mission_bag of a recording cut short: status 1, the bag kept up to the cut (%.0f s)" % end,
+          rc == 1 and "before the mission did" in err and kept in err and 0 < end < clocks[-1] - 60,
+          "status %d: %s" % (rc, err))
+    rc, _, err = run([a.mission_bag, plan, "--replay", ",".join(logs), "--out", cut_dir])
+    check("mission_bag without a key: status 2, one line", rc == 2 and err.count("\n") == 1, err)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--gather", default=os.path.join(DEVEL, "gather_core", "gather"))
     ap.add_argument("--agent", default=os.path.join(DEVEL, "gather_agent", "gather_agent"))
+    ap.add_argument("--mission-bag", default=os.path.join(DEVEL, "gather_oc", "mission_bag"))
     ap.add_argument("--config", default="pap:4")
     ap.add_argument("--rate", type=float, default=5.0, help="mission seconds per wall second")
     ap.add_argument("--cycles", type=int, default=6)
@@ -193,6 +246,7 @@ def main():
         same = sum(again.get(r["goal"]) == r["state"] for r in rows)
         check("played back: %d of %d goals end as in the mission" % (same, len(rows)),
               len(again) == len(rows) and same >= 0.98 * len(rows))
+    check_bag(a, plan, key, logs, tmp, os.path.join(replay_dir, "goals.csv"))
     rc, _, err = run([a.gather, "run", plan, "--out", replay_dir, "--lcm", "--key-file", key, "--replay",
                       os.path.join(tmp, "nothing.lcmlog")])
     check("--replay of a log that is not there: status 2, one line naming it",

@@ -36,6 +36,7 @@
 #include "gather_agent/runner/agent_fleet.hpp"
 #include "gather_agent/runner/lockstep.hpp"
 #include "gather_agent/runner/pipe_world.hpp"
+#include "gather_agent/runner/replay.hpp"
 #include "gather_agent/runner/run_files.hpp"
 #include "gather_agent/runner/team_runner.hpp"
 #include "gather_agent/transport/lcm_fleet.hpp"
@@ -62,51 +63,14 @@ struct Robots {
 // robots (robot.launch) and join over LCM.
 struct Fleet {
   bool external = false;
-  std::vector<std::string> replay;  // --replay: recordings played back instead of a live fleet
-  int64_t start_us = 0;             // the recorded mission's start
 };
-
-// What a recording of the fleet says about its mission: the OC's plan
-// announcement and the start it announced (the first of each).
-struct Recorded {
-  agent::PlanAnnounce plan;
-  int64_t start_us = 0;
-};
-
-Recorded recorded_mission(const std::vector<std::string>& logs, const std::optional<agent::FleetKey>& key) {
-  agent::LcmFleet fleet("memq://", "memq://", true, key);
-  fleet.replay(logs);
-  Recorded r;
-  bool planned = false;
-  while (!fleet.replay_over() && !(planned && r.start_us > 0)) {
-    fleet.handle(1000);
-    if (!planned && !fleet.plans().empty()) r.plan = fleet.plans().front(), planned = true;
-    for (const agent::Tick& t : fleet.ticks())
-      if (r.start_us == 0 && t.start_us > 0 && std::llabs(t.start_us - fleet.clock().now_us()) < 60'000'000)
-        r.start_us = t.start_us;  // (a start far from when it was said is not the OC's)
-    fleet.plans().clear(), fleet.ticks().clear(), fleet.radio().clear(), fleet.replies().clear();
-  }
-  const std::string what = logs.front() + (logs.size() > 1 ? " (and the other logs)" : "");
-  if (fleet.rejected().total() > 0 && !planned)
-    throw Error(what, "its messages fail their check (" + agent::describe(fleet.rejected()) +
-                          "): give the fleet key of the recorded mission");
-  if (!planned)
-    throw Error(what, "holds no plan announcement of the OC: record the fleet's URL (lcm-logger --lcm-url URL FILE)");
-  if (r.plan.clock != agent::ClockMode::kWall || r.start_us == 0)
-    throw Error(what,
-                "not a wall-clock mission, or its start is not in the recording (a lockstep run is "
-                "reproduced by gather run itself)");
-  return r;
-}
 
 // One run with one gather_agent process per agent; this process is the OC.
 agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& plan, uint64_t digest,
                                const agent::RunOptions& opt, double rate, bool wall, const std::string& url,
                                const std::string& reply_url, const std::string& agent_bin, const std::string& key_file,
                                const std::optional<agent::FleetKey>& key, const Robots& robots, const Fleet& fleet_of) {
-  const bool replaying = !fleet_of.replay.empty();
-  agent::LcmFleet fleet(replaying ? "memq://" : url, replaying ? "memq://" : reply_url, true, key, team.agents());
-  if (replaying) fleet.replay(fleet_of.replay);
+  agent::LcmFleet fleet(url, reply_url, true, key, team.agents());
   std::vector<std::string> command{agent_bin,   "--id", "{id}",        "--plan", plan.dir,
                                    "--lcm-url", url,    "--reply-url", reply_url};
   std::vector<std::string> keying;
@@ -126,9 +90,7 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
     world->start();
   }
   AgentFleet processes(command, team.agents());
-  if (replaying) {
-    std::printf("playing back %zu recording(s) of the fleet\n", fleet_of.replay.size());
-  } else if (fleet_of.external) {
+  if (fleet_of.external) {
     std::printf("waiting up to %.0f s for the %d agents of the plan on %s (started on the robots: robot.launch)\n",
                 agent::kExternalReadyTimeout_s, team.agents(), url.c_str());
     std::fflush(stdout);
@@ -145,18 +107,11 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
     if (wall) mo.clock = agent::ClockMode::kWall;
     mo.robots = robots.any();
     if (fleet_of.external) mo.ready_timeout_s = agent::kExternalReadyTimeout_s;
-    if (replaying) mo.ready_timeout_s = 10.0, mo.start_us = fleet_of.start_us;
     agent::LockstepMaster master(team, fleet, digest, mo);
     const auto t0 = std::chrono::steady_clock::now();
     master.start(nullptr);
     const double ready_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     while (master.tick(nullptr)) {
-      // A recording that ends before the mission: what the OC would decide
-      // on the silence after it never happened.
-      if (replaying && fleet.clock().now_us() > fleet.replay_end_us() + 3'000'000)
-        throw RuntimeError(fleet_of.replay.front(),
-                           "the recording ends at t = " + std::to_string(static_cast<int>(master.now())) +
-                               " s, before the mission did");
     }
     agent::RunOutcome out = master.finish();
     // Where the time goes (wall of the ticks, and the agents' own CPU).
@@ -164,9 +119,6 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
     if (wall) {
       std::printf("over LCM on the wall clock at %g x: %lld control steps of the OC, %lld radio messages from the OC\n",
                   rate, static_cast<long long>(out.ticks), static_cast<long long>(out.messages));
-      if (replaying)
-        std::printf("played back %lld recorded messages%s\n", static_cast<long long>(fleet.replayed()),
-                    fleet.replay_over() ? "" : " (the recording goes on past the mission's end)");
       if (fleet_of.external) return out;
       processes.wait(5.0);
       processes.stop(2.0);
@@ -206,10 +158,6 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
     // An agent that refused the plan is bad input (its files differ);
     // anything else here happened while running.
     if (std::string(e.what()).find("refused the plan") != std::string::npos) throw;
-    if (replaying && std::string(e.what()).find("did not answer the plan announcement") != std::string::npos)
-      throw RuntimeError("", std::string(e.what()) +  // the agents' READY travels on the replies' URL
-                                 " in the recording: record the replies' URL too (the fleet's port + 1, "
-                                 "docs/robots.md)");
     throw RuntimeError("", e.what());
   }
 }
@@ -295,10 +243,10 @@ int run(int argc, char** argv) {
   bool wall_clock = clock == "wall";
   if (robots.external && !wall_clock)
     throw cli::UsageError("--robots external needs --clock wall (robots drive on their own clock, not on ticks)");
-  // A recording of a wall-clock mission played back (--replay): its
-  // settings are the recording's.
+  // A recording of a wall-clock mission played back (--replay): the
+  // mission's settings are the recording's (agent::replay_mission).
   Fleet fleet_of;
-  Recorded recorded;
+  std::optional<agent::Recording> recording;
   std::optional<agent::FleetKey> replay_key;
   if (args.has("--replay")) {
     for (const char* flag : {"--clock", "--rate", "--agents", "--robots", "--cycles", "--seed", "--seeds", "--kill",
@@ -306,25 +254,12 @@ int run(int argc, char** argv) {
                              "--protocol", "--repair", "--silent-intervals", "--speed-factor"})
       if (args.has(flag))
         throw cli::UsageError(std::string("--replay takes the mission's settings from the recording: no ") + flag);
-    std::string list = args.get("--replay");
-    for (std::size_t at = 0; at <= list.size();) {
-      const std::size_t comma = std::min(list.find(',', at), list.size());
-      if (comma > at) fleet_of.replay.push_back(list.substr(at, comma - at));
-      at = comma + 1;
-    }
-    if (fleet_of.replay.empty()) throw cli::UsageError("--replay needs LOG[,LOG...] (lcm-logger recordings)");
-    if (fleet_of.replay.size() > 16) throw cli::UsageError("--replay takes at most 16 logs");
-    for (std::size_t i = 0; i < fleet_of.replay.size(); ++i)
-      for (std::size_t j = 0; j < i; ++j)
-        if (fleet_of.replay[i] == fleet_of.replay[j])
-          throw cli::UsageError("--replay: " + fleet_of.replay[i].substr(0, 200) + " is given twice");
+    const std::vector<std::string> logs = agent::replay_logs(args.get("--replay"), "--replay");
     replay_key = agent::fleet_key_from_options(args.get("--key-file", ""), args.on("--insecure"), "gather run");
-    recorded = recorded_mission(fleet_of.replay, replay_key);
-    wall_clock = true, fleet_of.external = true, fleet_of.start_us = recorded.start_us;
-    robots.external = recorded.plan.robots;
+    recording = agent::read_recording(logs, replay_key);
+    wall_clock = true;
   }
-  const double rate =
-      args.has("--replay") ? recorded.plan.rate : args.get_double("--rate", wall_clock ? 1.0 : 0.0, 0.0, 1e6);
+  const double rate = args.get_double("--rate", wall_clock ? 1.0 : 0.0, 0.0, 1e6);
   if (!(rate >= 0.0) || rate > 1e6) throw cli::UsageError("--rate must be >= 0 (0: as fast as the lockstep allows)");
   if (wall_clock && !(rate > 0.0))
     throw cli::UsageError("--rate must be > 0 with --clock wall (mission seconds per wall second)");
@@ -347,23 +282,19 @@ int run(int argc, char** argv) {
     throw cli::UsageError("--protocol must be ideal or robots, got '" + protocol.substr(0, 40) + "'");
   if (protocol == "robots") params.protocol = mission::robot_protocol(params.protocol);
   const int seeds = args.get_int("--seeds", 1, 1, 1000);
-  const int seed0 = fleet_of.replay.empty() ? args.get_int("--seed", static_cast<int>(params.seed), 0, 2147483647)
-                                            : static_cast<int>(recorded.plan.params.seed);
+  const int seed0 = recording ? static_cast<int>(recording->plan.params.seed)
+                              : args.get_int("--seed", static_cast<int>(params.seed), 0, 2147483647);
   agent::RunOptions opt;
   opt.tick = args.get_double("--tick", opt.tick, 0.001, 10.0);
   opt.loss = args.get_double("--loss", opt.loss, 0.0, 0.999);
-  if (!fleet_of.replay.empty()) opt.tick = recorded.plan.tick, opt.loss = recorded.plan.loss;
   opt.loss_seed = static_cast<uint64_t>(args.get_int("--loss-seed", 1, 0, 2147483647));
-  if (!fleet_of.replay.empty()) opt.loss_seed = recorded.plan.loss_seed;
   params.repair = mission::parse_repair_mode(args.get("--repair", "merge"), "--repair");
   params.silent_intervals = args.get_double("--silent-intervals", params.silent_intervals, 1.5, 100.0);
-  if (!fleet_of.replay.empty()) {  // the recorded OC's settings, as it announced them
-    const agent::MissionParams& r = recorded.plan.params;
-    params.cycles = r.cycles, params.seed = r.seed, params.goals_per_request = r.goals_per_request;
-    params.data_capacity = r.data_capacity, params.notice_capacity = r.notice_capacity;
-    params.beacon_period = r.beacon_period, params.resend_after = r.resend_after, params.repair = r.repair;
-    params.silent_intervals = r.silent_intervals, params.ask_after = r.ask_after, params.protocol = r.protocol;
+  if (recording) {
+    agent::recorded_params(*recording, params);
+    opt.tick = recording->plan.tick, opt.loss = recording->plan.loss;  // (for the summary line)
   }
+
   opt.kills = agent::parse_kills(args.get("--kill", ""), static_cast<int>(loaded.plan.file.agents.size()), "--kill");
   opt.restarts =
       agent::parse_kills(args.get("--restart", ""), static_cast<int>(loaded.plan.file.agents.size()), "--restart");
@@ -371,17 +302,16 @@ int run(int argc, char** argv) {
     for (const agent::Kill& k : opt.kills)
       if (r.agent == k.agent)
         throw cli::UsageError("--restart: agent " + std::to_string(r.agent) + " is also killed (--kill)");
-  const std::string agents_kind = args.get("--agents", fleet_of.replay.empty() ? "spawn" : "external");
+  const std::string agents_kind = args.get("--agents", "spawn");
   if (agents_kind != "spawn" && agents_kind != "external")
     throw cli::UsageError(
         "--agents must be spawn (this process starts them) or external (they run on the robots: "
         "robot.launch), got '" +
         agents_kind.substr(0, 40) + "'");
-  fleet_of.external = agents_kind == "external";
-  if (fleet_of.external && fleet_of.replay.empty() && (!wall_clock || !robots.external))
+  fleet_of.external = agents_kind == "external" || recording;  // a replay starts no agent either
+  if (fleet_of.external && !recording && (!wall_clock || !robots.external))
     throw cli::UsageError("--agents external needs --robots external --clock wall (agents on real robots)");
-  if (fleet_of.external && fleet_of.replay.empty() &&
-      (!opt.kills.empty() || !opt.restarts.empty() || args.has("--agent-bin")))
+  if (fleet_of.external && (!opt.kills.empty() || !opt.restarts.empty() || args.has("--agent-bin")))
     throw cli::UsageError("--agents external: this process starts no agent (no --kill, --restart, --agent-bin)");
   if (fleet_of.external && seeds != 1) throw cli::UsageError("--agents external runs one seed");
   if (!opt.restarts.empty() && wall_clock) throw cli::UsageError("--restart needs the lockstep clock");
@@ -411,15 +341,13 @@ int run(int argc, char** argv) {
                   args.has("--agent-bin") ? "'" + args.get("--agent-bin") + "' is not an executable file"
                                           : "gather_agent not found beside gather, in CMAKE_PREFIX_PATH or PATH");
     digest = agent::plan_digest(loaded);
-    key = fleet_of.replay.empty()
-              ? agent::fleet_key_from_options(args.get("--key-file", ""), args.on("--insecure"), "gather run")
-              : replay_key;
-    if (!fleet_of.replay.empty() && recorded.plan.digest != digest)
-      throw Error(args.positional()[0], "is not the plan of the recorded mission (its digest differs)");
+    key = recording ? replay_key
+                    : agent::fleet_key_from_options(args.get("--key-file", ""), args.on("--insecure"), "gather run");
   }
   for (int k = 0; k < seeds; ++k) {
     team.params.seed = static_cast<unsigned>(seed0) + static_cast<unsigned>(k);
-    const agent::RunOutcome r = over_lcm
+    const agent::RunOutcome r = recording ? agent::replay_mission(team, loaded, *recording, key)
+                                : over_lcm
                                     ? run_over_lcm(team, loaded, digest, opt, rate, wall_clock, lcm_url,
                                                    args.get("--reply-url", agent::LcmFleet::reply_url_for(lcm_url)),
                                                    agent_bin, args.get("--key-file", ""), key, robots, fleet_of)

@@ -70,7 +70,7 @@ bool same_map(const gather::OccupancyGrid& a, const gather::OccupancyGrid& b) {
 
 // Settings users change per run (private parameters; mission.launch's arguments).
 struct Settings {
-  std::string results_dir, lcm_url, reply_url, clock, frame, kill, restart, repair, key_file, robots;
+  std::string results_dir, lcm_url, reply_url, clock, frame, kill, restart, repair, key_file, robots, agents;
   int cycles = 0, seed = -1, loss_seed = 1;
   double rate = 0.0, tick = 0.1, loss = 0.0, ready_timeout = 60.0, map_timeout = 30.0, view_period = 0.5;
   double silent_intervals = 2.0;
@@ -107,6 +107,7 @@ std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s
   read(typed_param(pnh, "view_period", s.view_period, 0.5));
   read(typed_param(pnh, "close_on_end", s.close_on_end, false));
   read(typed_param<std::string>(pnh, "robots", s.robots, "ideal"));
+  read(typed_param<std::string>(pnh, "agents", s.agents, "spawn"));
   read(typed_param(pnh, "laser", s.laser, false));
   if (!bad.empty()) return bad;
   nh.param("/use_sim_time", s.sim_time, false);
@@ -124,6 +125,19 @@ std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s
     return "~repair must be merge or none, got '" + s.repair.substr(0, 40) + "'";
   if (s.robots != "ideal" && s.robots != "mrpt" && s.robots != "external")
     return "~robots must be ideal, mrpt or external, got '" + s.robots.substr(0, 40) + "'";
+  if (s.agents != "spawn" && s.agents != "external")
+    return "~agents must be spawn (fleet_node starts them) or external (they run on the robots: robot.launch), got '" +
+           s.agents.substr(0, 40) + "'";
+  if (s.agents == "external" && (s.robots != "external" || s.clock != "wall"))
+    return "~agents external needs robots:=external clock:=wall (agents on real robots, on their own clocks)";
+  if (s.agents == "external" && (s.kill != "none" || s.restart != "none"))
+    return "~agents external: the OC starts no agent, so it kills or restarts none (no ~kill, ~restart)";
+  if (s.agents == "external" && s.laser)
+    return "~laser with ~agents external is not built: fleet_node relays the robots' scans, and it does not run "
+           "when the agents run on the robots";
+  // Agents on robots are started by hand, one robot after another.
+  if (s.agents == "external" && !pnh.hasParam("ready_timeout"))
+    s.ready_timeout = gather::agent::kExternalReadyTimeout_s;
   if (s.laser && s.robots == "ideal")
     return "~laser needs robots (robots:=mrpt or external): ideal bases have no laser";
   if (!(s.silent_intervals >= 1.5 && s.silent_intervals <= 100.0)) return "~silent_intervals must be in [1.5, 100]";
@@ -329,8 +343,15 @@ int main(int argc, char** argv) {
   // Ctrl-C (roslaunch's SIGINT) interrupts the waits for the fleet and its replies.
   gather::ShutdownSignal stop([] { return !ros::ok(); });
   try {
-    ROS_INFO("oc: %s with %d collectors, %d agents, %d cycles of %.1f s; waiting for the fleet", pf.method.c_str(),
-             pf.collectors, team.agents(), params.cycles, team.period);
+    if (set.agents == "external")
+      ROS_INFO(
+          "oc: %s with %d collectors, %d agents, %d cycles of %.1f s; waiting up to %.0f s for the %d agents of "
+          "the plan on %s (started on the robots: robot.launch)",
+          pf.method.c_str(), pf.collectors, team.agents(), params.cycles, team.period, set.ready_timeout, team.agents(),
+          gather::agent::effective_url(set.lcm_url).c_str());
+    else
+      ROS_INFO("oc: %s with %d collectors, %d agents, %d cycles of %.1f s; waiting for the fleet", pf.method.c_str(),
+               pf.collectors, team.agents(), params.cycles, team.period);
     pub.before_start(master);
     master.start(&stop);
     ROS_INFO("oc: all %d agents ready, mission starts (tick %.2f s, %s)", team.agents(), set.tick,
@@ -400,7 +421,8 @@ int main(int argc, char** argv) {
   // before ending the launch (it writes fleet.yaml).
   const auto wait_until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
   std::string fleet;
-  while (ros::ok() && std::chrono::steady_clock::now() < wait_until && !nh.getParam("/gather/fleet_status", fleet))
+  while (set.agents != "external" && ros::ok() && std::chrono::steady_clock::now() < wait_until &&
+         !nh.getParam("/gather/fleet_status", fleet))
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   if (set.close_on_end && gather::end_launch()) {
     ROS_INFO("oc: mission over, ending the launch (close_on_end)");

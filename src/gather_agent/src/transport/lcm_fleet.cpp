@@ -218,7 +218,7 @@ struct LcmFleet::Recording {
   // of bounds, or stamped before the epoch or over an hour from the one
   // before (a damaged log: its time would stall or wrap the replay's clock).
   void stop_at(const char* why) {
-    std::fprintf(stderr, "gather: %s: the log ends at byte %ld: %s\n", path.c_str(), std::ftell(file), why);
+    std::fprintf(stderr, "%s: the log ends at byte %ld: %s\n", path.c_str(), std::ftell(file), why);
     has_next = false;
   }
   void advance() {
