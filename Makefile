@@ -121,7 +121,7 @@ test-e2e: build pylcm
 	tools/netns-run bash -c '$(SETUP) && $(PYTHON) tests/e2e/robots_e2e.py --pylcm $(PYLCM) --launch'
 	tools/netns-run xvfb-run -a -s "-screen 0 1400x900x24" bash -c '$(SETUP) && $(PYTHON) tests/e2e/mission_e2e.py'
 	tools/netns-run bash -c '$(SETUP) && $(PYTHON) tests/e2e/bridge_e2e.py'
-	tools/hosts-run 20 $(PYTHON) tests/e2e/hosts_e2e.py
+	tools/hosts-run 20 $(PYTHON) tests/e2e/hosts_e2e.py --pylcm $(PYLCM)
 
 # FMM against scikit-fmm on the shared benchmark grids, one table (docs/fmm.md);
 # plus the Google Benchmark micro-benchmarks of the solver.

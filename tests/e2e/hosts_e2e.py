@@ -10,8 +10,12 @@ offset. In the middle of the mission one robot's link goes down for a
 minute. Checks: the mission completes, every agent measured its offset,
 every goal ends in one final state, none lost with an agent, none recorded
 twice, and what the partition cost against the same plan in one process
-(lockstep, no partition) is printed. Then the same topology with a ttl=0 URL:
-the agents say in one line what is wrong and exit 1.
+(lockstep, no partition) is printed. The OC's lcm-logger recording is
+played back (gather run --replay, mission_bag into a bag for review.launch).
+A second mission puts a robot on every host: the Python example driver
+beside each agent (--motion lcm, the robot interface on ttl=0). Then the
+same topology with a ttl=0 URL: the agents say in one line what is wrong
+and exit 1.
 """
 import argparse
 import csv
@@ -109,11 +113,60 @@ def check_bag(a, plan, key, logs, tmp, replayed_goals):
     check("mission_bag without a key: status 2, one line", rc == 2 and err.count("\n") == 1, err)
 
 
+def robots_on_hosts(a, plan, key, tmp, ref_rows):
+    """Each robot host runs its agent and its robot's driver (the Python
+    example driver, src/gather_agent/examples/robot_driver.py): the robot
+    interface stays on the host (ttl=0), the fleet crosses the bridge."""
+    import yaml
+    scenario = yaml.safe_load(open(os.path.join(REPO, "maps", "office.scenario.yaml")))
+    ox, oy = scenario["oc"]
+    speed = scenario["team"]["speed"]
+    driver = os.path.join(REPO, "src", "gather_agent", "examples", "robot_driver.py")
+    robot_url = "udpm://239.255.76.67:7669?ttl=0"
+    cycles, rate = 1, 8.0
+    wrapper = os.path.join(tmp, "robot_on_its_host.sh")
+    with open(wrapper, "w") as f:
+        f.write("#!/bin/bash\n# gather run starts agent k as: $0 --id k ...: on host rk its robot's driver, then it.\n"
+                "id=$2\nexport PYTHONPATH=%s\n"
+                "host-exec r$id %s %s --id $id --start %g,%g --speed %g --key-file %s --lcm-url '%s' "
+                "--time-scale %g --duration 600 2>/dev/null &\ndriver=$!\n"
+                "host-exec r$id %s \"$@\" --robot-url '%s' --silence 300\nrc=$?\n"
+                "kill $driver 2>/dev/null\nwait $driver\nexit $rc\n"
+                % (os.path.abspath(a.pylcm), sys.executable, driver, ox, oy, speed, key, robot_url, rate, a.agent,
+                   robot_url))
+    os.chmod(wrapper, 0o755)
+    out_dir = os.path.join(tmp, "robots")
+    t0 = time.time()
+    rc, out, err = run(["host-exec", "oc", a.gather, "run", plan, "--out", out_dir, "--cycles", str(cycles), "--lcm",
+                        "--key-file", key, "--lcm-url", "udpm://239.255.76.67:7667?ttl=1", "--clock", "wall",
+                        "--rate", str(rate), "--robots", "external", "--agent-bin", wrapper], timeout=600)
+    if not check("robots on their hosts: each host its agent and its robot's driver, the mission completes "
+                 "(status %d, %.0f s)" % (rc, time.time() - t0), rc == 0, (out + err)[-2000:]):
+        return
+    rows = goals(os.path.join(out_dir, "goals.csv"))
+    states = {}
+    for r in rows:
+        states[r["state"]] = states.get(r["state"], 0) + 1
+    check("robots on their hosts: every goal once, in a final state %s, none lost" % states,
+          len({r["goal"] for r in rows}) == len(rows) and set(states) <= FINAL and "lost_with_agent" not in states)
+    # (A wall-clock run keeps no per-agent counters: a measured goal is one its robot drove to.)
+    workers = {r["worker"] for r in rows}
+    measured = {r["measured_by"] for r in rows if r["measured_by"] != "-1"}
+    check("robots on their hosts: the robots of %d of %d workers with goals drove to them and measured"
+          % (len(measured & workers), len(workers)), len(measured & workers) >= len(workers) // 2)
+    got = states.get("delivered", 0)
+    want = sum(r["state"] == "delivered" and int(r["cycle"]) < cycles for r in ref_rows)
+    check("robots on their hosts: %d goals delivered, ideal bases in one process %d (the first %d cycles)"
+          % (got, want, cycles), 2 * got >= want)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--gather", default=os.path.join(DEVEL, "gather_core", "gather"))
     ap.add_argument("--agent", default=os.path.join(DEVEL, "gather_agent", "gather_agent"))
     ap.add_argument("--mission-bag", default=os.path.join(DEVEL, "gather_oc", "mission_bag"))
+    ap.add_argument("--pylcm", default=os.path.join(REPO, "build", "pylcm"),
+                    help="the lcm package and lcm-gen --python types (make pylcm), for the example driver")
     ap.add_argument("--config", default="pap:4")
     ap.add_argument("--rate", type=float, default=5.0, help="mission seconds per wall second")
     ap.add_argument("--cycles", type=int, default=6)
@@ -235,6 +288,8 @@ def main():
                  sum(r["state"] == "delivered" for r in by_victim)))
         check("the partition cost at most robot %d's own goals plus 10%% of the rest" % victim,
               want - got <= mine_ref + 0.1 * want, "%d delivered against %d" % (got, want))
+
+        robots_on_hosts(a, plan, key, tmp, ref)
 
     # The recording played back: the OC's role again on what it heard, the same goals.csv.
     replay_dir = os.path.join(tmp, "replay")
