@@ -79,12 +79,24 @@ def main():
     p.add_argument("--cycles", type=int, default=10)
     p.add_argument("--out", default=os.path.join(REPO, "results", "robots_bench"))
     p.add_argument("--doc", default=os.path.join(REPO, "docs", "robots_bench.md"))
+    p.add_argument("--only", default="", help="only these scenarios (comma-separated names: office,cave)")
+    p.add_argument("--world-config", default="",
+                   help="gather_world's YAML for the robots (e.g. robot.max_speed above the team speed); "
+                        "write the table elsewhere (--doc)")
     p.add_argument("--reuse", action="store_true",
                    help="keep the runs already in --out (an interrupted bench goes on where it stopped)")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     lines, failures = [], []
+    only = set(filter(None, a.only.split(",")))
+    unknown = only - {name for name, _, _ in SCENARIOS}
+    if unknown:
+        sys.exit("robots_bench: --only: no scenario %s (%s)" % (", ".join(sorted(unknown)),
+                                                               ", ".join(n for n, _, _ in SCENARIOS)))
+    world = ["--world-config", os.path.abspath(a.world_config)] if a.world_config else []
     for name, scenario, configs in SCENARIOS:
+        if only and name not in only:
+            continue
         for config in configs:
             plan = os.path.join(a.out, "%s_%s" % (name, config.replace(":", "")))
             args = [GATHER, "plan", scenario, "--out", plan]
@@ -110,7 +122,7 @@ def main():
                 if not (a.reuse and os.path.exists(timing)):
                     try:
                         out, wall = run([GATHER, "run", plan, "--out", r_out, "--cycles", str(a.cycles), "--seed",
-                                         str(seed), "--robots", "mrpt"], fatal=False)
+                                         str(seed), "--robots", "mrpt"] + world, fatal=False)
                     except RunFailed as e:  # reported under the table, the seed left out of its row
                         failures.append("%s seed %d: %s" % (label, seed, e))
                         print(failures[-1], flush=True)
@@ -169,16 +181,19 @@ def main():
                         l["late"],
                         l["late_med"], l["late_max"], l["loops"], l["loop_med"], l["loop_max"], l["fail"],
                         l["unreach"], l["lost"], l["contacts"], l["bad"], l["speed"], l["speed_min"]))
-    doc = ["# The team on MRPT robots beside ideal bases",
+    doc = ["# The team on MRPT robots beside ideal bases" +
+           (" (robots: %s)" % os.path.basename(a.world_config) if a.world_config else ""),
            "",
-           "Made by `make bench-robots` (`tools/robots_bench.py --seeds %d --cycles %d`) on %s, this machine: %d seeds "
+           "Made by %s on %s, this machine: %d seeds "
            "x %d cycles a configuration; delivered goals are means per run, the metrics' ratios robots / ideal "
            "(ideal bases run the robots' protocol, `--protocol robots`; at 0.9 / 0.8 x speed: ideal bases at that "
            "fraction of the team speed, the same plan, `--speed-factor`); waypoints and failures summed over the "
            "runs, contacts per run. `not accounted`: goals not in exactly one final state, or delivered twice "
            "(must be 0). `x real time`: mission seconds per wall second of the robot runs (20 robots, the agents "
            "in one process, gather_world beside them), median and slowest." % (
-               a.seeds, a.cycles, time.strftime("%Y-%m-%d"), a.seeds, a.cycles),
+               ("`make bench-robots` (`%s`)" if not (a.only or a.world_config) else "`%s`")
+               % " ".join(["tools/robots_bench.py"] + sys.argv[1:]),
+               time.strftime("%Y-%m-%d"), a.seeds, a.cycles),
            ""] + table + ([""] + ["Runs that failed (left out of their row):", ""] +
                           ["- " + f.replace("|", "/") for f in failures] if failures else [])
     with open(a.doc, "w") as f:

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include "gather_core/plan/estimate.hpp"
 #include "gather_core/plan/route_builder.hpp"
@@ -33,8 +34,13 @@ std::vector<SegmentId> segments_of(const ConfigurationPlan& cfg, CollectorId c) 
 //     (the move also shortens its collector's route, which the re-estimate
 //     sees); the most promising moves by the worker's own estimate are tried
 //     first, the best of them is kept, until none raises J.
-// Each trial rebuilds one route and re-runs the estimate (a few ms).
-void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan& cfg, const PlannerOptions& opt) {
+// Each trial rebuilds one route and re-runs the estimate (a few ms). A route
+// depends on nothing but the segments it serves: the routes built are kept
+// by their segments, and a trial whose collector serves the same segments
+// as in an earlier trial (most of them, from one step to the next) takes
+// the route built then.
+void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, ConfigurationPlan& cfg,
+               const PlannerOptions& opt) {
   const Scenario& s = ctx.scenario;
   const double T = ctx.cycle_period, v = s.team.speed;
   const double G = std::max(1, s.mission.goals_per_request);
@@ -43,6 +49,16 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
   // Moves segment k to the OC, rebuilds its collector's route, re-estimates
   // the workers that changes (that collector's and k's), returns J;
   // undo() restores the state before the move.
+  std::map<std::vector<SegmentId>, CollectorRoute> routes;  // by the segments served
+  auto route_of = [&](CollectorId c) {
+    const std::vector<SegmentId> segs = segments_of(cfg, c);
+    auto it = routes.find(segs);
+    if (it == routes.end())
+      it = routes.emplace(segs, build_route(ctx, fm, cfg.graph, cfg.partition.labels, segs, c, opt, &legs)).first;
+    CollectorRoute r = it->second;
+    r.collector = c;
+    return r;
+  };
   CollectorRoute saved_route;
   Estimates saved_estimates;
   SegmentId saved_k;
@@ -53,8 +69,7 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan&
     saved_route = cfg.routes[saved_c];
     saved_estimates = cfg.estimates;
     cfg.collector_of_segment[k] = CollectorId();
-    cfg.routes[saved_c] =
-        build_route(ctx, fm, cfg.graph, cfg.partition.labels, segments_of(cfg, saved_c), saved_c, opt);
+    cfg.routes[saved_c] = route_of(saved_c);
     for (WorkerEstimate& w : cfg.estimates.workers)
       if (w.segment == k || w.collector == saved_c)
         w = estimate_worker(ctx, cfg, cfg.graph.segment(w.segment), radio, opt);

@@ -166,8 +166,9 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
 
   t0 = Clock::now();
   fmm::FastMarching fm = ctx.oc_field;  // a copy already on the route speed map
+  LegCache legs;
   for (CollectorId c : ids<CollectorId>(collectors))
-    cfg.routes.push_back(build_route(ctx, fm, cfg.graph, cfg.partition.labels, segments_of(cfg, c), c, opt));
+    cfg.routes.push_back(build_route(ctx, fm, cfg.graph, cfg.partition.labels, segments_of(cfg, c), c, opt, &legs));
   cfg.times.routes_ms = ms_since(t0);
 
   t0 = Clock::now();
@@ -176,7 +177,7 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
 
   if (collectors > 0 && opt.associate) {
     t0 = Clock::now();
-    associate(ctx, fm, cfg, opt);
+    associate(ctx, fm, legs, cfg, opt);
     cfg.times.associate_ms = ms_since(t0);
   }
   return cfg;

@@ -18,6 +18,24 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+// A*'s cost and parent per cell, kept between searches: a search touches
+// the cells around its leg only, and wiping grid-sized arrays for each leg
+// cost more than the search (a cell counts only once stamped with the
+// search's generation). One per thread (the sweep plans configurations in
+// parallel).
+struct AStarWork {
+  std::vector<float> g;
+  std::vector<uint32_t> parent, stamp;
+  uint32_t generation = 0;
+
+  void begin(std::size_t cells) {
+    if (stamp.size() != cells) g.assign(cells, 0.0f), parent.assign(cells, 0), stamp.assign(cells, 0), generation = 0;
+    if (++generation == 0) std::fill(stamp.begin(), stamp.end(), 0), generation = 1;
+  }
+  float cost(std::size_t i) const { return stamp[i] == generation ? g[i] : std::numeric_limits<float>::infinity(); }
+  void set(std::size_t i, float cost, uint32_t from) { g[i] = cost, parent[i] = from, stamp[i] = generation; }
+};
+
 // Shortest 8-connected path a -> b [m] on the route speed map by A* (octile
 // heuristic; no diagonal step past a blocked corner). A leg between two
 // meeting areas is short, and A* explores only around it, where an FMM march
@@ -28,8 +46,8 @@ std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
   const int w = grid.width();
   const Cell ca = grid.world_to_cell(a), cb = grid.world_to_cell(b);
   const std::size_t start = grid.index(ca), goal = grid.index(cb);
-  std::vector<float> g(grid.size(), std::numeric_limits<float>::infinity());
-  std::vector<uint32_t> parent(grid.size(), 0);
+  thread_local AStarWork work;
+  work.begin(grid.size());
   using Entry = std::pair<float, uint32_t>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
   const auto& speed = ctx.route_speed;
@@ -37,14 +55,15 @@ std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
     const double dx = std::abs(static_cast<int>(i % w) - cb.col), dy = std::abs(static_cast<int>(i / w) - cb.row);
     return static_cast<float>(std::max(dx, dy) + (std::sqrt(2.0) - 1.0) * std::min(dx, dy));  // at speed 1
   };
-  g[start] = 0.0f;
+  work.set(start, 0.0f, 0);
   open.emplace(h(start), static_cast<uint32_t>(start));
   static const int dr[8] = {0, 0, 1, -1, 1, 1, -1, -1}, dc[8] = {1, -1, 0, 0, 1, -1, 1, -1};
   while (!open.empty()) {
     const auto [f, i] = open.top();
     open.pop();
     if (i == goal) break;
-    if (f > g[i] + h(i) + 1e-4f) continue;  // stale entry
+    const float gi = work.cost(i);
+    if (f > gi + h(i) + 1e-4f) continue;  // stale entry
     const Cell c = grid.cell(i);
     for (int k = 0; k < 8; ++k) {
       const Cell n{c.row + dr[k], c.col + dc[k]};
@@ -57,16 +76,15 @@ std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
         continue;
       const float step =
           static_cast<float>((diagonal ? std::sqrt(2.0) : 1.0) * 0.5 * (1.0 / speed[i] + 1.0 / speed[j]));
-      if (g[i] + step < g[j]) {
-        g[j] = g[i] + step;
-        parent[j] = i;
-        open.emplace(g[j] + h(j), static_cast<uint32_t>(j));
+      if (gi + step < work.cost(j)) {
+        work.set(j, gi + step, i);
+        open.emplace(gi + step + h(j), static_cast<uint32_t>(j));
       }
     }
   }
   std::vector<Point2> path;
-  if (!std::isfinite(g[goal])) return path;
-  for (std::size_t i = goal;; i = parent[i]) {
+  if (!std::isfinite(work.cost(goal))) return path;
+  for (std::size_t i = goal;; i = work.parent[i]) {
     path.push_back(grid.cell_center(grid.cell(i)));
     if (i == start) break;
   }
@@ -83,7 +101,7 @@ std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
 // polished with OMPL.
 CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const WorkerGraph& graph,
                            const LabelImage& labels, const std::vector<SegmentId>& segments, CollectorId collector,
-                           const PlannerOptions& opt) {
+                           const PlannerOptions& opt, LegCache* legs) {
   const Scenario& s = ctx.scenario;
   const OccupancyGrid& grid = s.grid;
   CollectorRoute route;
@@ -112,28 +130,42 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
   route.min_clearance = kInf;
   fmm::SolveOptions so;
   so.labels = false;
+  // The cell of each stop (the OC: kOcStop), the key of its legs.
+  std::vector<std::size_t> stop_cell{LegCache::kOcStop};
+  for (SegmentId k : segments) stop_cell.push_back(grid.index(graph.segment(k).entry));
   for (std::size_t t = 0; t + 1 < stops.size(); ++t) {
-    const Point2 a = pts[static_cast<std::size_t>(stops[t])], b = pts[static_cast<std::size_t>(stops[t + 1])];
-    std::vector<Point2> leg;
-    if (stops[t + 1] == 0) {  // back to the OC: down the OC's own field
-      leg = fmm::descend(ctx.oc_field, a);
-    } else if (stops[t] == 0) {  // out of the OC: the same, reversed
-      leg = fmm::descend(ctx.oc_field, b);
-      std::reverse(leg.begin(), leg.end());
-    } else {  // between two meeting areas: A* (a march from b as the fallback)
-      leg = astar_leg(ctx, a, b);
-      if (leg.empty()) {
-        so.targets.assign(1, grid.world_to_cell(a));
-        fm.solve({fmm::Source::at_point(b)}, so);
-        leg = fmm::descend(fm, a);
-      }
+    const auto from = static_cast<std::size_t>(stops[t]), to = static_cast<std::size_t>(stops[t + 1]);
+    const std::pair<std::size_t, std::size_t> key{stop_cell[from], stop_cell[to]};
+    const PolishedPath* polished = nullptr;
+    PolishedPath built;
+    if (legs) {
+      const auto it = legs->legs.find(key);
+      if (it != legs->legs.end()) polished = &it->second;
     }
-    // Each leg is polished on its own, so the route goes through every
-    // meeting area exactly (and shortcuts never jump across the loop).
-    const PolishedPath polished = polish_path(leg, ctx.clearance, po);
-    route.waypoints.insert(route.waypoints.end(), polished.points.begin() + 1, polished.points.end());
-    route.length += polished.length;
-    route.min_clearance = std::min(route.min_clearance, polished.min_clearance);
+    if (!polished) {
+      const Point2 a = pts[from], b = pts[to];
+      std::vector<Point2> leg;
+      if (to == 0) {  // back to the OC: down the OC's own field
+        leg = fmm::descend(ctx.oc_field, a);
+      } else if (from == 0) {  // out of the OC: the same, reversed
+        leg = fmm::descend(ctx.oc_field, b);
+        std::reverse(leg.begin(), leg.end());
+      } else {  // between two meeting areas: A* (a march from b as the fallback)
+        leg = astar_leg(ctx, a, b);
+        if (leg.empty()) {
+          so.targets.assign(1, grid.world_to_cell(a));
+          fm.solve({fmm::Source::at_point(b)}, so);
+          leg = fmm::descend(fm, a);
+        }
+      }
+      // Each leg is polished on its own, so the route goes through every
+      // meeting area exactly (and shortcuts never jump across the loop).
+      built = polish_path(leg, ctx.clearance, po);
+      polished = legs ? &legs->legs.emplace(key, std::move(built)).first->second : &built;
+    }
+    route.waypoints.insert(route.waypoints.end(), polished->points.begin() + 1, polished->points.end());
+    route.length += polished->length;
+    route.min_clearance = std::min(route.min_clearance, polished->min_clearance);
   }
   route.period = route.length / s.team.speed;
 

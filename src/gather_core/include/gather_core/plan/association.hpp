@@ -6,6 +6,7 @@
 
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/plan/planner.hpp"
+#include "gather_core/plan/route_builder.hpp"
 
 namespace gather {
 namespace plan {
@@ -15,8 +16,10 @@ std::vector<SegmentId> segments_of(const ConfigurationPlan& cfg, CollectorId c);
 
 // Balances the routes and moves workers to the OC while that raises the
 // score J (see association.cpp); rebuilds the routes it changes (with `fm`,
-// a march workspace on the route speed map) and cfg.estimates.
-void associate(const PlanContext& ctx, fmm::FastMarching& fm, ConfigurationPlan& cfg, const PlannerOptions& opt);
+// a march workspace on the route speed map, and the legs in `legs`) and
+// cfg.estimates.
+void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, ConfigurationPlan& cfg,
+               const PlannerOptions& opt);
 
 }  // namespace plan
 }  // namespace gather
