@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <tuple>
 
 #include "gather_core/plan/estimate.hpp"
 #include "gather_core/plan/route_builder.hpp"
@@ -50,8 +51,7 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, Co
   // the workers that changes (that collector's and k's), returns J;
   // undo() restores the state before the move.
   std::map<std::vector<SegmentId>, CollectorRoute> routes;  // by the segments served
-  auto route_of = [&](CollectorId c) {
-    const std::vector<SegmentId> segs = segments_of(cfg, c);
+  auto route_of = [&](CollectorId c, const std::vector<SegmentId>& segs) {
     auto it = routes.find(segs);
     if (it == routes.end())
       it = routes.emplace(segs, build_route(ctx, fm, cfg.graph, cfg.partition.labels, segs, c, opt, &legs)).first;
@@ -59,20 +59,34 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, Co
     r.collector = c;
     return r;
   };
+  // A worker's estimate depends on its segment, its collector and that
+  // collector's route (so its segments): kept by those (none: to the OC).
+  std::map<std::tuple<SegmentId, int, std::vector<SegmentId>>, WorkerEstimate> estimated;
+  auto estimate_of = [&](SegmentId k, CollectorId c, const std::vector<SegmentId>& segs) {
+    auto key = std::make_tuple(k, c.value(), segs);
+    auto it = estimated.find(key);
+    if (it == estimated.end())
+      it = estimated.emplace(std::move(key), estimate_worker(ctx, cfg, cfg.graph.segment(k), radio, opt)).first;
+    return it->second;
+  };
   CollectorRoute saved_route;
   Estimates saved_estimates;
   SegmentId saved_k;
   CollectorId saved_c;
+  const std::vector<SegmentId> none;
   auto try_move = [&](SegmentId k) {
     saved_k = k;
     saved_c = cfg.collector_of_segment[k];
     saved_route = cfg.routes[saved_c];
     saved_estimates = cfg.estimates;
     cfg.collector_of_segment[k] = CollectorId();
-    cfg.routes[saved_c] = route_of(saved_c);
+    const std::vector<SegmentId> segs = segments_of(cfg, saved_c);
+    cfg.routes[saved_c] = route_of(saved_c, segs);
     for (WorkerEstimate& w : cfg.estimates.workers)
-      if (w.segment == k || w.collector == saved_c)
-        w = estimate_worker(ctx, cfg, cfg.graph.segment(w.segment), radio, opt);
+      if (w.segment == k)
+        w = estimate_of(k, CollectorId(), none);
+      else if (w.collector == saved_c)
+        w = estimate_of(w.segment, saved_c, segs);
     combine(cfg.estimates, ctx);
     return score(cfg.estimates, ctx);
   };
