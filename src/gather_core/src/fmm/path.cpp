@@ -198,6 +198,19 @@ Point2 point_at_arc(const std::vector<Point2>& path, const std::vector<double>& 
   return Point2{path[i].x + f * (path[i + 1].x - path[i].x), path[i].y + f * (path[i + 1].y - path[i].y)};
 }
 
+Point2 ArcWalker::at(double s) {
+  if (path_.empty()) return Point2{};
+  if (path_.size() == 1 || s <= 0) return path_.front();
+  if (s >= arcs_.back()) return path_.back();
+  if (next_ > 0 && arcs_[next_ - 1] > s)  // went back: search again
+    next_ = static_cast<std::size_t>(std::upper_bound(arcs_.begin(), arcs_.end(), s) - arcs_.begin());
+  while (next_ < arcs_.size() && arcs_[next_] <= s) ++next_;
+  const std::size_t i = next_ - 1;
+  const double len = arcs_[i + 1] - arcs_[i];
+  const double f = len > 0 ? (s - arcs_[i]) / len : 0.0;
+  return Point2{path_[i].x + f * (path_[i + 1].x - path_[i].x), path_[i].y + f * (path_[i + 1].y - path_[i].y)};
+}
+
 double geodesic_time(FastMarching& fm, Point2 a, Point2 b, Order order) {
   // Reused between calls: a geodesic query allocates nothing once warm.
   static thread_local SolveOptions o;

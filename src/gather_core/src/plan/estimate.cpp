@@ -33,16 +33,25 @@ static double upload_after(const CollectorRoute& r, double s) {
 using Stretches = std::vector<std::pair<double, double>>;
 static Stretches contact_stretches(const CollectorRoute& r, const MeetingArea& m, Point2 centroid,
                                    const RadioModel& radio, double step) {
-  const std::vector<double> arc = fmm::path_arcs(r.waypoints);
+  std::vector<double> own;
+  if (r.arcs.size() != r.waypoints.size()) own = fmm::path_arcs(r.waypoints);
+  const std::vector<double>& arc = r.arcs.size() == r.waypoints.size() ? r.arcs : own;
   std::vector<Point2> from{centroid};
   for (const double pass : m.passes) from.push_back(fmm::point_at_arc(r.waypoints, arc, pass));
   const double range = radio.free_space_range();
+  // Points surely out of range (their squared distance with a margin for
+  // rounding) skip the exact test.
+  const double far2 = range * range * (1.0 + 1e-6);
   Stretches stretches;
   double open = -1.0;
+  fmm::ArcWalker walk(r.waypoints, arc);
   for (double s = 0.0;; s = std::min(r.length, s + step)) {
-    const Point2 p = fmm::point_at_arc(r.waypoints, arc, s);
+    const Point2 p = walk.at(s);
     bool linked = false;
-    for (const Point2& f : from) linked = linked || (distance(f, p) <= range && radio.linked(f, p));
+    for (const Point2& f : from) {
+      const double dx = f.x - p.x, dy = f.y - p.y;
+      linked = linked || (dx * dx + dy * dy <= far2 && distance(f, p) <= range && radio.linked(f, p));
+    }
     if (linked && open < 0) open = s;
     if ((!linked || s >= r.length) && open >= 0) stretches.emplace_back(open, s), open = -1.0;
     if (s >= r.length) break;

@@ -132,6 +132,7 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
   so.labels = false;
   // The cell of each stop (the OC: kOcStop), the key of its legs.
   std::vector<std::size_t> stop_cell{LegCache::kOcStop};
+  std::vector<std::size_t> leg_end;  // the waypoint each leg ends at
   for (SegmentId k : segments) stop_cell.push_back(grid.index(graph.segment(k).entry));
   for (std::size_t t = 0; t + 1 < stops.size(); ++t) {
     const auto from = static_cast<std::size_t>(stops[t]), to = static_cast<std::size_t>(stops[t + 1]);
@@ -164,6 +165,7 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
       polished = legs ? &legs->legs.emplace(key, std::move(built)).first->second : &built;
     }
     route.waypoints.insert(route.waypoints.end(), polished->points.begin() + 1, polished->points.end());
+    leg_end.push_back(route.waypoints.size() - 1);
     route.length += polished->length;
     route.min_clearance = std::min(route.min_clearance, polished->min_clearance);
   }
@@ -171,26 +173,38 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
 
   // Arc length of every waypoint, then each meeting area at the route point
   // nearest to its segment's entry cell, in visiting order.
-  const std::vector<double> arc = fmm::path_arcs(route.waypoints);
+  route.arcs = fmm::path_arcs(route.waypoints);
+  const std::vector<double>& arc = route.arcs;
+  // The nearest route point past the meeting before: the route goes through
+  // each stop at the end of its leg, so the search ends there once it found
+  // the stop itself (nothing after it can be nearer by the 1e-9 m a point
+  // must win by); else it goes on to the route's end.
   double from_m = 0.0;
-  for (int stop : order) {
+  std::size_t first = 0;
+  for (std::size_t t = 0; t < order.size(); ++t) {
+    const int stop = order[t];
     const SegmentId seg = segments[static_cast<std::size_t>(stop - 1)];
     const Point2 target = pts[static_cast<std::size_t>(stop)];
     MeetingArea m;
     m.segment = seg;
     double best = kInf;
-    for (std::size_t i = 0; i + 1 < route.waypoints.size(); ++i) {
-      if (arc[i + 1] < from_m) continue;
+    while (first + 1 < route.waypoints.size() && arc[first + 1] < from_m) ++first;
+    auto nearest_on = [&](std::size_t i) {
       // Nearest point on segment i..i+1.
       const Point2 a = route.waypoints[i], b = route.waypoints[i + 1];
       const double len2 = (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y);
-      const double t =
+      const double u =
           len2 > 0 ? std::clamp(((target.x - a.x) * (b.x - a.x) + (target.y - a.y) * (b.y - a.y)) / len2, 0.0, 1.0)
                    : 0.0;
-      const Point2 p{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+      const Point2 p{a.x + u * (b.x - a.x), a.y + u * (b.y - a.y)};
       const double e = distance(p, target);
-      if (e < best - 1e-9) best = e, m.point = p, m.arc_m = arc[i] + t * std::sqrt(len2);
-    }
+      if (e < best - 1e-9) best = e, m.point = p, m.arc_m = arc[i] + u * std::sqrt(len2);
+    };
+    std::size_t i = first;
+    for (; i < leg_end[t] && i + 1 < route.waypoints.size(); ++i) nearest_on(i);
+    if (best >= 1e-9)
+      for (; i + 1 < route.waypoints.size(); ++i)
+        if (arc[i + 1] >= from_m) nearest_on(i);
     from_m = m.arc_m;
     route.meetings.push_back(m);
     route.segments.push_back(seg);

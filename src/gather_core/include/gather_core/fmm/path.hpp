@@ -36,6 +36,19 @@ std::vector<double> path_arcs(const std::vector<Point2>& path);
 // `arcs` (from path_arcs); clamped to its ends; {} for an empty polyline.
 Point2 point_at_arc(const std::vector<Point2>& path, const std::vector<double>& arcs, double s);
 
+// point_at_arc for arc positions that mostly grow (sampling a route): the
+// same points, found by walking on from the last one instead of a search.
+class ArcWalker {
+ public:
+  ArcWalker(const std::vector<Point2>& path, const std::vector<double>& arcs) : path_(path), arcs_(arcs) {}
+  Point2 at(double s);
+
+ private:
+  const std::vector<Point2>& path_;
+  const std::vector<double>& arcs_;
+  std::size_t next_ = 0;  // the first arc > the last s
+};
+
 // Geodesic travel time [s] (meters at unit speed) from `a` to `b` [m] at the
 // workspace's speed: one march from `a` that stops once `b` is reached.
 // kUnreached when no traversable path joins them. Overwrites fm's results.

@@ -37,6 +37,7 @@ struct CollectorRoute {
   double period = 0.0;                   // [s] length / speed
   double min_clearance = 0.0;            // [m] of the polished route
   std::vector<double> coverage_entries;  // [m] arc lengths where the route enters the OC's coverage (uploads)
+  std::vector<double> arcs;              // [m] arc length at each waypoint (build_route; empty: not known)
 };
 
 // One area of the refresh interval (a tile of mission::area_of), or the part
