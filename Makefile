@@ -13,7 +13,7 @@ CYCLES ?= 0
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps pylcm build run test format format-check tidy bench-fmm-ab test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-robots bench-signing identity-check partition-report scenario-report regime-report runtime-report clean help
+.PHONY: all deps pylcm build run test format format-check tidy bench-fmm-ab test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-robots bench-signing identity-check bench-planner partition-report scenario-report regime-report runtime-report clean help
 
 all: build
 
@@ -174,6 +174,17 @@ bench-signing: build
 # A refactor changes no result: plan.yaml, report.csv (timings aside) and
 # goals.csv of office and office_a (their best plans, and two plans with
 # collectors at work) from REF's gather and from this tree's.
+# The planner at scale: gather plan's sweep for teams of 20, 50, 100 and 200
+# on maps/office and maps/campus, beside a static build of PLANNER_REF (the
+# commit before the planner's speed-ups) -> docs/planner_bench.md and .png.
+# Long (the reference takes minutes at 100 robots, more at 200): TEAMS=20,50,100 shortens it.
+PLANNER_REF ?= 0e97da5
+TEAMS ?= 20,50,100,200
+bench-planner: build
+	tools/build-ref $(PLANNER_REF) build/planner_ref $(JOBS)
+	$(PYTHON) tools/planner_bench.py --ref build/planner_ref/build/gather_core/gather --ref-name $(PLANNER_REF) \
+	  --new $(G) --teams $(TEAMS) --runs $(or $(RUNS),3)
+
 identity-check: build
 	@test -n "$(REF)" || { echo "usage: make identity-check REF=<commit>" >&2; exit 2; }
 	tools/build-ref $(REF) build/identity_ref $(JOBS)
