@@ -401,7 +401,8 @@ def main():
     def office_a_run():
         # 2. office_a, its own pap:4 plan: RViz fits this map too; Ctrl-C ends it.
         out2 = os.path.join(tmp, "office_a")
-        run = Launch(["scenario:=" + office_a, "plan:=" + plan_a, "cycles:=1", "rate:=25", "results_dir:=" + out2,
+        # (No scenario:=: the plan names its own, office_a's.)
+        run = Launch(["plan:=" + plan_a, "cycles:=1", "rate:=25", "results_dir:=" + out2,
                       "rviz:=true"], os.path.join(tmp, "office_a.log"))
         try:
             check("office_a: the mission starts", run.wait_for(r"mission starts", 120), run.output()[-1500:])
@@ -570,6 +571,17 @@ def main():
     check("bad plan: OC names the directory and exits 2",
           ("oc_node: %s: no such plan directory" % os.path.join(tmp, "no_plan")) in out and
           re.search(r"exit code 2, cmd \S*oc_node", out) is not None, out[-1500:])
+
+    # A plan alone that is not there (scenario auto): the OC names it; a
+    # scenario given with another scenario's plan: the OC says so.
+    rc, out = roslaunch(["plan:=" + os.path.join(tmp, "no_plan"), "results_dir:=" + bad_dir], timeout=60)
+    check("a plan alone that is not there: OC names it and exits 2",
+          re.search(r"oc_node: %s/plan\.yaml: " % re.escape(os.path.join(tmp, "no_plan")), out) is not None and
+          re.search(r"exit code 2, cmd \S*oc_node", out) is not None, out[-1500:])
+    rc, out = roslaunch(["scenario:=" + office, "plan:=" + plan_a, "results_dir:=" + bad_dir], timeout=60)
+    check("a scenario given with another scenario's plan: OC says so and exits 2",
+          "was planned for scenario" in out and re.search(r"exit code 2, cmd \S*oc_node", out) is not None,
+          out[-1500:])
 
     # A key others can read: the OC refuses it (one line, status 2).
     open_key = os.path.join(tmp, "open.key")

@@ -87,10 +87,12 @@ int main(int argc, char** argv) {
   const std::string scenario_path = gather::resolve_launch_path(args[0]);
   int agents = 0;
   try {
-    // With the map from a topic the scenario may have none: the team is all it needs.
-    agents =
-        (map_from_topic ? gather::load_scenario_settings(scenario_path, false) : gather::load_scenario(scenario_path))
-            .team.agents;
+    // With the map from a topic the scenario may have none: the team is all
+    // it needs. "auto" (mission.launch's default): the plan's, checked by the OC.
+    if (args[0] != "auto")
+      agents =
+          (map_from_topic ? gather::load_scenario_settings(scenario_path, false) : gather::load_scenario(scenario_path))
+              .team.agents;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fleet: %s\n", e.what());
     return 2;

@@ -27,6 +27,7 @@
 #include "gather_core/figures/plan_figures.hpp"
 #include "gather_core/grid/map_saver.hpp"
 #include "gather_core/plan/plan_export.hpp"
+#include "gather_core/plan/plan_file.hpp"
 #include "gather_core/scenario/scenario.hpp"
 #include "gather_oc/launch_end.hpp"
 #include "gather_oc/launch_paths.hpp"
@@ -163,12 +164,14 @@ int main(int argc, char** argv) {
   ros::removeROSArgs(argc, argv, all);
   // mission.launch passes --plan=auto and --map-topic=none for "not given"
   // (roslaunch --ros-args lists an argument with an empty default as required).
-  std::string map_topic, plan_flag;
+  std::string map_topic, plan_flag, default_scenario;
   for (std::size_t i = 1; i < all.size(); ++i) {
     if (all[i].rfind("--map-topic=", 0) == 0)
       map_topic = all[i].substr(12);
     else if (all[i].rfind("--plan=", 0) == 0)
       plan_flag = all[i].substr(7);
+    else if (all[i].rfind("--default-scenario=", 0) == 0)
+      default_scenario = all[i].substr(19);
     else
       args.push_back(all[i]);
   }
@@ -177,11 +180,27 @@ int main(int argc, char** argv) {
   if (!plan_flag.empty()) args.push_back(plan_flag);
   if (args.size() != 1 && args.size() != 2)
     return fail(2,
-                "usage: oc_node SCENARIO [PLAN_DIR | --plan=PLAN_DIR|auto] [--map-topic=TOPIC|none] (no plan: plan "
-                "the scenario; --map-topic: take the map from a map_server topic; settings as private parameters, "
-                "see the README)");
-  std::string scenario_path = gather::resolve_launch_path(args[0]);
+                "usage: oc_node SCENARIO|auto [PLAN_DIR | --plan=PLAN_DIR|auto] [--map-topic=TOPIC|none] "
+                "[--default-scenario=FILE] (no plan: plan the scenario; auto: the plan's scenario, else "
+                "--default-scenario; --map-topic: take the map from a map_server topic; settings as private "
+                "parameters, see the README)");
   std::string plan_dir = args.size() == 2 ? gather::resolve_launch_path(args[1]) : "";
+  // SCENARIO "auto" (mission.launch's default): the one the plan names, else
+  // --default-scenario.
+  std::string scenario_path;
+  if (args[0] != "auto") {
+    scenario_path = gather::resolve_launch_path(args[0]);
+  } else if (!plan_dir.empty()) {
+    try {
+      scenario_path = gather::plan::read_plan_file(plan_dir + "/plan.yaml").scenario;
+    } catch (const std::exception& e) {
+      return fail(2, e.what());
+    }
+  } else if (!default_scenario.empty()) {
+    scenario_path = default_scenario;
+  } else {
+    return fail(2, "SCENARIO auto needs a plan (its plan.yaml names the scenario) or --default-scenario=FILE");
+  }
   const bool map_from_topic = !map_topic.empty();
   gather::Scenario scenario;
   std::unique_ptr<gather::agent::LoadedPlan> plan;
