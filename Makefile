@@ -42,7 +42,8 @@ build: deps
 run: build
 	rm -rf $(RESULTS)
 	tools/netns-run bash -c '$(SETUP) && roslaunch --log gather_oc mission.launch \
-	  scenario:=$(abspath $(SCENARIO)) cycles:=$(CYCLES) results_dir:=$(abspath $(RESULTS)) record:=true'
+	  scenario:=$(abspath $(SCENARIO)) cycles:=$(CYCLES) results_dir:=$(abspath $(RESULTS)) record:=true \
+	  $(if $(VIEW),rviz:=true rate:=$(or $(RATE),10) close_on_end:=true)'
 	$(PYTHON) tools/mission_summary.py $(RESULTS)
 
 test: build format-check tidy test-plain test-ros test-cli test-e2e
