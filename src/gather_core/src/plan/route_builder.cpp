@@ -110,8 +110,13 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
     route.waypoints = {s.oc};
     return route;
   }
+  // The stops (the OC first) and their cells, the key of their legs (the OC: kOcStop).
   std::vector<Point2> pts{s.oc};
-  for (SegmentId k : segments) pts.push_back(grid.cell_center(graph.segment(k).entry));
+  std::vector<std::size_t> stop_cell{LegCache::kOcStop};
+  for (SegmentId k : segments) {
+    pts.push_back(grid.cell_center(graph.segment(k).entry));
+    stop_cell.push_back(grid.index(graph.segment(k).entry));
+  }
   const std::size_t n = pts.size();
   // Visiting order on straight-line distances (cheap, and the legs between
   // consecutive stops are short, so each leg's march stops early).
@@ -130,10 +135,7 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
   route.min_clearance = kInf;
   fmm::SolveOptions so;
   so.labels = false;
-  // The cell of each stop (the OC: kOcStop), the key of its legs.
-  std::vector<std::size_t> stop_cell{LegCache::kOcStop};
   std::vector<std::size_t> leg_end;  // the waypoint each leg ends at
-  for (SegmentId k : segments) stop_cell.push_back(grid.index(graph.segment(k).entry));
   for (std::size_t t = 0; t + 1 < stops.size(); ++t) {
     const auto from = static_cast<std::size_t>(stops[t]), to = static_cast<std::size_t>(stops[t + 1]);
     const std::pair<std::size_t, std::size_t> key{stop_cell[from], stop_cell[to]};
