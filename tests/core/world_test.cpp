@@ -225,4 +225,45 @@ TEST(WorldTest, HomesOnRobotsHaveRoomInTheCoverageAndStandApart) {
 }
 
 }  // namespace
+TEST(WorldTest, HomesOnRobotsKeepOffTheLaneOutOfTheCoverage) {
+  // A 2.5 m x 5 m room, the OC in its middle, and one corridor 1.2 m wide
+  // (y 1.9-3.1 m) east out of it to x = 8 m: the coverage (2 m around the
+  // OC) ends 0.75 m into the corridor. Four segments down the corridor
+  // leave the coverage by it. A robot parked in the corridor or its mouth
+  // stands in the way of every other one: the homes keep off the lane
+  // (the corridor's middle, out into the room while it is narrow, and
+  // 0.3 m + two radii either side of it), in the room.
+  Scenario s = testing_support::open_strip("room", 80, 50, Point2{1.25, 2.55});
+  s.team.agents = 4, s.team.radius = 0.2, s.mission.period = 100.0;
+  std::vector<int8_t> v(80 * 50, 100);
+  std::vector<uint8_t> f(80 * 50, 0);
+  for (int r = 0; r < 50; ++r)
+    for (int c = 0; c < 80; ++c)
+      if (c < 25 || (r >= 19 && r <= 30)) {
+        v[static_cast<std::size_t>(r) * 80 + c] = 0, f[static_cast<std::size_t>(r) * 80 + c] = 1;
+      }
+  s.grid = OccupancyGrid(80, 50, 0.1, Point2{0, 0}, v, f);
+  const mission::World w(s);
+  std::vector<std::vector<Cell>> segments(4);
+  for (int k = 0; k < 4; ++k)  // x 4.5-5, 5.5-6, ... down the corridor
+    for (int r = 19; r <= 30; ++r)
+      for (int c = 45 + 10 * k; c < 50 + 10 * k; ++c) segments[static_cast<std::size_t>(k)].push_back(Cell{r, c});
+  const Cell plain = w.oc_worker_home(segments[0]);
+  ASSERT_TRUE(w.covered(plain));
+  ASSERT_GE(plain.col, 25);  // the coverage's tip in the corridor
+  const std::vector<Cell> homes = w.oc_worker_homes(segments, 1.0);
+  ASSERT_EQ(homes.size(), 4u);
+  for (std::size_t k = 0; k < homes.size(); ++k) {
+    const Point2 h = s.grid.cell_center(homes[k]);
+    EXPECT_TRUE(w.covered(homes[k])) << k;
+    EXPECT_LT(h.x, 2.5) << k << ": a home in the corridor, at x " << h.x;
+    // Off the lane where it leaves the room (by 0.7 m, less a cell).
+    if (h.x > 1.25) {
+      EXPECT_GE(std::abs(h.y - 2.5), 0.6) << k << ": a home in the corridor's mouth, at " << h.x << " " << h.y;
+    }
+    for (std::size_t j = 0; j < k; ++j) EXPECT_NE(homes[k], homes[j]);
+  }
+  EXPECT_EQ(w.oc_worker_homes(segments, 1.0), homes);
+}
+
 }  // namespace gather
