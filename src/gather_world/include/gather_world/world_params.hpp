@@ -10,7 +10,7 @@ namespace world {
 
 struct WorldParams {
   // robot: a differential-drive base (mrpt::kinematics::CVehicleSimul_DiffDriven).
-  double max_speed = 0.0;       // [m/s] top speed; 0 (auto): the scenario's team.speed. (0, 10]
+  double max_speed = 0.0;       // [m/s] top speed; 0 (auto): 1.15 x the scenario's team.speed. (0, 10]
   double max_turn_rate = 90.0;  // [deg/s] (0, 720]
   double response_time = 0.2;   // [s] first-order lag of the wheels' speed behind a command. [0, 5]
   double radius = 0.0;          // [m] footprint (a disc); 0 (auto): the scenario's team.radius. (0, 5]
