@@ -2,7 +2,7 @@
 """The team on gather_world's MRPT robots beside ideal bases (make bench-robots).
 
 For maps/office and ipa/office_a, a pap:4 plan and the scenario's best plan,
-and the best plan of maps/warehouse, campus and cave, SEEDS seeds x CYCLES
+and the best plan of maps/warehouse, campus, cave and campus_busy (collectors), SEEDS seeds x CYCLES
 cycles each (default 5 x 10): `gather run --robots mrpt`
 and `gather run --protocol robots` (ideal bases, the same protocol), then
 per configuration:
@@ -10,7 +10,8 @@ per configuration:
 - delivered goals on robots and on ideal bases, and their ratio; and on
   ideal bases at 0.9 and 0.8 times the team speed (`--speed-factor`), the
   same plan: what a team that holds only that pace delivers (a lone MRPT
-  robot holds about 0.8-0.9 of it: docs/robots.md);
+  robot holds about the team speed by default, 0.85-0.88 of it with a top
+  speed equal to it: docs/robots.md);
 - both refresh metrics (latency: delivered - requested; interval: per area,
   between two deliveries), robots / ideal;
 - what the robots did: waypoints reached, the share reached late (more than
@@ -42,7 +43,8 @@ SCENARIOS = [("office", os.path.join(REPO, "maps", "office.scenario.yaml"), ("pa
              ("office_a", os.path.join(REPO, "..", "shared", "maps", "ipa", "office_a.scenario.yaml"), ("pap:4", "best")),
              ("warehouse", os.path.join(REPO, "maps", "warehouse.scenario.yaml"), ("best",)),
              ("campus", os.path.join(REPO, "maps", "campus.scenario.yaml"), ("best",)),
-             ("cave", os.path.join(REPO, "maps", "cave.scenario.yaml"), ("best",))]
+             ("cave", os.path.join(REPO, "maps", "cave.scenario.yaml"), ("best",)),
+             ("campus_busy", os.path.join(REPO, "maps", "campus_busy.scenario.yaml"), ("best",))]
 SLOW = (0.9, 0.8)  # ideal bases at these fractions of the team speed
 FINAL = {"delivered", "expired", "dropped_overflow", "lost_with_agent", "unreachable"}
 
