@@ -8,12 +8,12 @@ JOBS ?= 2
 PYTHON := /usr/bin/python3
 WS := catkin_ws
 PLAIN := build/plain
-SCENARIO ?= maps/office.scenario.yaml
+SCENARIO ?= maps/campus_busy.scenario.yaml
 CYCLES ?= 0
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps pylcm build run test format format-check tidy bench-fmm-ab test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-robots bench-signing identity-check bench-planner partition-report scenario-report regime-report runtime-report clean help
+.PHONY: all deps pylcm build run readme-figures test format format-check tidy bench-fmm-ab test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-robots bench-signing identity-check bench-planner partition-report scenario-report regime-report runtime-report clean help
 
 all: build
 
@@ -35,16 +35,24 @@ pylcm: deps
 build: deps
 	catkin_make -C $(WS) -j$(JOBS) -DPYTHON_EXECUTABLE=$(PYTHON) -DCMAKE_BUILD_TYPE=Release --no-color
 
-# Runs the default mission (office) headless inside a private network
-# namespace (LCM multicast stays on a private loopback): plans the scenario,
-# runs its cycles with one process per agent, records a bag, prints what
-# happened.
+# Runs the default mission (campus_busy: workers and collectors) headless
+# inside a private network namespace (LCM multicast stays on a private
+# loopback): plans the scenario, runs its cycles with one process per agent,
+# records a bag, prints what happened (how many goals came through a
+# collector too). SCENARIO=maps/office.scenario.yaml for another.
 run: build
 	rm -rf $(RESULTS)
 	tools/netns-run bash -c '$(SETUP) && roslaunch --log gather_oc mission.launch \
 	  scenario:=$(abspath $(SCENARIO)) cycles:=$(CYCLES) results_dir:=$(abspath $(RESULTS)) record:=true \
 	  $(if $(VIEW),rviz:=true rate:=$(or $(RATE),10) close_on_end:=true)'
 	$(PYTHON) tools/mission_summary.py $(RESULTS)
+
+# The README's first-screen pictures of the default scenario (Fig. 3: E
+# beside R; RViz on its mission mid-run) -> docs/readme_fig3.png and
+# docs/readme_mission.png (~3 min; RViz under Xvfb in a private namespace).
+readme-figures: build
+	tools/netns-run xvfb-run -a -s "-screen 0 1400x900x24" bash -c \
+	  '$(SETUP) && $(PYTHON) tools/readme_figures.py --scenario $(abspath $(SCENARIO))'
 
 test: build format-check tidy test-plain test-ros test-cli test-e2e
 	@echo "make test: all tests passed"

@@ -7,6 +7,7 @@ written by oc_node, fleet.yaml by fleet_node).
 Exit status 0 if the mission is complete (every goal resolved, every agent
 process exited 0), 1 otherwise, 2 if the results are missing or unreadable.
 """
+import csv
 import os
 import sys
 
@@ -23,6 +24,23 @@ def load(path):
     except yaml.YAMLError as e:
         print("mission_summary: %s: not valid YAML (%s)" % (path, str(e).splitlines()[0]), file=sys.stderr)
         sys.exit(2)
+
+
+def through_collectors(path):
+    """(delivered goals, those a collector picked up, the collectors that did) from goals.csv."""
+    try:
+        with open(path, newline="") as f:
+            rows = [r for r in csv.DictReader(f) if r.get("state") == "delivered"]
+    except OSError as e:
+        print("mission_summary: %s: %s" % (path, e.strerror), file=sys.stderr)
+        sys.exit(2)
+    try:
+        by = [int(r["picked_up_by"]) for r in rows]
+    except (KeyError, TypeError, ValueError):
+        print("mission_summary: %s: no readable picked_up_by column" % path, file=sys.stderr)
+        sys.exit(2)
+    carried = [b for b in by if b >= 0]
+    return len(rows), len(carried), len(set(carried))
 
 
 def main():
@@ -51,6 +69,13 @@ def main():
             goals["requested"], goals["delivered"], goals["per_cycle"], goals["est_per_cycle"], goals["expired"],
             goals["dropped"]))
         print("refresh  mean %.1f s (est. %.1f s), max %.1f s" % (refresh["mean_s"], refresh["est_s"], refresh["max_s"]))
+        delivered, carried, collectors = through_collectors(os.path.join(d, "goals.csv"))
+        if cfg["collectors"] == 0:
+            print("carried  no collector in the plan: every worker brought its data to the OC itself")
+        else:
+            print("carried  %d of %d delivered goals came through a collector (%.0f%%), picked up on the move by %d of "
+                  "the plan's %d collectors" % (carried, delivered, 100.0 * carried / max(delivered, 1), collectors,
+                                                cfg["collectors"]))
     print()
     cols = ("agent", "role", "measured", "carried", "delivered", "expired", "skipped", "dropped", "sent", "received",
             "gated", "lost", "exit")

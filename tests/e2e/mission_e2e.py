@@ -2,6 +2,10 @@
 """End-to-end test of the mission in ROS (`roslaunch gather_oc mission.launch`
 and `review.launch`), with RViz on a virtual display.
 
+0. The default mission of `make run` (the Makefile's SCENARIO, one cycle,
+   no RViz): the OC plans it, the best plan has collectors that workers
+   hand their data to, and tools/mission_summary.py counts the goals that
+   came through a collector (some did).
 1. maps/office with a collector plan (gather plan --config pap:4 --association
    off: every far segment served by one of the 4 collectors), RViz and
    rosbag: a quiet end (exit 0, no "REQUIRED process has died"), the results
@@ -439,6 +443,28 @@ def main():
                 run.close()
             return ended_by_ctrl_c("review", "Ctrl-C ends it", rc, out, shot)
         return True
+
+    # 0. The default mission, as `make run` starts it (the Makefile's
+    # SCENARIO; one cycle): the OC plans the scenario, its best plan has
+    # collectors some workers hand their data to, and the summary counts
+    # the goals that came through a collector.
+    default = os.path.join(REPO, re.search(r"^SCENARIO \?= (\S+)", open(os.path.join(REPO, "Makefile")).read(),
+                                           re.M).group(1))
+    out0 = os.path.join(tmp, "default")
+    rc, out = roslaunch(["scenario:=" + default, "cycles:=1", "results_dir:=" + out0], 600)
+    check("default mission (%s): roslaunch exits 0" % os.path.basename(default), rc == 0, out[-1500:])
+    r = check_results(out0, default, 1, yaml.safe_load(open(default))["team"]["agents"])
+    plan0 = yaml.safe_load(open(os.path.join(out0, "plan", "plan.yaml")))
+    active = {x["collector"] for x in plan0["agents"] if x["role"] == "worker" and x["collector"] >= 0}
+    check("default mission: the planner's best plan has collectors, %d of them active" % len(active),
+          plan0["collectors"] >= 1 and len(active) >= 1, plan0["collectors"])
+    p = subprocess.run([sys.executable, os.path.join(REPO, "tools", "mission_summary.py"), out0],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
+    m = re.search(r"^carried  (\d+) of (\d+) delivered goals came through a collector .* by (\d+) of the plan's "
+                  r"(\d+) collectors", p.stdout, re.M)
+    check("default mission: the summary says how many goals came through a collector (some did)",
+          p.returncode == 0 and m is not None and int(m.group(1)) > 0 and int(m.group(2)) == r["goals"]["delivered"]
+          and int(m.group(4)) == plan0["collectors"], p.stdout[:1500])
 
     with_rviz("office", office_run)
     with_rviz("office_a", office_a_run)
