@@ -214,6 +214,9 @@ TEST(FleetKeyTest, KeygenWritesA0600FileThatLoadsBackAndIsNeverOverwritten) {
   bad("key_id: 3\nkey: " + std::string(64, 'g') + "\n", "key");
   bad("key_id: 3\nkey: " + hex + "\nsalt: 1\n", "salt");
   bad("just words\n", "bad.key:1");
+  // A field given twice is refused, not the later line taken.
+  bad("key_id: 3\nkey: " + hex + "\nkey_id: 4\n", "bad.key:3: key_id given twice");
+  bad("key_id: 3\nkey: " + hex + "\nkey: " + std::string(64, 'b') + "\n", "bad.key:3: key given twice");
   EXPECT_THROW(load_fleet_key(dir + "/missing.key"), Error);
   std::filesystem::remove_all(dir);
 }

@@ -79,6 +79,8 @@ FleetKey load_fleet_key(const std::string& path) {
     const std::size_t colon = line.find(':');
     if (colon == std::string::npos) throw Error(path + ":" + std::to_string(no), "expected 'key_id: N' or 'key: HEX'");
     const std::string field = trim(line.substr(0, colon)), value = trim(line.substr(colon + 1));
+    if ((field == "key_id" && have_id) || (field == "key" && have_key))
+      throw Error(path + ":" + std::to_string(no), field + " given twice (a key file has one key_id and one key)");
     if (field == "key_id") {
       char* end = nullptr;
       errno = 0;
