@@ -11,6 +11,7 @@
 
 #include "gather_core/error.hpp"
 #include "gather_core/grid/map_loader.hpp"
+#include "gather_core/input_file.hpp"
 #include "gather_core/scenario/scenario.hpp"
 
 namespace gather {
@@ -89,6 +90,15 @@ TEST(BadInput, TheValidFixtureMapAndAMinimalScenarioLoad) {
   EXPECT_EQ(s.mission.cycles, MissionParams{}.cycles);
   EXPECT_EQ(s.planner.methods.size(), 3u);
   std::remove(path.c_str());
+}
+
+TEST(BadInput, UserTextInAnErrorIsOneShortLine) {
+  EXPECT_EQ(quote_input("plain"), "plain");
+  EXPECT_EQ(quote_input("a\nb\tc\rd\x01"
+                        "e\x7f"),
+            "a\\nb\\tc\\rd\\x01e\\x7f");
+  EXPECT_EQ(quote_input(std::string(1000, 'x'), 10), std::string(10, 'x') + "...");
+  EXPECT_EQ(quote_input(std::string(5, '\n'), 2), "\\n\\n...");
 }
 
 }  // namespace

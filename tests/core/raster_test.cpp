@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -75,6 +77,15 @@ TEST(RasterTest, ReleaseFreesTheValuesAndKeepsTheFrame) {
   labels.release();
   EXPECT_TRUE(labels.empty());
   EXPECT_EQ(labels.frame(), kFrame);
+}
+
+TEST(RasterTest, APointFarOffOrNotANumberIsOffTheMapWithoutOverflow) {
+  for (const Point2 p : {Point2{1e300, 0.0}, Point2{0.0, -1e300}, Point2{std::nan(""), 2.5},
+                         Point2{0.0, std::numeric_limits<double>::infinity()}}) {
+    const Cell c = kFrame.world_to_cell(p);
+    EXPECT_FALSE(kFrame.contains(c)) << p.x << " " << p.y;
+  }
+  EXPECT_EQ(kFrame.world_to_cell(Point2{-0.75, 2.25}), (Cell{0, 0}));
 }
 
 }  // namespace

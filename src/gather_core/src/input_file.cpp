@@ -1,5 +1,6 @@
 #include "gather_core/input_file.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -34,8 +35,30 @@ std::vector<uint8_t> read_input_file(const std::string& path, std::uintmax_t max
 }
 
 std::string quote_input(const std::string& text, std::size_t max_chars) {
-  if (text.size() <= max_chars) return text;
-  return text.substr(0, max_chars) + "...";
+  // Control characters escaped (\n, \t, \xNN: the line stays one line),
+  // cut after max_chars characters of the text.
+  std::string out;
+  const std::size_t n = std::min(text.size(), max_chars);
+  out.reserve(n + 8);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else if (c < 0x20 || c == 0x7f) {
+      static const char* const kHex = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  if (text.size() > max_chars) out += "...";
+  return out;
 }
 
 }  // namespace gather

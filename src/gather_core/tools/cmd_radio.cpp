@@ -3,6 +3,7 @@
 // scenario's multi-wall model, with the median time of the coverage map.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -13,6 +14,7 @@
 #include "gather_core/error.hpp"
 #include "gather_core/figures/radio_figure.hpp"
 #include "gather_core/grid/reachability.hpp"
+#include "gather_core/input_file.hpp"
 #include "gather_core/radio/radio_model.hpp"
 #include "gather_core/scenario/scenario.hpp"
 
@@ -29,10 +31,11 @@ int radio(int argc, char** argv) {
     const std::string at = args.get("--at");
     double x = 0, y = 0;
     char extra = 0;
-    if (std::sscanf(at.c_str(), "%lf,%lf%c", &x, &y, &extra) != 2)
-      throw cli::UsageError("--at expects X,Y in meters, got '" + at + "'");
+    if (std::sscanf(at.c_str(), "%lf,%lf%c", &x, &y, &extra) != 2 || !std::isfinite(x) || !std::isfinite(y))
+      throw cli::UsageError("--at expects X,Y, two finite numbers in meters, got " + quote_input(at));
     tx = Point2{x, y};
-    if (!s.grid.contains(s.grid.world_to_cell(tx))) throw Error("--at", "point [" + at + "] is outside the map");
+    if (!s.grid.contains(s.grid.world_to_cell(tx)))
+      throw Error("--at", "point " + quote_input(at) + " is outside the map");
   }
   const int repeat = args.get_int("--repeat", 5, 1, 1000);
   if (repeat < 1) throw cli::UsageError("--repeat must be >= 1");

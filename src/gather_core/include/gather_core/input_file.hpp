@@ -26,7 +26,8 @@ std::uintmax_t check_input_file(const std::string& path, std::uintmax_t max_byte
 std::vector<uint8_t> read_input_file(const std::string& path, std::uintmax_t max_bytes, const char* what);
 
 // At most `max_chars` characters of user text for an error message (with
-// "..." when cut), so a 1 MB value does not become a 1 MB error line.
+// "..." when cut), so a 1 MB value does not become a 1 MB error line, its
+// control characters escaped (\n, \t, \r, \xNN), so it stays one line.
 std::string quote_input(const std::string& text, std::size_t max_chars = 80);
 
 }  // namespace gather

@@ -49,9 +49,15 @@ struct GridFrame {
                 static_cast<int>(index % static_cast<std::size_t>(width))};
   }
   // Cell containing a map point [m]; may lie outside the grid (check contains()).
+  // A point beyond +-1e9 cells, or not a number, gives a cell off every map
+  // (no overflow in the conversion).
   Cell world_to_cell(Point2 p) const {
-    return Cell{static_cast<int>(std::floor((p.y - origin.y) / resolution)),
-                static_cast<int>(std::floor((p.x - origin.x) / resolution))};
+    return Cell{cell_index(std::floor((p.y - origin.y) / resolution)),
+                cell_index(std::floor((p.x - origin.x) / resolution))};
+  }
+  static int cell_index(double v) {
+    if (!(std::abs(v) < 1e9)) return v > 0 ? 1000000000 : -1000000000;
+    return static_cast<int>(v);
   }
   // Centre of a cell in the map frame [m].
   Point2 cell_center(Cell c) const {

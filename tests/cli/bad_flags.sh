@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Flags with values no command can use (not a number, infinite, far beyond
+# any map, control characters, 100 kB): one line on stderr, at most 300
+# characters, exit status 2, within 10 s.
+#
+#   tests/cli/bad_flags.sh PATH/TO/gather
+set -u
+bin=${1:?usage: $0 PATH/TO/gather}
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+office="$here/../../maps/office.scenario.yaml"
+fail=0
+check() {  # name, args...
+  local name=$1
+  shift
+  local err rc lines width
+  err=$(mktemp)
+  timeout 10 "$bin" "$@" >/dev/null 2>"$err"
+  rc=$?
+  lines=$(wc -l <"$err")
+  width=$(awk '{ if (length($0) > w) w = length($0) } END { print w + 0 }' "$err")
+  if [ "$rc" -ne 2 ] || [ "$lines" -ne 1 ] || [ "$width" -gt 300 ]; then
+    echo "FAIL $name: exit $rc, $lines line(s), widest $width: $(head -c 300 "$err")"
+    fail=1
+  else
+    echo "ok   $name: $(cat "$err")"
+  fi
+  rm -f "$err"
+}
+check "radio --at nan" radio "$office" --at nan,1
+check "radio --at inf" radio "$office" --at 1,inf
+check "radio --at beyond any map" radio "$office" --at 1e300,-1e300
+check "radio --at with a newline" radio "$office" --at "$(printf '1,2\nx')"
+check "radio --at, 100 kB" radio "$office" --at "$(head -c 100000 /dev/zero | tr '\0' '7')"
+check "radio --at off the map" radio "$office" --at 1000,5
+exit $fail
