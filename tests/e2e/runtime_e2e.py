@@ -18,6 +18,7 @@ import re
 import subprocess
 import sys
 import tempfile
+import time
 
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 GATHER = os.path.join(REPO, "catkin_ws", "devel", "lib", "gather_core", "gather")
@@ -261,6 +262,21 @@ def main():
         check("another plan: one line naming an agent that refused", len(lines) == 1 and "refused the plan" in lines[0],
               err[-1500:])
         check("another plan: the agents say why", "they are not the same plan" in err, err[-1500:])
+        # Agent processes that die at once (a bad binary, a crash): the OC
+        # says so within seconds, naming them, not after its 60 s for READY.
+        dying = os.path.join(tmp, "dying_agent.sh")
+        with open(dying, "w") as f:
+            f.write("#!/bin/bash\nexit 3\n")
+        os.chmod(dying, 0o755)
+        t0 = time.time()
+        rc, out, err = run([a.gather, "run", plans["pap:4"], "--cycles", "1", "--out", os.path.join(tmp, "dying"),
+                            "--lcm", "--key-file", key, "--agent-bin", dying], timeout=120)
+        took = time.time() - t0
+        lines = [l for l in err.splitlines() if l.startswith("gather run")]
+        check("dying agents: gather run --lcm fails within 15 s (%.1f s)" % took, rc != 0 and took < 15,
+              "status %d" % rc)
+        check("dying agents: one line naming them and their exit status",
+              len(lines) == 1 and "ended before saying READY" in lines[0] and "(status 3)" in lines[0], err[-1500:])
         rc, out, err = run([a.agent, "--id", "25", "--key-file", key, "--plan", plans["pap:4"]])
         check("an agent id outside the team: status 2, one line", rc == 2 and err.count("\n") == 1 and
               "not in the plan's team" in err, err)

@@ -104,6 +104,13 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
     mo.restarts = opt.restarts;
     mo.respawn = [&processes](int id) { processes.respawn(id, {"--rejoin"}); };
     mo.kill_agent = [&processes](int id) { processes.kill(id); };
+    if (!fleet_of.external)
+      mo.ended = [&processes] {
+        std::vector<std::pair<int, int>> out;
+        for (int id : processes.poll())
+          out.emplace_back(id, processes.agents()[static_cast<std::size_t>(id)].exit_status);
+        return out;
+      };
     if (wall) mo.clock = agent::ClockMode::kWall;
     mo.robots = robots.any();
     if (fleet_of.external) mo.ready_timeout_s = agent::kExternalReadyTimeout_s;

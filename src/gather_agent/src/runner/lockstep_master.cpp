@@ -153,6 +153,22 @@ void LockstepMaster::collect_replies(int64_t tick, ReplyStatus want, double time
       last_[a] = std::move(r);
     }
     fleet_.replies().clear();
+    if (missing > 0 && options_.ended) {
+      std::string gone;
+      int shown = 0, count = 0;
+      for (const auto& [a, status] : options_.ended()) {
+        if (a < 0 || static_cast<std::size_t>(a) >= replied_.size() || replied_[static_cast<std::size_t>(a)]) continue;
+        ++count;
+        if (shown++ < 10)
+          gone += (gone.empty() ? "" : ", ") + std::to_string(a) + " (status " + std::to_string(status) + ")";
+      }
+      if (count > 10) gone += ", ...";
+      if (count > 0)
+        throw Error("lockstep",
+                    std::to_string(count) + " agent process(es) ended before " +
+                        (tick < 0 ? std::string("saying READY") : "replying to tick " + std::to_string(tick)) + ": " +
+                        gone + " (see their output above)");
+    }
     if (missing > 0 && (seconds_since(t0) > timeout_s || signalled(signal))) {
       std::string who;
       int shown = 0;

@@ -27,6 +27,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gather_agent/runner/journal.hpp"
@@ -149,6 +150,12 @@ struct MasterOptions {
   // Ends agent k's process (for kills and restarts); unset: SIGKILL to the
   // pid it said READY with (an agent on the same host).
   std::function<void(int)> kill_agent;
+  // The agents whose process ended since the last call, with its exit
+  // status (128 + signal when killed); unset: the OC cannot see them (not
+  // its children). One that ends while the OC waits for its READY or its
+  // reply (and was not ended by the OC) stops the mission at once, naming
+  // the agents and their status, instead of after the timeout.
+  std::function<std::vector<std::pair<int, int>>()> ended;
 };
 
 // What views of the mission need beyond the agents' last replies (kept only
