@@ -43,7 +43,8 @@ def die(msg):
 def run(args, what):
     p = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     if p.returncode != 0:
-        die("%s failed (exit %d): %s" % (what, p.returncode, p.stdout.strip().splitlines()[-1:] or ""))
+        last = (p.stdout.strip().splitlines() or [""])[-1]
+        die("%s failed (exit %d): %s" % (what, p.returncode, last))
     return p.stdout
 
 
@@ -143,8 +144,8 @@ def main():
     shutil.rmtree(a.out, ignore_errors=True)
     os.makedirs(a.out)
     plan = os.path.join(a.out, "plan")
-    best = run([GATHER, "plan", a.scenario, "--out", plan], "gather plan").strip().splitlines()[-1]
-    print(best, flush=True)
+    best = run([GATHER, "plan", a.scenario, "--out", plan], "gather plan").strip().splitlines()
+    print(best[-1] if best else "planned", flush=True)
     with open(a.scenario) as f:
         refresh = ((yaml.safe_load(f) or {}).get("planner") or {}).get("refresh", "interval")
     sim = os.path.join(a.out, "sim")

@@ -98,7 +98,8 @@ TEST(BadInput, UserTextInAnErrorIsOneShortLine) {
                         "e\x7f"),
             "a\\nb\\tc\\rd\\x01e\\x7f");
   EXPECT_EQ(quote_input(std::string(1000, 'x'), 10), std::string(10, 'x') + "...");
-  EXPECT_EQ(quote_input(std::string(5, '\n'), 2), "\\n\\n...");
+  EXPECT_EQ(quote_input(std::string(5, '\n'), 4), "\\n\\n...");  // escapes count
+  EXPECT_LE(quote_input(std::string(1000, '\x01')).size(), 80u + 4 + 3);
 }
 
 }  // namespace

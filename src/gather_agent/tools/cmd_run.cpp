@@ -102,13 +102,21 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
     mo.tick = opt.tick, mo.loss = opt.loss, mo.loss_seed = opt.loss_seed, mo.rate = rate;
     mo.kills = opt.kills;
     mo.restarts = opt.restarts;
-    mo.respawn = [&processes](int id) { processes.respawn(id, {"--rejoin"}); };
+    // Every agent process that ended by itself (kept: a crash after one
+    // reply is still one at the next); forgotten when it is started again.
+    std::vector<int> ended_status(static_cast<std::size_t>(team.agents()), -1);
+    mo.respawn = [&processes, &ended_status](int id) {
+      ended_status[static_cast<std::size_t>(id)] = -1;
+      processes.respawn(id, {"--rejoin"});
+    };
     mo.kill_agent = [&processes](int id) { processes.kill(id); };
     if (!fleet_of.external)
-      mo.ended = [&processes] {
-        std::vector<std::pair<int, int>> out;
+      mo.ended = [&processes, &ended_status] {
         for (int id : processes.poll())
-          out.emplace_back(id, processes.agents()[static_cast<std::size_t>(id)].exit_status);
+          ended_status[static_cast<std::size_t>(id)] = processes.agents()[static_cast<std::size_t>(id)].exit_status;
+        std::vector<std::pair<int, int>> out;
+        for (std::size_t id = 0; id < ended_status.size(); ++id)
+          if (ended_status[id] >= 0) out.emplace_back(static_cast<int>(id), ended_status[id]);
         return out;
       };
     if (wall) mo.clock = agent::ClockMode::kWall;

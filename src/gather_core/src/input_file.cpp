@@ -36,11 +36,11 @@ std::vector<uint8_t> read_input_file(const std::string& path, std::uintmax_t max
 
 std::string quote_input(const std::string& text, std::size_t max_chars) {
   // Control characters escaped (\n, \t, \xNN: the line stays one line),
-  // cut after max_chars characters of the text.
+  // cut once the quote holds max_chars characters (escapes included).
   std::string out;
-  const std::size_t n = std::min(text.size(), max_chars);
-  out.reserve(n + 8);
-  for (std::size_t i = 0; i < n; ++i) {
+  out.reserve(std::min(text.size(), max_chars) + 8);
+  std::size_t i = 0;
+  for (; i < text.size() && out.size() < max_chars; ++i) {
     const auto c = static_cast<unsigned char>(text[i]);
     if (c == '\n') {
       out += "\\n";
@@ -57,7 +57,7 @@ std::string quote_input(const std::string& text, std::size_t max_chars) {
       out += static_cast<char>(c);
     }
   }
-  if (text.size() > max_chars) out += "...";
+  if (i < text.size()) out += "...";
   return out;
 }
 

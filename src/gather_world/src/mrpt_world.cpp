@@ -45,7 +45,7 @@ using Steady = std::chrono::steady_clock;
 constexpr double kPi = 3.14159265358979323846;
 // The top speed of a robot by default, over the scenario's team speed (the
 // speed the plan counts on): a lone robot then holds about the team speed
-// over a tour (gather_world_pace: 1.00-1.01), as a fleet is planned at what
+// over a tour (gather_world_pace: 0.97-1.01), as a fleet is planned at what
 // its robots average, not at their top speed (at which one holds 0.85-0.88:
 // it slows in turns and near walls, takes corners wide, turns on the spot).
 constexpr double kTopOverTeamSpeed = 1.15;

@@ -124,6 +124,7 @@ bool LockstepMaster::oc_role_dead(int agent) const {
 void LockstepMaster::collect_replies(int64_t tick, ReplyStatus want, double timeout_s, ShutdownSignal* signal) {
   std::size_t missing = 0;
   for (std::size_t a = 0; a < replied_.size(); ++a) replied_[a] = killed_[a], missing += !killed_[a];
+  ended_seen_ = false;
   const auto t0 = Clock::now();
   auto last_announce = Clock::now() - std::chrono::seconds(1);
   while (missing > 0) {
@@ -154,6 +155,9 @@ void LockstepMaster::collect_replies(int64_t tick, ReplyStatus want, double time
     }
     fleet_.replies().clear();
     if (missing > 0 && options_.ended) {
+      // An agent whose process ended and that still owes this reply. What
+      // it sent before it ended (a refusal of the plan) is read for a
+      // moment first: that is the better line.
       std::string gone;
       int shown = 0, count = 0;
       for (const auto& [a, status] : options_.ended()) {
@@ -163,11 +167,16 @@ void LockstepMaster::collect_replies(int64_t tick, ReplyStatus want, double time
           gone += (gone.empty() ? "" : ", ") + std::to_string(a) + " (status " + std::to_string(status) + ")";
       }
       if (count > 10) gone += ", ...";
-      if (count > 0)
+      if (count == 0) {
+        ended_seen_ = false;
+      } else if (!ended_seen_) {
+        ended_seen_ = true, ended_seen_at_ = Clock::now();
+      } else if (seconds_since(ended_seen_at_) > kEndedGrace_s) {
         throw Error("lockstep",
                     std::to_string(count) + " agent process(es) ended before " +
                         (tick < 0 ? std::string("saying READY") : "replying to tick " + std::to_string(tick)) + ": " +
                         gone + " (see their output above)");
+      }
     }
     if (missing > 0 && (seconds_since(t0) > timeout_s || signalled(signal))) {
       std::string who;

@@ -179,6 +179,8 @@ std::vector<Cell> World::oc_worker_homes(const std::vector<std::vector<Cell>>& s
     }
     const double half = kLaneHalf + 2 * scenario.team.radius;
     const int reach = static_cast<int>(std::ceil(half / res));
+    const long reach2 = static_cast<long>(std::floor(half * half / (res * res) + 1e-9));  // exact in cells
+    const std::size_t oc_k = box_index(oc_cell);
     std::vector<uint8_t> traced(bn, 0);
     for (Cell p : plains) {
       if (p.row < 0 || !on_border(p)) continue;
@@ -186,13 +188,14 @@ std::vector<Cell> World::oc_worker_homes(const std::vector<std::vector<Cell>>& s
         traced[k] = 1;
         const Cell q{r0 + static_cast<int>(k / static_cast<std::size_t>(bw)),
                      c0 + static_cast<int>(k % static_cast<std::size_t>(bw))};
-        if (width_at(q) >= clearance) continue;
-        for (int dr = -reach; dr <= reach; ++dr)
-          for (int dc = -reach; dc <= reach; ++dc) {
-            const Cell n{q.row + dr, q.col + dc};
-            if (covered(n) && std::hypot(dr * res, dc * res) <= half) lane[box_index(n)] = 1;
-          }
-        if (cost[k] == 0.0) break;  // the OC
+        if (width_at(q) < clearance)
+          for (int dr = -reach; dr <= reach; ++dr)
+            for (int dc = -reach; dc <= reach; ++dc) {
+              const Cell n{q.row + dr, q.col + dc};
+              if (covered(n) && static_cast<long>(dr) * dr + static_cast<long>(dc) * dc <= reach2)
+                lane[box_index(n)] = 1;
+            }
+        if (k == oc_k) break;  // the OC: the way's end (it has no parent)
       }
     }
   }

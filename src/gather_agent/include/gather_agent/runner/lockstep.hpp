@@ -243,6 +243,11 @@ class LockstepMaster {
   std::vector<uint8_t> replied_;
   std::vector<uint8_t> killed_;
   std::vector<uint8_t> restarted_;
+  // Agents whose process ended while a reply was owed (MasterOptions::ended),
+  // seen since: the run stops kEndedGrace_s later if they still owe it.
+  static constexpr double kEndedGrace_s = 0.5;
+  bool ended_seen_ = false;
+  std::chrono::steady_clock::time_point ended_seen_at_;
   std::vector<int32_t> pid_;
   void restart(int agent, ShutdownSignal* signal);
   std::vector<Message> held_, current_;

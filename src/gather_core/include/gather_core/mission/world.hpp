@@ -56,9 +56,11 @@ struct World {
   // in the coverage (to the nearest wall or cell out of the coverage: a
   // robot that stops near its home, or steps aside there, stays in touch
   // with the OC) and 2 x `clearance` from the homes of the workers before
-  // it (parked robots leave room to pass between them). Where no cell has
-  // that, half the room at half the spacing, and so on down to two cells;
-  // then the plain home. {-1, -1} for a segment that reaches no coverage.
+  // it (parked robots leave room to pass between them), off the lanes where
+  // it can: the narrow parts of the ways from the coverage's exits the
+  // workers take to the OC, 0.3 m + two robot radii either side. Where no
+  // cell has that, half the room at half the spacing, and so on down to two
+  // cells; then the plain home. {-1, -1} for a segment that reaches no coverage.
   // Computes the coverage's clearance once.
   std::vector<Cell> oc_worker_homes(const std::vector<std::vector<Cell>>& segments, double clearance) const;
 };
