@@ -102,21 +102,16 @@ agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& 
     mo.tick = opt.tick, mo.loss = opt.loss, mo.loss_seed = opt.loss_seed, mo.rate = rate;
     mo.kills = opt.kills;
     mo.restarts = opt.restarts;
-    // Every agent process that ended by itself (kept: a crash after one
-    // reply is still one at the next); forgotten when it is started again.
-    std::vector<int> ended_status(static_cast<std::size_t>(team.agents()), -1);
-    mo.respawn = [&processes, &ended_status](int id) {
-      ended_status[static_cast<std::size_t>(id)] = -1;
-      processes.respawn(id, {"--rejoin"});
-    };
+    mo.respawn = [&processes](int id) { processes.respawn(id, {"--rejoin"}); };
     mo.kill_agent = [&processes](int id) { processes.kill(id); };
+    // Every agent process not running (AgentFleet keeps its status until it
+    // is started again; the OC skips those it ended itself).
     if (!fleet_of.external)
-      mo.ended = [&processes, &ended_status] {
-        for (int id : processes.poll())
-          ended_status[static_cast<std::size_t>(id)] = processes.agents()[static_cast<std::size_t>(id)].exit_status;
+      mo.ended = [&processes] {
+        processes.poll();
         std::vector<std::pair<int, int>> out;
-        for (std::size_t id = 0; id < ended_status.size(); ++id)
-          if (ended_status[id] >= 0) out.emplace_back(static_cast<int>(id), ended_status[id]);
+        for (const AgentProcess& p : processes.agents())
+          if (!p.running) out.emplace_back(p.id, p.exit_status);
         return out;
       };
     if (wall) mo.clock = agent::ClockMode::kWall;
