@@ -106,22 +106,6 @@ std::vector<Cell> World::oc_worker_homes(const std::vector<std::vector<Cell>>& s
   const OccupancyGrid box(bw, bh, grid.resolution(), grid.origin(), std::move(values), std::move(open));
   const ClearanceMap box_room(box);
   auto room_at = [&](Cell q) { return covered(q) ? box_room.at(Cell{q.row - r0, q.col - c0}) : 0.0; };
-  // Room between walls (the coverage's edge aside: it stops no robot), on
-  // the box widened by `clearance` (off the map counts as wall).
-  const int m = static_cast<int>(std::ceil(clearance / grid.resolution())) + 1;
-  const int ww = bw + 2 * m, wh = bh + 2 * m;
-  std::vector<int8_t> wall_values(static_cast<std::size_t>(ww) * static_cast<std::size_t>(wh), 100);
-  std::vector<uint8_t> wall_open(wall_values.size(), 0);
-  for (int r = r0 - m; r <= r1 + m; ++r)
-    for (int c = c0 - m; c <= c1 + m; ++c)
-      if (grid.contains(Cell{r, c}) && grid.free_mask()[grid.index(Cell{r, c})]) {
-        const std::size_t k =
-            static_cast<std::size_t>(r - r0 + m) * static_cast<std::size_t>(ww) + static_cast<std::size_t>(c - c0 + m);
-        wall_values[k] = 0, wall_open[k] = 1;
-      }
-  const OccupancyGrid wall_box(ww, wh, grid.resolution(), grid.origin(), std::move(wall_values), std::move(wall_open));
-  const ClearanceMap wall_room(wall_box);
-  auto width_at = [&](Cell q) { return wall_room.at(Cell{q.row - r0 + m, q.col - c0 + m}); };
   auto clear_of_others = [&](Cell c, double apart) {
     const Point2 p = grid.cell_center(c);
     for (Cell h : homes) {
@@ -154,6 +138,23 @@ std::vector<Cell> World::oc_worker_homes(const std::vector<std::vector<Cell>>& s
   for (const std::vector<Cell>& cells : segments) plains.push_back(oc_worker_home(cells));
   std::vector<uint8_t> lane(bn, 0);
   if (covered(oc_cell)) {
+    // Room between walls (the coverage's edge aside: it stops no robot), on
+    // the box widened by `clearance` (off the map counts as wall).
+    const int m = static_cast<int>(std::ceil(clearance / grid.resolution())) + 1;
+    const int ww = bw + 2 * m, wh = bh + 2 * m;
+    std::vector<int8_t> wall_values(static_cast<std::size_t>(ww) * static_cast<std::size_t>(wh), 100);
+    std::vector<uint8_t> wall_open(wall_values.size(), 0);
+    for (int r = r0 - m; r <= r1 + m; ++r)
+      for (int c = c0 - m; c <= c1 + m; ++c)
+        if (grid.contains(Cell{r, c}) && grid.free_mask()[grid.index(Cell{r, c})]) {
+          const std::size_t k = static_cast<std::size_t>(r - r0 + m) * static_cast<std::size_t>(ww) +
+                                static_cast<std::size_t>(c - c0 + m);
+          wall_values[k] = 0, wall_open[k] = 1;
+        }
+    const OccupancyGrid wall_box(ww, wh, grid.resolution(), grid.origin(), std::move(wall_values),
+                                 std::move(wall_open));
+    const ClearanceMap wall_room(wall_box);
+    auto width_at = [&](Cell q) { return wall_room.at(Cell{q.row - r0 + m, q.col - c0 + m}); };
     std::vector<double> cost(bn, std::numeric_limits<double>::infinity());
     std::vector<uint32_t> parent(bn, 0);
     using Item = std::pair<double, uint32_t>;
