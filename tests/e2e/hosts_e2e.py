@@ -254,7 +254,8 @@ def main():
                for m in re.finditer(r"gather_agent (\d+): clock offset to the OC ([-+0-9.]+) s", stdout)}
     wrong = {k: v for k, v in offsets.items() if abs(v + SKEWS[k % len(SKEWS)]) > 0.05}
     check("every agent measured its clock's offset to the OC within 50 ms (%d of %d)" % (len(offsets), len(agents)),
-          len(offsets) == len(agents) and not wrong, "off: %s" % wrong)
+          len(offsets) == len(agents) and not wrong,
+          "off: %s\n%s" % (wrong, "\n".join(l for l in stdout.splitlines() if "clock" in l)))
     # The OC refused nothing: every agent signed on the OC's time, whatever its host's clock.
     rejected = list(csv.DictReader(open(os.path.join(out_dir, "oc_rejected.csv"))))[0]
     bad = {k: v for k, v in rejected.items() if k.startswith("rejected_") and v != "0"}
