@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Flags with values no command can use (not a number, infinite, far beyond
-# any map, control characters, 100 kB): one line on stderr, at most 300
-# characters, exit status 2, within 10 s.
+# any map, control characters, 100 kB, an empty path): one line on stderr,
+# at most 300 characters, exit status 2, within 10 s.
 #
 #   tests/cli/bad_flags.sh PATH/TO/gather
 set -u
@@ -32,4 +32,20 @@ check "radio --at beyond any map" radio "$office" --at 1e300,-1e300
 check "radio --at with a newline" radio "$office" --at "$(printf '1,2\nx')"
 check "radio --at, 100 kB" radio "$office" --at "$(head -c 100000 /dev/zero | tr '\0' '7')"
 check "radio --at off the map" radio "$office" --at 1000,5
+# An empty path says so (it used to be "cannot open file", naming nothing).
+check_empty() {  # name, args...
+  local name=$1
+  shift
+  local err
+  err=$(mktemp)
+  timeout 10 "$bin" "$@" >/dev/null 2>"$err"
+  if ! grep -q "the path is empty" "$err"; then
+    echo "FAIL $name: $(head -c 300 "$err")"
+    fail=1
+  fi
+  rm -f "$err"
+  check "$name" "$@"
+}
+check_empty "info with an empty scenario path" info ""
+check_empty "run with an empty plan directory" run "" --out "$(mktemp -d)/out"
 exit $fail

@@ -4,6 +4,8 @@
 // tests/cli/bad_input.sh checks the same cases through the command line.
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -100,6 +102,39 @@ TEST(BadInput, UserTextInAnErrorIsOneShortLine) {
   EXPECT_EQ(quote_input(std::string(1000, 'x'), 10), std::string(10, 'x') + "...");
   EXPECT_EQ(quote_input(std::string(5, '\n'), 4), "\\n\\n...");  // escapes count
   EXPECT_LE(quote_input(std::string(1000, '\x01')).size(), 80u + 4 + 3);
+}
+
+// A YAML file small on disk but huge once built is refused while it is
+// parsed (kMaxYamlNodes), before yaml-cpp builds a node: a flow list of a
+// million numbers (6 MB, under the 16 MiB cap) took over 1 GB. At the cap
+// itself a list still loads.
+TEST(BadInput, AYamlFileOfTooManyValuesIsRefusedBeforeItIsBuilt) {
+  const std::string path = ::testing::TempDir() + "gather_many_values.scenario.yaml";
+  auto write = [&](std::uint64_t values) {
+    std::ofstream out(path);
+    out << "map: " << kBad << "maps/ok.yaml\noc: [1.25, 1.25]\nplanner:\n  methods: [";
+    for (std::uint64_t i = 0; i < values; ++i) out << (i ? ",1" : "1");
+    out << "]\n";
+  };
+  write(1000000);
+  try {
+    load_scenario(path);
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    EXPECT_NE(msg.find("more than " + std::to_string(kMaxYamlNodes) + " YAML values"), std::string::npos) << msg;
+  }
+  // Just under the cap (the mapping, its keys and values count too): the
+  // file parses, and is refused for what its list holds.
+  write(kMaxYamlNodes - 20);
+  try {
+    load_scenario(path);
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).find("YAML values"), std::string::npos) << e.what();
+  }
+  std::remove(path.c_str());
 }
 
 }  // namespace

@@ -77,6 +77,7 @@ def main():
     write(os.path.join(MAPS, "ok.yaml"), map_yaml("ok.pgm"))
     maps = {
         "missing_image.yaml": map_yaml("nonexistent.pgm"),
+        "empty_image_path.yaml": map_yaml('""'),
         "unknown_format.yaml": map_yaml("not_an_image.pgm"),
         "empty_image.yaml": map_yaml("empty.pgm"),
         "truncated_p5.yaml": map_yaml("truncated_p5.pgm"),
@@ -203,6 +204,11 @@ def main():
         ("not_a_mapping", "- map: ../maps/ok.yaml\n- oc: [1, 1]\n", "not_a_mapping.yaml", "mapping"),
         ("empty_scenario", "", "empty_scenario.yaml", "mapping"),
         ("complex_key", scenario(extra="[a, b]: 1\n"), "complex_key.yaml", "key"),
+        ("empty_map_path", scenario(map_file='""'), "empty_map_path.yaml", "key 'map' is empty"),
+        ("empty_image_path", scenario(map_file="../maps/empty_image_path.yaml"), "empty_image_path.yaml",
+         "key 'image' is empty"),
+        ("yaml_alias", scenario(extra="radio:\n  tx_power_dbm: &p 0\n  ref_loss_db: *p\n"), "yaml_alias.yaml",
+         "aliases"),
     ]
     lines = ["# <scenario in cases/> <file the one-line error must name> <words naming the problem>\n"]
     for case, text, named, words in cases:

@@ -9,6 +9,7 @@
 namespace gather {
 
 std::uintmax_t check_input_file(const std::string& path, std::uintmax_t max_bytes, const char* what) {
+  if (path.empty()) throw Error("", std::string("no ") + what + " named: the path is empty");
   std::error_code ec;
   const std::filesystem::file_status st = std::filesystem::status(path, ec);
   if (ec || !std::filesystem::exists(st)) throw Error(path, "cannot open file");

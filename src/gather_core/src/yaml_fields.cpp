@@ -1,16 +1,63 @@
 #include "gather_core/yaml_fields.hpp"
 
+#include <cstdint>
 #include <sstream>
+
+#include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/parser.h>
 
 #include "gather_core/input_file.hpp"
 
 namespace gather {
 namespace yaml {
 
+namespace {
+
+// Counts the first document's nodes as the parser meets them, before any is
+// built, and refuses aliases (kMaxYamlNodes).
+class NodeBudget final : public YAML::EventHandler {
+ public:
+  explicit NodeBudget(const std::string& path) : path_(path) {}
+  void OnDocumentStart(const YAML::Mark&) override {}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& m, YAML::anchor_t) override { count(m); }
+  void OnAlias(const YAML::Mark& m, YAML::anchor_t) override {
+    throw Error(path_, "line " + std::to_string(m.line + 1) + ": YAML aliases (*name) are not accepted");
+  }
+  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t, const std::string&) override { count(m); }
+  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    count(m);
+  }
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    count(m);
+  }
+  void OnMapEnd() override {}
+
+ private:
+  void count(const YAML::Mark& m) {
+    if (++nodes_ > kMaxYamlNodes)
+      throw Error(path_, "more than " + std::to_string(kMaxYamlNodes) + " YAML values (at line " +
+                             std::to_string(m.line + 1) +
+                             "), more than any scenario, map or plan holds (docs/input_limits.md)");
+  }
+  const std::string& path_;
+  std::uint64_t nodes_ = 0;
+};
+
+}  // namespace
+
 YAML::Node load_file(const std::string& path) {
   const std::vector<uint8_t> bytes = read_input_file(path, kMaxYamlBytes, "YAML file");
   try {
-    YAML::Node root = YAML::Load(std::string(bytes.begin(), bytes.end()));
+    const std::string text(bytes.begin(), bytes.end());
+    {
+      std::istringstream in(text);
+      YAML::Parser parser(in);
+      NodeBudget budget(path);
+      parser.HandleNextDocument(budget);
+    }
+    YAML::Node root = YAML::Load(text);
     if (!root.IsMap()) throw Error(path, "expected a YAML mapping at the top level");
     return root;
   } catch (const YAML::Exception& e) {
@@ -22,6 +69,12 @@ std::string resolve_path(const std::string& file, const std::string& relative) {
   if (relative.empty() || relative[0] == '/') return relative;
   const auto slash = file.find_last_of('/');
   return slash == std::string::npos ? relative : file.substr(0, slash + 1) + relative;
+}
+
+std::string Fields::file_path(const std::string& key) const {
+  const std::string named = required<std::string>(key);
+  if (named.empty()) throw Error(file_, "key '" + name(key) + "' is empty: it must name a file");
+  return resolve_path(file_, named);
 }
 
 Fields::Fields(const YAML::Node& node, std::string file, std::string prefix)

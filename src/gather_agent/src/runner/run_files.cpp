@@ -20,6 +20,7 @@ const char* const kAgentsCsvHeader =
 
 LoadedPlan load_plan(const std::string& plan_dir) {
   namespace fs = std::filesystem;
+  if (plan_dir.empty()) throw Error("", "no plan directory named: the path is empty");
   if (!fs::exists(plan_dir)) throw Error(plan_dir, "no such plan directory");
   LoadedPlan l;
   l.dir = plan_dir;

@@ -10,7 +10,13 @@
 namespace gather {
 
 // Size caps of the inputs [bytes].
-constexpr std::uintmax_t kMaxYamlBytes = 16u << 20;    // scenario, map YAML, plan.yaml
+constexpr std::uintmax_t kMaxYamlBytes = 16u << 20;  // scenario, map YAML, plan.yaml
+// Most nodes (scalars, nulls, lists, mappings) in one YAML file, counted as
+// it is parsed, before any node is built: yaml-cpp keeps each in some
+// hundred bytes, so a flow list of millions of numbers under the size cap
+// would take gigabytes. Aliases (*name) are refused: expanded, a few lines
+// can name a large anchor many times over.
+constexpr std::uint64_t kMaxYamlNodes = 100000;
 constexpr std::uintmax_t kMaxImageBytes = 512u << 20;  // map and label images
 constexpr std::uintmax_t kMaxTextBytes = 64u << 20;    // other text inputs (FMM sources)
 // Largest map or label image [pixels] (e.g. 8000 x 8000): checked against

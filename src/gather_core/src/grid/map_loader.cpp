@@ -15,7 +15,7 @@ MapMetadata read_map_metadata(const std::string& yaml_path) {
   yaml::Fields f(root, yaml_path, "");
   f.allow({"image", "resolution", "origin", "negate", "occupied_thresh", "free_thresh", "mode"});
   MapMetadata m;
-  m.image = yaml::resolve_path(yaml_path, f.required<std::string>("image"));
+  m.image = f.file_path("image");
   m.resolution = f.required<double>("resolution");
   const std::vector<double> origin = f.required<std::vector<double>>("origin");
   if (origin.size() != 3) throw Error(yaml_path, "origin must be [x, y, yaw]");

@@ -30,7 +30,7 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   f.allow({"map", "oc", "team", "radio", "mission", "planner"});
   Scenario s;
   s.path = path;
-  if (map_required || f.has("map")) s.map_path = yaml::resolve_path(path, f.required<std::string>("map"));
+  if (map_required || f.has("map")) s.map_path = f.file_path("map");
   const std::vector<double> oc = f.required<std::vector<double>>("oc");
   require(oc.size() == 2, path, "oc must be [x, y] in meters");
   require_in_range(oc[0], -1e7, 1e7, path, "oc x", " m");
