@@ -15,6 +15,7 @@
 #include "gather_core/mission/route_timetable.hpp"
 #include "gather_core/mission/simulator.hpp"
 #include "gather_core/radio/radio_model.hpp"
+#include "gather_core/scenario/start_poses.hpp"
 
 namespace gather {
 namespace {
@@ -348,6 +349,65 @@ TEST(WorkerFactsTest, OnRobotsAWorkerOfTheOcPlansAtTheTeamSpeed) {
   const auto slow_ideal = ideal.decide(mission::Spot{ideal.home()}, t, known, 1, 0, true, 0.0, facts(0.0, 0.5));
   EXPECT_EQ(slow_ideal.pace, 0.5);
   EXPECT_EQ(slow_ideal.k, 0u);  // at half pace it would be there after 12 s
+}
+
+// Where the team starts (mission::team_start_poses). A 2.5 m x 5 m room,
+// the OC in its middle, a corridor 1.2 m wide east out of it: agents 0-3
+// are workers of the OC owning parts of the corridor, agent 4 a collector.
+// The ideal protocol packs the team next to the OC, as before; on robots
+// each worker of the OC starts parked at its home, the collector by the OC,
+// every robot at least kStartSpacing from the others.
+TEST(TeamStartTest, OnRobotsTheWorkersOfTheOcStartAtTheirHomes) {
+  Scenario s = testing_support::open_strip("room", 80, 50, Point2{1.25, 2.55});
+  s.team.agents = 5, s.team.radius = 0.2, s.mission.period = 100.0;
+  std::vector<int8_t> v(80 * 50, 100);
+  std::vector<uint8_t> f(80 * 50, 0);
+  for (int r = 0; r < 50; ++r)
+    for (int c = 0; c < 80; ++c)
+      if (c < 25 || (r >= 19 && r <= 30))
+        v[static_cast<std::size_t>(r) * 80 + c] = 0, f[static_cast<std::size_t>(r) * 80 + c] = 1;
+  s.grid = OccupancyGrid(80, 50, 0.1, Point2{0, 0}, v, f);
+  const mission::World world(s);
+  mission::MissionPlan mp;
+  mp.labels = LabelImage(s.grid.frame(), 0);
+  for (int k = 0; k < 4; ++k)  // segment k + 1: x 4.5-5, 5.5-6, ... down the corridor
+    for (int r = 19; r <= 30; ++r)
+      for (int c = 45 + 10 * k; c < 50 + 10 * k; ++c) mp.labels.at(Cell{r, c}) = k + 1;
+  mp.file.method = "hand";
+  mp.file.workers = 4, mp.file.cycle_period_s = 100.0;
+  for (int k = 0; k < 4; ++k)
+    mp.file.agents.push_back(plan::AgentAssignment{AgentId(k), false, SegmentId(k + 1), CollectorId()});
+  mp.file.agents.push_back(plan::AgentAssignment{AgentId(4), true, SegmentId(), CollectorId(0)});
+
+  const std::vector<Point2> packed = start_poses(s.grid, s.oc, 5);
+  const std::vector<Point2> ideal = mission::team_start_poses(world, mp, mission::ProtocolParams{});
+  ASSERT_EQ(ideal.size(), packed.size());
+  for (std::size_t k = 0; k < ideal.size(); ++k)
+    EXPECT_TRUE(ideal[k].x == packed[k].x && ideal[k].y == packed[k].y) << k;
+
+  const mission::ProtocolParams robots = mission::robot_protocol(mission::ProtocolParams{});
+  const std::vector<Cell> homes = mission::oc_worker_homes(world, mp, robots.home_clearance_m);
+  ASSERT_EQ(homes.size(), 5u);
+  EXPECT_EQ(homes[4], (Cell{-1, -1}));  // the collector has none
+  const std::vector<Point2> starts = mission::team_start_poses(world, mp, robots);
+  ASSERT_EQ(starts.size(), 5u);
+  for (std::size_t k = 0; k < 4; ++k) {
+    ASSERT_GE(homes[k].row, 0) << k;
+    EXPECT_EQ(s.grid.world_to_cell(starts[k]), homes[k]) << k;
+  }
+  EXPECT_LT(std::hypot(starts[4].x - s.oc.x, starts[4].y - s.oc.y), 1.5);  // by the OC
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    EXPECT_TRUE(world.reaches(s.grid.world_to_cell(starts[k]))) << k;
+    for (std::size_t j = 0; j < k; ++j)
+      EXPECT_GE(std::hypot(starts[k].x - starts[j].x, starts[k].y - starts[j].y), kStartSpacing - 1e-9)
+          << k << " " << j;
+  }
+  // The policy of each worker finds the same home.
+  mission::SharedDistances shared(world, false);
+  for (std::size_t k = 0; k < 4; ++k) {
+    mission::WorkerPolicy policy(world, mp, mp.file.agents[AgentId(static_cast<int>(k))], nullptr, shared, 4, robots);
+    EXPECT_EQ(policy.home(), homes[k]) << k;
+  }
 }
 
 }  // namespace

@@ -290,6 +290,10 @@ int run(int argc, char** argv) {
   const std::string protocol = args.get("--protocol", robots_kind != "ideal" ? "robots" : "ideal");
   if (protocol != "ideal" && protocol != "robots")
     throw cli::UsageError("--protocol must be ideal or robots, got '" + protocol.substr(0, 40) + "'");
+  if (protocol == "ideal" && robots_kind == "mrpt")
+    throw cli::UsageError(
+        "--protocol ideal needs ideal bases: gather_world's robots start where the robot protocol "
+        "puts them (mission::team_start_poses)");
   if (protocol == "robots") params.protocol = mission::robot_protocol(params.protocol);
   const int seeds = args.get_int("--seeds", 1, 1, 1000);
   const int seed0 = recording ? static_cast<int>(recording->plan.params.seed)

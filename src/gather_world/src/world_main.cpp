@@ -28,7 +28,8 @@
 #include "gather_agent/shutdown_signal.hpp"
 #include "gather_agent/transport/lcm_robot.hpp"
 #include "gather_core/error.hpp"
-#include "gather_core/scenario/start_poses.hpp"
+#include "gather_core/mission/worker_policy.hpp"
+#include "gather_core/mission/world.hpp"
 #include "gather_world/mrpt_world.hpp"
 
 namespace {
@@ -311,8 +312,9 @@ int main(int argc, char** argv) {
     // The robots drive on the map at its own resolution; they start where
     // their agents believe they are (the start poses on the plan's grid).
     const gather::Scenario full = gather::load_scenario(plan.scenario.path);
-    const std::vector<Point2> starts =
-        gather::start_poses(plan.scenario.grid, plan.scenario.oc, static_cast<int>(plan.plan.file.agents.size()));
+    const gather::mission::World team_world(plan.scenario);
+    const std::vector<Point2> starts = gather::mission::team_start_poses(
+        team_world, plan.plan, gather::mission::robot_protocol(gather::mission::ProtocolParams{}));
     world::MrptWorld w(full.grid, starts, full.team.speed, full.team.radius, params);
     return o.pipe ? run_pipe(w, STDIN_FILENO, out) : run_lcm(w, plan, o, shutdown);
   } catch (const gather::RuntimeError& e) {

@@ -6,7 +6,6 @@
 #include <string>
 
 #include "gather_core/error.hpp"
-#include "gather_core/scenario/start_poses.hpp"
 
 namespace gather {
 namespace agent {
@@ -68,7 +67,6 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
       params(prm),
       radio(w.scenario.grid, w.scenario.radio),
       areas(mission::area_weights(w, p.file.area_tile_m)) {
-  const OccupancyGrid& grid = w.scenario.grid;
   const plan::PlanFile& pf = p.file;
   const std::string where = p.source.empty() ? "plan" : p.source;
   const int n = static_cast<int>(pf.agents.size());
@@ -108,7 +106,7 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
     meeting_arc_[a.id] = m->arc_m;  // check_plan: there is one
   }
   distances = std::make_unique<mission::SharedDistances>(w, /*from_oc=*/false);  // agents start at their start poses
-  start_ = PerAgent<Point2>(start_poses(grid, w.scenario.oc, n));
+  start_ = PerAgent<Point2>(mission::team_start_poses(w, p, params.protocol));
   range_ = radio.free_space_range();
 }
 

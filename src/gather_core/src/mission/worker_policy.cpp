@@ -14,6 +14,7 @@
 #include "gather_core/error.hpp"
 #include "gather_core/mission/tour.hpp"
 #include "gather_core/radio/radio_model.hpp"
+#include "gather_core/scenario/start_poses.hpp"
 
 namespace gather {
 namespace mission {
@@ -45,6 +46,59 @@ void check_params(const ProtocolParams& p) {
   require_in_range(p.wait_loops, 0, 10, "protocol params", "wait_loops");
   require_in_range(p.place_tolerance_m, 0.05, 10, "protocol params", "place_tolerance_m", " m");
   require_in_range(p.home_clearance_m, 0, 5, "protocol params", "home_clearance_m", " m");
+}
+
+std::vector<Cell> oc_worker_homes(const World& world, const MissionPlan& mp, double clearance) {
+  const OccupancyGrid& grid = world.scenario.grid;
+  const plan::PlanFile& pf = mp.file;
+  std::vector<std::vector<Cell>> segments;
+  std::vector<int> slot(static_cast<std::size_t>(std::max(pf.workers, 0)) + 1, -1);  // by segment label
+  std::vector<int> of_agent(pf.agents.size(), -1);                                   // agent id -> segments[k]
+  for (const plan::AgentAssignment& o : pf.agents) {
+    if (o.collector || o.delivers_to.valid() || !o.segment.within(pf.workers)) continue;
+    of_agent[static_cast<std::size_t>(o.id.value())] = static_cast<int>(segments.size());
+    slot[static_cast<std::size_t>(o.segment.label())] = static_cast<int>(segments.size());
+    segments.emplace_back();
+  }
+  for (std::size_t i = 0; i < mp.labels.size() && i < grid.size(); ++i) {
+    const int l = mp.labels[i];
+    if (l > 0 && l <= pf.workers && slot[static_cast<std::size_t>(l)] >= 0 && world.reachable[i])
+      segments[static_cast<std::size_t>(slot[static_cast<std::size_t>(l)])].push_back(grid.cell(i));
+  }
+  const std::vector<Cell> homes = world.oc_worker_homes(segments, clearance);
+  std::vector<Cell> out(pf.agents.size(), Cell{-1, -1});
+  for (std::size_t id = 0; id < out.size(); ++id)
+    if (of_agent[id] >= 0) out[id] = homes[static_cast<std::size_t>(of_agent[id])];
+  return out;
+}
+
+std::vector<Point2> team_start_poses(const World& world, const MissionPlan& mp, const ProtocolParams& protocol) {
+  const OccupancyGrid& grid = world.scenario.grid;
+  const int n = static_cast<int>(mp.file.agents.size());
+  if (!(protocol.home_clearance_m > 0)) return start_poses(grid, world.scenario.oc, n, kStartSpacing);
+  const std::vector<Cell> homes = oc_worker_homes(world, mp, protocol.home_clearance_m);
+  std::vector<Point2> at_home;
+  std::vector<int> home_of(static_cast<std::size_t>(n), -1);
+  for (int id = 0; id < n; ++id) {
+    const Cell h = homes[static_cast<std::size_t>(id)];
+    if (h.row < 0) continue;
+    const Point2 p = grid.cell_center(h);
+    const bool apart = std::all_of(at_home.begin(), at_home.end(),
+                                   [&](Point2 q) { return std::hypot(p.x - q.x, p.y - q.y) >= kStartSpacing - 1e-9; });
+    if (!apart) continue;  // homes squeezed closer than robots stand: it starts by the OC
+    home_of[static_cast<std::size_t>(id)] = static_cast<int>(at_home.size());
+    at_home.push_back(p);
+  }
+  const std::vector<Point2> by_oc =
+      start_poses(grid, world.scenario.oc, n - static_cast<int>(at_home.size()), kStartSpacing, at_home);
+  std::vector<Point2> out;
+  out.reserve(static_cast<std::size_t>(n));
+  std::size_t next = 0;
+  for (int id = 0; id < n; ++id) {
+    const int k = home_of[static_cast<std::size_t>(id)];
+    out.push_back(k >= 0 ? at_home[static_cast<std::size_t>(k)] : by_oc[next++]);
+  }
+  return out;
 }
 
 ProtocolParams robot_protocol(ProtocolParams p) {
@@ -181,22 +235,7 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
     // with room around them and apart from each other, in the order of
     // their ids: every worker finds the same homes (World::oc_worker_homes).
     if (protocol.home_clearance_m > 0) {
-      std::vector<std::vector<Cell>> segments;
-      std::vector<int> slot(static_cast<std::size_t>(pf.workers) + 1, -1);  // by segment label
-      int mine = -1;
-      for (const plan::AgentAssignment& o : pf.agents) {
-        if (o.collector || o.delivers_to.valid() || !o.segment.within(pf.workers)) continue;
-        if (o.id == a.id) mine = static_cast<int>(segments.size());
-        slot[static_cast<std::size_t>(o.segment.label())] = static_cast<int>(segments.size());
-        segments.emplace_back();
-      }
-      for (std::size_t i = 0; i < mp.labels.size() && i < grid.size(); ++i) {
-        const int l = mp.labels[i];
-        if (l > 0 && l <= pf.workers && slot[static_cast<std::size_t>(l)] >= 0 && world.reachable[i])
-          segments[static_cast<std::size_t>(slot[static_cast<std::size_t>(l)])].push_back(grid.cell(i));
-      }
-      if (mine < 0) throw Error(where, to_string(a.id) + " is not among the plan's workers of the OC");
-      home_ = world.oc_worker_homes(segments, protocol.home_clearance_m)[static_cast<std::size_t>(mine)];
+      home_ = oc_worker_homes(world, mp, protocol.home_clearance_m)[static_cast<std::size_t>(a.id.value())];
       if (home_.row >= 0) {
         home_to_border_.resize(world.coverage_border.size());
         march(home_, world.coverage_border, home_to_border_.data());
@@ -455,8 +494,12 @@ WorkerPolicy::Decision WorkerPolicy::decide(const Spot& at, double t, const int*
     const Point2 h = world_.scenario.grid.cell_center(home_), p = world_.scenario.grid.cell_center(at.cell);
     const bool at_home =
         at.cell == home_ || (back_to_home() && at.landing && std::hypot(h.x - p.x, h.y - p.y) <= place_tolerance_m_);
-    if (more_requests && home_.row >= 0 && !at_home) {
+    if ((more_requests || back_to_home()) && home_.row >= 0 && !at_home) {
       // Nothing to do in the coverage: wait for the next request at home.
+      // On robots also when none is to come: a robot that stopped where it
+      // came back in stands in the way of the others (at the end of a
+      // mission, five of them across an office corridor held two robots
+      // carrying data outside the coverage until the OC declared them dead).
       double dist = kInf;
       march_one(at.cell, home_, dist);
       if (dist < kInf) {

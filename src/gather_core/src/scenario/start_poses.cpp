@@ -1,5 +1,6 @@
 #include "gather_core/scenario/start_poses.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 
@@ -7,7 +8,8 @@
 
 namespace gather {
 
-std::vector<Point2> start_poses(const OccupancyGrid& grid, Point2 oc, int n, double spacing) {
+std::vector<Point2> start_poses(const OccupancyGrid& grid, Point2 oc, int n, double spacing,
+                                const std::vector<Point2>& taken) {
   std::vector<Point2> poses;
   const Cell start = grid.world_to_cell(oc);
   if (!grid.is_free(start)) throw Error("start poses", "the OC is not on a free cell");
@@ -15,11 +17,13 @@ std::vector<Point2> start_poses(const OccupancyGrid& grid, Point2 oc, int n, dou
   std::deque<std::size_t> queue{grid.index(start)};
   seen[grid.index(start)] = 1;
   const double min_d2 = spacing * spacing;
+  auto apart = [&](Point2 p, const std::vector<Point2>& others) {
+    return std::none_of(others.begin(), others.end(), [&](const Point2& q) {
+      return (p.x - q.x) * (p.x - q.x) + (p.y - q.y) * (p.y - q.y) < min_d2;
+    });
+  };
   auto far_enough = [&](Point2 p) {
-    if (std::hypot(p.x - oc.x, p.y - oc.y) < spacing) return false;
-    for (const Point2& q : poses)
-      if ((p.x - q.x) * (p.x - q.x) + (p.y - q.y) * (p.y - q.y) < min_d2) return false;
-    return true;
+    return std::hypot(p.x - oc.x, p.y - oc.y) >= spacing && apart(p, poses) && apart(p, taken);
   };
   while (!queue.empty() && static_cast<int>(poses.size()) < n) {
     const Cell c = grid.cell(queue.front());

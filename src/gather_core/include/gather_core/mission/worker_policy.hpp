@@ -99,6 +99,23 @@ void check_params(const ProtocolParams& params);
 // too (`gather run --protocol robots`).
 ProtocolParams robot_protocol(ProtocolParams base);
 
+// The homes of the workers of the OC on robots (World::oc_worker_homes for
+// the segments of `plan`'s workers of the OC), by agent id: {-1, -1} for a
+// collector, a worker of a collector, or a segment that reaches no coverage.
+// Every agent computes the same.
+std::vector<Cell> oc_worker_homes(const World& world, const MissionPlan& plan, double clearance);
+
+// Where each agent of `plan` stands when the mission starts, by agent id.
+// Ideal protocol (home_clearance_m 0): packed next to the OC (start_poses,
+// kStartSpacing apart), as the planner assumes. Robot protocol: each worker
+// of the OC parked at its home (oc_worker_homes), the others next to the OC
+// kStartSpacing clear of them (a worker whose home is closer than that to
+// an earlier one starts there too). A team packed around the OC would leave
+// it as one crowd: in the cave the first two cycles delivered half of what
+// ideal bases did (docs/robots.md). The agents and the robot world both use
+// it, so a robot starts where its agent believes it is.
+std::vector<Point2> team_start_poses(const World& world, const MissionPlan& plan, const ProtocolParams& protocol);
+
 // When request `cycle` (issued at cycle * period [s]) reaches a worker of
 // the collector driving `route`, whose meeting area is at arc `meeting_arc`
 // [m]: the collector has it when next inside the OC's coverage at or after

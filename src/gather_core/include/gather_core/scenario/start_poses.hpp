@@ -6,10 +6,15 @@
 
 namespace gather {
 
+// [m] how far apart the team stands at the start.
+constexpr double kStartSpacing = 0.6;
+
 // Start positions [m] of agents 0..n-1: free cells reachable from the OC,
 // taken in breadth-first order from the OC cell so they are as close to it as
-// the map allows, at least `spacing` [m] apart and from the OC itself.
-// Deterministic. Throws gather::Error if the reachable free space cannot hold n.
-std::vector<Point2> start_poses(const OccupancyGrid& grid, Point2 oc, int n, double spacing = 0.6);
+// the map allows, at least `spacing` [m] apart, from the OC itself and from
+// the positions already `taken` (agents placed elsewhere). Deterministic.
+// Throws gather::Error if the reachable free space cannot hold n.
+std::vector<Point2> start_poses(const OccupancyGrid& grid, Point2 oc, int n, double spacing = kStartSpacing,
+                                const std::vector<Point2>& taken = {});
 
 }  // namespace gather
