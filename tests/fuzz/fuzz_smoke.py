@@ -10,7 +10,9 @@ float-cast-overflow, any report aborts):
 It makes a small valid world (a 12 m x 8 m map, 4 agents, a plan of it) in a
 temporary directory and mutates, case by case, one of: the scenario YAML,
 the map YAML, the map image (PGM or PNG bytes), plan.yaml, the label image,
-or the command-line flags. Each case runs one command (gather info / plan /
+or the command-line flags. YAML mutations include nasty numbers (range
+ends, NaN, huge), control characters, aliases of an anchor, flow lists of
+up to 150,000 numbers and empty strings (paths). Each case runs one command (gather info / plan /
 sim / run, gather_agent) under a 20 s timeout. A case fails when the process
 is killed by a signal, a sanitizer reports (AddressSanitizer, LeakSanitizer,
 "runtime error:"), it runs longer than 20 s, its peak RSS exceeds 1 GiB, it
@@ -144,7 +146,7 @@ class Fuzzer:
         r = self.rng
         lines = text.split("\n")
         for _ in range(1 + r.randrange(3)):
-            op = r.randrange(6)
+            op = r.randrange(9)
             i = r.randrange(len(lines))
             if op <= 2:  # a number replaced by a nasty value
                 nums = list(NUMBER.finditer(lines[i]))
@@ -155,9 +157,26 @@ class Fuzzer:
                 del lines[i]
             elif op == 4:
                 lines.insert(i, lines[r.randrange(len(lines))])
-            else:
+            elif op == 5:
                 pos = r.randrange(len(lines[i]) + 1)
                 lines[i] = lines[i][:pos] + r.choice(["{", "[", ":", "'", "\t", "#", "\x00", "x" * 2000]) + lines[i][pos:]
+            elif op == 6:  # an anchor on one value and an alias of it on another (refused: aliases)
+                j = r.randrange(len(lines))
+                a, b = NUMBER.search(lines[i]), NUMBER.search(lines[j])
+                if a and b and i != j:
+                    lines[i] = lines[i][:a.start()] + "&v " + lines[i][a.start():]
+                    lines[j] = lines[j][:b.start()] + "*v" + lines[j][b.end():]
+            elif op == 7:  # a value that becomes a flow list of many numbers (sizes that multiply)
+                nums = list(NUMBER.finditer(lines[i]))
+                if nums:
+                    m = r.choice(nums)
+                    many = "[" + ",".join(["1"] * r.choice([1000, 99000, 150000])) + "]"
+                    lines[i] = lines[i][:m.start()] + many + lines[i][m.end():]
+            else:  # a value made an empty string (an empty path names its key)
+                k = lines[i].find(": ")
+                if k >= 0:
+                    lines[i] = lines[i][:k + 2] + '""'
+
             if not lines:
                 lines = [""]
         return "\n".join(lines)

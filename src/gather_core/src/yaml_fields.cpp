@@ -92,8 +92,8 @@ void Fields::allow(std::initializer_list<const char*> keys) const {
     if (!known) {
       std::string list;
       for (const char* k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
-      throw Error(file_, "unknown key '" + name(key) + "' (line " + std::to_string(kv.first.Mark().line + 1) +
-                             "; known: " + list + ")");
+      throw Error(file_, "unknown key '" + quote_input(name(key), 60) + "' (line " +
+                             std::to_string(kv.first.Mark().line + 1) + "; known: " + list + ")");
     }
   }
 }
