@@ -141,6 +141,26 @@ TEST(TeamRunner, OfficeAgreesWithTheAnalyticSimulatorWithinFivePercent) {
   }
 }
 
+// A plan whose period was cut far below its own (a hand-edited plan.yaml):
+// workers stay out of the coverage for longer than a few periods, so the
+// run waits for them as long as the way to the farthest cell and back
+// takes. It used to stop at (cycles + 5) periods with goals unresolved
+// (exit 1): neither a result nor a refusal.
+TEST(TeamRunner, APeriodFarShorterThanThePlansStillEndsWithEveryGoalResolved) {
+  Office& o = Office::get();
+  // pap:4 as `gather plan --config pap:4` makes it (the association on).
+  const mission::MissionPlan pap4 =
+      mission::mission_plan(o.ctx, plan::plan_configuration(o.ctx, partition::Method::kPap, 4));
+  for (const double period : {5.0, 1.0}) {
+    mission::MissionPlan plan = pap4;
+    plan.file.cycle_period_s = period;
+    TeamSetup team(o.ctx, plan, office_params(2, 1));
+    const RunOutcome out = TeamRunner(team, RunOptions{}).run();
+    ASSERT_TRUE(out.completed) << period << ": " << out.failure;
+    for (const auto& g : out.result.goals) EXPECT_NE(g.state, mission::GoalState::kPending) << period;
+  }
+}
+
 TEST(TeamRunner, DeterministicForASeedAndTheSeedMatters) {
   Office& o = Office::get();
   auto run = [&](unsigned seed) {

@@ -88,7 +88,17 @@ bool still_owes(const RoleReport& r, const OcRole& oc) {
 double time_limit(const TeamSetup& team) {
   double longest = 0.0;
   for (const mission::RouteTimetable& r : team.routes) longest = std::max(longest, r.period());
-  return (team.params.cycles + 5) * team.period + 3.0 * longest;
+  // And the longest way a worker may be out of the coverage: to the farthest
+  // reachable cell and back (a period shorter than the plan's own leaves
+  // workers out for longer than a few periods).
+  const mission::World& w = team.world;
+  double farthest = 0.0;
+  for (std::size_t i = 0; i < w.reachable.size(); ++i)
+    if (w.reachable[i] && !w.coverage[i]) {
+      const double d = w.coverage_field.time(w.scenario.grid.cell(i));
+      if (d < fmm::kUnreached) farthest = std::max(farthest, d);
+    }
+  return (team.params.cycles + 5) * team.period + 3.0 * longest + 2.0 * farthest / team.speed;
 }
 
 void check_team_conservation(const OcRole& oc, const std::vector<AgentUnit>& agents, double now,
