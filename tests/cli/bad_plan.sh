@@ -92,6 +92,8 @@ copy zero_period; edit zero_period 'cycle_period_s: [0-9.e+]+' 'cycle_period_s: 
 check zero_period "$tmp/zero_period/plan.yaml"
 copy zero_tile; edit zero_tile 'area_tile_m: [0-9.e+]+' 'area_tile_m: 0'
 check zero_tile "$tmp/zero_tile/plan.yaml"
+copy tiny_tile; edit tiny_tile 'area_tile_m: [0-9.e+]+' 'area_tile_m: 1e-9'
+check tiny_tile "$tmp/tiny_tile/plan.yaml"
 copy no_interval; edit no_interval 'interval_s: [0-9.e+]+, ' ''
 check no_interval "$tmp/no_interval/plan.yaml"
 # Ids and counts against each other (docs/input_limits.md).

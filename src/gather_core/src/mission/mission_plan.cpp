@@ -49,8 +49,11 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
                 std::to_string(pf.routes.size()) + " routes for " + std::to_string(pf.collectors) + " collectors");
   if (!(pf.cycle_period_s > 0 && pf.cycle_period_s <= 1e6))
     throw Error(where, "cycle_period_s must be a finite value in (0, 1e6] s");
-  if (!(pf.area_tile_m > 0 && pf.area_tile_m <= 1e6))
-    throw Error(where, "area_tile_m must be a finite value in (0, 1e6] m");
+  // A tile smaller than a cell of the planning grid counts each cell as an
+  // area of its own (and below, the tile index overflows): at least a cell.
+  if (!(pf.area_tile_m >= grid.resolution() && pf.area_tile_m <= 1e6))
+    throw Error(where, "area_tile_m must be a finite value in [" + std::to_string(grid.resolution()) +
+                           " (a cell of the planning grid), 1e6] m");
   PerAgent<char> id_seen(n, 0);
   PerSegment<char> segment_seen(pf.workers, 0);
   for (AgentId k : ids<AgentId>(n)) {
