@@ -91,7 +91,8 @@ TEST(CheckPlanTest, EachBrokenStructureIsRefusedNamingThePlanAndTheCulprit) {
       {"collectors (1) + workers (0) must be the 2 agents", [](mission::MissionPlan& p) { p.file.workers = 0; }},
       {"cycle_period_s must be a finite value in (0, 1e6] s",
        [](mission::MissionPlan& p) { p.file.cycle_period_s = 0; }},
-      {"area_tile_m must be a finite value in (0, 1e6] m", [](mission::MissionPlan& p) { p.file.area_tile_m = -1; }},
+      {"area_tile_m = -1 must be in [0.1, 1e+06] m", [](mission::MissionPlan& p) { p.file.area_tile_m = -1; }},
+      {"area_tile_m = 0.05 must be in [0.1, 1e+06] m", [](mission::MissionPlan& p) { p.file.area_tile_m = 0.05; }},
       {"label image is 10x5, the scenario's planning grid 200x5",
        [](mission::MissionPlan& p) {
          p.labels = LabelImage(GridFrame{10, 5}, 1);

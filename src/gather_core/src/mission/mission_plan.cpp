@@ -51,9 +51,7 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
     throw Error(where, "cycle_period_s must be a finite value in (0, 1e6] s");
   // A tile smaller than a cell of the planning grid counts each cell as an
   // area of its own (and below, the tile index overflows): at least a cell.
-  if (!(pf.area_tile_m >= grid.resolution() && pf.area_tile_m <= 1e6))
-    throw Error(where, "area_tile_m must be a finite value in [" + std::to_string(grid.resolution()) +
-                           " (a cell of the planning grid), 1e6] m");
+  require_in_range(pf.area_tile_m, grid.resolution(), 1e6, where, "area_tile_m", " m");
   PerAgent<char> id_seen(n, 0);
   PerSegment<char> segment_seen(pf.workers, 0);
   for (AgentId k : ids<AgentId>(n)) {
