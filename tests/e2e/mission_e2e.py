@@ -609,6 +609,22 @@ def main():
           "was planned for scenario" in out and re.search(r"exit code 2, cmd \S*oc_node", out) is not None,
           out[-1500:])
 
+    # Agent processes that die at once (a bad binary, a crash): fleet_node
+    # tells the OC (/gather/fleet/ended), which stops within seconds with
+    # one line naming them and their exit status, not after 60 s for READY.
+    dying = os.path.join(tmp, "dying_agent.sh")
+    with open(dying, "w") as f:
+        f.write("#!/bin/bash\nexit 3\n")
+    os.chmod(dying, 0o755)
+    t0 = time.time()
+    rc, out = roslaunch(["scenario:=" + office, "plan:=" + plan, "agent_bin:=" + dying, "results_dir:=" + bad_dir],
+                        timeout=120)
+    took = time.time() - t0
+    check("dying agents: the launch ends within 15 s (%.1f s)" % took, took < 15, out[-1500:])
+    check("dying agents: the OC names them and their exit status and exits 1",
+          re.search(r"oc_node: .*ended before saying READY: 0 \(status 3\)", out) is not None and
+          re.search(r"exit code 1, cmd \S*oc_node", out) is not None, out[-1500:])
+
     # A key others can read: the OC refuses it (one line, status 2).
     open_key = os.path.join(tmp, "open.key")
     subprocess.run([GATHER, "keygen", open_key], check=True, stdout=subprocess.DEVNULL)

@@ -6,7 +6,9 @@
 // ends the mission; an agent of ~kill (mission.launch's kill:=) that the OC
 // ended with SIGKILL is no failure, and one of ~restart (restart:=) that
 // the OC ended with SIGKILL is started again (respawn) with --rejoin: it
-// replays its journal (results_dir/journal) and joins the mission. On
+// replays its journal (results_dir/journal) and joins the mission. The
+// agents not running are on /gather/fleet/ended (latched, kept up until the
+// launch ends): the OC stops at once when one it waits on has ended. On
 // robots with ~laser (mission.launch laser:=true) it starts gather_world
 // with --scans and relays every robot's scan to ROS (gather_oc/scan_relay.hpp). Exit status: 0 every agent exited 0
 // within 1 s of its stop (or was killed as asked), 1 otherwise, 2 bad input.
@@ -24,6 +26,7 @@
 #include "gather_agent/transport/lcm_fleet.hpp"
 #include "gather_core/plan/plan_file.hpp"
 #include "gather_core/scenario/scenario.hpp"
+#include "gather_msgs/FleetEnded.h"
 #include "gather_oc/launch_paths.hpp"
 #include "gather_oc/scan_relay.hpp"
 #include "gather_oc/view_style.hpp"
@@ -243,10 +246,27 @@ int main(int argc, char** argv) {
   }
   ROS_INFO("fleet: started %d agents (%s --plan %s)", agents, bin.c_str(), plan_dir.c_str());
 
+  // Which agent processes are not running, for the OC (latched): it stops
+  // the mission when one it waits on has ended, naming its exit status,
+  // instead of waiting out its timeout.
+  ros::Publisher ended_pub = nh.advertise<gather_msgs::FleetEnded>("/gather/fleet/ended", 1, true);
+  gather_msgs::FleetEnded ended;
+  auto publish_ended = [&] {
+    gather_msgs::FleetEnded now;
+    for (const gather::AgentProcess& p : fleet.agents())
+      if (!p.running) now.agents.push_back(static_cast<int16_t>(p.id)), now.exit_status.push_back(p.exit_status);
+    if (now.agents != ended.agents || now.exit_status != ended.exit_status) {
+      ended = now;
+      ended_pub.publish(ended);
+    }
+  };
+  ended_pub.publish(ended);
+
   bool ok = true;
   int done = 0;
   while (!g_stop && ros::ok() && done < agents) {
-    for (int id : fleet.poll()) {
+    const std::vector<int> just_ended = fleet.poll();
+    for (int id : just_ended) {
       ++done;
       const int status = fleet.agents()[static_cast<std::size_t>(id)].exit_status;
       const gather::AgentProcess& p = fleet.agents()[static_cast<std::size_t>(id)];
@@ -267,6 +287,7 @@ int main(int argc, char** argv) {
         ROS_ERROR("fleet: agent %d ended with status %d", id, status);
       }
     }
+    if (!just_ended.empty()) publish_ended();
     if (relay)
       relay->spin_once(50);
     else
@@ -292,6 +313,10 @@ int main(int argc, char** argv) {
   std::printf("fleet: %d agents: %s%s\n", agents, ok ? "all exited 0" : "FAILURES (see fleet.yaml)",
               slow ? (", " + std::to_string(slow) + " took > 1 s to stop").c_str() : "");
   std::fflush(stdout);
+  // /gather/fleet/ended is latched, but only while this node lives: the OC
+  // may not have read that its agents ended yet. Stay until the launch ends
+  // (the OC ends it when the mission is over or has failed).
+  while (!g_stop && ros::ok()) ros::WallDuration(0.1).sleep();
   ros::shutdown();
   return ok ? 0 : 1;
 }

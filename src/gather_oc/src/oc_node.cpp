@@ -11,6 +11,7 @@
 // available) until it is stopped.
 // Exit status: 0 mission complete, 1 a runtime failure (agents silent, the
 // mission unfinished at its time limit), 2 bad input.
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 
 #include <chrono>
@@ -29,6 +30,7 @@
 #include "gather_core/plan/plan_export.hpp"
 #include "gather_core/plan/plan_file.hpp"
 #include "gather_core/scenario/scenario.hpp"
+#include "gather_msgs/FleetEnded.h"
 #include "gather_oc/launch_end.hpp"
 #include "gather_oc/launch_paths.hpp"
 #include "gather_oc/mission_publisher.hpp"
@@ -305,6 +307,27 @@ int main(int argc, char** argv) {
   std::unique_ptr<gather::agent::LcmFleet> fleet_ptr;
   std::unique_ptr<gather::agent::LockstepMaster> master_ptr;
   gather::agent::MasterOptions mo;
+  // The agent processes fleet_node started that ended (/gather/fleet/ended,
+  // latched), read on a queue of their own whenever the master looks: one
+  // it waits on that ended stops the mission at once, naming its status.
+  ros::CallbackQueue fleet_queue;
+  std::vector<std::pair<int, int>> fleet_ended;
+  ros::Subscriber fleet_sub;
+  if (set.agents != "external") {
+    ros::SubscribeOptions so = ros::SubscribeOptions::create<gather_msgs::FleetEnded>(
+        "/gather/fleet/ended", 1,
+        [&fleet_ended](const gather_msgs::FleetEnded::ConstPtr& m) {
+          fleet_ended.clear();
+          for (std::size_t k = 0; k < m->agents.size() && k < m->exit_status.size(); ++k)
+            fleet_ended.emplace_back(m->agents[k], m->exit_status[k]);
+        },
+        ros::VoidPtr(), &fleet_queue);
+    fleet_sub = nh.subscribe(so);
+    mo.ended = [&fleet_queue, &fleet_ended] {
+      fleet_queue.callAvailable();
+      return fleet_ended;
+    };
+  }
   try {
     world_ptr = std::make_unique<gather::mission::World>(plan->scenario);
     team_ptr = std::make_unique<gather::agent::TeamSetup>(*world_ptr, plan->plan, params);
