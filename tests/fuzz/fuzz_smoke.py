@@ -135,6 +135,7 @@ class Fuzzer:
         self.failures = 0
         self.kinds = {}
         self.statuses = {}
+        self.runtime = {}  # exit-1 messages (numbers and paths masked) -> cases
 
     @staticmethod
     def write(d, name, data):
@@ -327,11 +328,16 @@ class Fuzzer:
             report = "FAIL case %d (%s, %.1f s): %s\n     %s\n     input kept in %s" % (
                 n, kind, time.monotonic() - t0, why[:400], " ".join(argv)[:300], keep)
         shutil.rmtree(d, ignore_errors=True)
-        return kind, status, report
+        # A runtime failure (exit 1) is allowed, but named in the summary:
+        # bad input should be refused (2), not fail later.
+        runtime = re.sub(r"-?\d+(?:\.\d+)?(?:e[-+]?\d+)?|/\S+", "#", lines[-1])[:90] if status == 1 and lines else ""
+        return kind, status, report, runtime
 
     def count(self, verdict):
-        kind, status, report = verdict
+        kind, status, report, runtime = verdict
         self.kinds[kind] = self.kinds.get(kind, 0) + 1
+        if runtime:
+            self.runtime[runtime] = self.runtime.get(runtime, 0) + 1
         self.statuses[status] = self.statuses.get(status, 0) + 1
         if report:
             self.failures += 1
@@ -368,6 +374,8 @@ def main():
     print("fuzz smoke: %d cases (%s; exit status %s), seed %d, %.0f s: %d failed" % (
         a.cases, ", ".join("%s %d" % kv for kv in sorted(f.kinds.items())),
         ", ".join("%d: %d" % kv for kv in sorted(f.statuses.items())), a.seed, time.monotonic() - t0, f.failures))
+    for msg, k in sorted(f.runtime.items(), key=lambda kv: -kv[1]):
+        print("  exit 1 in %d case(s): %s" % (k, msg))
     return 1 if f.failures else 0
 
 
