@@ -48,4 +48,15 @@ check_empty() {  # name, args...
 }
 check_empty "info with an empty scenario path" info ""
 check_empty "run with an empty plan directory" run "" --out "$(mktemp -d)/out"
+# A scenario whose automatic request period (farthest point / team.speed)
+# is over kMaxPeriod: gather plan refuses it up front.
+slow=$(mktemp -d)
+printf 'map: %s\noc: [1500.0, 1500.0]\nteam:\n  agents: 3\n  speed: 0.01\n' \
+  "$here/../core/fixtures/bad/maps/kilometre_cells.yaml" >"$slow/slow.scenario.yaml"
+check "plan with an automatic period over 1e5 s" plan "$slow/slow.scenario.yaml" --out "$slow/plan"
+if ! "$bin" plan "$slow/slow.scenario.yaml" --out "$slow/plan" 2>&1 >/dev/null | grep -q "automatic request period"; then
+  echo "FAIL plan with an automatic period over 1e5 s: the line does not say why"
+  fail=1
+fi
+rm -rf "$slow"
 exit $fail

@@ -78,6 +78,8 @@ def main():
     maps = {
         "missing_image.yaml": map_yaml("nonexistent.pgm"),
         "empty_image_path.yaml": map_yaml('""'),
+        # tests/cli/bad_flags.sh: a scenario whose automatic period is over kMaxPeriod
+        "kilometre_cells.yaml": map_yaml("ok.pgm", resolution="1000"),
         "unknown_format.yaml": map_yaml("not_an_image.pgm"),
         "empty_image.yaml": map_yaml("empty.pgm"),
         "truncated_p5.yaml": map_yaml("truncated_p5.pgm"),
@@ -207,6 +209,7 @@ def main():
         ("empty_map_path", scenario(map_file='""'), "empty_map_path.yaml", "key 'map' is empty"),
         ("empty_image_path", scenario(map_file="../maps/empty_image_path.yaml"), "empty_image_path.yaml",
          "key 'image' is empty"),
+        ("period_over_max", scenario(extra="mission:\n  period: 200000\n"), "period_over_max.yaml", "mission.period"),
         ("yaml_alias", scenario(extra="radio:\n  tx_power_dbm: &p 0\n  ref_loss_db: *p\n"), "yaml_alias.yaml",
          "aliases"),
     ]

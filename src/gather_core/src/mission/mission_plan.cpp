@@ -6,6 +6,7 @@
 
 #include "gather_core/error.hpp"
 #include "gather_core/grid/map_image.hpp"
+#include "gather_core/scenario/scenario.hpp"
 
 namespace gather {
 namespace mission {
@@ -47,8 +48,7 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
   if (static_cast<int>(pf.routes.size()) != pf.collectors)
     throw Error(where,
                 std::to_string(pf.routes.size()) + " routes for " + std::to_string(pf.collectors) + " collectors");
-  if (!(pf.cycle_period_s > 0 && pf.cycle_period_s <= 1e6))
-    throw Error(where, "cycle_period_s must be a finite value in (0, 1e6] s");
+  require_in_range(pf.cycle_period_s, 0.0, kMaxPeriod, where, "cycle_period_s", " s", /*open_lo=*/true);
   // A tile smaller than a cell of the planning grid counts each cell as an
   // area of its own (and below, the tile index overflows): at least a cell.
   require_in_range(pf.area_tile_m, grid.resolution(), 1e6, where, "area_tile_m", " m");

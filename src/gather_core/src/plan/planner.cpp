@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <thread>
 
 #include "gather_core/error.hpp"
@@ -69,7 +70,17 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
   oc_field.solve({fmm::Source::at_point(s.oc)}, from_oc);
   cycle_period = s.mission.period > 0 ? s.mission.period : farthest / s.team.speed;
   if (cycle_period <= 0) cycle_period = 1.0;  // the whole space is covered: any period works
-  area_tile = std::sqrt(std::max(reachable_area, grid.cell_area()) / std::max(1, s.team.agents));
+  if (cycle_period > kMaxPeriod) {
+    std::ostringstream why;
+    why << "the automatic request period (farthest reachable point " << farthest << " m from the coverage / team.speed "
+        << s.team.speed << " m/s) is " << cycle_period << " s, over " << kMaxPeriod
+        << " s: raise team.speed or set mission.period";
+    throw Error(s.path, why.str());
+  }
+  // At least a cell: a smaller tile counts every cell as an area of its own
+  // (check_plan refuses it).
+  area_tile = std::max(std::sqrt(std::max(reachable_area, grid.cell_area()) / std::max(1, s.team.agents)),
+                       static_cast<double>(grid.resolution()));
   areas = mission::area_weights(*this, area_tile);
   for (const auto& [id, m2] : areas.area) tile_ids.push_back(id);
   tile_of_cell = Raster<int32_t>(grid.frame(), -1);

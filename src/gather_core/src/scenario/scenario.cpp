@@ -85,8 +85,9 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   require(s.mission.cycles >= 1 && s.mission.cycles <= 10000, path,
           "mission.cycles must be in [1, 10000], got " + std::to_string(s.mission.cycles));
   s.mission.period = mission.optional<double>("period", s.mission.period);
-  require(s.mission.period == 0.0 || (s.mission.period >= 1.0 && s.mission.period <= 1e6), path,
-          "mission.period must be 0 (automatic) or a finite value in [1, 1e6] s, got " + num(s.mission.period));
+  require(s.mission.period == 0.0 || (s.mission.period >= 1.0 && s.mission.period <= kMaxPeriod), path,
+          "mission.period must be 0 (automatic) or a finite value in [1, " + num(kMaxPeriod) + "] s, got " +
+              num(s.mission.period));
   require(s.mission.seed <= 2147483647u, path,
           "mission.seed must be in [0, 2147483647], got " + std::to_string(s.mission.seed));
   s.mission.bytes_per_goal = mission.optional<double>("bytes_per_goal", s.mission.bytes_per_goal);

@@ -34,7 +34,7 @@ MissionPlan load_mission_plan(const std::string& plan_path);
 // collectors the agents 0..N_c-1 with their own id as collector index and
 // route index, one worker per segment 1..N_w delivering to the OC or to a
 // collector whose route has a meeting area for its segment; cycle_period_s
-// in (0, 1e6] s, area_tile_m in (0, 1e6] m; routes: finite waypoints within
+// in (0, kMaxPeriod] s, area_tile_m in [a grid cell, 1e6] m; routes: finite waypoints within
 // the map (1 m margin), length, meeting areas, passes and coverage entries
 // finite and within [0, the polyline's length], segments in 1..N_w; the
 // label image of the grid's size. Throws gather::Error naming plan.source

@@ -29,6 +29,12 @@ struct RadioParams {
   double bitrate_bps = 0.0;
 };
 
+// [s] the longest time between two requests (mission.period, plan.yaml's
+// cycle_period_s, the planner's automatic period): a run's time grows with
+// the mission's ticks, and a period of 1e6 s made two cycles of `gather
+// run` take minutes (docs/input_limits.md).
+constexpr double kMaxPeriod = 1e5;
+
 struct MissionParams {
   int goals_per_request = 40;
   int cycles = 10;
