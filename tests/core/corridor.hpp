@@ -112,5 +112,21 @@ inline mission::MissionPlan lingering_plan(const Scenario& s) {
   return one_collector_plan(s, r, 40.0);
 }
 
+// A 2.5 m x 5 m room (0.1 m cells), the OC in its middle, and one corridor
+// 1.2 m wide (y 1.9-3.1 m, rows 19-30) east out of it to x = 8 m; robots of
+// radius 0.2 m, requests every 100 s.
+inline Scenario room_with_corridor(int agents) {
+  Scenario s = open_strip("room", 80, 50, Point2{1.25, 2.55});
+  s.team.agents = agents, s.team.radius = 0.2, s.mission.period = 100.0;
+  std::vector<int8_t> v(80 * 50, 100);
+  std::vector<uint8_t> f(80 * 50, 0);
+  for (int r = 0; r < 50; ++r)
+    for (int c = 0; c < 80; ++c)
+      if (c < 25 || (r >= 19 && r <= 30))
+        v[static_cast<std::size_t>(r) * 80 + c] = 0, f[static_cast<std::size_t>(r) * 80 + c] = 1;
+  s.grid = OccupancyGrid(80, 50, 0.1, Point2{0, 0}, v, f);
+  return s;
+}
+
 }  // namespace testing_support
 }  // namespace gather

@@ -358,15 +358,7 @@ TEST(WorkerFactsTest, OnRobotsAWorkerOfTheOcPlansAtTheTeamSpeed) {
 // each worker of the OC starts parked at its home, the collector by the OC,
 // every robot at least kStartSpacing from the others.
 TEST(TeamStartTest, OnRobotsTheWorkersOfTheOcStartAtTheirHomes) {
-  Scenario s = testing_support::open_strip("room", 80, 50, Point2{1.25, 2.55});
-  s.team.agents = 5, s.team.radius = 0.2, s.mission.period = 100.0;
-  std::vector<int8_t> v(80 * 50, 100);
-  std::vector<uint8_t> f(80 * 50, 0);
-  for (int r = 0; r < 50; ++r)
-    for (int c = 0; c < 80; ++c)
-      if (c < 25 || (r >= 19 && r <= 30))
-        v[static_cast<std::size_t>(r) * 80 + c] = 0, f[static_cast<std::size_t>(r) * 80 + c] = 1;
-  s.grid = OccupancyGrid(80, 50, 0.1, Point2{0, 0}, v, f);
+  const Scenario s = testing_support::room_with_corridor(5);
   const mission::World world(s);
   mission::MissionPlan mp;
   mp.labels = LabelImage(s.grid.frame(), 0);

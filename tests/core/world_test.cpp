@@ -233,16 +233,7 @@ TEST(WorldTest, HomesOnRobotsKeepOffTheLaneOutOfTheCoverage) {
   // stands in the way of every other one: the homes keep off the lane
   // (the corridor's middle, out into the room while it is narrow, and
   // 0.3 m + two radii either side of it), in the room.
-  Scenario s = testing_support::open_strip("room", 80, 50, Point2{1.25, 2.55});
-  s.team.agents = 4, s.team.radius = 0.2, s.mission.period = 100.0;
-  std::vector<int8_t> v(80 * 50, 100);
-  std::vector<uint8_t> f(80 * 50, 0);
-  for (int r = 0; r < 50; ++r)
-    for (int c = 0; c < 80; ++c)
-      if (c < 25 || (r >= 19 && r <= 30)) {
-        v[static_cast<std::size_t>(r) * 80 + c] = 0, f[static_cast<std::size_t>(r) * 80 + c] = 1;
-      }
-  s.grid = OccupancyGrid(80, 50, 0.1, Point2{0, 0}, v, f);
+  const Scenario s = testing_support::room_with_corridor(4);
   const mission::World w(s);
   std::vector<std::vector<Cell>> segments(4);
   for (int k = 0; k < 4; ++k)  // x 4.5-5, 5.5-6, ... down the corridor
