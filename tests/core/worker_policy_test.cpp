@@ -372,7 +372,7 @@ TEST(TeamStartTest, OnRobotsTheWorkersOfTheOcStartAtTheirHomes) {
   mp.file.agents.push_back(plan::AgentAssignment{AgentId(4), true, SegmentId(), CollectorId(0)});
 
   const std::vector<Point2> packed = start_poses(s.grid, s.oc, 5);
-  const std::vector<Point2> ideal = mission::team_start_poses(world, mp, mission::ProtocolParams{});
+  const std::vector<Point2> ideal = mission::team_start_poses(world, mp, {});
   ASSERT_EQ(ideal.size(), packed.size());
   for (std::size_t k = 0; k < ideal.size(); ++k)
     EXPECT_TRUE(ideal[k].x == packed[k].x && ideal[k].y == packed[k].y) << k;
@@ -381,7 +381,7 @@ TEST(TeamStartTest, OnRobotsTheWorkersOfTheOcStartAtTheirHomes) {
   const std::vector<Cell> homes = mission::oc_worker_homes(world, mp, robots.home_clearance_m);
   ASSERT_EQ(homes.size(), 5u);
   EXPECT_EQ(homes[4], (Cell{-1, -1}));  // the collector has none
-  const std::vector<Point2> starts = mission::team_start_poses(world, mp, robots);
+  const std::vector<Point2> starts = mission::team_start_poses(world, mp, homes);
   ASSERT_EQ(starts.size(), 5u);
   for (std::size_t k = 0; k < 4; ++k) {
     ASSERT_GE(homes[k].row, 0) << k;

@@ -71,10 +71,10 @@ std::string resolve_path(const std::string& file, const std::string& relative) {
   return slash == std::string::npos ? relative : file.substr(0, slash + 1) + relative;
 }
 
-std::string Fields::file_path(const std::string& key) const {
-  const std::string named = required<std::string>(key);
+std::string Fields::file_name(const std::string& key) const {
+  std::string named = required<std::string>(key);
   if (named.empty()) throw Error(file_, "key '" + name(key) + "' is empty: it must name a file");
-  return resolve_path(file_, named);
+  return named;
 }
 
 Fields::Fields(const YAML::Node& node, std::string file, std::string prefix)

@@ -314,7 +314,10 @@ int main(int argc, char** argv) {
     const gather::Scenario full = gather::load_scenario(plan.scenario.path);
     const gather::mission::World team_world(plan.scenario);
     const std::vector<Point2> starts = gather::mission::team_start_poses(
-        team_world, plan.plan, gather::mission::robot_protocol(gather::mission::ProtocolParams{}));
+        team_world, plan.plan,
+        gather::mission::oc_worker_homes(
+            team_world, plan.plan,
+            gather::mission::robot_protocol(gather::mission::ProtocolParams{}).home_clearance_m));
     world::MrptWorld w(full.grid, starts, full.team.speed, full.team.radius, params);
     return o.pipe ? run_pipe(w, STDIN_FILENO, out) : run_lcm(w, plan, o, shutdown);
   } catch (const gather::RuntimeError& e) {

@@ -106,7 +106,8 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
     meeting_arc_[a.id] = m->arc_m;  // check_plan: there is one
   }
   distances = std::make_unique<mission::SharedDistances>(w, /*from_oc=*/false);  // agents start at their start poses
-  start_ = PerAgent<Point2>(mission::team_start_poses(w, p, params.protocol));
+  if (params.protocol.home_clearance_m > 0) oc_homes = mission::oc_worker_homes(w, p, params.protocol.home_clearance_m);
+  start_ = PerAgent<Point2>(mission::team_start_poses(w, p, oc_homes));
   range_ = radio.free_space_range();
 }
 

@@ -43,7 +43,8 @@ WorkerRole::WorkerRole(TeamSetup& team, AgentId agent, MotionBackend& motion)
       policy_(std::make_unique<mission::WorkerPolicy>(
           team.world, team.plan, team.assignment(agent),
           team.assignment(agent).delivers_to.valid() ? &team.routes[team.assignment(agent).delivers_to] : nullptr,
-          *team.distances, initial_goals(team), team.params.protocol)),
+          *team.distances, initial_goals(team), team.params.protocol,
+          team.oc_homes.empty() ? nullptr : &team.oc_homes)),
       custody_(team.params.data_capacity, team.params.notice_capacity) {
   if (!policy_->delivers_to_oc()) upstream_ = static_cast<int16_t>(team.collector_agent(policy_->collector()).value());
   const std::size_t g = static_cast<std::size_t>(team.params.goals_per_request);

@@ -37,9 +37,11 @@ class Fields {
   T optional(const std::string& key, const T& fallback) const {
     return has(key) ? as<T>(key) : fallback;
   }
-  // A file the key names (a string, not empty), resolved against the
-  // directory of this YAML file (resolve_path). Throws naming the key.
-  std::string file_path(const std::string& key) const;
+  // A file the key names (a string, not empty), as written. Throws naming
+  // the key.
+  std::string file_name(const std::string& key) const;
+  // The same, resolved against the directory of this YAML file (resolve_path).
+  std::string file_path(const std::string& key) const { return resolve_path(file_, file_name(key)); }
   // A nested mapping; an absent key gives an empty mapping (all defaults).
   Fields section(const std::string& key) const;
 

@@ -72,15 +72,14 @@ std::vector<Cell> oc_worker_homes(const World& world, const MissionPlan& mp, dou
   return out;
 }
 
-std::vector<Point2> team_start_poses(const World& world, const MissionPlan& mp, const ProtocolParams& protocol) {
+std::vector<Point2> team_start_poses(const World& world, const MissionPlan& mp, const std::vector<Cell>& oc_homes) {
   const OccupancyGrid& grid = world.scenario.grid;
   const int n = static_cast<int>(mp.file.agents.size());
-  if (!(protocol.home_clearance_m > 0)) return start_poses(grid, world.scenario.oc, n, kStartSpacing);
-  const std::vector<Cell> homes = oc_worker_homes(world, mp, protocol.home_clearance_m);
+  if (oc_homes.empty()) return start_poses(grid, world.scenario.oc, n, kStartSpacing);
   std::vector<Point2> at_home;
   std::vector<int> home_of(static_cast<std::size_t>(n), -1);
   for (int id = 0; id < n; ++id) {
-    const Cell h = homes[static_cast<std::size_t>(id)];
+    const Cell h = oc_homes[static_cast<std::size_t>(id)];
     if (h.row < 0) continue;
     const Point2 p = grid.cell_center(h);
     const bool apart = std::all_of(at_home.begin(), at_home.end(),
@@ -117,7 +116,7 @@ WorkerPolicy::WorkerPolicy(WorkerPolicy&&) noexcept = default;
 
 WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan::AgentAssignment& a,
                            const RouteTimetable* route, SharedDistances& shared, std::size_t max_goals,
-                           const ProtocolParams& protocol)
+                           const ProtocolParams& protocol, const std::vector<Cell>* oc_homes)
     : world_(world), shared_(shared), route_(route), agent_(a.id), segment_(a.segment), collector_(a.delivers_to) {
   const OccupancyGrid& grid = world.scenario.grid;
   const plan::PlanFile& pf = mp.file;
@@ -235,7 +234,8 @@ WorkerPolicy::WorkerPolicy(const World& world, const MissionPlan& mp, const plan
     // with room around them and apart from each other, in the order of
     // their ids: every worker finds the same homes (World::oc_worker_homes).
     if (protocol.home_clearance_m > 0) {
-      home_ = oc_worker_homes(world, mp, protocol.home_clearance_m)[static_cast<std::size_t>(a.id.value())];
+      const auto id = static_cast<std::size_t>(a.id.value());
+      home_ = oc_homes ? (*oc_homes)[id] : oc_worker_homes(world, mp, protocol.home_clearance_m)[id];
       if (home_.row >= 0) {
         home_to_border_.resize(world.coverage_border.size());
         march(home_, world.coverage_border, home_to_border_.data());

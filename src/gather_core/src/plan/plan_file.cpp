@@ -114,16 +114,14 @@ PlanFile read_plan_file(const std::string& path) {
   const std::string format = f.required<std::string>("format");
   if (format != PlanFile::kFormat)
     throw Error(path, "format '" + quote_input(format) + "' is not " + PlanFile::kFormat);
-  p.scenario = f.required<std::string>("scenario");
+  p.scenario = f.file_name("scenario");
   p.method = f.required<std::string>("method");
   if (p.method != "bap" && p.method != "pap" && p.method != "rap")
     throw Error(path, "'method' must be bap, pap or rap, got '" + quote_input(p.method, 40) + "'");
   p.collectors = f.required<int>("collectors");
   p.workers = f.required<int>("workers");
   p.seed = f.required<unsigned>("seed");
-  p.labels_png = f.required<std::string>("labels");
-  if (p.scenario.empty()) throw Error(path, "key 'scenario' is empty: it must name a file");
-  if (p.labels_png.empty()) throw Error(path, "key 'labels' is empty: it must name a file");
+  p.labels_png = f.file_name("labels");
   p.grid_factor = f.optional<int>("grid_factor", 1);
   if (p.grid_factor < 1 || p.grid_factor > 1000) throw Error(path, "grid_factor must be in [1, 1000]");
   p.cycle_period_s = f.required<double>("cycle_period_s");

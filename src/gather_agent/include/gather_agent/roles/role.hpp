@@ -72,6 +72,10 @@ class TeamSetup {
   RadioModel radio;
   PerCollector<mission::RouteTimetable> routes;
   std::unique_ptr<mission::SharedDistances> distances;
+  // On robots (protocol.home_clearance_m > 0) the homes of the workers of
+  // the OC by agent id (mission::oc_worker_homes), found once for the team;
+  // empty otherwise.
+  std::vector<Cell> oc_homes;
   mission::AreaWeights areas;  // of the refresh interval (plan.yaml's area_tile_m)
 
   // A* on the reachable cells, for the simulated bases: made on first use

@@ -106,15 +106,16 @@ ProtocolParams robot_protocol(ProtocolParams base);
 std::vector<Cell> oc_worker_homes(const World& world, const MissionPlan& plan, double clearance);
 
 // Where each agent of `plan` stands when the mission starts, by agent id.
-// Ideal protocol (home_clearance_m 0): packed next to the OC (start_poses,
-// kStartSpacing apart), as the planner assumes. Robot protocol: each worker
-// of the OC parked at its home (oc_worker_homes), the others next to the OC
-// kStartSpacing clear of them (a worker whose home is closer than that to
-// an earlier one starts there too). A team packed around the OC would leave
-// it as one crowd: in the cave the first two cycles delivered half of what
-// ideal bases did (docs/robots.md). The agents and the robot world both use
-// it, so a robot starts where its agent believes it is.
-std::vector<Point2> team_start_poses(const World& world, const MissionPlan& plan, const ProtocolParams& protocol);
+// `oc_homes`: oc_worker_homes on robots, empty with the ideal protocol
+// (home_clearance_m 0). Ideal: packed next to the OC (start_poses,
+// kStartSpacing apart), as the planner assumes. Robots: each worker of the
+// OC parked at its home, the others next to the OC kStartSpacing clear of
+// them (a worker whose home is closer than that to an earlier one starts
+// there too). A team packed around the OC would leave it as one crowd: in
+// the cave the first two cycles delivered half of what ideal bases did
+// (docs/robots.md). The agents and the robot world both use it, so a robot
+// starts where its agent believes it is.
+std::vector<Point2> team_start_poses(const World& world, const MissionPlan& plan, const std::vector<Cell>& oc_homes);
 
 // When request `cycle` (issued at cycle * period [s]) reaches a worker of
 // the collector driving `route`, whose meeting area is at arc `meeting_arc`
@@ -179,10 +180,13 @@ class WorkerPolicy {
   // as must `world` and `shared`. Throws gather::Error (naming "plan") when
   // the plan does not fit: a bad segment or collector, no meeting area or no
   // reachable pass of the collector next to the segment, or `protocol` out
-  // of its ranges.
+  // of its ranges. On robots, `oc_homes` is oc_worker_homes(world, plan,
+  // protocol.home_clearance_m) when the caller has it (the search takes
+  // ~30 ms on the cave: once for a team, not once per worker); nullptr:
+  // searched here.
   WorkerPolicy(const World& world, const MissionPlan& plan, const plan::AgentAssignment& agent,
                const RouteTimetable* route, SharedDistances& shared, std::size_t max_goals,
-               const ProtocolParams& protocol);
+               const ProtocolParams& protocol, const std::vector<Cell>* oc_homes = nullptr);
   ~WorkerPolicy();
   WorkerPolicy(WorkerPolicy&&) noexcept;
 
