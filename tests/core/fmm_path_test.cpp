@@ -196,6 +196,29 @@ TEST(FmmPath, RandomPathsOnTheOfficeMap) {
   EXPECT_EQ(checked, 100);
 }
 
+// An ArcWalker gives what point_at_arc gives, bit for bit, for positions
+// that step a little, jump far ahead (past many waypoints: its binary
+// search) and go back, with zero-length pieces on the path.
+TEST(FmmPath, ArcWalkerAgreesWithPointAtArcOnStepsJumpsAndReturns) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Point2> path{{0.0, 0.0}};
+  for (int i = 0; i < 500; ++i)
+    path.push_back(i % 37 == 0 ? path.back() : Point2{path.back().x + u(rng), path.back().y + u(rng)});
+  const std::vector<double> arcs = path_arcs(path);
+  ArcWalker walk(path, arcs);
+  std::vector<double> at{-1.0, 0.0};
+  for (double s = 0.0; s < arcs.back() + 2.0; s += (at.size() % 5 == 0 ? 40.0 : 0.3)) at.push_back(s);
+  at.push_back(arcs[37]);     // exactly on a zero-length piece
+  at.push_back(5.0);          // back
+  at.push_back(arcs.back());  // the end
+  for (const double s : at) {
+    const Point2 w = walk.at(s), p = point_at_arc(path, arcs, s);
+    EXPECT_EQ(w.x, p.x) << "at s = " << s;
+    EXPECT_EQ(w.y, p.y) << "at s = " << s;
+  }
+}
+
 }  // namespace
 }  // namespace fmm
 }  // namespace gather

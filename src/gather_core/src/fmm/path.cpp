@@ -204,7 +204,14 @@ Point2 ArcWalker::at(double s) {
   if (s >= arcs_.back()) return path_.back();
   if (next_ > 0 && arcs_[next_ - 1] > s)  // went back: search again
     next_ = static_cast<std::size_t>(std::upper_bound(arcs_.begin(), arcs_.end(), s) - arcs_.begin());
-  while (next_ < arcs_.size() && arcs_[next_] <= s) ++next_;
+  // Forward: a few steps, then a binary search (a walk that skips far ahead
+  // costs no more than one that samples every piece).
+  for (int steps = 0; next_ < arcs_.size() && arcs_[next_] <= s; ++next_)
+    if (++steps == 8) {
+      next_ = static_cast<std::size_t>(
+          std::upper_bound(arcs_.begin() + static_cast<std::ptrdiff_t>(next_), arcs_.end(), s) - arcs_.begin());
+      break;
+    }
   const std::size_t i = next_ - 1;
   const double len = arcs_[i + 1] - arcs_[i];
   const double f = len > 0 ? (s - arcs_[i]) / len : 0.0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 
@@ -12,6 +13,14 @@ namespace gather {
 namespace plan {
 
 static constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Squared distance [m^2] from p to the straight piece a-b.
+static double squared_distance_to_segment(Point2 p, Point2 a, Point2 b) {
+  const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+  const double u = len2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / len2, 0.0, 1.0) : 0.0;
+  const double ex = p.x - (a.x + u * dx), ey = p.y - (a.y + u * dy);
+  return ex * ex + ey * ey;
+}
 
 // Distance [m] along the route from arc position `s` to where it next enters
 // the OC's coverage (the route ends at the OC, inside it).
@@ -42,19 +51,72 @@ static Stretches contact_stretches(const CollectorRoute& r, const MeetingArea& m
   // Points surely out of range (their squared distance with a margin for
   // rounding) skip the exact test.
   const double far2 = range * range * (1.0 + 1e-6);
+  // So do the stretches of the route that surely pass no nearer than that
+  // to any of `from` (with 1 mm to spare for rounding): a route within arc
+  // length d of a point at distance D from f stays at least D - d from f,
+  // so a waypoint far from every f rules out the route up to that far
+  // ahead; a piece (waypoint i to i + 1) not ruled out so is tested whole.
+  // A long route passes near a worker on a few pieces: the samples
+  // elsewhere are only counted. `near_arcs`: the arc spans not ruled out.
+  const double near = std::sqrt(far2) + 1e-3, near2 = near * near;
+  std::vector<std::pair<double, double>> near_arcs;
+  const std::size_t n_wp = std::min(r.waypoints.size(), arc.size());
+  for (std::size_t i = 0; i + 1 < n_wp;) {
+    double d2 = kInf;
+    for (const Point2& f : from) {
+      const double dx = f.x - r.waypoints[i].x, dy = f.y - r.waypoints[i].y;
+      d2 = std::min(d2, dx * dx + dy * dy);
+    }
+    const double d = std::sqrt(d2);
+    if (d > near) {
+      // The last waypoint within arc d - near of this one: the pieces up to it are far.
+      const auto last =
+          std::upper_bound(arc.begin() + static_cast<std::ptrdiff_t>(i), arc.begin() + n_wp, arc[i] + (d - near)) - 1;
+      const auto j = static_cast<std::size_t>(last - arc.begin());
+      if (j > i) {
+        i = j;
+        continue;
+      }
+    }
+    const Point2 a = r.waypoints[i], b = r.waypoints[i + 1];
+    bool piece_near = false;
+    for (const Point2& f : from) piece_near = piece_near || squared_distance_to_segment(f, a, b) <= near2;
+    if (piece_near) {
+      if (!near_arcs.empty() && near_arcs.back().second >= arc[i])
+        near_arcs.back().second = arc[i + 1];
+      else
+        near_arcs.emplace_back(arc[i], arc[i + 1]);
+    }
+    ++i;
+  }
   Stretches stretches;
   double open = -1.0;
   fmm::ArcWalker walk(r.waypoints, arc);
+  std::size_t span = 0;  // the first of near_arcs that does not end before s
   for (double s = 0.0;; s = std::min(r.length, s + step)) {
-    const Point2 p = walk.at(s);
+    while (span < near_arcs.size() && near_arcs[span].second < s) ++span;
     bool linked = false;
-    for (const Point2& f : from) {
-      const double dx = f.x - p.x, dy = f.y - p.y;
-      linked = linked || (dx * dx + dy * dy <= far2 && distance(f, p) <= range && radio.linked(f, p));
+    // The ends of the route are sampled as before (ArcWalker clamps there).
+    if ((span < near_arcs.size() && near_arcs[span].first <= s) || s <= 0.0 || n_wp < 2 || s >= arc[n_wp - 1]) {
+      const Point2 p = walk.at(s);
+      for (const Point2& f : from) {
+        const double dx = f.x - p.x, dy = f.y - p.y;
+        if (linked || dx * dx + dy * dy > far2) continue;
+        const double d = distance(f, p);
+        linked = d <= range && radio.linked(f, p, d);
+      }
     }
     if (linked && open < 0) open = s;
     if ((!linked || s >= r.length) && open >= 0) stretches.emplace_back(open, s), open = -1.0;
     if (s >= r.length) break;
+    // Nothing open: the samples before the next span not ruled out (and
+    // before the route's end) are only counted.
+    if (!linked && n_wp >= 2) {
+      const double until = std::min(span < near_arcs.size() ? near_arcs[span].first : kInf, arc[n_wp - 1]);
+      for (double next = std::min(r.length, s + step); next < until && next < r.length;
+           next = std::min(r.length, s + step))
+        s = next;
+    }
   }
   for (const double pass : m.passes) stretches.emplace_back(pass, pass);
   return stretches;
@@ -245,13 +307,23 @@ static WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea
   // `need` [s] of link: handed over in the first contact stretch of the
   // collector that still holds that long after then, uploaded where its
   // route next enters the coverage.
+  // Each stretch's times [s] (start, end, guard), and those long enough
+  // for the hand-over at hand (`usable`, chosen once per need).
+  struct Stretch {
+    double a, b, guard;
+  };
+  std::vector<Stretch> stretch, usable;
+  for (const auto& [a, b] : contact) stretch.push_back(Stretch{a / v, b / v, mission::handover_guard((b - a) / v)});
+  auto usable_for = [&](double need) {
+    usable.clear();
+    for (std::size_t i = 0; i < stretch.size(); ++i)
+      if ((contact[i].second - contact[i].first) / v >= need + stretch[i].guard - 1e-9) usable.push_back(stretch[i]);
+  };
   auto delivered_at = [&](double ready, double need) {
     double best = kInf;
-    for (const auto& [a, b] : contact) {
-      const double guard = mission::handover_guard((b - a) / v);
-      if ((b - a) / v < need + guard - 1e-9) continue;
-      const double loop_start = sched.next_at(b / v, ready + need + guard) - b / v;
-      const double handover = std::max(ready, loop_start + a / v) + need;
+    for (const Stretch& st : usable) {
+      const double loop_start = sched.next_at(st.b, ready + need + st.guard) - st.b;
+      const double handover = std::max(ready, loop_start + st.a) + need;
       best = std::min(best, handover + upload_after(r, (handover - loop_start) * v) / v);
     }
     return best;
@@ -272,6 +344,7 @@ static WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea
       const double n = std::min(static_cast<double>(k), fits);
       if (n <= 0.0) continue;
       const double tour = model.length(n) / v, need = n * per_goal;
+      usable_for(need);
       double sum = 0.0;  // the goals' deliveries at `samples` points of the tour
       for (int i = 1; i <= samples; ++i) sum += delivered_at(learn + tour * i / samples, need) - req * T;
       run.add(pmf[k] * n, sum / samples);

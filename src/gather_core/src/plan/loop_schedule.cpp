@@ -41,16 +41,6 @@ double LoopSchedule::last_departure(double t) const {
   return base + i * travel_;
 }
 
-double LoopSchedule::next_at(double offset, double t) const {
-  if (idle()) return std::numeric_limits<double>::infinity();
-  if (t <= offset) return offset;
-  const double j = std::floor((t - offset) / super_);
-  const double base = j * super_ + offset;  // the first loop's instance in super-period j
-  const double i = std::ceil((t - base) / travel_ - 1e-12);
-  if (i < loops_) return base + i * travel_;
-  return base + super_;
-}
-
 double LoopSchedule::offset_at(double t) const {
   if (idle()) return 0.0;
   t = std::max(0.0, t);

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
-#include <queue>
 
 #include "gather_core/error.hpp"
 #include "gather_core/fmm/path.hpp"
@@ -24,16 +24,72 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // search's generation). One per thread (the sweep plans configurations in
 // parallel).
 struct AStarWork {
-  std::vector<float> g;
-  std::vector<uint32_t> parent, stamp;
+  struct Node {
+    float g;
+    uint32_t parent, stamp;
+  };
+  std::vector<Node> node;  // one cache line for what a step reads of a cell
   uint32_t generation = 0;
+  // The open list: a 4-ary min-heap of (f, cell) as one key, f's bits
+  // (f >= 0 sorts like its bits) above the cell's index: popped in the
+  // order of (f, cell), ties by cell.
+  using Entry = uint64_t;
+  std::vector<Entry> open;
+  static Entry entry(float f, uint32_t cell) {
+    uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    return static_cast<uint64_t>(bits) << 32 | cell;
+  }
+  static float f_of(Entry e) {
+    const auto bits = static_cast<uint32_t>(e >> 32);
+    float f;
+    std::memcpy(&f, &bits, sizeof f);
+    return f;
+  }
 
   void begin(std::size_t cells) {
-    if (stamp.size() != cells) g.assign(cells, 0.0f), parent.assign(cells, 0), stamp.assign(cells, 0), generation = 0;
-    if (++generation == 0) std::fill(stamp.begin(), stamp.end(), 0), generation = 1;
+    if (node.size() != cells) node.assign(cells, Node{0.0f, 0, 0}), generation = 0;
+    if (++generation == 0) {
+      for (Node& n : node) n.stamp = 0;
+      generation = 1;
+    }
+    open.clear();
   }
-  float cost(std::size_t i) const { return stamp[i] == generation ? g[i] : std::numeric_limits<float>::infinity(); }
-  void set(std::size_t i, float cost, uint32_t from) { g[i] = cost, parent[i] = from, stamp[i] = generation; }
+  float cost(std::size_t i) const {
+    return node[i].stamp == generation ? node[i].g : std::numeric_limits<float>::infinity();
+  }
+  void set(std::size_t i, float cost, uint32_t from) { node[i] = Node{cost, from, generation}; }
+  uint32_t parent(std::size_t i) const { return node[i].parent; }
+  void push(Entry e) {
+    std::size_t i = open.size();
+    open.push_back(e);
+    while (i > 0) {
+      const std::size_t up = (i - 1) / 4;
+      if (!(e < open[up])) break;
+      open[i] = open[up];
+      i = up;
+    }
+    open[i] = e;
+  }
+  Entry pop() {
+    const Entry top = open.front(), last = open.back();
+    open.pop_back();
+    const std::size_t n = open.size();
+    if (n == 0) return top;
+    std::size_t i = 0;
+    for (;;) {
+      const std::size_t first = 4 * i + 1;
+      if (first >= n) break;
+      std::size_t best = first;
+      for (std::size_t c = first + 1; c < std::min(first + 4, n); ++c)
+        if (open[c] < open[best]) best = c;
+      if (!(open[best] < last)) break;
+      open[i] = open[best];
+      i = best;
+    }
+    open[i] = last;
+    return top;
+  }
 };
 
 // Shortest 8-connected path a -> b [m] on the route speed map by A* (octile
@@ -48,43 +104,47 @@ std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
   const std::size_t start = grid.index(ca), goal = grid.index(cb);
   thread_local AStarWork work;
   work.begin(grid.size());
-  using Entry = std::pair<float, uint32_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
   const auto& speed = ctx.route_speed;
   auto h = [&](std::size_t i) {
     const double dx = std::abs(static_cast<int>(i % w) - cb.col), dy = std::abs(static_cast<int>(i / w) - cb.row);
     return static_cast<float>(std::max(dx, dy) + (std::sqrt(2.0) - 1.0) * std::min(dx, dy));  // at speed 1
   };
   work.set(start, 0.0f, 0);
-  open.emplace(h(start), static_cast<uint32_t>(start));
+  work.push(AStarWork::entry(h(start), static_cast<uint32_t>(start)));
   static const int dr[8] = {0, 0, 1, -1, 1, 1, -1, -1}, dc[8] = {1, -1, 0, 0, 1, -1, 1, -1};
-  while (!open.empty()) {
-    const auto [f, i] = open.top();
-    open.pop();
+  const int rows = grid.height();
+  const double* sp = speed.data();
+  // 1 / speed: the speed map holds 1 and tight_speed (and 0 off the
+  // reachable space), so the divisions are done once.
+  const double tight = ctx.tight_speed, tight_pace = 1.0 / tight;
+  auto pace = [&](double v) { return v == 1.0 ? 1.0 : v == tight ? tight_pace : 1.0 / v; };
+  while (!work.open.empty()) {
+    const AStarWork::Entry e = work.pop();
+    const float f = AStarWork::f_of(e);
+    const auto i = static_cast<uint32_t>(e);
     if (i == goal) break;
     const float gi = work.cost(i);
     if (f > gi + h(i) + 1e-4f) continue;  // stale entry
-    const Cell c = grid.cell(i);
+    const int r = static_cast<int>(i / static_cast<uint32_t>(w)), c = static_cast<int>(i % static_cast<uint32_t>(w));
+    const double pace_i = pace(sp[i]);
     for (int k = 0; k < 8; ++k) {
-      const Cell n{c.row + dr[k], c.col + dc[k]};
-      if (!grid.contains(n)) continue;
-      const std::size_t j = grid.index(n);
-      if (speed[j] <= 0) continue;
+      const int nr = r + dr[k], nc = c + dc[k];
+      if (nr < 0 || nc < 0 || nr >= rows || nc >= w) continue;
+      const std::size_t j = static_cast<std::size_t>(nr) * w + nc;
+      if (sp[j] <= 0) continue;
       const bool diagonal = k >= 4;
-      if (diagonal &&
-          (speed[grid.index(Cell{c.row + dr[k], c.col})] <= 0 || speed[grid.index(Cell{c.row, c.col + dc[k]})] <= 0))
+      if (diagonal && (sp[static_cast<std::size_t>(nr) * w + c] <= 0 || sp[static_cast<std::size_t>(r) * w + nc] <= 0))
         continue;
-      const float step =
-          static_cast<float>((diagonal ? std::sqrt(2.0) : 1.0) * 0.5 * (1.0 / speed[i] + 1.0 / speed[j]));
+      const float step = static_cast<float>((diagonal ? std::sqrt(2.0) : 1.0) * 0.5 * (pace_i + pace(sp[j])));
       if (gi + step < work.cost(j)) {
         work.set(j, gi + step, i);
-        open.emplace(gi + step + h(j), static_cast<uint32_t>(j));
+        work.push(AStarWork::entry(gi + step + h(j), static_cast<uint32_t>(j)));
       }
     }
   }
   std::vector<Point2> path;
   if (!std::isfinite(work.cost(goal))) return path;
-  for (std::size_t i = goal;; i = work.parent[i]) {
+  for (std::size_t i = goal;; i = work.parent(i)) {
     path.push_back(grid.cell_center(grid.cell(i)));
     if (i == start) break;
   }
@@ -222,33 +282,47 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
     // (a radius under the stride probes the centre alone).
     const int from = -(rc / stride) * stride;
     const double step = opt.pass_step_m;
-    std::vector<double> open_since(segments.size(), -1.0);
-    PerSegment<int> index_of(graph.segments.count(), -1);  // position in `segments`
+    // Position in `segments` and in route.meetings of each served segment.
+    PerSegment<int> index_of(graph.segments.count(), -1), meeting_of(graph.segments.count(), -1);
     for (std::size_t i = 0; i < segments.size(); ++i) index_of[segments[i]] = static_cast<int>(i);
+    for (std::size_t i = 0; i < route.segments.size(); ++i) meeting_of[route.segments[i]] = static_cast<int>(i);
     auto seg_index = [&](int32_t label) { return label > 0 ? index_of[SegmentId(label)] : -1; };
-    std::vector<uint8_t> near(segments.size());
+    // Per sample only the segments next to it and those whose stretch is
+    // open are looked at (a long route serves many segments).
+    std::vector<double> open_since(segments.size(), -1.0);
+    std::vector<uint8_t> near(segments.size(), 0);
+    std::vector<int> near_now, open_now, still_open;
+    auto close = [&](int k, double at) {
+      route.meetings[static_cast<std::size_t>(meeting_of[segments[static_cast<std::size_t>(k)]])].passes.push_back(
+          0.5 * (open_since[static_cast<std::size_t>(k)] + at));
+      open_since[static_cast<std::size_t>(k)] = -1.0;
+    };
     const double total = arc.back();
+    fmm::ArcWalker walk(route.waypoints, arc);
     for (double at = 0.0;; at = std::min(total, at + step)) {
-      const Point2 p = fmm::point_at_arc(route.waypoints, arc, at);
-      std::fill(near.begin(), near.end(), 0);
+      const Point2 p = walk.at(at);
       const Cell c = grid.world_to_cell(p);
+      near_now.clear();
       for (int dr = from; dr <= rc; dr += stride)
         for (int dc = from; dc <= rc; dc += stride) {
           const Cell q{c.row + dr, c.col + dc};
           if (!grid.contains(q) || dr * dr + dc * dc > rc * rc) continue;
           const int k = seg_index(labels[grid.index(q)]);
-          if (k >= 0) near[static_cast<std::size_t>(k)] = 1;
+          if (k >= 0 && !near[static_cast<std::size_t>(k)])
+            near[static_cast<std::size_t>(k)] = 1, near_now.push_back(k);
         }
-      for (std::size_t k = 0; k < segments.size(); ++k) {
-        if (near[k] && open_since[k] < 0) open_since[k] = at;
-        if ((!near[k] || at >= total) && open_since[k] >= 0) {
-          route
-              .meetings[static_cast<std::size_t>(std::find(route.segments.begin(), route.segments.end(), segments[k]) -
-                                                 route.segments.begin())]
-              .passes.push_back(0.5 * (open_since[k] + at));
-          open_since[k] = -1.0;
-        }
-      }
+      for (const int k : near_now)
+        if (open_since[static_cast<std::size_t>(k)] < 0)
+          open_since[static_cast<std::size_t>(k)] = at, open_now.push_back(k);
+      // Stretches that end here: no longer near, or the route ends.
+      still_open.clear();
+      for (const int k : open_now)
+        if (!near[static_cast<std::size_t>(k)] || at >= total)
+          close(k, at);
+        else
+          still_open.push_back(k);
+      open_now.swap(still_open);
+      for (const int k : near_now) near[static_cast<std::size_t>(k)] = 0;
       if (at >= total) break;
     }
     for (MeetingArea& m : route.meetings)

@@ -22,6 +22,52 @@ uint32_t float_bits(double d) {
   return bits;
 }
 
+// Sorts `keys` ascending by their bits from `from_bit` up (the bits below
+// must already ascend with the position, as an index does, or be equal):
+// an LSD radix sort, 11 bits a pass, stable, that skips the passes whose
+// digit is the same in every key. A segment's cells number thousands, and
+// this is several times quicker than std::sort on them; both give the same
+// order.
+void sort_keys(std::vector<uint64_t>& keys, std::vector<uint64_t>& spare, int from_bit) {
+  if (keys.size() < 256) {
+    std::sort(keys.begin(), keys.end());
+    return;
+  }
+  constexpr int kBits = 11;
+  constexpr uint64_t kMask = (uint64_t{1} << kBits) - 1;
+  uint64_t any = 0, every = ~uint64_t{0};
+  for (const uint64_t k : keys) any |= k, every &= k;
+  const uint64_t varying = any ^ every;
+  spare.resize(keys.size());
+  std::vector<std::size_t> at(std::size_t{1} << kBits);
+  for (int shift = from_bit; shift < 64; shift += kBits) {
+    if (((varying >> shift) & kMask) == 0) continue;
+    std::fill(at.begin(), at.end(), 0);
+    for (const uint64_t k : keys) ++at[(k >> shift) & kMask];
+    std::size_t sum = 0;
+    for (std::size_t& a : at) {
+      const std::size_t n = a;
+      a = sum, sum += n;
+    }
+    for (const uint64_t k : keys) spare[at[(k >> shift) & kMask]++] = k;
+    keys.swap(spare);
+  }
+}
+
+// Sorts distances (>= 0, or +inf) ascending: their bits sort like them.
+void sort_distances(std::vector<double>& d, std::vector<uint64_t>& keys, std::vector<uint64_t>& spare) {
+  keys.resize(d.size());
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    if (!(d[i] >= 0.0) || std::signbit(d[i])) {  // not a distance: the general sort
+      std::sort(d.begin(), d.end());
+      return;
+    }
+    std::memcpy(&keys[i], &d[i], sizeof(double));
+  }
+  sort_keys(keys, spare, 0);
+  for (std::size_t i = 0; i < d.size(); ++i) std::memcpy(&d[i], &keys[i], sizeof(double));
+}
+
 }  // namespace
 
 // Each segment's walking distances, marched at unit speed on the reachable
@@ -49,7 +95,7 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     if (k.within(cells.count()) && ctx.reachable[i]) cells[k].push_back(grid.cell(i));
   }
   Field rank(labels.frame(), -1.0f);
-  std::vector<uint64_t> order;
+  std::vector<uint64_t> order, keys, spare;
   std::vector<double> sorted;     // distances of one segment's cells, ascending
   std::vector<double> pair;       // from one cell of a segment to its cells
   std::vector<double> walk_time;  // from the home to the segment's cells
@@ -100,7 +146,7 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     order.clear();
     for (std::size_t i = 0; i < cells[k].size(); ++i)
       order.push_back(static_cast<uint64_t>(float_bits(home.row >= 0 ? walk_time[i] : 0.0)) << 32 | i);
-    std::sort(order.begin(), order.end());
+    sort_keys(order, spare, 32);
     for (std::size_t i = 0; i < order.size(); ++i)
       rank[grid.index(cells[k][order[i] & 0xffffffffu])] =
           static_cast<float>(static_cast<double>(i) / static_cast<double>(order.size()));
@@ -117,7 +163,7 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
       if (d < kInf) from_oc.push_back(d);
     }
     if (from_oc.size() == cells[k].size()) {
-      std::sort(from_oc.begin(), from_oc.end());
+      sort_distances(from_oc, keys, spare);
       double total = 0.0;
       for (double d : from_oc) total += d;
       seg.mean_oc_distance = total / static_cast<double>(from_oc.size());

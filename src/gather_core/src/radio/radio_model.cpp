@@ -33,8 +33,8 @@ int RadioModel::affordable_walls(double clear) const {
   return k;
 }
 
-bool RadioModel::linked(Point2 a, Point2 b) const {
-  const double clear = received_without_walls(std::hypot(b.x - a.x, b.y - a.y));
+bool RadioModel::linked(Point2 a, Point2 b, double d) const {
+  const double clear = received_without_walls(d);
   if (clear < params_.sensitivity_dbm) return false;
   // Counting walls stops one past the affordable ones (a long segment
   // through many walls costs no more than its first few).

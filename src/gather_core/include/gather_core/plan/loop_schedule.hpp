@@ -17,6 +17,9 @@
 //
 // The planner's estimate and the simulator's timetable both use this, so the
 // model and the execution follow one protocol.
+#include <cmath>
+#include <limits>
+
 namespace gather {
 namespace plan {
 
@@ -37,7 +40,16 @@ class LoopSchedule {
   double last_departure(double t) const;
   // Earliest time at or after t [s] at which the collector is `offset` [s]
   // into a loop (0 <= offset <= P); +inf for an idle collector.
-  double next_at(double offset, double t) const;
+  // (Inline: the planner's estimate asks it millions of times a sweep.)
+  double next_at(double offset, double t) const {
+    if (idle()) return std::numeric_limits<double>::infinity();
+    if (t <= offset) return offset;
+    const double j = std::floor((t - offset) / super_);
+    const double base = j * super_ + offset;  // the first loop's instance in super-period j
+    const double i = std::ceil((t - base) / travel_ - 1e-12);
+    if (i < loops_) return base + i * travel_;
+    return base + super_;
+  }
   // Offset [s] into the loop being driven at time t, or P when the collector
   // waits at the OC (end of its route) between loops.
   double offset_at(double t) const;

@@ -24,7 +24,9 @@ class RadioModel {
   // Received power at b of a transmission from a [dBm].
   double received_dbm(Point2 a, Point2 b) const;
   // received_dbm(a, b) >= sensitivity, counting walls only as far as it matters.
-  bool linked(Point2 a, Point2 b) const;
+  bool linked(Point2 a, Point2 b) const { return linked(a, b, distance(a, b)); }
+  // The same, with their distance d = distance(a, b) [m] known.
+  bool linked(Point2 a, Point2 b, double d) const;
 
   // Largest distance a link can span without walls [m].
   double free_space_range() const { return free_range_m_; }
