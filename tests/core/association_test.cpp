@@ -120,5 +120,53 @@ TEST(AssociationCorridorTest, AFarSegmentCheaperFromTheOcGoesToTheOc) {
   EXPECT_LT(after.estimates.refresh_s, before.estimates.refresh_s);
 }
 
+// A 60 m corridor served by one collector at 0.25 m/s with a request every
+// 200 s: a route within the period reaches 25 m from the OC at most, so the
+// segments whose entry lies farther go to the OC, whichever way the balance
+// goes; with drop_out_of_reach they go at once and fewer moves are scored.
+TEST(AssociationCorridorTest, SegmentsNoRouteWithinThePeriodReachesGoToTheOcAtOnce) {
+  Scenario s = corridor60(RefreshMetric::kInterval);
+  s.team.agents = 6, s.team.speed = 0.25;
+  s.planner.collectors_max = 1;
+  const plan::PlanContext ctx(s);
+  const double reach = s.team.speed * ctx.cycle_period / 2.0;
+  plan::PlannerOptions off;
+  off.drop_out_of_reach = false;
+  const auto one_by_one = plan::plan_configuration(ctx, partition::Method::kBap, 1, off);
+  const auto at_once = plan::plan_configuration(ctx, partition::Method::kBap, 1);
+  int out_of_reach = 0;
+  for (SegmentId k : segment_ids(at_once.workers)) {
+    if (distance(s.oc, s.grid.cell_center(at_once.graph.segment(k).entry)) <= reach) continue;
+    ++out_of_reach;
+    EXPECT_FALSE(at_once.collector_of_segment[k].valid()) << k;
+    EXPECT_FALSE(one_by_one.collector_of_segment[k].valid()) << k;
+  }
+  EXPECT_GE(out_of_reach, 2) << "the corridor has no segment out of reach: nothing was tested";
+  for (const auto* cfg : {&one_by_one, &at_once})
+    for (const auto& r : cfg->routes) EXPECT_LE(r.period, ctx.cycle_period * (1 + 1e-9));
+  EXPECT_LT(at_once.moves_scored, one_by_one.moves_scored);
+}
+
+// Scoring a whole collector's group as one move only ever adds moves that
+// raise the score: on every configuration of the small office (and with a
+// request every 600 s) the score with it is at least the score without.
+TEST_F(AssociationTest, MovingAWholeGroupNeverLowersTheScore) {
+  Scenario slow = *scenario_;
+  slow.mission.period = 600.0;
+  const plan::PlanContext slow_ctx(slow);
+  plan::PlannerOptions single;
+  single.idle_whole_groups = false;
+  for (const plan::PlanContext* ctx : {ctx_, &slow_ctx})
+    for (partition::Method m : partition::all_methods())
+      for (int nc = 1; nc <= 3; ++nc) {
+        const auto with = plan::plan_configuration(*ctx, m, nc);
+        const auto without = plan::plan_configuration(*ctx, m, nc, single);
+        EXPECT_GE(plan::association_score(*ctx, with.estimates),
+                  plan::association_score(*ctx, without.estimates) - 1e-12)
+            << partition::method_name(m) << " " << nc;
+        EXPECT_GE(with.moves_scored, without.moves_scored) << partition::method_name(m) << " " << nc;
+      }
+}
+
 }  // namespace
 }  // namespace gather

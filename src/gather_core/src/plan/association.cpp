@@ -30,11 +30,16 @@ std::vector<SegmentId> segments_of(const ConfigurationPlan& cfg, CollectorId c) 
 //     (its loop would carry out only the newest of the requests issued
 //     meanwhile, and skip the others), one of its segments goes to the OC:
 //     the one whose move leaves the best score J. A route that cannot be
-//     trimmed under T leaves the collector idle.
+//     trimmed under T leaves the collector idle. Before that, the segments
+//     no route within T can reach go to the OC at once
+//     (PlannerOptions::drop_out_of_reach): they would leave anyway, and
+//     scoring their moves one by one cost most of a large team's sweep.
 //  2. decide: a worker of a collector moves to the OC when that raises J
 //     (the move also shortens its collector's route, which the re-estimate
 //     sees); the most promising moves by the worker's own estimate are tried
-//     first, the best of them is kept, until none raises J.
+//     first, the best of them is kept, until none raises J. Then, if moving
+//     all the workers of one collector raises J, the best such group moves
+//     and the decide goes on (PlannerOptions::idle_whole_groups).
 // Each trial rebuilds one route and re-runs the estimate (a few ms). A route
 // depends on nothing but the segments it serves: the routes built are kept
 // by their segments, and a trial whose collector serves the same segments
@@ -75,6 +80,7 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, Co
   CollectorId saved_c;
   const std::vector<SegmentId> none;
   auto try_move = [&](SegmentId k) {
+    ++cfg.moves_scored;
     saved_k = k;
     saved_c = cfg.collector_of_segment[k];
     saved_route = cfg.routes[saved_c];
@@ -140,9 +146,30 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, Co
     return gain;
   };
   const auto trials_per_step = static_cast<std::size_t>(opt.association_trials);  // moves fully re-estimated per step
+  // Moves all of `out` (segments of collector c) to the OC at once.
+  auto move_all = [&](CollectorId c, const std::vector<SegmentId>& out) {
+    for (SegmentId k : out) cfg.collector_of_segment[k] = CollectorId();
+    const std::vector<SegmentId> segs = segments_of(cfg, c);
+    cfg.routes[c] = route_of(c, segs);
+    for (WorkerEstimate& w : cfg.estimates.workers)
+      if (std::find(out.begin(), out.end(), w.segment) != out.end())
+        w = estimate_of(w.segment, CollectorId(), none);
+      else if (w.collector == c)
+        w = estimate_of(w.segment, c, segs);
+    combine(cfg.estimates, ctx);
+  };
   // 1. Balance: the best of the promising moves and of the one farthest
   // from the coverage (it usually shortens the route most).
   for (CollectorId c : ids<CollectorId>(cfg.collectors)) {
+    if (opt.drop_out_of_reach && cfg.routes[c].period > T * (1.0 + 1e-9)) {
+      // A route through a segment's entry goes from the OC there and back:
+      // at least twice the straight distance (a margin of 1e-6 for rounding).
+      std::vector<SegmentId> out;
+      for (SegmentId k : segments_of(cfg, c))
+        if (2.0 * distance(s.oc, s.grid.cell_center(cfg.graph.segment(k).entry)) / v > T * (1.0 + 1e-6))
+          out.push_back(k);
+      if (!out.empty()) move_all(c, out), cfg.moved_to_oc += static_cast<int>(out.size());
+    }
     while (cfg.routes[c].period > T * (1.0 + 1e-9)) {
       const std::vector<std::pair<double, SegmentId>> gain = ranked(c);
       if (gain.empty()) break;
@@ -164,6 +191,10 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, Co
     }
   }
   // 2. Decide, worker by worker, while a move raises J.
+  // 3. When no single move does, a collector whose workers would all
+  // deliver better to the OC is left idle: one worker's move cannot show
+  // that (it leaves the route to the others), so the whole group's move is
+  // scored too; then the decide goes on.
   for (double current = score(cfg.estimates, ctx);;) {
     const std::vector<std::pair<double, SegmentId>> gain = ranked(CollectorId());
     SegmentId best_k;
@@ -173,9 +204,30 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, Co
       undo();
       if (j > best + 1e-12) best = j, best_k = gain[i].second;
     }
-    if (!best_k.valid()) break;
-    current = try_move(best_k);
-    ++cfg.moved_to_oc;
+    if (best_k.valid()) {
+      current = try_move(best_k);
+      ++cfg.moved_to_oc;
+      continue;
+    }
+    if (!opt.idle_whole_groups) break;
+    CollectorId best_c;
+    for (CollectorId c : ids<CollectorId>(cfg.collectors)) {
+      const std::vector<SegmentId> segs = segments_of(cfg, c);
+      if (segs.empty()) continue;
+      const CollectorRoute route = cfg.routes[c];
+      const Estimates estimates = cfg.estimates;
+      move_all(c, segs);
+      ++cfg.moves_scored;
+      const double j = score(cfg.estimates, ctx);
+      for (SegmentId k : segs) cfg.collector_of_segment[k] = c;
+      cfg.routes[c] = route, cfg.estimates = estimates;
+      if (j > best + 1e-12) best = j, best_c = c;
+    }
+    if (!best_c.valid()) break;
+    const std::vector<SegmentId> segs = segments_of(cfg, best_c);
+    move_all(best_c, segs);
+    cfg.moved_to_oc += static_cast<int>(segs.size());
+    current = score(cfg.estimates, ctx);
   }
 }
 

@@ -38,6 +38,17 @@ struct PlannerOptions {
   bool associate = true;     // decide per worker: collector or OC, and trim routes to the request period
   // Association: the most promising moves fully re-estimated per step, range [1, 64].
   int association_trials = 4;
+  // Association, balance: a collector whose route is longer than the
+  // request period first gives the OC every segment that no route within
+  // the period can serve (the way from the OC to its entry and back, as the
+  // crow flies, is already longer); the moves scored one by one then start
+  // from the others. Off: every move is scored (the same segments leave,
+  // in another order, and some others with them).
+  bool drop_out_of_reach = true;
+  // Association, decide: when no single worker's move to the OC raises the
+  // score, moving all the workers of one collector is scored too (the
+  // collector is then left idle).
+  bool idle_whole_groups = true;
   // Walking distances: a segment's mean pair distance is the mean of the
   // marches from this many of its cells, range [1, 64].
   int pair_sources = 3;
@@ -153,6 +164,7 @@ struct ConfigurationPlan {
   PerSegment<CollectorId> collector_of_segment;        // collector 0..N_c-1 of the segment, none = the OC
   PerSegment<std::vector<AreaDeliveries>> area_parts;  // the tiles of each segment (no deliveries)
   int moved_to_oc = 0;                                 // segments the association step gave back to the OC
+  int moves_scored = 0;  // moves the association scored (each re-estimates its collector's workers)
   PerCollector<CollectorRoute> routes;
   Estimates estimates;
   double utility = 0.0;
