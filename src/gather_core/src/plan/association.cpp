@@ -22,6 +22,20 @@ std::vector<SegmentId> segments_of(const ConfigurationPlan& cfg, CollectorId c) 
   return segs;
 }
 
+int drop_out_of_reach(const PlanContext& ctx, ConfigurationPlan& cfg) {
+  const Scenario& s = ctx.scenario;
+  // A route through a segment's entry goes from the OC there and back: at
+  // least twice the straight distance (polished legs are no shorter), so
+  // its period is longer than T (a margin of 1e-6 for rounding).
+  int moved = 0;
+  for (const WorkerSegment& seg : cfg.graph.segments)
+    if (cfg.collector_of_segment[seg.id].valid() &&
+        2.0 * distance(s.oc, s.grid.cell_center(seg.entry)) / s.team.speed > ctx.cycle_period * (1.0 + 1e-6))
+      cfg.collector_of_segment[seg.id] = CollectorId(), ++moved;
+  cfg.moved_to_oc += moved;
+  return moved;
+}
+
 // Association as a decision (seed sec. 3.1: the planner decides "with whom
 // the workers must communicate, a collector or the OC", balancing "the time
 // of the collectors and of the workers' estimated trajectories").
@@ -30,9 +44,9 @@ std::vector<SegmentId> segments_of(const ConfigurationPlan& cfg, CollectorId c) 
 //     (its loop would carry out only the newest of the requests issued
 //     meanwhile, and skip the others), one of its segments goes to the OC:
 //     the one whose move leaves the best score J. A route that cannot be
-//     trimmed under T leaves the collector idle. Before that, the segments
-//     no route within T can reach go to the OC at once
-//     (PlannerOptions::drop_out_of_reach): they would leave anyway, and
+//     trimmed under T leaves the collector idle. Before that (before the
+//     routes are built: drop_out_of_reach), the segments no route within T
+//     can reach went to the OC at once: they would leave anyway, and
 //     scoring their moves one by one cost most of a large team's sweep.
 //  2. decide: a worker of a collector moves to the OC when that raises J
 //     (the move also shortens its collector's route, which the re-estimate
@@ -161,15 +175,6 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, Co
   // 1. Balance: the best of the promising moves and of the one farthest
   // from the coverage (it usually shortens the route most).
   for (CollectorId c : ids<CollectorId>(cfg.collectors)) {
-    if (opt.drop_out_of_reach && cfg.routes[c].period > T * (1.0 + 1e-9)) {
-      // A route through a segment's entry goes from the OC there and back:
-      // at least twice the straight distance (a margin of 1e-6 for rounding).
-      std::vector<SegmentId> out;
-      for (SegmentId k : segments_of(cfg, c))
-        if (2.0 * distance(s.oc, s.grid.cell_center(cfg.graph.segment(k).entry)) / v > T * (1.0 + 1e-6))
-          out.push_back(k);
-      if (!out.empty()) move_all(c, out), cfg.moved_to_oc += static_cast<int>(out.size());
-    }
     while (cfg.routes[c].period > T * (1.0 + 1e-9)) {
       const std::vector<std::pair<double, SegmentId>> gain = ranked(c);
       if (gain.empty()) break;

@@ -173,6 +173,7 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
     work[seg.id] = tour_model(seg, false, opt.tsp_constant).length(g) / s.team.speed;
   }
   cfg.collector_of_segment = group_segments(cfg.graph, collectors, work);
+  if (collectors > 0 && opt.associate && opt.drop_out_of_reach) drop_out_of_reach(ctx, cfg);
   cfg.times.groups_ms = ms_since(t0);
 
   t0 = Clock::now();

@@ -14,6 +14,14 @@ namespace plan {
 // The segments collector c serves, ascending.
 std::vector<SegmentId> segments_of(const ConfigurationPlan& cfg, CollectorId c);
 
+// The first step of the association (PlannerOptions::drop_out_of_reach),
+// taken on the grown groups before any route is built: every segment that
+// no route within the request period can reach (twice the straight way
+// from the OC to its entry takes longer) goes to the OC. A collector that
+// holds one has a route longer than the period, whose balance would move
+// it away anyway. Returns how many moved (added to cfg.moved_to_oc).
+int drop_out_of_reach(const PlanContext& ctx, ConfigurationPlan& cfg);
+
 // Balances the routes and moves workers to the OC while that raises the
 // score J (see association.cpp); rebuilds the routes it changes (with `fm`,
 // a march workspace on the route speed map, and the legs in `legs`) and

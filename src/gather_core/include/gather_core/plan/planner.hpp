@@ -38,12 +38,11 @@ struct PlannerOptions {
   bool associate = true;     // decide per worker: collector or OC, and trim routes to the request period
   // Association: the most promising moves fully re-estimated per step, range [1, 64].
   int association_trials = 4;
-  // Association, balance: a collector whose route is longer than the
-  // request period first gives the OC every segment that no route within
-  // the period can serve (the way from the OC to its entry and back, as the
-  // crow flies, is already longer); the moves scored one by one then start
-  // from the others. Off: every move is scored (the same segments leave,
-  // in another order, and some others with them).
+  // Association, first step: every segment that no route within the
+  // request period can reach (twice the straight way from the OC to its
+  // entry is longer) goes to the OC before the routes are built (its
+  // collector's balance would move it away anyway, one scored move at a
+  // time); then the balance scores its moves from the other segments.
   bool drop_out_of_reach = true;
   // Association, decide: when no single worker's move to the OC raises the
   // score, moving all the workers of one collector is scored too (the
