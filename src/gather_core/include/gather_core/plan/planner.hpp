@@ -40,7 +40,8 @@ struct PlannerOptions {
   int association_trials = 4;
   // Association, first step: every segment that no route within the
   // request period can reach (twice the straight way from the OC to its
-  // entry is longer) goes to the OC before the routes are built (its
+  // entry, at team speed, takes longer) goes to the OC before the routes
+  // are built (its
   // collector's balance would move it away anyway, one scored move at a
   // time); then the balance scores its moves from the other segments.
   bool drop_out_of_reach = true;
