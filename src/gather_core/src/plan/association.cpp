@@ -88,32 +88,38 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, Co
       it = estimated.emplace(std::move(key), estimate_worker(ctx, cfg, cfg.graph.segment(k), radio, opt)).first;
     return it->second;
   };
-  CollectorRoute saved_route;
-  Estimates saved_estimates;
-  SegmentId saved_k;
-  CollectorId saved_c;
   const std::vector<SegmentId> none;
-  auto try_move = [&](SegmentId k) {
-    ++cfg.moves_scored;
-    saved_k = k;
-    saved_c = cfg.collector_of_segment[k];
-    saved_route = cfg.routes[saved_c];
-    saved_estimates = cfg.estimates;
-    cfg.collector_of_segment[k] = CollectorId();
-    const std::vector<SegmentId> segs = segments_of(cfg, saved_c);
-    cfg.routes[saved_c] = route_of(saved_c, segs);
+  // Moves all of `out` (segments of collector c) to the OC at once,
+  // rebuilding c's route and re-estimating its workers and the moved ones.
+  auto move_all = [&](CollectorId c, const std::vector<SegmentId>& out) {
+    for (SegmentId k : out) cfg.collector_of_segment[k] = CollectorId();
+    const std::vector<SegmentId> segs = segments_of(cfg, c);
+    cfg.routes[c] = route_of(c, segs);
     for (WorkerEstimate& w : cfg.estimates.workers)
-      if (w.segment == k)
-        w = estimate_of(k, CollectorId(), none);
-      else if (w.collector == saved_c)
-        w = estimate_of(w.segment, saved_c, segs);
+      if (std::find(out.begin(), out.end(), w.segment) != out.end())
+        w = estimate_of(w.segment, CollectorId(), none);
+      else if (w.collector == c)
+        w = estimate_of(w.segment, c, segs);
     combine(cfg.estimates, ctx);
+  };
+  // A trial: the moves of `out`, scored; undo() restores the state before.
+  struct Saved {
+    std::vector<SegmentId> moved;
+    CollectorId collector;
+    CollectorRoute route;
+    Estimates estimates;
+  } saved;
+  auto try_moves = [&](CollectorId c, std::vector<SegmentId> out) {
+    ++cfg.moves_scored;
+    saved = Saved{std::move(out), c, cfg.routes[c], cfg.estimates};
+    move_all(c, saved.moved);
     return score(cfg.estimates, ctx);
   };
+  auto try_move = [&](SegmentId k) { return try_moves(cfg.collector_of_segment[k], {k}); };
   auto undo = [&]() {
-    cfg.collector_of_segment[saved_k] = saved_c;
-    cfg.routes[saved_c] = saved_route;
-    cfg.estimates = saved_estimates;
+    for (SegmentId k : saved.moved) cfg.collector_of_segment[k] = saved.collector;
+    cfg.routes[saved.collector] = saved.route;
+    cfg.estimates = saved.estimates;
   };
   // A segment's worker delivering to the OC: its estimate depends on no
   // route, so it is run once per segment, on first need.
@@ -160,18 +166,6 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, Co
     return gain;
   };
   const auto trials_per_step = static_cast<std::size_t>(opt.association_trials);  // moves fully re-estimated per step
-  // Moves all of `out` (segments of collector c) to the OC at once.
-  auto move_all = [&](CollectorId c, const std::vector<SegmentId>& out) {
-    for (SegmentId k : out) cfg.collector_of_segment[k] = CollectorId();
-    const std::vector<SegmentId> segs = segments_of(cfg, c);
-    cfg.routes[c] = route_of(c, segs);
-    for (WorkerEstimate& w : cfg.estimates.workers)
-      if (std::find(out.begin(), out.end(), w.segment) != out.end())
-        w = estimate_of(w.segment, CollectorId(), none);
-      else if (w.collector == c)
-        w = estimate_of(w.segment, c, segs);
-    combine(cfg.estimates, ctx);
-  };
   // 1. Balance: the best of the promising moves and of the one farthest
   // from the coverage (it usually shortens the route most).
   for (CollectorId c : ids<CollectorId>(cfg.collectors)) {
@@ -219,13 +213,8 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, Co
     for (CollectorId c : ids<CollectorId>(cfg.collectors)) {
       const std::vector<SegmentId> segs = segments_of(cfg, c);
       if (segs.empty()) continue;
-      const CollectorRoute route = cfg.routes[c];
-      const Estimates estimates = cfg.estimates;
-      move_all(c, segs);
-      ++cfg.moves_scored;
-      const double j = score(cfg.estimates, ctx);
-      for (SegmentId k : segs) cfg.collector_of_segment[k] = c;
-      cfg.routes[c] = route, cfg.estimates = estimates;
+      const double j = try_moves(c, segs);
+      undo();
       if (j > best + 1e-12) best = j, best_c = c;
     }
     if (!best_c.valid()) break;

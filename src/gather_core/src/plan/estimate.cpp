@@ -14,14 +14,6 @@ namespace plan {
 
 static constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Squared distance [m^2] from p to the straight piece a-b.
-static double squared_distance_to_segment(Point2 p, Point2 a, Point2 b) {
-  const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
-  const double u = len2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / len2, 0.0, 1.0) : 0.0;
-  const double ex = p.x - (a.x + u * dx), ey = p.y - (a.y + u * dy);
-  return ex * ex + ey * ey;
-}
-
 // Distance [m] along the route from arc position `s` to where it next enters
 // the OC's coverage (the route ends at the OC, inside it).
 static double upload_after(const CollectorRoute& r, double s) {
@@ -80,7 +72,10 @@ static Stretches contact_stretches(const CollectorRoute& r, const MeetingArea& m
     }
     const Point2 a = r.waypoints[i], b = r.waypoints[i + 1];
     bool piece_near = false;
-    for (const Point2& f : from) piece_near = piece_near || squared_distance_to_segment(f, a, b) <= near2;
+    for (const Point2& f : from) {
+      const Point2 q = nearest_on_piece(f, a, b);
+      piece_near = piece_near || (f.x - q.x) * (f.x - q.x) + (f.y - q.y) * (f.y - q.y) <= near2;
+    }
     if (piece_near) {
       if (!near_arcs.empty() && near_arcs.back().second >= arc[i])
         near_arcs.back().second = arc[i + 1];

@@ -254,13 +254,11 @@ CollectorRoute build_route(const PlanContext& ctx, fmm::FastMarching& fm, const 
     auto nearest_on = [&](std::size_t i) {
       // Nearest point on segment i..i+1.
       const Point2 a = route.waypoints[i], b = route.waypoints[i + 1];
-      const double len2 = (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y);
-      const double u =
-          len2 > 0 ? std::clamp(((target.x - a.x) * (b.x - a.x) + (target.y - a.y) * (b.y - a.y)) / len2, 0.0, 1.0)
-                   : 0.0;
-      const Point2 p{a.x + u * (b.x - a.x), a.y + u * (b.y - a.y)};
+      double u = 0.0;
+      const Point2 p = nearest_on_piece(target, a, b, &u);
       const double e = distance(p, target);
-      if (e < best - 1e-9) best = e, m.point = p, m.arc_m = arc[i] + u * std::sqrt(len2);
+      if (e < best - 1e-9)
+        best = e, m.point = p, m.arc_m = arc[i] + u * std::sqrt((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y));
     };
     std::size_t i = first;
     for (; i < leg_end[t] && i + 1 < route.waypoints.size(); ++i) nearest_on(i);

@@ -4,6 +4,7 @@
 // lowest y (the bottom of an image), origin = lower-left corner of cell (0,0).
 // Label images, distance fields and masks travel between stages as rasters so
 // that their size and placement go with their values.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -32,6 +33,15 @@ struct Point2 {
 
 // Straight-line distance [m].
 inline double distance(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
+// The point of the straight piece a-b nearest to p; `u` (if given) gets
+// where it lies on the piece, in [0, 1] from a to b (0 on a piece of no
+// length).
+inline Point2 nearest_on_piece(Point2 p, Point2 a, Point2 b, double* u = nullptr) {
+  const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+  const double t = len2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / len2, 0.0, 1.0) : 0.0;
+  if (u) *u = t;
+  return Point2{a.x + t * dx, a.y + t * dy};
+}
 
 // Size and placement of a grid: width x height cells of `resolution` [m/cell],
 // cell (0,0)'s lower-left corner at `origin` [m].
