@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gather_core/error.hpp"
+#include "gather_core/mission/simulator.hpp"
 
 namespace gather {
 namespace mission {
@@ -36,6 +37,24 @@ std::vector<GoalRecord> two_goals() {
 }
 
 const RunLabel kRun{"pap", 1, 4, 7, 2, 8.0, 1.5, 12.0};
+
+// The goal records a run keeps are bounded (docs/input_limits.md): at the
+// budget it runs, one more is refused in one line naming what to lower.
+TEST(MissionCsvTest, GoalRecordsOverTheBudgetAreRefusedUpFront) {
+  EXPECT_NO_THROW(mission::check_goal_budget(40, 10, 1, "s.yaml"));
+  EXPECT_NO_THROW(mission::check_goal_budget(mission::kMaxGoalRecords, 1, 1, "s.yaml"));
+  try {
+    mission::check_goal_budget(100000, 10000, 1000, "s.yaml");  // every maximum at once
+    FAIL() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("s.yaml: mission.goals_per_request x cycles x runs = 100000 x 10000 x 1000 = "
+                                          "1000000000000 goal records, over the budget",
+                                          0),
+              0u)
+        << e.what();
+  }
+  EXPECT_THROW(mission::check_goal_budget(mission::kMaxGoalRecords + 1, 1, 1, "s.yaml"), Error);
+}
 
 TEST(MissionCsvTest, AGoalRowByHandAndEveryRowHasItsHeadersFields) {
   std::string goals;

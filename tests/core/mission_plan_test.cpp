@@ -92,8 +92,9 @@ TEST(CheckPlanTest, EachBrokenStructureIsRefusedNamingThePlanAndTheCulprit) {
       {"cycle_period_s = 0 must be in (0, 100000] s", [](mission::MissionPlan& p) { p.file.cycle_period_s = 0; }},
       {"cycle_period_s = 200000 must be in (0, 100000] s",
        [](mission::MissionPlan& p) { p.file.cycle_period_s = 2e5; }},
-      {"area_tile_m = -1 must be in [0.1, 1e+06] m", [](mission::MissionPlan& p) { p.file.area_tile_m = -1; }},
-      {"area_tile_m = 0.05 must be in [0.1, 1e+06] m", [](mission::MissionPlan& p) { p.file.area_tile_m = 0.05; }},
+      {"area_tile_m = -1 must be in (0, 1000000] m", [](mission::MissionPlan& p) { p.file.area_tile_m = -1; }},
+      {"area_tile_m = 0.05 must be in [0.1, 1000000] m (at least a cell of the planning grid)",
+       [](mission::MissionPlan& p) { p.file.area_tile_m = 0.05; }},
       {"label image is 10x5, the scenario's planning grid 200x5",
        [](mission::MissionPlan& p) {
          p.labels = LabelImage(GridFrame{10, 5}, 1);

@@ -73,6 +73,37 @@ TEST_F(PlannerTest, BadRequestsAreClearErrors) {
   }
 }
 
+// The planner's memory budget (docs/input_limits.md): fewer threads when
+// more would not fit, and a planning grid too large for one refused up
+// front, naming what to lower.
+TEST(PlanBudget, ThreadsShrinkToTheBudgetAndAGridTooLargeForOneThreadIsRefused) {
+  Scenario s;
+  s.path = "big.yaml";
+  s.team.agents = 20;
+  auto grid_of = [](int w, int h) {
+    const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+    return OccupancyGrid(w, h, 0.05, Point2{0, 0}, std::vector<int8_t>(n, 0), std::vector<uint8_t>(n, 1));
+  };
+  s.grid = grid_of(2000, 1000);  // 2M cells: both threads
+  EXPECT_EQ(plan::threads_within_budget(s, 2, 27), 2);
+  EXPECT_LE(plan::plan_memory_bytes(s.grid.size(), 20, 2, 27), plan::kPlanMemoryBudget);
+  s.grid = grid_of(2000, 2000);  // 4M cells: one thread
+  EXPECT_EQ(plan::threads_within_budget(s, 2, 27), 1);
+  s.team.agents = 400;  // the square of the team, per thread
+  EXPECT_GT(plan::plan_memory_bytes(s.grid.size(), 400, 1, 1), plan::plan_memory_bytes(s.grid.size(), 20, 1, 1) + 70e6);
+  s.grid = grid_of(5000, 4000);  // 20M cells: not even one configuration
+  try {
+    plan::threads_within_budget(s, 2, 1);
+    FAIL() << "accepted";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("big.yaml: planning would take about", 0), 0u) << what;
+    EXPECT_NE(what.find("20000000 cells"), std::string::npos) << what;
+    EXPECT_NE(what.find("planner.max_cells"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos);
+  }
+}
+
 TEST_F(PlannerTest, OptionsOutsideTheirRangeNameTheField) {
   plan::PlannerOptions opt;
   opt.pair_sources = 0;

@@ -5,11 +5,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 
 #include "gather_core/error.hpp"
 #include "gather_core/grid/map_loader.hpp"
 #include "gather_core/grid/map_saver.hpp"
+#include "gather_core/input_ranges.hpp"
 #include "gather_core/scenario/scenario.hpp"
 #include "gather_core/scenario/start_poses.hpp"
 
@@ -92,6 +94,48 @@ TEST(Scenario, SettingsWithoutAMapAndTheMapAttachedLater) {
   const Scenario whole = load_scenario(dir + "/with_map.yaml");
   EXPECT_EQ(whole.grid.values(), s.grid.values());
   EXPECT_EQ(whole.team.agents, 3);
+}
+
+// Every range of the one table (input_ranges.hpp): declared once per input,
+// ends in order, its check accepting exactly what it says (tests/cli/
+// range_ends.py tries each one through the command that reads it).
+TEST(InputRanges, EachIsDeclaredOnceAndItsCheckAcceptsItsEndsAndNothingOutside) {
+  std::set<std::pair<std::string, std::string>> seen;
+  ASSERT_EQ(input_ranges().size(), static_cast<std::size_t>(range::kCount));
+  for (const InputRange& r : input_ranges()) {
+    SCOPED_TRACE(std::string(r.input) + " " + r.key);
+    EXPECT_TRUE(seen.insert({r.input, r.key}).second) << "declared twice";
+    EXPECT_LT(r.lo, r.hi);
+    EXPECT_EQ(r.accepts(r.lo), (r.flags & kRangeOpenLo) == 0);
+    EXPECT_EQ(r.accepts(r.hi), (r.flags & kRangeOpenHi) == 0);
+    EXPECT_TRUE(r.accepts((r.lo + r.hi) / 2) || r.integer());
+    EXPECT_FALSE(r.accepts(r.hi + std::max(1.0, std::abs(r.hi) * 1e-6)));
+    const double below = r.lo - std::max(1.0, std::abs(r.lo) * 1e-6);
+    EXPECT_EQ(r.accepts(below), (r.flags & kRangeZero) != 0 && below == 0.0);
+    EXPECT_FALSE(r.accepts(std::nan("")));
+    EXPECT_FALSE(r.accepts(INFINITY));
+    if (r.integer() && r.lo + 0.5 < r.hi) {
+      EXPECT_FALSE(r.accepts(r.lo + 0.5));
+    }
+  }
+  EXPECT_EQ(input_range(range::kPeriod).hi, kMaxPeriod);
+  EXPECT_EQ(input_range(range::kCyclePeriod).hi, kMaxPeriod);
+}
+
+TEST(InputRanges, AValueOutsideIsOneLineNamingTheFileTheKeyAndTheRange) {
+  auto message = [](range::Id id, double v) {
+    try {
+      check_range(id, v, "s.yaml");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message(range::kTeamSpeed, 0.001), "s.yaml: team.speed = 0.001 must be in [0.01, 100] m/s");
+  EXPECT_EQ(message(range::kTeamAgents, 2.5), "s.yaml: team.agents = 2.5 must be in [1, 400] (an integer)");
+  EXPECT_EQ(message(range::kPeriod, 0), "accepted");  // automatic
+  EXPECT_EQ(message(range::kPeriod, 0.5), "s.yaml: mission.period = 0.5 must be in 0 or [1, 100000] s");
+  EXPECT_EQ(message(range::kCyclePeriod, 0), "s.yaml: cycle_period_s = 0 must be in (0, 100000] s");
 }
 
 }  // namespace

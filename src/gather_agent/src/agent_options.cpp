@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "gather_core/error.hpp"
+#include "gather_core/input_ranges.hpp"
 
 namespace gather {
 namespace {
@@ -18,6 +19,16 @@ double parse_number(const std::string& flag, const char* s) {
   const double v = std::strtod(s, &end);
   if (*s == '\0' || *end != '\0' || errno != 0 || !std::isfinite(v))
     throw Error(kWhere, flag + " expects a number, got '" + std::string(s).substr(0, 40) + "'");
+  return v;
+}
+
+// The value of the flag of range `id` (gather_core/input_ranges.hpp).
+double ranged(range::Id id, const char* s) {
+  const InputRange& r = input_range(id);
+  const double v = parse_number(r.key, s);
+  if (!r.accepts(v))
+    throw Error(kWhere,
+                std::string(r.key) + " must be in " + r.text() + ", got '" + std::string(s).substr(0, 40) + "'");
   return v;
 }
 
@@ -43,9 +54,7 @@ AgentOptions parse_agent_options(int argc, char** argv) {
       o.help = true;
       return o;
     } else if (a == "--id") {
-      const double v = parse_number(a, value(a));
-      if (v != std::floor(v) || v < 0 || v > 1e6) throw Error(kWhere, "--id expects an integer >= 0");
-      o.id = static_cast<int>(v);
+      o.id = static_cast<int>(ranged(range::kAgentId, value(a)));
       have_id = true;
     } else if (a == "--plan") {
       o.plan = value(a);
@@ -63,13 +72,9 @@ AgentOptions parse_agent_options(int argc, char** argv) {
     } else if (a == "--robot-url") {
       o.robot_url = value(a);
     } else if (a == "--robot-silence") {
-      o.robot_silence_s = parse_number(a, value(a));
-      if (!(o.robot_silence_s >= 0.2 && o.robot_silence_s <= 600))
-        throw Error(kWhere, "--robot-silence must be in [0.2, 600] s");
+      o.robot_silence_s = ranged(range::kAgentRobotSilence, value(a));
     } else if (a == "--waypoint-tolerance") {
-      o.tolerance_m = parse_number(a, value(a));
-      if (!(o.tolerance_m >= 0.01 && o.tolerance_m <= 10))
-        throw Error(kWhere, "--waypoint-tolerance must be in [0.01, 10] m");
+      o.tolerance_m = ranged(range::kAgentTolerance, value(a));
     } else if (a == "--journal") {
       o.journal = value(a);
       if (o.journal.empty()) throw Error(kWhere, "--journal needs a directory");
@@ -81,12 +86,10 @@ AgentOptions parse_agent_options(int argc, char** argv) {
     } else if (a == "--rejoin") {
       o.rejoin = true;
     } else if (a == "--clock-skew") {
-      o.clock_skew_s = parse_number(a, value(a));
-      if (!(std::abs(o.clock_skew_s) <= 3600)) throw Error(kWhere, "--clock-skew must be in [-3600, 3600] s");
+      o.clock_skew_s = ranged(range::kAgentClockSkew, value(a));
     } else if (a == "--silence") {
-      o.silence_s = parse_number(a, value(a));
+      o.silence_s = ranged(range::kAgentSilence, value(a));
       silence_given = true;
-      if (!(o.silence_s > 0 && o.silence_s <= 86400)) throw Error(kWhere, "--silence must be in (0, 86400] s");
     } else {
       throw Error(kWhere, "unexpected argument '" + a.substr(0, 60) + "' (" + agent_usage() + ")");
     }

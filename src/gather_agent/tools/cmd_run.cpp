@@ -43,6 +43,7 @@
 #include "gather_core/error.hpp"
 #include "gather_core/mission/mission_csv.hpp"
 #include "gather_core/mission/mission_plan.hpp"
+#include "gather_core/mission/simulator.hpp"
 #include "gather_core/scenario/scenario.hpp"
 
 namespace gather {
@@ -189,7 +190,7 @@ agent::RunOutcome run_in_process(agent::TeamSetup& team, const agent::LoadedPlan
 int keygen(int argc, char** argv) {
   cli::Args args(argc, argv, 2, {"--key-id"}, {});
   if (args.positional().size() != 1) throw cli::UsageError("usage: gather keygen FILE [--key-id N]");
-  const int id = args.get_int("--key-id", 0, 1, 32767);
+  const int id = args.get_int(range::kKeygenKeyId, 0);
   const std::string path = args.positional()[0];
   const agent::FleetKey key = agent::generate_fleet_key(id);
   agent::write_fleet_key(path, key);
@@ -269,7 +270,7 @@ int run(int argc, char** argv) {
     recording = agent::read_recording(logs, replay_key);
     wall_clock = true;
   }
-  const double rate = args.get_double("--rate", wall_clock ? 1.0 : 0.0, 0.0, 1e6);
+  const double rate = args.get_double(range::kRunRate, wall_clock ? 1.0 : 0.0);
   if (!(rate >= 0.0) || rate > 1e6) throw cli::UsageError("--rate must be >= 0 (0: as fast as the lockstep allows)");
   if (wall_clock && !(rate > 0.0))
     throw cli::UsageError("--rate must be > 0 with --clock wall (mission seconds per wall second)");
@@ -281,10 +282,10 @@ int run(int argc, char** argv) {
   if (args.has("--speed-factor")) {
     if (robots_kind != "ideal" || over_lcm)
       throw cli::UsageError("--speed-factor needs ideal bases in this process (not --robots or --lcm)");
-    loaded.scenario.team.speed *= args.get_double("--speed-factor", 1.0, 0.05, 1.0);
+    loaded.scenario.team.speed *= args.get_double(range::kRunSpeedFactor, 1.0);
   }
   agent::MissionParams params = agent::mission_params(loaded.scenario);
-  params.cycles = args.get_int("--cycles", params.cycles, 1, 10000);
+  params.cycles = args.get_int(range::kRunCycles, params.cycles);
   // The protocol's tuning for robots (mission::robot_protocol), by default
   // with robots; with ideal bases to compare with them.
   const std::string protocol = args.get("--protocol", robots_kind != "ideal" ? "robots" : "ideal");
@@ -295,15 +296,16 @@ int run(int argc, char** argv) {
         "--protocol ideal needs ideal bases: gather_world's robots start where the robot protocol "
         "puts them (mission::team_start_poses)");
   if (protocol == "robots") params.protocol = mission::robot_protocol(params.protocol);
-  const int seeds = args.get_int("--seeds", 1, 1, 1000);
+  const int seeds = args.get_int(range::kRunSeeds, 1);
   const int seed0 = recording ? static_cast<int>(recording->plan.params.seed)
-                              : args.get_int("--seed", static_cast<int>(params.seed), 0, 2147483647);
+                              : args.get_int(range::kRunSeed, static_cast<int>(params.seed));
+  mission::check_goal_budget(loaded.scenario.mission.goals_per_request, params.cycles, seeds, loaded.scenario.path);
   agent::RunOptions opt;
-  opt.tick = args.get_double("--tick", opt.tick, 0.001, 10.0);
-  opt.loss = args.get_double("--loss", opt.loss, 0.0, 0.999);
-  opt.loss_seed = static_cast<uint64_t>(args.get_int("--loss-seed", 1, 0, 2147483647));
+  opt.tick = args.get_double(range::kRunTick, opt.tick);
+  opt.loss = args.get_double(range::kRunLoss, opt.loss);
+  opt.loss_seed = static_cast<uint64_t>(args.get_int(range::kRunLossSeed, 1));
   params.repair = mission::parse_repair_mode(args.get("--repair", "merge"), "--repair");
-  params.silent_intervals = args.get_double("--silent-intervals", params.silent_intervals, 1.5, 100.0);
+  params.silent_intervals = args.get_double(range::kRunSilentIntervals, params.silent_intervals);
   if (recording) {
     agent::recorded_params(*recording, params);
     opt.tick = recording->plan.tick, opt.loss = recording->plan.loss;  // (for the summary line)
@@ -332,7 +334,6 @@ int run(int argc, char** argv) {
   if (!opt.kills.empty() && wall_clock) throw cli::UsageError("--kill needs the lockstep clock");
   if (params.cycles < 1 || params.cycles > 100000) throw cli::UsageError("--cycles must be in 1..100000");
   if (seeds < 1 || seeds > 10000) throw cli::UsageError("--seeds must be in 1..10000");
-  if (!(opt.tick > 0.0) || opt.tick > 0.1) throw cli::UsageError("--tick must be in (0, 0.1] s");
   const std::string out = args.get("--out");
   std::filesystem::create_directories(out);
   // With restarts every agent journals what it carries (each run starts

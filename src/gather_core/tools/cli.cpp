@@ -55,36 +55,31 @@ std::vector<std::string> Args::all(const std::string& flag) const {
   return it == values_.end() ? std::vector<std::string>{} : it->second;
 }
 
-namespace {
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-}  // namespace
-
-int Args::get_int(const std::string& flag, int fallback, int lo, int hi) const {
-  if (!has(flag)) return fallback;
-  const std::string s = get(flag);
+int Args::get_int(range::Id id, int fallback) const {
+  const InputRange& r = input_range(id);
+  if (!has(r.key)) return fallback;
+  const std::string s = get(r.key);
   char* end = nullptr;
   errno = 0;
   const long v = std::strtol(s.c_str(), &end, 10);
-  if (s.empty() || *end != '\0') throw UsageError(flag + " expects an integer, got '" + quote_input(s, 40) + "'");
-  if (errno != 0 || v < lo || v > hi)
-    throw UsageError(flag + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" +
-                     quote_input(s, 40) + "'");
+  if (s.empty() || *end != '\0')
+    throw UsageError(std::string(r.key) + " expects an integer, got '" + quote_input(s, 40) + "'");
+  if (errno != 0 || !r.accepts(static_cast<double>(v)))
+    throw UsageError(std::string(r.key) + " must be in " + r.text() + ", got '" + quote_input(s, 40) + "'");
   return static_cast<int>(v);
 }
 
-double Args::get_double(const std::string& flag, double fallback, double lo, double hi) const {
-  if (!has(flag)) return fallback;
-  const std::string s = get(flag);
+double Args::get_double(range::Id id, double fallback) const {
+  const InputRange& r = input_range(id);
+  if (!has(r.key)) return fallback;
+  const std::string s = get(r.key);
   char* end = nullptr;
   const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || *end != '\0') throw UsageError(flag + " expects a number, got '" + quote_input(s, 40) + "'");
-  if (!std::isfinite(v) || v < lo || v > hi)
-    throw UsageError(flag + " must be a finite value in [" + num(lo) + ", " + num(hi) + "], got '" +
-                     quote_input(s, 40) + "'");
+  if (s.empty() || *end != '\0')
+    throw UsageError(std::string(r.key) + " expects a number, got '" + quote_input(s, 40) + "'");
+  if (!r.accepts(v))
+    throw UsageError(std::string(r.key) + " must be a finite value in " + r.text() + ", got '" + quote_input(s, 40) +
+                     "'");
   return v;
 }
 

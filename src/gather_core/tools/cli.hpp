@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "gather_core/error.hpp"
+#include "gather_core/input_ranges.hpp"
 
 namespace gather {
 namespace cli {
@@ -28,11 +29,12 @@ class Args {
   std::string get(const std::string& flag, const std::string& fallback = "") const;
   // Every value of a repeatable flag, in order.
   std::vector<std::string> all(const std::string& flag) const;
-  // Value parsed as a number in [lo, hi] (every numeric flag has a
-  // documented range; a double must be finite); a malformed or out-of-range
-  // value is a UsageError naming the flag and its range.
-  int get_int(const std::string& flag, int fallback, int lo, int hi) const;
-  double get_double(const std::string& flag, double fallback, double lo, double hi) const;
+  // The value of the flag of range `id` (gather_core/input_ranges.hpp: every
+  // numeric flag's range is declared there), or `fallback`; a malformed or
+  // out-of-range value (a double must be finite) is a UsageError naming the
+  // flag and its range.
+  int get_int(range::Id id, int fallback) const;
+  double get_double(range::Id id, double fallback) const;
 
  private:
   std::vector<std::string> positional_;

@@ -120,9 +120,8 @@ int fmm(int argc, char** argv) {
                  {});
   if (!args.positional().empty()) throw cli::UsageError("unexpected argument '" + args.positional()[0] + "'");
   if (!args.has("--map")) throw cli::UsageError("--map FILE is required");
-  const int order = args.get_int("--order", 1, 1, 2);
-  if (order != 1 && order != 2) throw cli::UsageError("--order must be 1 or 2");
-  const int repeat = args.get_int("--repeat", 1, 1, 1000);
+  const int order = args.get_int(range::kFmmOrder, 1);
+  const int repeat = args.get_int(range::kFmmRepeat, 1);
   if (repeat < 1) throw cli::UsageError("--repeat must be >= 1");
   const std::string queue = args.get("--queue", "auto");
   if (queue != "auto" && queue != "buckets" && queue != "sorted" && queue != "heap")
@@ -134,8 +133,8 @@ int fmm(int argc, char** argv) {
               : queue == "sorted"  ? fmm::QueueKind::kSortedBuckets
               : queue == "buckets" ? fmm::QueueKind::kBuckets
                                    : fmm::QueueKind::kAuto;
-  opt.bucket_width = args.get_double("--bucket-width", opt.bucket_width, 0.0, 1e6);
-  opt.max_time = args.get_double("--max-time", opt.max_time, 0.0, 1e15);
+  opt.bucket_width = args.get_double(range::kFmmBucketWidth, opt.bucket_width);
+  opt.max_time = args.get_double(range::kFmmMaxTime, opt.max_time);
   if (!(opt.max_time >= 0.0)) throw cli::UsageError("--max-time must be >= 0");
   const std::string labels_path = args.get("--labels");
   opt.labels = !labels_path.empty();

@@ -1,9 +1,12 @@
 // gather info SCENARIO: what the planner will work on.
 #include <cstdio>
+#include <string>
+#include <utility>
 
 #include "cli.hpp"
 #include "commands.hpp"
 #include "gather_core/grid/reachability.hpp"
+#include "gather_core/input_ranges.hpp"
 #include "gather_core/scenario/scenario.hpp"
 
 namespace gather {
@@ -32,6 +35,28 @@ int info(int argc, char** argv) {
                  "(largest %.2f m^2); the planner ignores it\n",
                  s.path.c_str(), (fs.free_cells - fs.reachable_cells) * a, fs.other_components,
                  fs.largest_other_cells * a);
+  }
+  return 0;
+}
+
+// gather limits: every declared input range (gather_core/input_ranges.hpp),
+// one per line, tab-separated: input, key, lo, hi, unit, flags, coupled.
+// tests/cli/range_ends.py reads it.
+int limits(int argc, char** argv) {
+  cli::Args args(argc, argv, 2, {}, {});
+  if (!args.positional().empty()) throw cli::UsageError("usage: gather limits");
+  std::printf("input\tkey\tlo\thi\tunit\tflags\tcoupled\n");
+  for (const InputRange& r : input_ranges()) {
+    std::string flags;
+    for (const auto& [bit, name] : {std::pair<int, const char*>{kRangeInt, "int"},
+                                    {kRangeOpenLo, "open_lo"},
+                                    {kRangeOpenHi, "open_hi"},
+                                    {kRangeZero, "zero"},
+                                    {kRangeWork, "work"}})
+      if ((r.flags & bit) != 0) flags += (flags.empty() ? "" : ",") + std::string(name);
+    const std::string unit = r.unit[0] == ' ' ? r.unit + 1 : r.unit;
+    std::printf("%s\t%s\t%.15g\t%.15g\t%s\t%s\t%s\n", r.input, r.key, r.lo, r.hi, unit.c_str(),
+                flags.empty() ? "-" : flags.c_str(), r.coupled != nullptr ? r.coupled : "-");
   }
   return 0;
 }

@@ -90,9 +90,9 @@ void write_text(const std::string& path, const std::string& text) {
 }
 
 int report(const cli::Args& args) {
-  const int workers = args.get_int("--workers", 20, 1, 1000);
-  const int repeat = args.get_int("--repeat", 3, 1, 1000);
-  const unsigned seed = static_cast<unsigned>(args.get_int("--seed", 1, 0, 2147483647));
+  const int workers = args.get_int(range::kReportWorkers, 20);
+  const int repeat = args.get_int(range::kReportRepeat, 3);
+  const unsigned seed = static_cast<unsigned>(args.get_int(range::kReportSeed, 1));
   if (repeat < 1) throw cli::UsageError("--repeat must be >= 1");
   if (args.positional().empty()) throw cli::UsageError("--report needs one or more SCENARIO files");
   std::ostringstream balance, rooms;
@@ -166,9 +166,8 @@ int partition(int argc, char** argv) {
     methods = partition::all_methods();
   else
     methods.push_back(partition::parse_method(args.get("--method")));
-  const int workers = args.get_int("--workers", 0, 0, 1000);
-  const int seed_arg = args.get_int("--seed", 1, 0, 2147483647);
-  if (seed_arg < 0) throw cli::UsageError("--seed must be >= 0");
+  const int workers = args.get_int(range::kPartitionWorkers, 0);
+  const int seed_arg = args.get_int(range::kPartitionSeed, 1);
   const unsigned seed = static_cast<unsigned>(seed_arg);
 
   const Scenario sc = load_scenario(args.positional()[0]);

@@ -39,8 +39,8 @@ int plan(int argc, char** argv) {
   const int factor = planning_factor(map_scenario);
   const Scenario s = on_planning_grid(map_scenario, factor);
   plan::PlannerOptions opt;
-  opt.seed = static_cast<unsigned>(args.get_int("--seed", static_cast<int>(s.mission.seed), 0, 2147483647));
-  opt.threads = args.get_int("--threads", 2, 1, 64);
+  opt.seed = static_cast<unsigned>(args.get_int(range::kPlanSeedFlag, static_cast<int>(s.mission.seed)));
+  opt.threads = args.get_int(range::kPlanThreads, 2);
   const std::string association = args.get("--association", "on");
   if (association != "on" && association != "off")
     throw cli::UsageError("--association must be on or off, got '" + association.substr(0, 40) + "'");

@@ -37,8 +37,7 @@ int radio(int argc, char** argv) {
     if (!s.grid.contains(s.grid.world_to_cell(tx)))
       throw Error("--at", "point " + quote_input(at) + " is outside the map");
   }
-  const int repeat = args.get_int("--repeat", 5, 1, 1000);
-  if (repeat < 1) throw cli::UsageError("--repeat must be >= 1");
+  const int repeat = args.get_int(range::kRadioRepeat, 5);
   const RadioModel radio(s.grid, s.radio);
   Mask mask;
   std::vector<double> ms;

@@ -107,12 +107,11 @@ int sim(int argc, char** argv) {
   const auto t_start = Clock::now();
   const mission::MissionPlan mp = mission::load_mission_plan(args.positional()[0]);
   const Scenario s = on_planning_grid(load_scenario(mp.file.scenario), mp.file.grid_factor);
-  const int cycles = args.get_int("--cycles", s.mission.cycles, 1, 10000);
-  const int seeds = args.get_int("--seeds", 1, 1, 1000);
-  const int seed0 = args.get_int("--seed", static_cast<int>(s.mission.seed), 0, 2147483647);
-  const int threads = args.get_int("--threads", 2, 1, 64);
-  if (cycles < 1) throw cli::UsageError("--cycles must be >= 1");
-  if (seeds < 1) throw cli::UsageError("--seeds must be >= 1");
+  const int cycles = args.get_int(range::kSimCycles, s.mission.cycles);
+  const int seeds = args.get_int(range::kSimSeeds, 1);
+  const int seed0 = args.get_int(range::kSimSeed, static_cast<int>(s.mission.seed));
+  const int threads = args.get_int(range::kSimThreads, 2);
+  mission::check_goal_budget(s.mission.goals_per_request, cycles, seeds, s.path);
   if (args.has("--video")) {
     std::string ext = std::filesystem::path(args.get("--video")).extension().string();
     for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));

@@ -4,6 +4,7 @@ namespace gather {
 namespace cmd {
 
 int info(int argc, char** argv);       // gather info SCENARIO
+int limits(int argc, char** argv);     // gather limits
 int fmm(int argc, char** argv);        // gather fmm --map FILE --source ROW,COL ... (tools/cmd_fmm.cpp)
 int partition(int argc, char** argv);  // gather partition SCENARIO --method M --workers N ... (tools/cmd_partition.cpp)
 int radio(int argc, char** argv);      // gather radio SCENARIO ... (tools/cmd_radio.cpp)

@@ -18,6 +18,8 @@ struct Subcommand {
 
 const Subcommand kSubcommands[] = {
     {"info", gather::cmd::info, "info SCENARIO          map size, free and reachable area, warnings"},
+    {"limits", gather::cmd::limits,
+     "limits                 every input's numeric range (scenario, map, plan.yaml, flags; docs/input_limits.md)"},
     {"fmm", gather::cmd::fmm,
      "fmm --map FILE --source ROW,COL [--sources-file F] [--order 1|2] [--out T.npy] [--labels L.npy] "
      "[--repeat K]  Fast Marching arrival times (image rows, 0 = top)"},

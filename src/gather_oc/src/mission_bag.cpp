@@ -36,9 +36,9 @@ int run(int argc, char** argv) {
   using namespace gather;
   cli::Args args(argc, argv, 1, {"--replay", "--key-file", "--out", "--view-period", "--frame-id"}, {"--insecure"});
   if (args.positional().size() != 1 || !args.has("--replay") || !args.has("--out")) throw cli::UsageError(kUsage);
-  const std::vector<std::string> logs = agent::replay_logs(args.get("--replay"), "--replay");
   PublisherOptions po;
-  po.view_period = args.get_double("--view-period", 0.5, 0.1, 3600.0);
+  po.view_period = args.get_double(range::kBagViewPeriod, 0.5);
+  const std::vector<std::string> logs = agent::replay_logs(args.get("--replay"), "--replay");
   po.frame = args.get("--frame-id", "map");
   if (po.frame.empty()) throw cli::UsageError("--frame-id must not be empty");
   const std::optional<agent::FleetKey> key =

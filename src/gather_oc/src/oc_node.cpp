@@ -27,6 +27,7 @@
 #include "gather_core/error.hpp"
 #include "gather_core/figures/plan_figures.hpp"
 #include "gather_core/grid/map_saver.hpp"
+#include "gather_core/mission/simulator.hpp"
 #include "gather_core/plan/plan_export.hpp"
 #include "gather_core/plan/plan_file.hpp"
 #include "gather_core/scenario/scenario.hpp"
@@ -294,6 +295,11 @@ int main(int argc, char** argv) {
   plan_dir = std::filesystem::weakly_canonical(plan_dir).string();
   gather::agent::MissionParams params = gather::agent::mission_params(plan->scenario);
   if (set.cycles > 0) params.cycles = set.cycles;
+  try {
+    gather::mission::check_goal_budget(plan->scenario.mission.goals_per_request, params.cycles, 1, plan->scenario.path);
+  } catch (const std::exception& e) {
+    return fail(2, e.what());
+  }
   if (set.seed >= 0) params.seed = static_cast<unsigned>(set.seed);
   params.repair = set.repair == "none" ? gather::mission::RepairMode::kNone : gather::mission::RepairMode::kMerge;
   params.silent_intervals = set.silent_intervals;

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "gather_core/error.hpp"
+#include "gather_core/input_ranges.hpp"
 #include "gather_core/yaml_fields.hpp"
 
 namespace gather {
@@ -35,12 +36,12 @@ MapMetadata read_map_metadata(const std::string& yaml_path) {
   else
     throw Error(yaml_path, "mode must be trinary, scale or raw, got '" + mode + "'");
 
-  if (!(m.resolution >= 1e-4 && m.resolution <= 1e3))
-    throw Error(yaml_path,
-                "resolution must be a finite value in [0.0001, 1000] m/cell, got " + std::to_string(m.resolution));
-  if (!(std::abs(origin[0]) <= 1e7 && std::abs(origin[1]) <= 1e7))
-    throw Error(yaml_path, "origin x and y must be finite values in [-1e7, 1e7] m");
-  if (!(m.free_thresh >= 0.0 && m.occupied_thresh <= 1.0 && m.free_thresh < m.occupied_thresh))
+  check_range(range::kResolution, m.resolution, yaml_path);
+  check_range(range::kOriginX, origin[0], yaml_path);
+  check_range(range::kOriginY, origin[1], yaml_path);
+  check_range(range::kFreeThresh, m.free_thresh, yaml_path);
+  check_range(range::kOccupiedThresh, m.occupied_thresh, yaml_path);
+  if (!(m.free_thresh < m.occupied_thresh))
     throw Error(yaml_path, "thresholds out of order: need 0 <= free_thresh (" + std::to_string(m.free_thresh) +
                                ") < occupied_thresh (" + std::to_string(m.occupied_thresh) + ") <= 1");
   return m;

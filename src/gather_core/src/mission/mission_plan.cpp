@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 
 #include "gather_core/error.hpp"
 #include "gather_core/grid/map_image.hpp"
+#include "gather_core/input_ranges.hpp"
 #include "gather_core/scenario/scenario.hpp"
 
 namespace gather {
@@ -48,10 +50,17 @@ void check_plan(const MissionPlan& p, int team, const OccupancyGrid& grid) {
   if (static_cast<int>(pf.routes.size()) != pf.collectors)
     throw Error(where,
                 std::to_string(pf.routes.size()) + " routes for " + std::to_string(pf.collectors) + " collectors");
-  require_in_range(pf.cycle_period_s, 0.0, kMaxPeriod, where, "cycle_period_s", " s", /*open_lo=*/true);
+  check_range(range::kCyclePeriod, pf.cycle_period_s, where);
+  check_range(range::kAreaTile, pf.area_tile_m, where);
   // A tile smaller than a cell of the planning grid counts each cell as an
   // area of its own (and below, the tile index overflows): at least a cell.
-  require_in_range(pf.area_tile_m, grid.resolution(), 1e6, where, "area_tile_m", " m");
+  if (pf.area_tile_m < grid.resolution()) {
+    std::ostringstream s;
+    s.precision(12);
+    s << "area_tile_m = " << pf.area_tile_m << " must be in [" << grid.resolution() << ", "
+      << input_range(range::kAreaTile).hi << "] m (at least a cell of the planning grid)";
+    throw Error(where, s.str());
+  }
   PerAgent<char> id_seen(n, 0);
   PerSegment<char> segment_seen(pf.workers, 0);
   for (AgentId k : ids<AgentId>(n)) {

@@ -414,5 +414,15 @@ std::vector<TimeBudget> MissionSimulator::time_budgets(const MissionResult& resu
   return out;
 }
 
+void check_goal_budget(long long goals_per_request, long long cycles, long long runs, const std::string& where) {
+  const long long records = goals_per_request * cycles * runs;  // each <= 1e5 x 1e5 x 1e3: no overflow
+  if (records <= kMaxGoalRecords) return;
+  throw Error(where, "mission.goals_per_request x cycles x runs = " + std::to_string(goals_per_request) + " x " +
+                         std::to_string(cycles) + " x " + std::to_string(runs) + " = " + std::to_string(records) +
+                         " goal records, over the budget of " + std::to_string(kMaxGoalRecords) +
+                         " (about 300 bytes each in memory; docs/input_limits.md): lower the cycles, the seeds or "
+                         "mission.goals_per_request");
+}
+
 }  // namespace mission
 }  // namespace gather

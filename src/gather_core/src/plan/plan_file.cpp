@@ -9,6 +9,7 @@
 
 #include "gather_core/error.hpp"
 #include "gather_core/input_file.hpp"
+#include "gather_core/input_ranges.hpp"
 #include "gather_core/yaml_fields.hpp"
 
 namespace gather {
@@ -123,10 +124,11 @@ PlanFile read_plan_file(const std::string& path) {
   p.seed = f.required<unsigned>("seed");
   p.labels_png = f.file_name("labels");
   p.grid_factor = f.optional<int>("grid_factor", 1);
-  if (p.grid_factor < 1 || p.grid_factor > 1000) throw Error(path, "grid_factor must be in [1, 1000]");
+  check_range(range::kGridFactor, p.grid_factor, path);
   p.cycle_period_s = f.required<double>("cycle_period_s");
+  check_range(range::kCyclePeriod, p.cycle_period_s, path);
   p.area_tile_m = f.required<double>("area_tile_m");
-  if (!(p.area_tile_m > 0)) throw Error(path, "area_tile_m must be > 0");
+  check_range(range::kAreaTile, p.area_tile_m, path);  // and at least a cell (mission::check_plan)
   const yaml::Fields est = f.section("estimates");
   est.allow({"refresh_s", "interval_s", "goals", "utility"});
   p.est_refresh_s = est.required<double>("refresh_s");

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 #include <thread>
@@ -36,8 +37,35 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 
 }  // namespace
 
+double plan_memory_bytes(std::size_t cells, int agents, int threads, std::size_t configs) {
+  const double n = static_cast<double>(cells), a = static_cast<double>(agents);
+  return 90e6 + n * (40.0 + 4.0 * static_cast<double>(configs)) + threads * (50.0 * n + 480.0 * a * a);
+}
+
+int threads_within_budget(const Scenario& s, int threads, std::size_t configs) {
+  const std::size_t cells = s.grid.size();
+  for (int t = std::max(1, threads); t >= 1; --t)
+    if (plan_memory_bytes(cells, s.team.agents, t, configs) <= kPlanMemoryBudget) return t;
+  char line[400];
+  std::snprintf(line, sizeof line,
+                "planning would take about %.0f MB (a planning grid of %zu cells, %d agents, %zu configuration(s)), "
+                "over the planner's budget of %.0f MB (docs/input_limits.md): lower planner.max_cells, team.agents "
+                "or the collectors swept",
+                plan_memory_bytes(cells, s.team.agents, 1, configs) / 1048576.0, cells, s.team.agents, configs,
+                kPlanMemoryBudget / 1048576.0);
+  throw Error(s.path, line);
+}
+
+namespace {
+// The scenario, once one configuration of it is known to plan within the budget.
+const Scenario& within_budget(const Scenario& s) {
+  threads_within_budget(s, 1, 1);
+  return s;
+}
+}  // namespace
+
 PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
-    : World(s), clearance(s.grid), tight_speed(options.tight_speed), oc_field(s.grid) {
+    : World(within_budget(s)), clearance(s.grid), tight_speed(options.tight_speed), oc_field(s.grid) {
   check_options(options);
   const OccupancyGrid& grid = s.grid;
   prepared.oc = oc_cell;
@@ -238,7 +266,8 @@ SweepResult sweep(const PlanContext& ctx, const PlannerOptions& opt) {
       }
     }
   };
-  const int threads = std::max(1, std::min<int>(opt.threads, static_cast<int>(jobs.size())));
+  const int threads = threads_within_budget(
+      ctx.scenario, std::max(1, std::min<int>(opt.threads, static_cast<int>(jobs.size()))), jobs.size());
   std::vector<std::thread> pool;
   for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
   worker();

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "gather_core/error.hpp"
+#include "gather_core/input_ranges.hpp"
 #include "gather_core/yaml_fields.hpp"
 
 namespace gather {
@@ -33,19 +34,18 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   if (map_required || f.has("map")) s.map_path = f.file_path("map");
   const std::vector<double> oc = f.required<std::vector<double>>("oc");
   require(oc.size() == 2, path, "oc must be [x, y] in meters");
-  require_in_range(oc[0], -1e7, 1e7, path, "oc x", " m");
-  require_in_range(oc[1], -1e7, 1e7, path, "oc y", " m");
+  check_range(range::kOcX, oc[0], path);
+  check_range(range::kOcY, oc[1], path);
   s.oc = Point2{oc[0], oc[1]};
 
   const yaml::Fields team = f.section("team");
   team.allow({"agents", "speed", "radius"});
   s.team.agents = team.optional<int>("agents", s.team.agents);
   s.team.speed = team.optional<double>("speed", s.team.speed);
-  require(s.team.agents >= 1 && s.team.agents <= 1000, path,
-          "team.agents must be in [1, 1000], got " + std::to_string(s.team.agents));
-  require_in_range(s.team.speed, 0.01, 100.0, path, "team.speed", " m/s");
+  check_range(range::kTeamAgents, s.team.agents, path);
+  check_range(range::kTeamSpeed, s.team.speed, path);
   s.team.radius = team.optional<double>("radius", s.team.radius);
-  require_in_range(s.team.radius, 0.0, 100.0, path, "team.radius", " m");
+  check_range(range::kTeamRadius, s.team.radius, path);
 
   const yaml::Fields radio = f.section("radio");
   radio.allow(
@@ -57,13 +57,12 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   r.wall_loss_db = radio.optional<double>("wall_loss_db", r.wall_loss_db);
   r.max_walls = radio.optional<int>("max_walls", r.max_walls);
   r.sensitivity_dbm = radio.optional<double>("sensitivity_dbm", r.sensitivity_dbm);
-  require_in_range(r.tx_power_dbm, -100.0, 100.0, path, "radio.tx_power_dbm", " dBm");
-  require_in_range(r.ref_loss_db, 0.0, 200.0, path, "radio.ref_loss_db", " dB");
-  require_in_range(r.exponent, 0.5, 10.0, path, "radio.exponent", "");
-  require_in_range(r.wall_loss_db, 0.0, 200.0, path, "radio.wall_loss_db", " dB");
-  require(r.max_walls >= 0 && r.max_walls <= 100, path,
-          "radio.max_walls must be in [0, 100], got " + std::to_string(r.max_walls));
-  require_in_range(r.sensitivity_dbm, -200.0, 100.0, path, "radio.sensitivity_dbm", " dBm");
+  check_range(range::kTxPower, r.tx_power_dbm, path);
+  check_range(range::kRefLoss, r.ref_loss_db, path);
+  check_range(range::kExponent, r.exponent, path);
+  check_range(range::kWallLoss, r.wall_loss_db, path);
+  check_range(range::kMaxWalls, r.max_walls, path);
+  check_range(range::kSensitivity, r.sensitivity_dbm, path);
   {
     // The free-space range the link budget gives (RadioModel): at most 100 km.
     const double budget = r.tx_power_dbm - r.ref_loss_db - r.sensitivity_dbm;
@@ -72,27 +71,20 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
                 num(r.exponent) + " gives a free-space range over 100 km; lower the budget or raise radio.exponent");
   }
   r.bitrate_bps = radio.optional<double>("bitrate_bps", r.bitrate_bps);
-  require(r.bitrate_bps >= 0 && r.bitrate_bps <= 1e12, path,
-          "radio.bitrate_bps must be in [0, 1e12] bit/s (0 = instant hand-over), got " + num(r.bitrate_bps));
+  check_range(range::kBitrate, r.bitrate_bps, path);  // 0: instant hand-over
 
   const yaml::Fields mission = f.section("mission");
   mission.allow({"goals_per_request", "cycles", "seed", "period", "bytes_per_goal"});
   s.mission.goals_per_request = mission.optional<int>("goals_per_request", s.mission.goals_per_request);
   s.mission.cycles = mission.optional<int>("cycles", s.mission.cycles);
   s.mission.seed = mission.optional<unsigned>("seed", s.mission.seed);
-  require(s.mission.goals_per_request >= 1 && s.mission.goals_per_request <= 100000, path,
-          "mission.goals_per_request must be in [1, 100000], got " + std::to_string(s.mission.goals_per_request));
-  require(s.mission.cycles >= 1 && s.mission.cycles <= 10000, path,
-          "mission.cycles must be in [1, 10000], got " + std::to_string(s.mission.cycles));
+  check_range(range::kGoalsPerRequest, s.mission.goals_per_request, path);
+  check_range(range::kCycles, s.mission.cycles, path);
   s.mission.period = mission.optional<double>("period", s.mission.period);
-  require(s.mission.period == 0.0 || (s.mission.period >= 1.0 && s.mission.period <= kMaxPeriod), path,
-          "mission.period must be 0 (automatic) or a finite value in [1, " + num(kMaxPeriod) + "] s, got " +
-              num(s.mission.period));
-  require(s.mission.seed <= 2147483647u, path,
-          "mission.seed must be in [0, 2147483647], got " + std::to_string(s.mission.seed));
+  check_range(range::kPeriod, s.mission.period, path);  // 0: automatic
+  check_range(range::kMissionSeed, s.mission.seed, path);
   s.mission.bytes_per_goal = mission.optional<double>("bytes_per_goal", s.mission.bytes_per_goal);
-  require(s.mission.bytes_per_goal >= 0 && s.mission.bytes_per_goal <= 1e9, path,
-          "mission.bytes_per_goal must be in [0, 1e9] bytes, got " + num(s.mission.bytes_per_goal));
+  check_range(range::kBytesPerGoal, s.mission.bytes_per_goal, path);
 
   const yaml::Fields planner = f.section("planner");
   planner.allow({"methods", "collectors", "alpha", "beta", "refresh", "max_cells"});
@@ -108,10 +100,12 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
           "planner.methods lists a method twice");
   p.collectors_max = std::min(p.collectors_max, s.team.agents - 1);
   if (planner.has("collectors")) {
-    const std::vector<int> range = planner.required<std::vector<int>>("collectors");
-    require(range.size() == 2, path, "planner.collectors must be [min, max]");
-    p.collectors_min = range[0];
-    p.collectors_max = range[1];
+    const std::vector<int> given = planner.required<std::vector<int>>("collectors");
+    require(given.size() == 2, path, "planner.collectors must be [min, max]");
+    check_range(range::kCollectorsMin, given[0], path);
+    check_range(range::kCollectorsMax, given[1], path);
+    p.collectors_min = given[0];
+    p.collectors_max = given[1];
     require(0 <= p.collectors_min && p.collectors_min <= p.collectors_max, path,
             "planner.collectors must satisfy 0 <= min <= max");
     require(p.collectors_max <= s.team.agents - 1, path,
@@ -120,16 +114,15 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   }
   p.alpha = planner.optional<double>("alpha", p.alpha);
   p.beta = planner.optional<double>("beta", p.beta);
-  require_in_range(p.alpha, 0.0, 1e6, path, "planner.alpha", "");
-  require_in_range(p.beta, 0.0, 1e6, path, "planner.beta", "");
+  check_range(range::kAlpha, p.alpha, path);
+  check_range(range::kBeta, p.beta, path);
   require(p.alpha + p.beta > 0, path, "planner.alpha and beta must not both be 0");
   const std::string refresh = planner.optional<std::string>("refresh", refresh_metric_name(p.refresh));
   require(refresh == "latency" || refresh == "interval", path,
           "planner.refresh must be latency or interval, got '" + refresh.substr(0, 40) + "'");
   p.refresh = refresh == "latency" ? RefreshMetric::kLatency : RefreshMetric::kInterval;
   const long long max_cells = planner.optional<long long>("max_cells", static_cast<long long>(p.max_cells));
-  require(max_cells == 0 || max_cells >= 10000, path,
-          "planner.max_cells must be 0 (plan on the map's own grid) or >= 10000, got " + std::to_string(max_cells));
+  check_range(range::kMaxCells, static_cast<double>(max_cells), path);  // 0: the map's own grid
   p.max_cells = static_cast<std::size_t>(max_cells);
   return s;
 }

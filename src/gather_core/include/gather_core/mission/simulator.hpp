@@ -203,5 +203,14 @@ std::pair<double, double> interval_stats(const std::vector<GoalRecord>& goals, i
 // Throws gather::Error on any violation.
 std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles, double period);
 
+// The goal records a command keeps at once (docs/input_limits.md, "Memory
+// and time"): a run holds every goal's record and its goals.csv row, about
+// 300 bytes a goal (gather sim on maps/office, 100 and 1000 cycles).
+constexpr long long kMaxGoalRecords = 2000000;
+// Throws gather::Error(where, ...) naming the fields to lower when
+// goals_per_request x cycles x runs is over kMaxGoalRecords (before anything
+// is simulated).
+void check_goal_budget(long long goals_per_request, long long cycles, long long runs, const std::string& where);
+
 }  // namespace mission
 }  // namespace gather
