@@ -23,6 +23,7 @@
 #include <random>
 
 #include "gather_agent/transport/lcm_fleet.hpp"
+#include "gather_core/input_ranges.hpp"
 
 namespace gather {
 namespace agent {
@@ -374,7 +375,7 @@ TEST(LcmFleet, MutatedPayloadsOfEveryChannelAreAcceptedWithinBoundsOrCounted) {
       }
     }
     for (const PlanAnnounce& p : f.plans()) {
-      EXPECT_LE(p.params.goals_per_request, 100000);
+      EXPECT_LE(p.params.goals_per_request, input_range(range::kGoalsPerRequest).hi);
       EXPECT_LE(p.params.data_capacity, std::size_t{1} << 22);
       EXPECT_NO_THROW(mission::check_params(p.params.protocol));
     }

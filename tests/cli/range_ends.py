@@ -266,6 +266,53 @@ def probe(drivers, r, what, value, a):
     return shown, problems
 
 
+# Ends that multiply: several fields at their ends at once, planned
+# (gather plan --config bap:1) and then simulated (gather sim, which draws
+# Fig. 4). Each must run within the budget or be refused in one line holding
+# the text given (docs/input_limits.md, "Memory and time"); a simulation
+# whose time grows with what it asks for (the last field: True) is watched
+# for --window-s x 2 and must stay within the memory budget.
+PRODUCTS = [
+    ("the fastest team over the longest period (Fig. 4)", {"team.speed": 100.0, "mission.period": 100000.0}, None,
+     False),
+    ("the most goals over the most cycles", {"mission.goals_per_request": 5000, "mission.cycles": 10000},
+     "goal records", False),
+    ("the most goals a request at the goal budget", {"mission.goals_per_request": 5000, "mission.cycles": 200}, None,
+     True),
+    ("the most cycles at the goal budget", {"mission.goals_per_request": 100, "mission.cycles": 10000}, None, True),
+    ("the largest team on the map's own grid", {"team.agents": 400, "planner.max_cells": 0}, None, False),
+]
+
+
+def product(drivers, name, fields, refusal, work, a):
+    d = tempfile.mkdtemp(dir=drivers.work)
+    sc = yaml.safe_load(yaml.safe_dump(drivers.scenario))
+    for key, value in fields.items():
+        Drivers.set_path(sc, key, value)
+    path = os.path.join(d, "s.scenario.yaml")
+    Drivers.write_yaml(path, sc)
+    plan = os.path.join(d, "plan")
+    steps = [[a.gather, "plan", path, "--config", "bap:1", "--out", plan],
+             [a.gather, "sim", plan, "--out", os.path.join(d, "sim")]]
+    shown, problems = "%s (%s)" % (name, ", ".join("%s = %s" % kv for kv in fields.items())), []
+    for argv in steps:
+        watched = work and argv[1] == "sim"
+        status, err, wall, peak = watch(argv, a.window_s * 2 if watched else a.budget_s * 2, d)
+        shown += "; %s: exit %s, %.1f s, %.0f MB" % (argv[1], status, wall, peak)
+        line = one_line(err)
+        if status == 2 and refusal and line is not None and refusal in line:
+            break
+        if watched and status is None and peak <= a.budget_mb:
+            shown += " (watched)"
+            continue
+        if status != 0 or peak > a.budget_mb or wall > a.budget_s * 2:
+            problems.append("gather %s must run within %d s and %d MB or be refused naming %s; stderr: %s"
+                            % (argv[1], a.budget_s * 2, a.budget_mb, refusal, err.strip()[-300:]))
+            break
+    shutil.rmtree(d, ignore_errors=True)
+    return shown, problems
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--gather", required=True)
@@ -275,7 +322,8 @@ def main():
     ap.add_argument("--budget-mb", type=int, default=1024, help="peak memory an end may take [MB]")
     ap.add_argument("--window-s", type=float, default=4.0, help="how long a range whose work grows is watched [s]")
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--only", default="", help="only the ranges whose key holds this text")
+    ap.add_argument("--only", default="", help="only the ranges whose key holds this text ('products': only the ends "
+                    "that multiply)")
     a = ap.parse_args()
     a.gather, a.agent, a.mission_bag = (os.path.abspath(p) for p in (a.gather, a.agent, a.mission_bag))
     if os.environ.get("GATHER_NETNS") != "1":
@@ -299,7 +347,10 @@ def main():
                 continue
             jobs += [(r, what, v) for what, v in r.ends() + r.outside()]
         with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
-            for shown, problems in pool.map(lambda j: probe(drivers, j[0], j[1], j[2], a), jobs):
+            results = list(pool.map(lambda j: probe(drivers, j[0], j[1], j[2], a), jobs))
+            if not a.only or a.only == "products":
+                results += list(pool.map(lambda p: product(drivers, p[0], p[1], p[2], p[3], a), PRODUCTS))
+            for shown, problems in results:
                 print(("FAIL " if problems else "ok   ") + shown + "".join("\n     " + p for p in problems),
                       flush=True)
                 failures += [shown + ": " + p for p in problems]

@@ -28,6 +28,7 @@
 #include "envelope.hpp"
 #include "gather_agent/lcm_open.hpp"
 #include "gather_core/error.hpp"
+#include "gather_core/input_ranges.hpp"
 
 namespace gather {
 namespace agent {
@@ -709,11 +710,11 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
     // plan message sizes the agents' buffers.
     constexpr int32_t kMaxCapacity = 1 << 22;
     if (p.agents < 1 || p.agents > kMaxTeam || p.cycles < 1 || p.cycles > kMaxRequests || p.goals_per_request < 0 ||
-        p.goals_per_request > 100000 || p.data_capacity < 1 || p.data_capacity > kMaxCapacity ||
-        p.notice_capacity < 1 || p.notice_capacity > kMaxCapacity || !(p.tick > 0 && p.tick <= 0.1) ||
-        !(p.loss >= 0 && p.loss < 1) || !(p.beacon_period > 0 && p.beacon_period <= 3600) ||
-        !(p.resend_after > 0 && p.resend_after <= 3600) || (p.clock != 0 && p.clock != 1) ||
-        !(p.rate > 0 && p.rate <= 1e6) || (p.repair != 0 && p.repair != 1) ||
+        p.goals_per_request > input_range(range::kGoalsPerRequest).hi || p.data_capacity < 1 ||
+        p.data_capacity > kMaxCapacity || p.notice_capacity < 1 || p.notice_capacity > kMaxCapacity ||
+        !(p.tick > 0 && p.tick <= 0.1) || !(p.loss >= 0 && p.loss < 1) ||
+        !(p.beacon_period > 0 && p.beacon_period <= 3600) || !(p.resend_after > 0 && p.resend_after <= 3600) ||
+        (p.clock != 0 && p.clock != 1) || !(p.rate > 0 && p.rate <= 1e6) || (p.repair != 0 && p.repair != 1) ||
         !(p.silent_intervals >= 1.5 && p.silent_intervals <= 100.0) || !(p.ask_after >= 0 && p.ask_after <= 60))
       return void(++refused_.out_of_range);
     mission::ProtocolParams protocol;

@@ -54,8 +54,8 @@ struct InputRange {
   X(kMaxWalls, "scenario", "radio.max_walls", 0, 100, "", kRangeInt, nullptr)                                \
   X(kSensitivity, "scenario", "radio.sensitivity_dbm", -200, 100, " dBm", 0, "free-space range over 100 km") \
   X(kBitrate, "scenario", "radio.bitrate_bps", 0, 1e12, " bit/s", 0, nullptr)                                \
-  X(kGoalsPerRequest, "scenario", "mission.goals_per_request", 1, 100000, "", kRangeInt, nullptr)            \
-  X(kCycles, "scenario", "mission.cycles", 1, 10000, "", kRangeInt | kRangeWork, nullptr)                    \
+  X(kGoalsPerRequest, "scenario", "mission.goals_per_request", 1, 5000, "", kRangeInt, "goal records")       \
+  X(kCycles, "scenario", "mission.cycles", 1, 10000, "", kRangeInt | kRangeWork, "goal records")             \
   X(kPeriod, "scenario", "mission.period", 1, 1e5, " s", kRangeZero, nullptr)                                \
   X(kMissionSeed, "scenario", "mission.seed", 0, 2147483647, "", kRangeInt, nullptr)                         \
   X(kBytesPerGoal, "scenario", "mission.bytes_per_goal", 0, 1e9, " bytes", 0, nullptr)                       \

@@ -45,8 +45,15 @@ std::vector<Point2> leg_path(fmm::FastMarching& fm, const OccupancyGrid& grid, c
   return fmm::descend(fm, grid.cell_center(from));
 }
 
-// Route polyline of a collector between times t0 and t1, sampled every ~0.5 m.
-std::vector<Point2> route_between(const mission::RouteTimetable& r, double t0, double t1, double speed) {
+// Route polyline of a collector between times t0 and t1, sampled every ~0.5 m;
+// a span that holds a whole loop (its driving time and up to one request
+// period `request_period` [s] of waiting at the OC) is the whole loop, so
+// the points do not grow with the span (a fast team over the longest
+// period drew gigabytes of points over the same loop).
+std::vector<Point2> route_between(const mission::RouteTimetable& r, double t0, double t1, double speed,
+                                  double request_period) {
+  if (r.idle()) return {r.position(t0)};
+  if (t1 - t0 >= r.period() + request_period) return r.waypoints();
   std::vector<Point2> pts;
   const double dt = 0.5 / speed;
   for (double t = t0; t < t1; t += dt) pts.push_back(r.position(t));
@@ -172,7 +179,7 @@ void write_fig4_sync(const std::string& path, const plan::PlanContext& ctx, cons
       canvas.polyline(stretch, window_colour, 9);
     }
   }
-  if (collector.valid()) canvas.polyline(route_between(sim.route(collector), t0, t1, v), red, 2);
+  if (collector.valid()) canvas.polyline(route_between(sim.route(collector), t0, t1, v, ctx.cycle_period), red, 2);
   for (const mission::Leg& leg : result.legs) {
     if (leg.agent != agent || leg.t1 < t0 || leg.t0 > t1) continue;
     canvas.polyline(leg_path(fm, g, leg), blue, 2);
@@ -187,7 +194,8 @@ void write_fig4_sync(const std::string& path, const plan::PlanContext& ctx, cons
   }
   for (const auto& [at, n] : batches) {
     const double tau = transfer_s(ctx.scenario, n);
-    if (tau > 0) canvas.polyline(route_between(sim.route(collector), at - tau, at, v), transfer_colour, 5);
+    if (tau > 0)
+      canvas.polyline(route_between(sim.route(collector), at - tau, at, v, ctx.cycle_period), transfer_colour, 5);
     canvas.dot(sim.route(collector).position(at), transfer_colour, 5);
   }
   if (policy)

@@ -89,11 +89,13 @@ MissionSimulator::MissionSimulator(const World& ctx, MissionPlan plan, const Pro
   }
   collector_agents_ = collector_agents(pf);
   shared_ = std::make_unique<SharedDistances>(ctx);
-  const std::size_t max_goals = static_cast<std::size_t>(std::max(0, s.mission.goals_per_request));
+  // Each worker's goal tables are sized in run() by the most goals a request
+  // gives it (a table of goals x goals: sized by goals_per_request, all the
+  // workers' together took gigabytes at a few thousand goals).
   for (const plan::AgentAssignment& a : pf.agents) {
     if (a.collector) continue;
     const RouteTimetable* route = a.delivers_to.valid() ? &routes_[a.delivers_to] : nullptr;
-    workers_.emplace_back(ctx, plan_, a, route, *shared_, max_goals, protocol);
+    workers_.emplace_back(ctx, plan_, a, route, *shared_, 0, protocol);
   }
 }
 

@@ -8,6 +8,7 @@
 
 #include "gather_core/error.hpp"
 #include "gather_core/input_ranges.hpp"
+#include "gather_core/mission/simulator.hpp"
 #include "gather_core/yaml_fields.hpp"
 
 namespace gather {
@@ -80,6 +81,9 @@ Scenario load_scenario_settings(const std::string& path, bool map_required) {
   s.mission.seed = mission.optional<unsigned>("seed", s.mission.seed);
   check_range(range::kGoalsPerRequest, s.mission.goals_per_request, path);
   check_range(range::kCycles, s.mission.cycles, path);
+  // Every goal of the mission is a record of a run, and a step of the
+  // planner's estimate: at most mission::kMaxGoalRecords (docs/input_limits.md).
+  mission::check_goal_budget(s.mission.goals_per_request, s.mission.cycles, 1, path);
   s.mission.period = mission.optional<double>("period", s.mission.period);
   check_range(range::kPeriod, s.mission.period, path);  // 0: automatic
   check_range(range::kMissionSeed, s.mission.seed, path);

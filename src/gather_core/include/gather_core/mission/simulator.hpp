@@ -205,8 +205,9 @@ std::vector<CycleStats> account(const std::vector<GoalRecord>& goals, int cycles
 
 // The goal records a command keeps at once (docs/input_limits.md, "Memory
 // and time"): a run holds every goal's record and its goals.csv row, about
-// 300 bytes a goal (gather sim on maps/office, 100 and 1000 cycles).
-constexpr long long kMaxGoalRecords = 2000000;
+// 300 bytes a goal (gather sim on maps/office, 100 and 1000 cycles), beside
+// the workers' tables of goals x goals (at most 200 MB at 5000 goals a request).
+constexpr long long kMaxGoalRecords = 1000000;
 // Throws gather::Error(where, ...) naming the fields to lower when
 // goals_per_request x cycles x runs is over kMaxGoalRecords (before anything
 // is simulated).
