@@ -121,6 +121,7 @@ test-cli: build
 	tests/cli/agent_silence.sh $(G) $(WS)/devel/lib/gather_agent/gather_agent
 	tools/netns-run $(PYTHON) tests/cli/range_ends.py --gather $(G) --agent $(WS)/devel/lib/gather_agent/gather_agent \
 	  --mission-bag $(WS)/devel/lib/gather_oc/mission_bag
+	$(PYTHON) tests/cli/range_ends.py --gather $(G) --agent - --mission-bag - --largest-map
 
 # The agent runtime over LCM against one process (gather run --lcm), and
 # roslaunch gather_oc mission.launch / review.launch end to end with RViz on a

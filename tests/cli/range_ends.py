@@ -313,6 +313,46 @@ def product(drivers, name, fields, refusal, work, a):
     return shown, problems
 
 
+def largest_map(a):
+    """The largest image a map may have (8000 x 8000 pixels, 64M cells,
+    free inside a wall), through every command that reads a map: each runs
+    within the budget or is refused up front naming the budget. About 20 s
+    and 64 MB of disk: --largest-map (make test-cli runs it)."""
+    d = tempfile.mkdtemp(prefix="range_ends_map.")
+    w = h = 8000
+    with open(os.path.join(d, "big.pgm"), "wb") as f:
+        f.write(b"P5\n%d %d\n255\n" % (w, h))
+        wall, row = bytes([0]) * w, bytes([0]) + bytes([254]) * (w - 2) + bytes([0])
+        f.write(wall + row * (h - 2) + wall)
+    with open(os.path.join(d, "big.yaml"), "w") as f:
+        f.write("image: big.pgm\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\noccupied_thresh: 0.65\n"
+                "free_thresh: 0.196\n")
+    sc = {"map": "big.yaml", "oc": [200.0, 200.0], "team": {"agents": 20, "speed": 0.5}}
+    Drivers.write_yaml(os.path.join(d, "big.scenario.yaml"), sc)
+    sc["planner"] = {"max_cells": 0}
+    Drivers.write_yaml(os.path.join(d, "own_grid.scenario.yaml"), sc)
+    s, own = os.path.join(d, "big.scenario.yaml"), os.path.join(d, "own_grid.scenario.yaml")
+    cases = [("gather info", [a.gather, "info", s], None),
+             ("gather fmm", [a.gather, "fmm", "--map", os.path.join(d, "big.yaml"), "--source", "4000,4000"], None),
+             ("gather radio", [a.gather, "radio", s, "--repeat", "1"], None),
+             ("gather plan (planning grid)", [a.gather, "plan", s, "--config", "bap:1", "--out", os.path.join(d, "p")],
+              None),
+             ("gather plan (the map's own grid)", [a.gather, "plan", own, "--out", os.path.join(d, "q")], "budget"),
+             ("gather partition", [a.gather, "partition", s, "--method", "bap", "--workers", "20", "--out",
+                                   os.path.join(d, "r")], "budget")]
+    failures = []
+    for name, argv, refusal in cases:
+        status, err, wall, peak = watch(argv, a.budget_s * 3, d)
+        line = one_line(err)
+        ok = peak <= a.budget_mb and (status == 0 or (status == 2 and refusal and line and refusal in line))
+        print("%s %s on the largest map: exit %s, %.1f s, %.0f MB%s" % ("ok  " if ok else "FAIL", name, status, wall,
+                                                                      peak, "" if ok else "; " + err.strip()[-300:]))
+        if not ok:
+            failures.append(name)
+    shutil.rmtree(d, ignore_errors=True)
+    return 1 if failures else 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--gather", required=True)
@@ -324,7 +364,11 @@ def main():
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--only", default="", help="only the ranges whose key holds this text ('products': only the ends "
                     "that multiply)")
+    ap.add_argument("--largest-map", action="store_true", help="only the commands on the largest map (slow)")
     a = ap.parse_args()
+    if a.largest_map:
+        a.gather = os.path.abspath(a.gather)
+        return largest_map(a)
     a.gather, a.agent, a.mission_bag = (os.path.abspath(p) for p in (a.gather, a.agent, a.mission_bag))
     if os.environ.get("GATHER_NETNS") != "1":
         sys.exit("range_ends.py runs gather run --lcm: run it inside tools/netns-run")

@@ -89,6 +89,22 @@ void write_text(const std::string& path, const std::string& text) {
   if (!out) throw Error(path, "write failed");
 }
 
+// gather partition works on the map's own grid: about 80 MB + 36 B a cell
+// (an 8000 x 8000 map, the largest image read: 2.2 GB and 46 s), so a map
+// over the memory budget of a command (docs/input_limits.md) is refused
+// before it is partitioned.
+void check_partition_budget(const Scenario& sc) {
+  constexpr double kBudget = 1024.0 * 1024.0 * 1024.0, kBase = 80e6, kPerCell = 36.0;
+  const double cells = static_cast<double>(sc.grid.size());
+  if (kBase + kPerCell * cells <= kBudget) return;
+  char line[300];
+  std::snprintf(line, sizeof line,
+                "partitioning the map's %.0f cells would take about %.0f MB, over the budget of 1024 MB "
+                "(docs/input_limits.md): at most %.0f cells (a coarser map)",
+                cells, (kBase + kPerCell * cells) / 1048576.0, (kBudget - kBase) / kPerCell);
+  throw Error(sc.path, line);
+}
+
 int report(const cli::Args& args) {
   const int workers = args.get_int(range::kReportWorkers, 20);
   const int repeat = args.get_int(range::kReportRepeat, 3);
@@ -103,6 +119,7 @@ int report(const cli::Args& args) {
   bool any_rooms = false;
   for (const std::string& path : args.positional()) {
     const Scenario sc = load_scenario(path);
+    check_partition_budget(sc);
     const Cell oc = sc.grid.world_to_cell(sc.oc);
     const std::string name = fs::path(sc.map_path).stem().string();
     for (Method m : partition::all_methods()) {
@@ -171,6 +188,7 @@ int partition(int argc, char** argv) {
   const unsigned seed = static_cast<unsigned>(seed_arg);
 
   const Scenario sc = load_scenario(args.positional()[0]);
+  check_partition_budget(sc);
   const Cell oc = sc.grid.world_to_cell(sc.oc);
   const std::string gt = args.has("--gt") ? args.get("--gt") : find_gt(sc);
   int n_rooms = 0;
