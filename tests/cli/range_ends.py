@@ -280,7 +280,7 @@ PRODUCTS = [
     ("the most goals a request at the goal budget", {"mission.goals_per_request": 5000, "mission.cycles": 200}, None,
      True),
     ("the most cycles at the goal budget", {"mission.goals_per_request": 100, "mission.cycles": 10000}, None, True),
-    ("the largest team on the map's own grid", {"team.agents": 400, "planner.max_cells": 0}, None, False),
+    ("the largest team on the map's own grid", {"team.agents": 300, "planner.max_cells": 0}, None, False),
 ]
 
 

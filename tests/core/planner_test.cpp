@@ -46,6 +46,7 @@ TEST_F(PlannerTest, SweepUtilitiesAreInUnitRangeAndTheBestIsTheMaximum) {
     best = std::max(best, c.utility);
   }
   EXPECT_EQ(sweep.configs[static_cast<std::size_t>(sweep.best)].utility, best);
+  EXPECT_EQ(sweep.threads, plan::PlannerOptions{}.threads);  // a small map: every thread asked for fits
 }
 
 TEST_F(PlannerTest, BadRequestsAreClearErrors) {

@@ -132,7 +132,7 @@ TEST(InputRanges, AValueOutsideIsOneLineNamingTheFileTheKeyAndTheRange) {
     return std::string("accepted");
   };
   EXPECT_EQ(message(range::kTeamSpeed, 0.001), "s.yaml: team.speed = 0.001 must be in [0.01, 100] m/s");
-  EXPECT_EQ(message(range::kTeamAgents, 2.5), "s.yaml: team.agents = 2.5 must be in [1, 400] (an integer)");
+  EXPECT_EQ(message(range::kTeamAgents, 2.5), "s.yaml: team.agents = 2.5 must be in [1, 300] (an integer)");
   EXPECT_EQ(message(range::kPeriod, 0), "accepted");  // automatic
   EXPECT_EQ(message(range::kPeriod, 0.5), "s.yaml: mission.period = 0.5 must be in 0 or [1, 100000] s");
   EXPECT_EQ(message(range::kCyclePeriod, 0), "s.yaml: cycle_period_s = 0 must be in (0, 100000] s");

@@ -117,7 +117,7 @@ int plan(int argc, char** argv) {
       "stages [ms, summed over configurations]: context %.0f, partition %.0f, graph %.0f, groups %.0f, "
       "routes %.0f, estimates %.0f, association %.0f; sweep wall %.0f ms on %d threads; total %.0f ms\n",
       ctx_ms, sum.partition_ms, sum.graph_ms, sum.groups_ms, sum.routes_ms, sum.estimate_ms, sum.associate_ms,
-      sweep.wall_ms, opt.threads, std::chrono::duration<double, std::milli>(Clock::now() - t_start).count());
+      sweep.wall_ms, sweep.threads, std::chrono::duration<double, std::milli>(Clock::now() - t_start).count());
   std::printf(
       "best by U on the %s refresh: %s with %d collectors and %d workers (U = %.3f, est. latency %.1f s, "
       "interval %.1f s, %.2f goals per cycle of %.1f s) -> %s/plan.yaml\n",

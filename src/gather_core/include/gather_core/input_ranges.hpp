@@ -44,7 +44,7 @@ struct InputRange {
 #define GATHER_INPUT_RANGES(X)                                                                               \
   X(kOcX, "scenario", "oc[0]", -1e7, 1e7, " m", 0, "outside the map|not free space")                         \
   X(kOcY, "scenario", "oc[1]", -1e7, 1e7, " m", 0, "outside the map|not free space")                         \
-  X(kTeamAgents, "scenario", "team.agents", 1, 400, "", kRangeInt, "leaves no worker")                       \
+  X(kTeamAgents, "scenario", "team.agents", 1, 300, "", kRangeInt, "leaves no worker")                       \
   X(kTeamSpeed, "scenario", "team.speed", 0.01, 100, " m/s", 0, nullptr)                                     \
   X(kTeamRadius, "scenario", "team.radius", 0, 100, " m", 0, nullptr)                                        \
   X(kTxPower, "scenario", "radio.tx_power_dbm", -100, 100, " dBm", 0, "free-space range over 100 km")        \
@@ -59,8 +59,8 @@ struct InputRange {
   X(kPeriod, "scenario", "mission.period", 1, 1e5, " s", kRangeZero, nullptr)                                \
   X(kMissionSeed, "scenario", "mission.seed", 0, 2147483647, "", kRangeInt, nullptr)                         \
   X(kBytesPerGoal, "scenario", "mission.bytes_per_goal", 0, 1e9, " bytes", 0, nullptr)                       \
-  X(kCollectorsMin, "scenario", "planner.collectors[0]", 0, 399, "", kRangeInt, "0 <= min <= max")           \
-  X(kCollectorsMax, "scenario", "planner.collectors[1]", 0, 399, "", kRangeInt, "leaves no worker")          \
+  X(kCollectorsMin, "scenario", "planner.collectors[0]", 0, 299, "", kRangeInt, "0 <= min <= max")           \
+  X(kCollectorsMax, "scenario", "planner.collectors[1]", 0, 299, "", kRangeInt, "leaves no worker")          \
   X(kAlpha, "scenario", "planner.alpha", 0, 1e6, "", 0, nullptr)                                             \
   X(kBeta, "scenario", "planner.beta", 0, 1e6, "", 0, nullptr)                                               \
   X(kMaxCells, "scenario", "planner.max_cells", 10000, 1e12, "", kRangeInt | kRangeZero, nullptr)            \

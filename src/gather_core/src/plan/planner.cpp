@@ -268,6 +268,7 @@ SweepResult sweep(const PlanContext& ctx, const PlannerOptions& opt) {
   };
   const int threads = threads_within_budget(
       ctx.scenario, std::max(1, std::min<int>(opt.threads, static_cast<int>(jobs.size()))), jobs.size());
+  result.threads = threads;
   std::vector<std::thread> pool;
   for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
   worker();

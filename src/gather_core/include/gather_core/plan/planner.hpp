@@ -197,6 +197,7 @@ struct SweepResult {
   std::vector<ConfigurationPlan> configs;  // method-major, N_c ascending
   int best = -1;                           // index of the highest utility
   double wall_ms = 0.0;
+  int threads = 1;  // threads used: fewer than asked with fewer configurations, or to stay within the memory budget
 };
 
 // Plans every (method, N_c) of the scenario's planner section, on
