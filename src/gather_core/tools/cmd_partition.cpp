@@ -13,6 +13,7 @@
 #include "commands.hpp"
 #include "gather_core/error.hpp"
 #include "gather_core/figures/partition_figure.hpp"
+#include "gather_core/input_ranges.hpp"
 #include "gather_core/partition/metrics.hpp"
 #include "gather_core/partition/partition.hpp"
 #include "gather_core/scenario/scenario.hpp"
@@ -94,14 +95,15 @@ void write_text(const std::string& path, const std::string& text) {
 // over the memory budget of a command (docs/input_limits.md) is refused
 // before it is partitioned.
 void check_partition_budget(const Scenario& sc) {
-  constexpr double kBudget = 1024.0 * 1024.0 * 1024.0, kBase = 80e6, kPerCell = 36.0;
+  constexpr double kBase = 80e6, kPerCell = 36.0;
   const double cells = static_cast<double>(sc.grid.size());
-  if (kBase + kPerCell * cells <= kBudget) return;
+  if (kBase + kPerCell * cells <= kMemoryBudget) return;
   char line[300];
   std::snprintf(line, sizeof line,
-                "partitioning the map's %.0f cells would take about %.0f MB, over the budget of 1024 MB "
+                "partitioning the map's %.0f cells would take about %.0f MB, over the budget of %.0f MB "
                 "(docs/input_limits.md): at most %.0f cells (a coarser map)",
-                cells, (kBase + kPerCell * cells) / 1048576.0, (kBudget - kBase) / kPerCell);
+                cells, (kBase + kPerCell * cells) / 1048576.0, kMemoryBudget / 1048576.0,
+                (kMemoryBudget - kBase) / kPerCell);
   throw Error(sc.path, line);
 }
 

@@ -11,6 +11,11 @@
 
 namespace gather {
 
+// The memory [bytes] a command may take for any input inside these ranges
+// (docs/input_limits.md, "Memory and time"): sizes that multiply are
+// checked against it before anything is allocated for them.
+constexpr double kMemoryBudget = 1024.0 * 1024.0 * 1024.0;
+
 // Flags of a range.
 enum : std::uint8_t {
   kRangeInt = 1,     // an integer

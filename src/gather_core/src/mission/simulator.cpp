@@ -417,7 +417,8 @@ std::vector<TimeBudget> MissionSimulator::time_budgets(const MissionResult& resu
 }
 
 void check_goal_budget(long long goals_per_request, long long cycles, long long runs, const std::string& where) {
-  const long long records = goals_per_request * cycles * runs;  // each <= 1e5 x 1e5 x 1e3: no overflow
+  const long long records =
+      goals_per_request * cycles * runs;  // at most 5000 x 100000 x 1000 (their ranges): no overflow
   if (records <= kMaxGoalRecords) return;
   throw Error(where, "mission.goals_per_request x cycles x runs = " + std::to_string(goals_per_request) + " x " +
                          std::to_string(cycles) + " x " + std::to_string(runs) + " = " + std::to_string(records) +

@@ -13,6 +13,7 @@
 
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/grid/clearance.hpp"
+#include "gather_core/input_ranges.hpp"
 #include "gather_core/mission/simulator.hpp"
 #include "gather_core/mission/world.hpp"
 #include "gather_core/partition/partition.hpp"
@@ -117,7 +118,7 @@ inline PlannerOptions grown_groups() {
 // square of the team. Fitted to `gather plan` on maps/office (210k and
 // 840k planning cells; 20, 400 and 1000 agents; 1-27 configurations; 1-2
 // threads) and campus with 200 robots (243 configurations), within 10%.
-constexpr double kPlanMemoryBudget = 1024.0 * 1024.0 * 1024.0;
+constexpr double kPlanMemoryBudget = kMemoryBudget;
 double plan_memory_bytes(std::size_t cells, int agents, int threads, std::size_t configs);
 // The threads (at most `threads`) on which `configs` configurations of the
 // scenario (on its planning grid) stay within kPlanMemoryBudget; throws
