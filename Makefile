@@ -13,7 +13,7 @@ CYCLES ?= 0
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps pylcm build run readme-figures test format format-check tidy bench-fmm-ab test-ros test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-robots bench-signing identity-check bench-planner partition-report scenario-report regime-report runtime-report clean help
+.PHONY: all deps pylcm build run readme-figures test format format-check tidy bench-fmm-ab test-ros plain-build test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-robots bench-signing identity-check bench-planner partition-report scenario-report regime-report runtime-report clean help
 
 all: build
 
@@ -54,7 +54,26 @@ readme-figures: build
 	tools/netns-run xvfb-run -a -s "-screen 0 1400x900x24" bash -c \
 	  '$(SETUP) && $(PYTHON) tools/readme_figures.py --scenario $(abspath $(SCENARIO))'
 
-test: build format-check tidy test-plain test-ros test-cli test-e2e
+# The CPU-bound checks that need no ROS (clang-tidy, then the sanitized
+# build of test-plain) run at nice 19 beside the ROS, CLI and end-to-end
+# tests, which wait mostly on the wall clock (an e2e test uses about half
+# of the 2 cores); then the sanitized unit tests and the fuzz smoke run
+# alone. The background's output is in build/test-background.log.
+BG_LOG := build/test-background.log
+test: build
+	mkdir -p build
+	setsid -w nice -n 19 $(MAKE) --no-print-directory tidy plain-build > $(BG_LOG) 2>&1 &
+	bg=$$!
+	trap 'kill -- -$$bg 2> /dev/null || true' EXIT
+	$(MAKE) --no-print-directory format-check test-ros test-cli test-e2e
+	if ! wait $$bg; then
+	  tail -n 60 $(BG_LOG) >&2
+	  echo "make test: tidy or the sanitized build failed ($(BG_LOG))" >&2
+	  exit 1
+	fi
+	trap - EXIT
+	tail -n 2 $(BG_LOG)
+	$(MAKE) --no-print-directory test-plain
 	@echo "make test: all tests passed"
 
 # The committed .clang-format on every C++ file of the repository: `make
@@ -90,12 +109,14 @@ test-ros: build
 # them), then the seeded mutation fuzz smoke over scenarios, maps, plan
 # directories and flags (tests/fuzz/fuzz_smoke.py; docs/input_limits.md).
 FUZZ_CASES ?= 300
-test-plain: deps
+plain-build: deps
 	@if grep -rnE '#include [<"](ros|nav_msgs|visualization_msgs|std_msgs)/' src/gather_core src/gather_agent tests/core tests/agent; then \
 	  echo "gather_core/gather_agent must not include ROS headers" >&2; exit 1; fi
 	cmake -S src/gather_agent -B $(PLAIN) -DCMAKE_BUILD_TYPE=Release -DGATHER_SANITIZE=ON > /dev/null
 	cmake --build $(PLAIN) -j$(JOBS)
 	@test -x $(PLAIN)/gather_agent && if ldd $(PLAIN)/gather_agent | grep -q libopencv; then echo "gather_agent must not link OpenCV (figures live in gather_figures)" >&2; exit 1; fi
+	@echo "plain-build: gather_core and gather_agent built with the sanitizers ($(PLAIN))"
+test-plain: plain-build
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --test-dir $(PLAIN) --output-on-failure -j$(JOBS) --timeout 600
 	$(PYTHON) tests/fuzz/fuzz_smoke.py --gather $(PLAIN)/gather_core/gather --agent $(PLAIN)/gather_agent \
