@@ -10,11 +10,13 @@
 #include <gather_lcm/data_t.hpp>
 #include <gather_lcm/envelope_t.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gather_agent/transport/fleet_auth.hpp"
@@ -163,6 +165,110 @@ TEST(FleetAuthTest, TheMacIsTheDocumentedHmacAndAFreshReceiverRefusesOldOrFuture
   // Sent after: passes, and from then on only the counter matters.
   EXPECT_EQ(check(fresh, "B", sign(tx, "B", 5, {1})), Verdict::kAccepted);
   EXPECT_EQ(check(fresh, "B", sign(tx, "B", 5, {2})), Verdict::kAccepted);
+}
+
+// A message signed with the counter `counter` (as a sender at that moment
+// of its clock would stamp it).
+Signed stamped(const FleetKey& k, const char* channel, int16_t sender, int64_t counter, uint8_t byte) {
+  Signed s;
+  s.payload = {byte};
+  s.head.version = FleetAuth::kVersion, s.head.key_id = k.id, s.head.sender = sender, s.head.counter = counter;
+  mac_by_hand(k, channel, s.head, s.payload, s.mac);
+  return s;
+}
+
+TEST(FleetAuthTest, AMessageDeliveredOutOfOrderPassesOnceWithinTheWindowAndItsReplayNever) {
+  const FleetKey k = key_of(7, 1);
+  FleetAuth rx(k, kChannels, 22);
+  const int64_t t = wall_clock_us();
+  // Sent as 0, 1, 2, 3 (10 ms apart), delivered as 0, 3, 1, 2: all pass.
+  const Signed m0 = stamped(k, "A", 4, t, 0), m1 = stamped(k, "A", 4, t + 10'000, 1),
+               m2 = stamped(k, "A", 4, t + 20'000, 2), m3 = stamped(k, "A", 4, t + 30'000, 3);
+  for (const Signed* m : {&m0, &m3, &m1, &m2}) EXPECT_EQ(check(rx, "A", *m), Verdict::kAccepted) << m->payload[0];
+  EXPECT_EQ(rx.reordered(), 2);
+  // Each again, in any order: a replay.
+  for (const Signed* m : {&m1, &m3, &m0, &m2}) EXPECT_EQ(check(rx, "A", *m), Verdict::kReplayed) << m->payload[0];
+  EXPECT_EQ(rx.counters().replayed, 4);
+  // Another sender's, or another channel's, window is its own.
+  EXPECT_EQ(check(rx, "A", stamped(k, "A", 5, t + 5'000, 9)), Verdict::kAccepted);
+  EXPECT_EQ(check(rx, "B", stamped(k, "B", 4, t + 5'000, 9)), Verdict::kAccepted);
+  // Never seen, but older than the window (kReorderUs before the newest).
+  const int64_t newest = t + 30'000;
+  EXPECT_EQ(check(rx, "A", stamped(k, "A", 4, newest - FleetAuth::kReorderUs - 1, 8)), Verdict::kReplayed);
+  EXPECT_EQ(check(rx, "A", stamped(k, "A", 4, t + 15'000, 7)), Verdict::kAccepted);  // between two seen: new
+  EXPECT_EQ(rx.counters().replayed, 5);
+  EXPECT_EQ(rx.reordered(), 3);
+}
+
+TEST(FleetAuthTest, TheWindowKeepsItsHighestCountersAndRefusesWhatLeftIt) {
+  const FleetKey k = key_of(7, 1);
+  FleetAuth rx(k, kChannels, 22);
+  const int64_t t = wall_clock_us();
+  // Every even counter of 2 * (slots + 1) in order: the window then holds the
+  // slots highest below the newest; the lower ones left it (its floor).
+  const int n = 2 * static_cast<int>(FleetAuth::kReorderSlots + 1);
+  for (int i = 0; i < n; ++i)
+    ASSERT_EQ(check(rx, "A", stamped(k, "A", 2, t + 2 * i, static_cast<uint8_t>(i))), Verdict::kAccepted);
+  const int64_t newest = t + 2 * (n - 1);
+  const int64_t lowest_kept = newest - 2 * static_cast<int64_t>(FleetAuth::kReorderSlots);
+  // Every one of them again: refused, kept or not.
+  for (int i = 0; i < n; ++i)
+    EXPECT_EQ(check(rx, "A", stamped(k, "A", 2, t + 2 * i, static_cast<uint8_t>(i))), Verdict::kReplayed) << i;
+  // An odd counter never sent: above the lowest kept it passes (once); at or
+  // below the floor it is refused, sent or not (the window is full).
+  EXPECT_EQ(check(rx, "A", stamped(k, "A", 2, lowest_kept + 1, 1)), Verdict::kAccepted);
+  EXPECT_EQ(check(rx, "A", stamped(k, "A", 2, lowest_kept + 1, 1)), Verdict::kReplayed);
+  EXPECT_EQ(check(rx, "A", stamped(k, "A", 2, lowest_kept - 1, 1)), Verdict::kReplayed);
+  EXPECT_EQ(check(rx, "A", stamped(k, "A", 2, t + 1, 1)), Verdict::kReplayed);
+  EXPECT_EQ(rx.reordered(), 1);
+  EXPECT_EQ(rx.counters().replayed, n + 3);
+}
+
+// A link that reorders: 3 senders on 2 channels, a message every 1 ms
+// each; the link holds a fifth of the messages back behind the next 1 to
+// `hold_max` (seeded). Within the window nothing is lost and every replay is
+// caught; held back past the window, a message is refused.
+TEST(FleetAuthTest, AReorderingLinkLosesNothingWithinTheWindowAndItsReplaysAreAllCaught) {
+  const FleetKey k = key_of(7, 1);
+  const int64_t t = wall_clock_us() - 1'500'000;  // the first counters within kClockSkewUs of the receivers' start
+  std::vector<std::pair<const char*, Signed>> sent;
+  for (int i = 0; i < 3000; ++i)
+    for (const char* channel : {"A", "B"})
+      for (int16_t sender = -1; sender < 2; ++sender)
+        sent.emplace_back(channel, stamped(k, channel, sender, t + 1000 * i, static_cast<uint8_t>(i)));
+  uint64_t x = 12345;
+  auto next = [&x]() { return (x = x * 6364136223846793005ULL + 1442695040888963407ULL) >> 33; };
+  auto reorder = [&](std::size_t hold_max) {  // the order the link delivers `sent` in
+    std::vector<std::size_t> order(sent.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    for (std::size_t i = 0; i + 1 < order.size(); ++i)
+      if (next() % 5 == 0) {
+        const std::size_t to = std::min(order.size() - 1, i + 1 + next() % hold_max);
+        std::rotate(order.begin() + static_cast<std::ptrdiff_t>(i), order.begin() + static_cast<std::ptrdiff_t>(i) + 1,
+                    order.begin() + static_cast<std::ptrdiff_t>(to) + 1);
+      }
+    return order;
+  };
+  FleetAuth rx(k, kChannels, 22);
+  for (std::size_t i : reorder(12)) ASSERT_EQ(check(rx, sent[i].first, sent[i].second), Verdict::kAccepted) << i;
+  EXPECT_GT(rx.reordered(), 1000);
+  for (std::size_t i : reorder(12)) EXPECT_EQ(check(rx, sent[i].first, sent[i].second), Verdict::kReplayed) << i;
+  EXPECT_EQ(rx.counters().replayed, static_cast<int64_t>(sent.size()));
+
+  // Held back behind up to 9000 others (1.5 s of this traffic): those that
+  // fall out of the window (over kReorderUs late, or behind more than
+  // kReorderSlots newer ones of their stream) are refused, the rest pass.
+  FleetAuth slow(k, kChannels, 22);
+  int64_t accepted = 0;
+  for (std::size_t i : reorder(9000)) accepted += check(slow, sent[i].first, sent[i].second) == Verdict::kAccepted;
+  EXPECT_GT(slow.counters().replayed, 0);
+  EXPECT_GT(slow.reordered(), 0);
+  EXPECT_EQ(accepted + slow.counters().replayed, static_cast<int64_t>(sent.size()));
+  std::printf(
+      "reordering link, %zu messages: held back up to 12: %lld passed out of order, 0 refused; "
+      "up to 9000: %lld passed out of order, %lld refused\n",
+      sent.size(), static_cast<long long>(rx.reordered()), static_cast<long long>(slow.reordered()),
+      static_cast<long long>(slow.counters().replayed));
 }
 
 TEST(FleetKeyTest, KeygenWritesA0600FileThatLoadsBackAndIsNeverOverwritten) {

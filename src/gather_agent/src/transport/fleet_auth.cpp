@@ -184,7 +184,7 @@ FleetAuth::~FleetAuth() { sodium_memzero(&keyed_, sizeof keyed_); }
 
 void FleetAuth::reserve(int team) {
   const std::size_t n = static_cast<std::size_t>(std::clamp(team + 1, 0, senders_)) * channels_.size();
-  if (accepted_.size() < n) accepted_.resize(n, 0);
+  if (accepted_.size() < n) accepted_.resize(n);
 }
 
 void FleetAuth::start_now() { started_local_us_ = clock_->local_us(); }
@@ -200,10 +200,42 @@ int FleetAuth::channel_index(const char* channel) const {
   return -1;
 }
 
-int64_t& FleetAuth::slot(std::vector<int64_t>& table, int channel, int16_t sender) {
-  const std::size_t i = static_cast<std::size_t>(sender + 1) * channels_.size() + static_cast<std::size_t>(channel);
-  if (i >= table.size()) table.resize(i + 1, 0);
-  return table[i];
+std::size_t FleetAuth::slot_index(int channel, int16_t sender) const {
+  return static_cast<std::size_t>(sender + 1) * channels_.size() + static_cast<std::size_t>(channel);
+}
+
+int64_t& FleetAuth::sent_slot(int channel, int16_t sender) {
+  const std::size_t i = slot_index(channel, sender);
+  if (i >= sent_.size()) sent_.resize(i + 1, 0);
+  return sent_[i];
+}
+
+FleetAuth::Seen& FleetAuth::seen_slot(int channel, int16_t sender) {
+  const std::size_t i = slot_index(channel, sender);
+  if (i >= accepted_.size()) accepted_.resize(i + 1);
+  return accepted_[i];
+}
+
+bool FleetAuth::Seen::holds(int64_t c) const {
+  for (std::size_t i = 0; i < held; ++i)
+    if (below[i] == c) return true;
+  return false;
+}
+
+void FleetAuth::Seen::keep(int64_t c) {
+  if (held < below.size()) {
+    below[held++] = c;
+    return;
+  }
+  std::size_t lowest = 0;
+  for (std::size_t i = 1; i < below.size(); ++i)
+    if (below[i] < below[lowest]) lowest = i;
+  if (c < below[lowest]) {  // below all it keeps: it becomes the floor itself
+    floor = std::max(floor, c);
+    return;
+  }
+  floor = std::max(floor, below[lowest]);
+  below[lowest] = c;
 }
 
 void FleetAuth::mac_of(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
@@ -228,7 +260,7 @@ void FleetAuth::sign(const char* channel, int16_t sender, const uint8_t* payload
   head.sender = sender;
   const int c = channel_index(channel);
   int64_t fallback = 0;
-  int64_t& last = (c >= 0 && sender >= -1 && sender + 1 < senders_) ? slot(sent_, c, sender) : fallback;
+  int64_t& last = (c >= 0 && sender >= -1 && sender + 1 < senders_) ? sent_slot(c, sender) : fallback;
   last = std::max(last + 1, clock_->now_us());
   head.counter = last;
   if (!key_) {
@@ -251,14 +283,27 @@ Verdict FleetAuth::verify(const char* channel, const EnvelopeHead& head, const u
   mac_of(channel, head, payload, size, expected);
   if (crypto_verify_32(expected, mac) != 0) return ++counters_.bad_mac, Verdict::kBadMac;
   if (!counters || mac_only_[static_cast<std::size_t>(c)]) return Verdict::kAccepted;
-  int64_t& last = slot(accepted_, c, head.sender);
-  if (head.counter <= last) return ++counters_.replayed, Verdict::kReplayed;
-  // When this receiver started, in the fleet's time (its offset may have
-  // been measured since).
-  const int64_t started_us = started_local_us_ + clock_->offset_us();
-  if (last == 0 && (head.counter < started_us - kClockSkewUs || head.counter > clock_->now_us() + kClockSkewUs))
-    return ++counters_.replayed, Verdict::kReplayed;  // sent before this receiver started: a capture
-  last = head.counter;
+  Seen& seen = seen_slot(c, head.sender);
+  const int64_t counter = head.counter;
+  if (seen.newest == 0) {
+    // When this receiver started, in the fleet's time (its offset may have
+    // been measured since).
+    const int64_t started_us = started_local_us_ + clock_->offset_us();
+    if (counter < started_us - kClockSkewUs || counter > clock_->now_us() + kClockSkewUs)
+      return ++counters_.replayed, Verdict::kReplayed;  // sent before this receiver started: a capture
+    seen.newest = counter;
+    return Verdict::kAccepted;
+  }
+  if (counter > seen.newest) {
+    seen.keep(seen.newest);
+    seen.newest = counter;
+    return Verdict::kAccepted;
+  }
+  // At or below the newest: once, within the reorder window.
+  if (counter == seen.newest || counter <= seen.floor || counter < seen.newest - kReorderUs || seen.holds(counter))
+    return ++counters_.replayed, Verdict::kReplayed;
+  seen.keep(counter);
+  ++reordered_;
   return Verdict::kAccepted;
 }
 

@@ -9,11 +9,15 @@
 // and channel and strictly increasing: max(last + 1, wall-clock time in us),
 // so a restarted process continues above what it sent before its restart
 // without keeping any state (as long as its clock does not step back). A
-// receiver accepts a counter only above the last one it accepted from that
-// sender on that channel, and, for the first one it hears from them, only
-// when it was sent after this receiver started (within kClockSkewUs for
-// clocks that differ), so a receiver that starts or restarts is not open to
-// captures of earlier traffic either. No code here sees LCM types: LcmFleet
+// receiver accepts each counter from a sender on a channel once: above the
+// highest it accepted from them, or below it within a sliding window (at
+// most kReorderUs older, and above all but the kReorderSlots highest it
+// accepted below that one), so a message the radio delivered out of order
+// passes and its replay does not (the anti-replay window of IPsec and DTLS,
+// over time-based counters). The first counter it hears from a sender on a
+// channel passes only when it was sent after this receiver started (within
+// kClockSkewUs for clocks that differ), so a receiver that starts or
+// restarts is not open to captures of earlier traffic either. No code here sees LCM types: LcmFleet
 // wraps and unwraps the envelope.
 #include <sodium/crypto_auth_hmacsha512256.h>
 
@@ -86,6 +90,12 @@ class FleetAuth {
   // be stamped after the receiver started minus this, and at most this far
   // ahead of the receiver's clock.
   static constexpr int64_t kClockSkewUs = 2'000'000;
+  // The reorder window: a message that arrives after newer ones from its
+  // sender on its channel passes (once) when its counter is at most this
+  // much older [us] than the newest accepted, and above all but the
+  // kReorderSlots highest accepted below that newest one.
+  static constexpr int64_t kReorderUs = 1'000'000;
+  static constexpr std::size_t kReorderSlots = 16;
 
   // `key` empty: insecure mode (messages go unsigned, and nothing is checked).
   // `channels`: the channel names, in a fixed order (counters are kept per
@@ -129,6 +139,9 @@ class FleetAuth {
   void count_wrong_sender() { ++counters_.wrong_sender; }
 
   const AuthCounters& counters() const { return counters_; }
+  // Messages accepted below their sender's newest counter on their channel
+  // (delivered out of order, within the reorder window).
+  int64_t reordered() const { return reordered_; }
 
   // Room for senders -1 .. team - 1 up front (no allocation while running).
   void reserve(int team);
@@ -137,8 +150,22 @@ class FleetAuth {
   int channel_index(const char* channel) const;
   void mac_of(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
               uint8_t* out) const;
-  int64_t& slot(std::vector<int64_t>& table, int channel, int16_t sender);
+  // What a receiver has accepted from one sender on one channel.
+  struct Seen {
+    int64_t newest = 0;                          // the highest counter accepted; 0: none yet
+    int64_t floor = 0;                           // every counter at or below it is refused (it left the window)
+    std::array<int64_t, kReorderSlots> below{};  // accepted counters below `newest`, above `floor`
+    uint8_t held = 0;                            // how many of `below` are in use
+    // `c` (accepted, below `newest`, above `floor`) joins the window; when
+    // it is full the lowest leaves it and becomes the floor.
+    void keep(int64_t c);
+    bool holds(int64_t c) const;
+  };
+  std::size_t slot_index(int channel, int16_t sender) const;
+  int64_t& sent_slot(int channel, int16_t sender);
+  Seen& seen_slot(int channel, int16_t sender);
   AuthCounters counters_;
+  int64_t reordered_ = 0;
 
   std::optional<FleetKey> key_;
   std::vector<std::string> channels_;
@@ -152,8 +179,8 @@ class FleetAuth {
   crypto_auth_hmacsha512256_state keyed_{};
   // [sender + 1][channel], grown to the highest sender met (a receiver meets
   // its team's; a signer its own id): 0 = none yet.
-  std::vector<int64_t> sent_;      // last counter signed
-  std::vector<int64_t> accepted_;  // last counter accepted
+  std::vector<int64_t> sent_;   // last counter signed
+  std::vector<Seen> accepted_;  // what was accepted
 };
 
 }  // namespace agent
