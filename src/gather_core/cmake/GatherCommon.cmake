@@ -29,6 +29,12 @@ if(GATHER_SANITIZE)
   add_compile_options(-O1 -fsanitize=address,undefined -fsanitize=float-cast-overflow -fno-sanitize-recover=all
                       -fno-omit-frame-pointer -g1)
   add_link_options(-fsanitize=address,undefined)
+  # Several sources compiled as one (8 a unit): about a third less time to
+  # build under the sanitizers. It needs file-local names that differ
+  # between sources of a target (shared constants live in headers:
+  # gather_core/numeric.hpp).
+  set(CMAKE_UNITY_BUILD ON)
+  set(CMAKE_UNITY_BUILD_BATCH_SIZE 8)
 endif()
 
 # Our targets build without warnings: any warning fails the build.

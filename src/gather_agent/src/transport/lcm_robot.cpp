@@ -28,7 +28,7 @@ static_assert(gather_lcm::robot_scan_t::MAX_RAYS == kMaxScanRays, "scan size dif
 
 // Bytes: the largest robot message (a command of 256 waypoints, a scan of
 // 2048 rays) fits.
-constexpr std::size_t kBuffer = 16384;
+constexpr std::size_t kRobotBuffer = 16384;
 // Messages held between two drains: an agent drains every few ms and its
 // robot reports at 10-50 Hz; gather_world takes a command per agent a tick.
 constexpr std::size_t kAgentQueue = 16, kRobotsQueue = 1024;
@@ -41,7 +41,7 @@ struct RobotWire {
   gather_lcm::robot_pose_t pose;
   gather_lcm::robot_scan_t scan;
 };
-RobotWire& wire() {
+RobotWire& robot_wire() {
   static RobotWire w;
   return w;
 }
@@ -64,7 +64,7 @@ void handler(const lcm_recv_buf_t* rbuf, const char* channel, void* user) {
 
 bool encode_robot(const NavCommand& m, std::vector<uint8_t>& out) {
   if (m.n > kMaxNavWaypoints) return false;
-  gather_lcm::nav_command_t& w = wire().command;
+  gather_lcm::nav_command_t& w = robot_wire().command;
   w.schema_version = gather_lcm::nav_command_t::SCHEMA_VERSION;
   w.agent = m.agent;
   w.tick = m.tick;
@@ -78,7 +78,7 @@ bool encode_robot(const NavCommand& m, std::vector<uint8_t>& out) {
 }
 
 bool encode_robot(const RobotPose& m, std::vector<uint8_t>& out) {
-  gather_lcm::robot_pose_t& w = wire().pose;
+  gather_lcm::robot_pose_t& w = robot_wire().pose;
   w.schema_version = gather_lcm::robot_pose_t::SCHEMA_VERSION;
   w.agent = m.agent;
   w.tick = m.tick;
@@ -90,7 +90,7 @@ bool encode_robot(const RobotPose& m, std::vector<uint8_t>& out) {
 
 bool encode_robot(const NavStatus& m, std::vector<uint8_t>& out) {
   if (m.reached > kMaxNavWaypoints) return false;
-  gather_lcm::nav_status_t& w = wire().status;
+  gather_lcm::nav_status_t& w = robot_wire().status;
   w.schema_version = gather_lcm::nav_status_t::SCHEMA_VERSION;
   w.agent = m.agent;
   w.tick = m.tick;
@@ -107,7 +107,7 @@ bool encode_robot(const NavStatus& m, std::vector<uint8_t>& out) {
 
 bool encode_robot(const RobotScan& m, std::vector<uint8_t>& out) {
   if (m.rays < 1 || m.rays > kMaxScanRays) return false;
-  gather_lcm::robot_scan_t& w = wire().scan;
+  gather_lcm::robot_scan_t& w = robot_wire().scan;
   w.schema_version = gather_lcm::robot_scan_t::SCHEMA_VERSION;
   w.agent = m.agent;
   w.tick = m.tick;
@@ -120,7 +120,7 @@ bool encode_robot(const RobotScan& m, std::vector<uint8_t>& out) {
 }
 
 RobotDecoded decode_robot(const void* data, int size, NavCommand& m) {
-  gather_lcm::nav_command_t& w = wire().command;
+  gather_lcm::nav_command_t& w = robot_wire().command;
   if (safe_decode(w, data, size) != size) return RobotDecoded::kUndecodable;
   if (w.schema_version != gather_lcm::nav_command_t::SCHEMA_VERSION) return RobotDecoded::kWrongVersion;
   const bool go = w.kind == gather_lcm::nav_command_t::GO, stop = w.kind == gather_lcm::nav_command_t::STOP;
@@ -142,7 +142,7 @@ RobotDecoded decode_robot(const void* data, int size, NavCommand& m) {
 }
 
 RobotDecoded decode_robot(const void* data, int size, RobotPose& m) {
-  gather_lcm::robot_pose_t& w = wire().pose;
+  gather_lcm::robot_pose_t& w = robot_wire().pose;
   if (safe_decode(w, data, size) != size) return RobotDecoded::kUndecodable;
   if (w.schema_version != gather_lcm::robot_pose_t::SCHEMA_VERSION) return RobotDecoded::kWrongVersion;
   if (w.agent < 0 || w.agent >= kMaxTeam) return RobotDecoded::kOutOfRange;
@@ -155,7 +155,7 @@ RobotDecoded decode_robot(const void* data, int size, RobotPose& m) {
 }
 
 RobotDecoded decode_robot(const void* data, int size, NavStatus& m) {
-  gather_lcm::nav_status_t& w = wire().status;
+  gather_lcm::nav_status_t& w = robot_wire().status;
   if (safe_decode(w, data, size) != size) return RobotDecoded::kUndecodable;
   if (w.schema_version != gather_lcm::nav_status_t::SCHEMA_VERSION) return RobotDecoded::kWrongVersion;
   if (w.agent < 0 || w.agent >= kMaxTeam || w.command < 0 || w.state < gather_lcm::nav_status_t::IDLE ||
@@ -177,7 +177,7 @@ RobotDecoded decode_robot(const void* data, int size, NavStatus& m) {
 }
 
 RobotDecoded decode_robot(const void* data, int size, RobotScan& m) {
-  gather_lcm::robot_scan_t& w = wire().scan;
+  gather_lcm::robot_scan_t& w = robot_wire().scan;
   if (safe_decode(w, data, size) != size) return RobotDecoded::kUndecodable;
   if (w.schema_version != gather_lcm::robot_scan_t::SCHEMA_VERSION) return RobotDecoded::kWrongVersion;
   if (w.agent < 0 || w.agent >= kMaxTeam || w.rays < 1 || w.rays > kMaxScanRays || !std::isfinite(w.x) ||
@@ -208,7 +208,10 @@ std::vector<std::string> channel_names(const std::vector<int>& ids) {
 }  // namespace
 
 LcmRobotLink::LcmRobotLink(const std::string& url, Side side, std::vector<int> ids, std::optional<FleetKey> key)
-    : side_(side), ids_(std::move(ids)), auth_(std::move(key), channel_names(ids_), kMaxTeam + 1), buffer_(kBuffer) {
+    : side_(side),
+      ids_(std::move(ids)),
+      auth_(std::move(key), channel_names(ids_), kMaxTeam + 1),
+      buffer_(kRobotBuffer) {
   std::string error;
   lcm_ = open_lcm_c(url, &error);
   if (!lcm_) throw Error("--robot-url", error);
@@ -221,12 +224,12 @@ LcmRobotLink::LcmRobotLink(lcm_t* shared, Side side, std::vector<int> ids, std::
       side_(side),
       ids_(std::move(ids)),
       auth_(std::move(key), channel_names(ids_), kMaxTeam + 1),
-      buffer_(kBuffer) {
+      buffer_(kRobotBuffer) {
   subscribe();
 }
 
 void LcmRobotLink::subscribe() {
-  envelopes_ = std::make_unique<Envelopes>(auth_, kBuffer);
+  envelopes_ = std::make_unique<Envelopes>(auth_, kRobotBuffer);
   for (int id : ids_) {
     command_channels_.push_back(robot_command_channel(id));
     pose_channels_.push_back(robot_pose_channel(id));

@@ -18,17 +18,13 @@
 #include "gather_core/error.hpp"
 #include "gather_core/mission/mission_csv.hpp"
 #include "gather_core/mission/requests.hpp"
+#include "mission_internal.hpp"
 
 namespace gather {
 namespace mission {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kEps = 1e-9;           // [s] time tolerance
 constexpr int kMaxDecisions = 1000000;  // per worker: a loop that long is a bug
-
-// An internal invariant broke (a bug, not bad input): exit status 1.
-[[noreturn]] void bug(const std::string& what) { throw RuntimeError("mission (internal error)", what); }
 
 }  // namespace
 

@@ -1,4 +1,5 @@
 #include "gather_core/mission/tour.hpp"
+#include "gather_core/numeric.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -7,8 +8,6 @@
 namespace gather {
 namespace mission {
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Nearest neighbour from the start through the n goals `subset` into order[0..n).
 void nearest_neighbour(const TourDistances& d, const int* subset, std::size_t n, int* order, char* used) {

@@ -15,17 +15,13 @@
 #include "gather_core/mission/tour.hpp"
 #include "gather_core/radio/radio_model.hpp"
 #include "gather_core/scenario/start_poses.hpp"
+#include "mission_internal.hpp"
 
 namespace gather {
 namespace mission {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kEps = 1e-9;            // [s] time tolerance
 constexpr std::size_t kMaxLandings = 8;  // per OC worker: landing tables kept; beyond, march each time
-
-// An internal invariant broke (a bug, not bad input): exit status 1.
-[[noreturn]] void bug(const std::string& what) { throw RuntimeError("mission (internal error)", what); }
 
 }  // namespace
 

@@ -6,14 +6,13 @@
 #include <map>
 #include <tuple>
 
+#include "gather_core/numeric.hpp"
 #include "gather_core/plan/estimate.hpp"
 #include "gather_core/plan/route_builder.hpp"
 #include "gather_core/radio/radio_model.hpp"
 
 namespace gather {
 namespace plan {
-
-static constexpr double kInf = std::numeric_limits<double>::infinity();
 
 std::vector<SegmentId> segments_of(const ConfigurationPlan& cfg, CollectorId c) {
   std::vector<SegmentId> segs;

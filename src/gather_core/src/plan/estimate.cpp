@@ -7,12 +7,11 @@
 #include <map>
 
 #include "gather_core/fmm/path.hpp"
+#include "gather_core/numeric.hpp"
 #include "gather_core/plan/loop_schedule.hpp"
 
 namespace gather {
 namespace plan {
-
-static constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Distance [m] along the route from arc position `s` to where it next enters
 // the OC's coverage (the route ends at the OC, inside it).

@@ -13,6 +13,7 @@
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/mission/simulator.hpp"
 #include "gather_core/mission/worker_policy.hpp"
+#include "gather_core/numeric.hpp"
 #include "gather_core/plan/association.hpp"
 #include "gather_core/plan/collector_groups.hpp"
 #include "gather_core/plan/estimate.hpp"
@@ -31,7 +32,6 @@ namespace plan {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 

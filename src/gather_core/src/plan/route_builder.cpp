@@ -9,14 +9,13 @@
 #include "gather_core/error.hpp"
 #include "gather_core/fmm/path.hpp"
 #include "gather_core/mission/tour.hpp"
+#include "gather_core/numeric.hpp"
 #include "gather_core/path/path_polisher.hpp"
 #include "gather_core/radio/radio_model.hpp"
 
 namespace gather {
 namespace plan {
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // A*'s cost and parent per cell, kept between searches: a search touches
 // the cells around its leg only, and wiping grid-sized arrays for each leg

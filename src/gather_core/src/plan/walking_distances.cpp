@@ -6,13 +6,12 @@
 #include <limits>
 
 #include "gather_core/mission/segment_window.hpp"
+#include "gather_core/numeric.hpp"
 #include "gather_core/plan/tour_model.hpp"
 
 namespace gather {
 namespace plan {
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // The bits of a distance as a float; for d >= 0 (and +inf) they sort like d.
 uint32_t float_bits(double d) {

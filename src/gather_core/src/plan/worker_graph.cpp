@@ -1,4 +1,5 @@
 #include "gather_core/plan/worker_graph.hpp"
+#include "gather_core/numeric.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +10,6 @@ namespace plan {
 
 WorkerGraph build_worker_graph(const OccupancyGrid& grid, const LabelImage& labels, int workers, const Mask& coverage,
                                const Raster<double>& coverage_distance, const Mask* roomy) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   const std::string where = "worker graph";
   require_same_size(labels, grid.frame(), where, "the label image");
   require_same_size(coverage, grid.frame(), where, "the coverage mask");
