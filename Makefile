@@ -61,7 +61,8 @@ readme-figures: build
 # alone. The background's output is in build/test-background.log.
 BG_LOG := build/test-background.log
 test: build
-	mkdir -p build
+	@mkdir -p build
+	echo "make test: tidy and plain-build (the sanitized build) at nice 19 beside the other tests: $(BG_LOG)"
 	setsid -w nice -n 19 $(MAKE) --no-print-directory tidy plain-build > $(BG_LOG) 2>&1 &
 	bg=$$!
 	trap 'kill -- -$$bg 2> /dev/null || true' EXIT
@@ -150,11 +151,21 @@ test-cli: build
 # then two robots through robot.launch, robot_bridge and move_base's topics
 # (world_move_base on gather_world), and a mission with the OC and every
 # robot its own host (tools/hosts-run).
+# robots_e2e and bridge_e2e run side by side (each in a namespace of its
+# own, about one core between them; robots_e2e's output follows bridge_e2e's).
 test-e2e: build pylcm
 	tools/netns-run $(PYTHON) tests/e2e/runtime_e2e.py
-	tools/netns-run bash -c '$(SETUP) && $(PYTHON) tests/e2e/robots_e2e.py --pylcm $(PYLCM) --launch'
 	tools/netns-run xvfb-run -a -s "-screen 0 1400x900x24" bash -c '$(SETUP) && $(PYTHON) tests/e2e/mission_e2e.py'
+	mkdir -p build
+	setsid -w tools/netns-run bash -c '$(SETUP) && $(PYTHON) tests/e2e/robots_e2e.py --pylcm $(PYLCM) --launch' \
+	  > build/robots_e2e.log 2>&1 &
+	robots=$$!
+	trap 'kill -- -$$robots 2> /dev/null || true' EXIT
 	tools/netns-run bash -c '$(SETUP) && $(PYTHON) tests/e2e/bridge_e2e.py'
+	status=0; wait $$robots || status=$$?
+	trap - EXIT
+	cat build/robots_e2e.log
+	if [ $$status -ne 0 ]; then echo "test-e2e: robots_e2e failed (status $$status)" >&2; exit 1; fi
 	tools/hosts-run 20 $(PYTHON) tests/e2e/hosts_e2e.py --pylcm $(PYLCM)
 
 # FMM against scikit-fmm on the shared benchmark grids, one table (docs/fmm.md);
