@@ -7,14 +7,18 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <gather_lcm/ack_t.hpp>
+#include <gather_lcm/agent_state_t.hpp>
 #include <gather_lcm/data_t.hpp>
 #include <gather_lcm/envelope_t.hpp>
+#include <gather_lcm/request_t.hpp>
 
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -404,6 +408,73 @@ TEST(LcmFleetAuthTest, EnvelopesAreCheckedBeforeThePayloadIsDecoded) {
   EXPECT_EQ(rx.refused().undecodable, undecodable);
   rx.on_radio(kDataChannel, second.data(), static_cast<int>(second.size()));  // its counter was not used up
   EXPECT_EQ(rx.radio().size(), 4u);
+}
+
+// A message of a kind its sender's role never sends is dropped however well
+// it is signed: a worker's request or ack, the OC's data or state.
+TEST(LcmFleetAuthTest, AKindItsSendersRoleNeverSendsIsDroppedAsWrongSender) {
+  const FleetKey key = key_of(7, 1);
+  LcmFleet rx("memq://", "memq://", true, key, 20);
+  std::vector<uint8_t> collectors(20, 0);
+  collectors[5] = 1;  // agent 5 collects, the others work
+  rx.set_team(20, collectors);
+  FleetAuth tx(key,
+               {kRequestChannel, kDataChannel, kAckChannel, kStateChannel, kPlanChannel, kTickChannel, kReplyChannel},
+               kMaxTeam + 1);
+  auto seal = [&](const char* channel, int16_t sender, auto msg) {
+    msg.h.schema_version = gather_lcm::header_t::SCHEMA_VERSION;
+    msg.h.sender = sender, msg.h.dest = gather_lcm::header_t::BROADCAST;
+    std::vector<uint8_t> p(static_cast<std::size_t>(msg.getEncodedSize()));
+    msg.encode(p.data(), 0, static_cast<int>(p.size()));
+    gather_lcm::envelope_t e{};
+    EnvelopeHead h;
+    e.payload = p;
+    tx.sign(channel, sender, e.payload.data(), e.payload.size(), h, e.mac);
+    e.version = h.version, e.key_id = h.key_id, e.sender = h.sender, e.counter = h.counter;
+    e.size = static_cast<int32_t>(p.size());
+    std::vector<uint8_t> b(static_cast<std::size_t>(e.getEncodedSize()));
+    e.encode(b.data(), 0, static_cast<int>(b.size()));
+    rx.on_radio(channel, b.data(), static_cast<int>(b.size()));
+  };
+  gather_lcm::request_t request{};
+  request.parts = 1;
+  gather_lcm::agent_state_t state{};
+  state.role = gather_lcm::agent_state_t::ROLE_WORKER;
+  const gather_lcm::ack_t ack{};
+  const gather_lcm::data_t data{};
+  struct Case {
+    const char* what;
+    std::function<void()> send;
+    bool passes;
+  };
+  const std::vector<Case> cases{
+      {"the OC's request", [&] { seal(kRequestChannel, kOc, request); }, true},
+      {"a collector's request", [&] { seal(kRequestChannel, 5, request); }, true},
+      {"a worker's request", [&] { seal(kRequestChannel, 3, request); }, false},
+      {"the OC's ack", [&] { seal(kAckChannel, kOc, ack); }, true},
+      {"a collector's ack", [&] { seal(kAckChannel, 5, ack); }, true},
+      {"a worker's ack", [&] { seal(kAckChannel, 3, ack); }, false},
+      {"a worker's data", [&] { seal(kDataChannel, 3, data); }, true},
+      {"a collector's data", [&] { seal(kDataChannel, 5, data); }, true},
+      {"the OC's data", [&] { seal(kDataChannel, kOc, data); }, false},
+      {"a worker's state", [&] { seal(kStateChannel, 3, state); }, true},
+      {"a collector's state", [&] { seal(kStateChannel, 5, state); }, true},
+      {"the OC's state", [&] { seal(kStateChannel, kOc, state); }, false},
+  };
+  for (const Case& c : cases) {
+    const std::size_t heard = rx.radio().size();
+    const int64_t wrong = rx.rejected().wrong_sender;
+    c.send();
+    EXPECT_EQ(rx.radio().size(), heard + (c.passes ? 1 : 0)) << c.what;
+    EXPECT_EQ(rx.rejected().wrong_sender, wrong + (c.passes ? 0 : 1)) << c.what;
+  }
+  EXPECT_EQ(rx.rejected().total(), 4);
+  EXPECT_FALSE(rx.may_send(3, Kind::kRequest));
+  EXPECT_TRUE(rx.may_send(5, Kind::kRequest));
+  // Roles unknown (no plan yet): an agent may send any kind, the OC only its own.
+  rx.set_team(20);
+  EXPECT_TRUE(rx.may_send(3, Kind::kRequest));
+  EXPECT_FALSE(rx.may_send(kOc, Kind::kData));
 }
 
 }  // namespace

@@ -116,6 +116,12 @@ GridAStar& TeamSetup::paths() {
   return *paths_;
 }
 
+std::vector<uint8_t> TeamSetup::collector_flags() const {
+  std::vector<uint8_t> flags;
+  for (AgentId a : ids<AgentId>(agents())) flags.push_back(assignment(a).collector ? 1 : 0);
+  return flags;
+}
+
 bool TeamSetup::linked(Point2 a, Point2 b) const {
   return std::hypot(a.x - b.x, a.y - b.y) <= range_ && radio.linked(a, b);
 }

@@ -109,7 +109,7 @@ bool LockstepAgent::take_plan(std::string* why) {
   tick_s_ = p.tick;
   clock_ = p.clock;
   rate_ = p.rate;
-  fleet_.set_team(p.agents);
+  fleet_.set_team(p.agents, team_->collector_flags());
   // A repair (a repaired plan merges segments: docs/faults.md) reads the
   // label image again from the plan directory.
   team_->reload_labels = [dir = plan_.dir, frame = plan_.plan.labels.frame()]() {

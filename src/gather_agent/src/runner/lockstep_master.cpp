@@ -50,7 +50,7 @@ LockstepMaster::LockstepMaster(TeamSetup& team, LcmFleet& fleet, uint64_t digest
   if (!(options_.rate >= 0.0)) throw Error("--rate", "must be >= 0 (0: as fast as the lockstep allows)");
   if (options_.clock == ClockMode::kWall && !(options_.rate > 0.0))
     throw Error("--rate", "must be > 0 with the wall clock (mission seconds per wall second)");
-  fleet_.set_team(team.agents());
+  fleet_.set_team(team.agents(), team.collector_flags());
   last_.assign(static_cast<std::size_t>(team.agents()), Reply{});
   for (AgentId a : ids<AgentId>(team.agents())) {  // until the agent says otherwise: the plan's role, its start
     Reply& r = last_[a.index()];

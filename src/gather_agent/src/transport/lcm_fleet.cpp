@@ -670,6 +670,7 @@ void LcmFleet::on_radio_payload(const char* channel, const void* data, int size,
   }
   if (h->schema_version != gather_lcm::header_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
   if (h->sender != sender) return auth_.count_wrong_sender();
+  if (!may_send(sender, m.h.kind)) return auth_.count_wrong_sender();  // not its role's to send
   if (h->sender < kOc || h->sender >= team_ || (h->dest != kBroadcast && (h->dest < kOc || h->dest >= team_)) ||
       h->seq < 0 || h->request < -1 || h->dead < 0 || h->dead > kMaxDead || !finite(h->t) || !finite(h->x) ||
       !finite(h->y) || !(std::abs(h->delay) <= kMaxDelay))
@@ -685,6 +686,21 @@ void LcmFleet::on_radio_payload(const char* channel, const void* data, int size,
   m.h.delay = h->delay;
   if (radio_.size() >= radio_.capacity()) return void(++refused_.queue_full);
   radio_.push_back(m);
+}
+
+void LcmFleet::set_team(int agents, std::vector<uint8_t> collectors) {
+  if (!collectors.empty() && collectors.size() != static_cast<std::size_t>(agents))
+    throw RuntimeError("LcmFleet::set_team", "one role per agent");
+  team_ = agents;
+  collectors_ = std::move(collectors);
+  auth_.reserve(agents);
+}
+
+bool LcmFleet::may_send(int16_t sender, Kind kind) const {
+  const bool from_oc = kind == Kind::kRequest || kind == Kind::kAck;  // the OC's, or a collector's to its workers
+  if (sender == kOc) return from_oc;
+  if (sender < 0 || static_cast<std::size_t>(sender) >= collectors_.size()) return true;  // roles unknown
+  return !from_oc || collectors_[static_cast<std::size_t>(sender)] != 0;
 }
 
 void LcmFleet::on_clock_payload(const char* channel, const void* data, int size, int16_t sender) {

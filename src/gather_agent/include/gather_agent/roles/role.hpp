@@ -86,6 +86,8 @@ class TeamSetup {
   // The plan's agents (check_plan: valid, distinct and listed by id).
   int agents() const { return plan.file.agents.count(); }
   const plan::AgentAssignment& assignment(AgentId agent) const { return plan.file.agents[agent]; }
+  // Per agent: 1 for a collector, 0 for a worker (LcmFleet::set_team).
+  std::vector<uint8_t> collector_flags() const;
   // The agent that drives `collector` (mission::collector_agents).
   AgentId collector_agent(CollectorId collector) const { return collector_agent_[collector]; }
   // The worker of `segment` (none: no worker).

@@ -142,10 +142,14 @@ class LcmFleet {
   LcmFleet(const LcmFleet&) = delete;
   LcmFleet& operator=(const LcmFleet&) = delete;
 
-  void set_team(int agents) {
-    team_ = agents;
-    auth_.reserve(agents);
-  }
+  // The team's size and, when given, which agents are collectors (one
+  // entry per agent, 1: collector; the plan's roles, which a repair keeps).
+  // With roles, a radio message of a kind its sender's role never sends is
+  // dropped and counted as wrong sender, however well signed: requests and
+  // acks come from the OC and collectors, data and states from agents.
+  void set_team(int agents, std::vector<uint8_t> collectors = {});
+  // Whether `sender`'s role sends messages of `kind` (set_team).
+  bool may_send(int16_t sender, Kind kind) const;
 
   // The fleet's time (transport/fleet_clock.hpp). The OC's side answers
   // every agent's ask; every other process is on the OC's host (its clock is
@@ -227,6 +231,7 @@ class LcmFleet {
   lcm_t* lcm_ = nullptr;
   lcm_t* reply_lcm_ = nullptr;
   int team_;
+  std::vector<uint8_t> collectors_;  // per agent, 1: collector (empty: roles unknown)
   bool listen_replies_;
   std::vector<Message> radio_;
   std::vector<Tick> ticks_;
