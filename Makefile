@@ -66,7 +66,9 @@ test: build
 	setsid -w nice -n 19 $(MAKE) --no-print-directory tidy plain-build > $(BG_LOG) 2>&1 &
 	bg=$$!
 	trap 'kill -- -$$bg 2> /dev/null || true' EXIT
-	$(MAKE) --no-print-directory format-check test-ros test-cli test-e2e
+	t0=$$(date +%s)
+	done_at() { echo "make test: $$1 done at $$(date +%T), $$(( $$(date +%s) - t0 )) s after the build"; }
+	for t in format-check test-ros test-cli test-e2e; do $(MAKE) --no-print-directory $$t; done_at $$t; done
 	if ! wait $$bg; then
 	  tail -n 60 $(BG_LOG) >&2
 	  echo "make test: tidy or the sanitized build failed ($(BG_LOG))" >&2
@@ -74,8 +76,10 @@ test: build
 	fi
 	trap - EXIT
 	tail -n 2 $(BG_LOG)
+	done_at "tidy and plain-build (in the background)"
 	$(MAKE) --no-print-directory test-plain
-	@echo "make test: all tests passed"
+	done_at test-plain
+	echo "make test: all tests passed"
 
 # The committed .clang-format on every C++ file of the repository: `make
 # format` applies it, `make format-check` (part of make test) fails on a file
