@@ -63,6 +63,8 @@ BG_LOG := build/test-background.log
 test: build
 	@mkdir -p build
 	echo "make test: tidy and plain-build (the sanitized build) at nice 19 beside the other tests: $(BG_LOG)"
+	# setsid -w: should setsid have to fork, it still waits for its child (so
+	# `wait` gets the real status).
 	setsid -w nice -n 19 $(MAKE) --no-print-directory tidy plain-build > $(BG_LOG) 2>&1 &
 	bg=$$!
 	trap 'kill -- -$$bg 2> /dev/null || true' EXIT
@@ -164,7 +166,7 @@ test-e2e: build pylcm
 	setsid -w tools/netns-run bash -c '$(SETUP) && $(PYTHON) tests/e2e/robots_e2e.py --pylcm $(PYLCM) --launch' \
 	  > build/robots_e2e.log 2>&1 &
 	robots=$$!
-	trap 'kill -- -$$robots 2> /dev/null || true' EXIT
+	trap 'kill -- -$$robots 2> /dev/null || true; echo "test-e2e: robots_e2e stopped (its output: build/robots_e2e.log)" >&2' EXIT
 	tools/netns-run bash -c '$(SETUP) && $(PYTHON) tests/e2e/bridge_e2e.py'
 	status=0; wait $$robots || status=$$?
 	trap - EXIT

@@ -218,14 +218,36 @@ TEST(FleetAuthTest, TheWindowKeepsItsHighestCountersAndRefusesWhatLeftIt) {
   // Every one of them again: refused, kept or not.
   for (int i = 0; i < n; ++i)
     EXPECT_EQ(check(rx, "A", stamped(k, "A", 2, t + 2 * i, static_cast<uint8_t>(i))), Verdict::kReplayed) << i;
-  // An odd counter never sent: above the lowest kept it passes (once); at or
-  // below the floor it is refused, sent or not (the window is full).
+  // Odd counters never sent, the window full. Between the floor and the
+  // lowest kept: it passes once and becomes the floor itself.
+  EXPECT_EQ(check(rx, "A", stamped(k, "A", 2, lowest_kept - 1, 1)), Verdict::kAccepted);
+  EXPECT_EQ(check(rx, "A", stamped(k, "A", 2, lowest_kept - 1, 1)), Verdict::kReplayed);
+  // Above the lowest kept: it passes once, the lowest kept leaves the window.
   EXPECT_EQ(check(rx, "A", stamped(k, "A", 2, lowest_kept + 1, 1)), Verdict::kAccepted);
   EXPECT_EQ(check(rx, "A", stamped(k, "A", 2, lowest_kept + 1, 1)), Verdict::kReplayed);
-  EXPECT_EQ(check(rx, "A", stamped(k, "A", 2, lowest_kept - 1, 1)), Verdict::kReplayed);
+  EXPECT_EQ(check(rx, "A", stamped(k, "A", 2, lowest_kept, 1)), Verdict::kReplayed);
+  // At or below the floor: refused, sent or not.
   EXPECT_EQ(check(rx, "A", stamped(k, "A", 2, t + 1, 1)), Verdict::kReplayed);
-  EXPECT_EQ(rx.reordered(), 1);
-  EXPECT_EQ(rx.counters().replayed, n + 3);
+  EXPECT_EQ(rx.reordered(), 2);
+  EXPECT_EQ(rx.counters().replayed, n + 4);
+}
+
+// A receiver that restarts takes out of order only what was sent since it
+// started (less the clock skew allowed), as for a sender's first message;
+// a link whose messages supersede each other (the robot link) takes none.
+TEST(FleetAuthTest, OutOfOrderAfterARestartOnlyWhatWasSentSinceAndNoneOnAnInOrderLink) {
+  const FleetKey k = key_of(7, 1);
+  FleetAuth rx(k, kChannels, 22);
+  const int64_t t = wall_clock_us();                                                    // just after rx started
+  EXPECT_EQ(check(rx, "A", stamped(k, "A", 1, t - 1'500'000, 1)), Verdict::kAccepted);  // within the skew
+  EXPECT_EQ(check(rx, "A", stamped(k, "A", 1, t - 2'300'000, 2)), Verdict::kReplayed);  // before it started
+  EXPECT_EQ(check(rx, "A", stamped(k, "A", 1, t - 1'800'000, 3)), Verdict::kAccepted);
+  FleetAuth robot(k, kChannels, 22);
+  robot.in_order_only();
+  EXPECT_EQ(check(robot, "A", stamped(k, "A", 1, t + 20'000, 1)), Verdict::kAccepted);
+  EXPECT_EQ(check(robot, "A", stamped(k, "A", 1, t + 10'000, 2)), Verdict::kReplayed);  // late
+  EXPECT_EQ(check(robot, "A", stamped(k, "A", 1, t + 30'000, 3)), Verdict::kAccepted);
+  EXPECT_EQ(robot.reordered(), 0);
 }
 
 // A link that reorders: 3 senders on 2 channels, a message every 1 ms
@@ -265,14 +287,18 @@ TEST(FleetAuthTest, AReorderingLinkLosesNothingWithinTheWindowAndItsReplaysAreAl
   FleetAuth slow(k, kChannels, 22);
   int64_t accepted = 0;
   for (std::size_t i : reorder(9000)) accepted += check(slow, sent[i].first, sent[i].second) == Verdict::kAccepted;
-  EXPECT_GT(slow.counters().replayed, 0);
+  const int64_t refused = slow.counters().replayed;
+  EXPECT_GT(refused, 0);
   EXPECT_GT(slow.reordered(), 0);
-  EXPECT_EQ(accepted + slow.counters().replayed, static_cast<int64_t>(sent.size()));
+  EXPECT_EQ(accepted + refused, static_cast<int64_t>(sent.size()));
+  // Everything again, in another order of the slow link: nothing passes twice.
+  for (std::size_t i : reorder(9000)) EXPECT_EQ(check(slow, sent[i].first, sent[i].second), Verdict::kReplayed) << i;
+  EXPECT_EQ(slow.counters().replayed, refused + static_cast<int64_t>(sent.size()));
   std::printf(
       "reordering link, %zu messages: held back up to 12: %lld passed out of order, 0 refused; "
       "up to 9000: %lld passed out of order, %lld refused\n",
       sent.size(), static_cast<long long>(rx.reordered()), static_cast<long long>(slow.reordered()),
-      static_cast<long long>(slow.counters().replayed));
+      static_cast<long long>(refused));
 }
 
 TEST(FleetKeyTest, KeygenWritesA0600FileThatLoadsBackAndIsNeverOverwritten) {

@@ -292,6 +292,9 @@ Verdict FleetAuth::verify(const char* channel, const EnvelopeHead& head, const u
     if (counter < started_us - kClockSkewUs || counter > clock_->now_us() + kClockSkewUs)
       return ++counters_.replayed, Verdict::kReplayed;  // sent before this receiver started: a capture
     seen.newest = counter;
+    // Out of order after it, only what was sent since this receiver started
+    // (as for the first one): captures of earlier traffic stay refused.
+    seen.floor = started_us - kClockSkewUs - 1;
     return Verdict::kAccepted;
   }
   if (counter > seen.newest) {
@@ -300,7 +303,8 @@ Verdict FleetAuth::verify(const char* channel, const EnvelopeHead& head, const u
     return Verdict::kAccepted;
   }
   // At or below the newest: once, within the reorder window.
-  if (counter == seen.newest || counter <= seen.floor || counter < seen.newest - kReorderUs || seen.holds(counter))
+  if (in_order_only_ || counter == seen.newest || counter <= seen.floor || counter < seen.newest - kReorderUs ||
+      seen.holds(counter))
     return ++counters_.replayed, Verdict::kReplayed;
   seen.keep(counter);
   ++reordered_;

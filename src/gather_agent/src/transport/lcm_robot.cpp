@@ -229,6 +229,7 @@ LcmRobotLink::LcmRobotLink(lcm_t* shared, Side side, std::vector<int> ids, std::
 }
 
 void LcmRobotLink::subscribe() {
+  auth_.in_order_only();  // commands, statuses and poses supersede each other: never one that arrives late
   envelopes_ = std::make_unique<Envelopes>(auth_, kRobotBuffer);
   for (int id : ids_) {
     command_channels_.push_back(robot_command_channel(id));

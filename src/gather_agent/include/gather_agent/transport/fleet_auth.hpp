@@ -131,6 +131,11 @@ class FleetAuth {
   // asker's last t0, once (LcmFleet).
   void mac_only(const char* channel);
 
+  // No reorder window on any channel: a counter must be above the newest
+  // accepted (the robot link, whose messages supersede each other: a late
+  // command must not undo a newer one, nor a late pose move the robot back).
+  void in_order_only() { in_order_only_ = true; }
+
   // This receiver starts now (on its clock, which was just replaced): the
   // freshness window's lower end.
   void start_now();
@@ -174,6 +179,7 @@ class FleetAuth {
   const FleetClock* clock_;     // the one counters are signed and checked on
   int64_t started_local_us_;    // this host's clock when this receiver started
   std::vector<bool> mac_only_;  // per channel
+  bool in_order_only_ = false;
   // HMAC's state once the key is absorbed (its inner and outer pads hashed):
   // each message starts from a copy instead of hashing the key twice again.
   crypto_auth_hmacsha512256_state keyed_{};
