@@ -185,6 +185,7 @@ FleetAuth::~FleetAuth() { sodium_memzero(&keyed_, sizeof keyed_); }
 void FleetAuth::reserve(int team) {
   const std::size_t n = static_cast<std::size_t>(std::clamp(team + 1, 0, senders_)) * channels_.size();
   if (accepted_.size() < n) accepted_.resize(n);
+  if (!in_order_only_ && windows_.size() < n) windows_.resize(n);
 }
 
 void FleetAuth::start_now() { started_local_us_ = clock_->local_us(); }
@@ -216,13 +217,19 @@ FleetAuth::Seen& FleetAuth::seen_slot(int channel, int16_t sender) {
   return accepted_[i];
 }
 
-bool FleetAuth::Seen::holds(int64_t c) const {
+FleetAuth::Window& FleetAuth::window_slot(int channel, int16_t sender) {
+  const std::size_t i = slot_index(channel, sender);
+  if (i >= windows_.size()) windows_.resize(i + 1);
+  return windows_[i];
+}
+
+bool FleetAuth::Window::holds(int64_t c) const {
   for (std::size_t i = 0; i < held; ++i)
     if (below[i] == c) return true;
   return false;
 }
 
-void FleetAuth::Seen::keep(int64_t c) {
+void FleetAuth::Window::keep(int64_t c, int64_t& floor) {
   if (held < below.size()) {
     below[held++] = c;
     return;
@@ -298,15 +305,16 @@ Verdict FleetAuth::verify(const char* channel, const EnvelopeHead& head, const u
     return Verdict::kAccepted;
   }
   if (counter > seen.newest) {
-    seen.keep(seen.newest);
+    if (!in_order_only_) window_slot(c, head.sender).keep(seen.newest, seen.floor);
     seen.newest = counter;
     return Verdict::kAccepted;
   }
   // At or below the newest: once, within the reorder window.
-  if (in_order_only_ || counter == seen.newest || counter <= seen.floor || counter < seen.newest - kReorderUs ||
-      seen.holds(counter))
+  if (in_order_only_ || counter == seen.newest || counter <= seen.floor || counter < seen.newest - kReorderUs)
     return ++counters_.replayed, Verdict::kReplayed;
-  seen.keep(counter);
+  Window& window = window_slot(c, head.sender);
+  if (window.holds(counter)) return ++counters_.replayed, Verdict::kReplayed;
+  window.keep(counter, seen.floor);
   ++reordered_;
   return Verdict::kAccepted;
 }

@@ -157,18 +157,22 @@ class FleetAuth {
               uint8_t* out) const;
   // What a receiver has accepted from one sender on one channel.
   struct Seen {
-    int64_t newest = 0;                          // the highest counter accepted; 0: none yet
-    int64_t floor = 0;                           // every counter at or below it is refused (it left the window)
+    int64_t newest = 0;  // the highest counter accepted; 0: none yet
+    int64_t floor = 0;   // every counter at or below it is refused (it left the window)
+  };
+  // Its reorder window (none with in_order_only()).
+  struct Window {
     std::array<int64_t, kReorderSlots> below{};  // accepted counters below `newest`, above `floor`
     uint8_t held = 0;                            // how many of `below` are in use
-    // `c` (accepted, below `newest`, above `floor`) joins the window; when
+    // `c` (accepted, below the newest, above `floor`) joins the window; when
     // it is full the lowest leaves it and becomes the floor.
-    void keep(int64_t c);
+    void keep(int64_t c, int64_t& floor);
     bool holds(int64_t c) const;
   };
   std::size_t slot_index(int channel, int16_t sender) const;
   int64_t& sent_slot(int channel, int16_t sender);
   Seen& seen_slot(int channel, int16_t sender);
+  Window& window_slot(int channel, int16_t sender);
   AuthCounters counters_;
   int64_t reordered_ = 0;
 
@@ -185,8 +189,9 @@ class FleetAuth {
   crypto_auth_hmacsha512256_state keyed_{};
   // [sender + 1][channel], grown to the highest sender met (a receiver meets
   // its team's; a signer its own id): 0 = none yet.
-  std::vector<int64_t> sent_;   // last counter signed
-  std::vector<Seen> accepted_;  // what was accepted
+  std::vector<int64_t> sent_;    // last counter signed
+  std::vector<Seen> accepted_;   // what was accepted
+  std::vector<Window> windows_;  // their windows (not with in_order_only())
 };
 
 }  // namespace agent
