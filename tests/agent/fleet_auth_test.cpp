@@ -366,6 +366,23 @@ TEST(FleetKeyTest, OptionsNeedAKeyOrAnExplicitInsecure) {
 // The transport: a signed envelope on the wire passes; the same bytes
 // changed anywhere, replayed, or carrying a payload whose sender differs
 // from the signed one are dropped and counted, and nothing reaches the queue.
+// `msg` (an LCM message) encoded, signed by `tx` as `sender` on `channel`,
+// in its envelope: the bytes a receiver hears.
+template <typename Msg>
+std::vector<uint8_t> enveloped(FleetAuth& tx, const char* channel, int16_t sender, const Msg& msg) {
+  std::vector<uint8_t> p(static_cast<std::size_t>(msg.getEncodedSize()));
+  msg.encode(p.data(), 0, static_cast<int>(p.size()));
+  gather_lcm::envelope_t e{};
+  EnvelopeHead h;
+  e.payload = p;
+  tx.sign(channel, sender, e.payload.data(), e.payload.size(), h, e.mac);
+  e.version = h.version, e.key_id = h.key_id, e.sender = h.sender, e.counter = h.counter;
+  e.size = static_cast<int32_t>(p.size());
+  std::vector<uint8_t> b(static_cast<std::size_t>(e.getEncodedSize()));
+  e.encode(b.data(), 0, static_cast<int>(b.size()));
+  return b;
+}
+
 TEST(LcmFleetAuthTest, EnvelopesAreCheckedBeforeThePayloadIsDecoded) {
   const FleetKey key = key_of(7, 1);
   LcmFleet rx("memq://", "memq://", true, key, 20);
@@ -376,17 +393,7 @@ TEST(LcmFleetAuthTest, EnvelopesAreCheckedBeforeThePayloadIsDecoded) {
     gather_lcm::data_t d{};
     d.h.schema_version = gather_lcm::header_t::SCHEMA_VERSION;
     d.h.sender = payload_sender, d.h.dest = kOc, d.count = 0;
-    std::vector<uint8_t> p(static_cast<std::size_t>(d.getEncodedSize()));
-    d.encode(p.data(), 0, static_cast<int>(p.size()));
-    gather_lcm::envelope_t e{};
-    EnvelopeHead h;
-    e.payload = p;
-    tx.sign(kDataChannel, envelope_sender, e.payload.data(), e.payload.size(), h, e.mac);
-    e.version = h.version, e.key_id = h.key_id, e.sender = h.sender, e.counter = h.counter;
-    e.size = static_cast<int32_t>(p.size());
-    std::vector<uint8_t> b(static_cast<std::size_t>(e.getEncodedSize()));
-    e.encode(b.data(), 0, static_cast<int>(b.size()));
-    return b;
+    return enveloped(tx, kDataChannel, envelope_sender, d);
   };
   const std::vector<uint8_t> good = wire(3, 3);
   rx.on_radio(kDataChannel, good.data(), static_cast<int>(good.size()));
@@ -450,16 +457,7 @@ TEST(LcmFleetAuthTest, AKindItsSendersRoleNeverSendsIsDroppedAsWrongSender) {
   auto seal = [&](const char* channel, int16_t sender, auto msg) {
     msg.h.schema_version = gather_lcm::header_t::SCHEMA_VERSION;
     msg.h.sender = sender, msg.h.dest = gather_lcm::header_t::BROADCAST;
-    std::vector<uint8_t> p(static_cast<std::size_t>(msg.getEncodedSize()));
-    msg.encode(p.data(), 0, static_cast<int>(p.size()));
-    gather_lcm::envelope_t e{};
-    EnvelopeHead h;
-    e.payload = p;
-    tx.sign(channel, sender, e.payload.data(), e.payload.size(), h, e.mac);
-    e.version = h.version, e.key_id = h.key_id, e.sender = h.sender, e.counter = h.counter;
-    e.size = static_cast<int32_t>(p.size());
-    std::vector<uint8_t> b(static_cast<std::size_t>(e.getEncodedSize()));
-    e.encode(b.data(), 0, static_cast<int>(b.size()));
+    const std::vector<uint8_t> b = enveloped(tx, channel, sender, msg);
     rx.on_radio(channel, b.data(), static_cast<int>(b.size()));
   };
   gather_lcm::request_t request{};
