@@ -7,7 +7,8 @@
 //   other_key     requests signed under another key id        -> unknown key
 //   unsigned      data deliveries without a signature           -> unsigned
 //   replayed      captured valid messages sent again later (delivery acks
-//                 among them)                                  -> replayed
+//                 among them), each older than the reorder window
+//                 behind a newer one of its sender        -> replayed
 //   tampered      captured valid messages with one bit flipped in the
 //                 payload or the MAC                           -> bad MAC
 //   impersonated  captured valid messages with another agent's id as the
@@ -23,6 +24,7 @@
 #include <gather_lcm/envelope_t.hpp>
 #include <gather_lcm/request_t.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -31,6 +33,7 @@
 #include <map>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gather_agent/transport/fleet_auth.hpp"
@@ -46,7 +49,26 @@ struct Captured {
   std::string channel;
   std::vector<uint8_t> bytes;
   bool reply = false;  // heard on the replies' URL
+  int16_t sender = 0;  // the envelope's
+  int64_t counter = 0;
 };
+
+// The captures a replay of which every receiver refuses: those whose sender
+// sent a newer message on their channel more than the reorder window later
+// (FleetAuth::kReorderUs; every receiver heard that one too). A replay of a
+// newer capture that some receiver never took (it was not yet listening)
+// would pass there once, as a late delivery does.
+std::vector<const Captured*> replayable(const std::vector<Captured>& captured) {
+  std::map<std::pair<std::string, int16_t>, int64_t> newest;
+  for (const Captured& c : captured) {
+    int64_t& n = newest[{c.channel, c.sender}];
+    n = std::max(n, c.counter);
+  }
+  std::vector<const Captured*> out;
+  for (const Captured& c : captured)
+    if (c.counter < newest[{c.channel, c.sender}] - FleetAuth::kReorderUs - 200'000) out.push_back(&c);
+  return out;
+}
 
 struct State {
   std::vector<Captured> captured;
@@ -71,7 +93,7 @@ void on_message(const lcm_recv_buf_t* rbuf, const char* channel, void* user, boo
     s.captured.push_back({channel,
                           std::vector<uint8_t>(static_cast<const uint8_t*>(rbuf->data),
                                                static_cast<const uint8_t*>(rbuf->data) + rbuf->data_size),
-                          reply});
+                          reply, e.sender, e.counter});
 }
 void on_radio(const lcm_recv_buf_t* rbuf, const char* channel, void* user) { on_message(rbuf, channel, user, false); }
 void on_reply(const lcm_recv_buf_t* rbuf, const char* channel, void* user) { on_message(rbuf, channel, user, true); }
@@ -149,10 +171,16 @@ int main(int argc, char** argv) {
   const auto t0 = std::chrono::steady_clock::now();
   auto acks = [&] {
     int n = 0;
-    for (const Captured& c : s.captured) n += c.channel == gather::agent::kAckChannel;
+    for (const Captured* c : replayable(s.captured)) n += c->channel == gather::agent::kAckChannel;
     return n;
   };
-  while (!(s.ticking && s.captured.size() >= 400 && acks() >= 5)) {
+  auto ready = [&] {  // enough to attack with (checked a few times a second)
+    static auto next = std::chrono::steady_clock::now();
+    if (!s.ticking || s.captured.size() < 400 || std::chrono::steady_clock::now() < next) return false;
+    next = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
+    return acks() >= 5 && replayable(s.captured).size() >= 100;
+  };
+  while (!ready()) {
     if (std::chrono::steady_clock::now() - t0 > std::chrono::duration<double>(wait_s)) {
       std::fprintf(stderr, "gather_attacker: no fleet traffic to attack within %.0f s (%zu messages, %d acks)\n",
                    wait_s, s.captured.size(), acks());
@@ -181,11 +209,11 @@ int main(int argc, char** argv) {
     if (!c.reply) ++agent[reason];
     ::usleep(2000);  // a gentle rate: nothing is lost to full socket buffers
   };
-  std::vector<const Captured*> radio_msgs, ack_msgs;
-  for (const Captured& c : kept) {
+  std::vector<const Captured*> radio_msgs, ack_msgs, old_msgs = replayable(kept);
+  for (const Captured& c : kept)
     if (!c.reply) radio_msgs.push_back(&c);
-    if (c.channel == gather::agent::kAckChannel) ack_msgs.push_back(&c);
-  }
+  for (const Captured* c : old_msgs)
+    if (c->channel == gather::agent::kAckChannel) ack_msgs.push_back(c);
   auto pick = [&](const std::vector<const Captured*>& v) -> const Captured& { return *v[rng() % v.size()]; };
   auto any = [&]() -> const Captured& { return kept[rng() % kept.size()]; };
   for (int i = 0; i < each; ++i) {
@@ -210,7 +238,7 @@ int main(int argc, char** argv) {
     send({gather::agent::kDataChannel, {}, false}, wrap(own, gather::agent::kDataChannel, victim, encoded(d), 0),
          "unsigned");
     // (b) replays, delivery acks half of them.
-    const Captured& old = (i % 2 == 0 && !ack_msgs.empty()) ? pick(ack_msgs) : any();
+    const Captured& old = (i % 2 == 0 && !ack_msgs.empty()) ? pick(ack_msgs) : pick(old_msgs);
     send(old, old.bytes, "replayed");
     // (c) one bit flipped in the payload or the MAC (after the envelope's
     // fixed fields: fingerprint 8, version, key id, sender 2 each, counter 8,
