@@ -87,7 +87,7 @@ TEST(PlanBudget, ThreadsShrinkToTheBudgetAndAGridTooLargeForOneThreadIsRefused) 
   };
   s.grid = grid_of(2000, 1000);  // 2M cells: both threads
   EXPECT_EQ(plan::threads_within_budget(s, 2, 27), 2);
-  EXPECT_LE(plan::plan_memory_bytes(s.grid.size(), 20, 2, 27), plan::kPlanMemoryBudget);
+  EXPECT_LE(plan::plan_memory_bytes(s.grid.size(), 20, 2, 27), kMemoryBudget);
   s.grid = grid_of(2000, 2000);  // 4M cells: one thread
   EXPECT_EQ(plan::threads_within_budget(s, 2, 27), 1);
   s.team.agents = 400;  // the square of the team, per thread

@@ -1,9 +1,10 @@
 #include "gather_core/mission/tour.hpp"
-#include "gather_core/numeric.hpp"
 
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+
+#include "gather_core/numeric.hpp"
 
 namespace gather {
 namespace mission {

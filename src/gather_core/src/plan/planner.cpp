@@ -45,14 +45,14 @@ double plan_memory_bytes(std::size_t cells, int agents, int threads, std::size_t
 int threads_within_budget(const Scenario& s, int threads, std::size_t configs) {
   const std::size_t cells = s.grid.size();
   for (int t = std::max(1, threads); t >= 1; --t)
-    if (plan_memory_bytes(cells, s.team.agents, t, configs) <= kPlanMemoryBudget) return t;
+    if (plan_memory_bytes(cells, s.team.agents, t, configs) <= kMemoryBudget) return t;
   char line[400];
   std::snprintf(line, sizeof line,
                 "planning would take about %.0f MB (a planning grid of %zu cells, %d agents, %zu configuration(s)), "
                 "over the planner's budget of %.0f MB (docs/input_limits.md): lower planner.max_cells, team.agents "
                 "or the collectors swept",
                 plan_memory_bytes(cells, s.team.agents, 1, configs) / 1048576.0, cells, s.team.agents, configs,
-                kPlanMemoryBudget / 1048576.0);
+                kMemoryBudget / 1048576.0);
   throw Error(s.path, line);
 }
 

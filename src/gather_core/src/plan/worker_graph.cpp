@@ -1,9 +1,10 @@
 #include "gather_core/plan/worker_graph.hpp"
-#include "gather_core/numeric.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "gather_core/numeric.hpp"
 
 namespace gather {
 namespace plan {

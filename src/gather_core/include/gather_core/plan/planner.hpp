@@ -111,17 +111,16 @@ inline PlannerOptions grown_groups() {
   return o;
 }
 
-// The planner's memory budget [bytes] (docs/input_limits.md, "Memory and
-// time"), and its model of what planning takes: a base, per planning cell
+// The planner's model of what planning takes [bytes] (kept within
+// kMemoryBudget, docs/input_limits.md, "Memory and time"): a base, per planning cell
 // the context and each configuration kept, and per thread (one
 // configuration in flight) its cells and a table that grows with the
 // square of the team. Fitted to `gather plan` on maps/office (210k and
 // 840k planning cells; 20, 400 and 1000 agents; 1-27 configurations; 1-2
 // threads) and campus with 200 robots (243 configurations), within 10%.
-constexpr double kPlanMemoryBudget = kMemoryBudget;
 double plan_memory_bytes(std::size_t cells, int agents, int threads, std::size_t configs);
 // The threads (at most `threads`) on which `configs` configurations of the
-// scenario (on its planning grid) stay within kPlanMemoryBudget; throws
+// scenario (on its planning grid) stay within kMemoryBudget; throws
 // gather::Error(scenario path, ...) naming what to lower when one thread
 // does not.
 int threads_within_budget(const Scenario& s, int threads, std::size_t configs);
@@ -132,7 +131,7 @@ int threads_within_budget(const Scenario& s, int threads, std::size_t configs);
 struct PlanContext : mission::World {
   // Throws gather::Error naming the field when `options` are out of range
   // (check_options), or when one configuration of the scenario would not
-  // plan within kPlanMemoryBudget (before anything is allocated for it); of
+  // plan within kMemoryBudget (before anything is allocated for it); of
   // the options, only tight_speed shapes the context.
   explicit PlanContext(const Scenario& scenario, const PlannerOptions& options = {});
   Raster<double> coverage_distance;  // [m] geodesic distance to the coverage, +inf unreachable
@@ -203,7 +202,7 @@ struct SweepResult {
 
 // Plans every (method, N_c) of the scenario's planner section, on
 // options.threads threads (fewer when more would not stay within
-// kPlanMemoryBudget: threads_within_budget), and sets each configuration's
+// kMemoryBudget: threads_within_budget), and sets each configuration's
 // utility.
 SweepResult sweep(const PlanContext& ctx, const PlannerOptions& options = {});
 
