@@ -169,21 +169,27 @@ int main(int argc, char** argv) {
 
   // Listen until the clock ticks and some traffic (acks among it) is kept.
   const auto t0 = std::chrono::steady_clock::now();
-  auto acks = [&] {
-    int n = 0;
-    for (const Captured* c : replayable(s.captured)) n += c->channel == gather::agent::kAckChannel;
-    return n;
-  };
-  auto ready = [&] {  // enough to attack with (checked a few times a second)
-    static auto next = std::chrono::steady_clock::now();
-    if (!s.ticking || s.captured.size() < 400 || std::chrono::steady_clock::now() < next) return false;
-    next = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
-    return acks() >= 5 && replayable(s.captured).size() >= 100;
+  // Checked a few times a second: enough captures a replay of which every
+  // receiver refuses, delivery acks among them.
+  std::size_t old_count = 0;
+  int old_acks = 0;
+  auto next_check = std::chrono::steady_clock::now();
+  auto ready = [&] {
+    const auto now = std::chrono::steady_clock::now();
+    if (!s.ticking || s.captured.size() < 400 || now < next_check) return false;
+    next_check = now + std::chrono::milliseconds(200);
+    const std::vector<const Captured*> old = replayable(s.captured);
+    old_count = old.size();
+    old_acks = static_cast<int>(std::count_if(
+        old.begin(), old.end(), [](const Captured* c) { return c->channel == gather::agent::kAckChannel; }));
+    return old_acks >= 5 && old_count >= 100;
   };
   while (!ready()) {
     if (std::chrono::steady_clock::now() - t0 > std::chrono::duration<double>(wait_s)) {
-      std::fprintf(stderr, "gather_attacker: no fleet traffic to attack within %.0f s (%zu messages, %d acks)\n",
-                   wait_s, s.captured.size(), acks());
+      std::fprintf(stderr,
+                   "gather_attacker: no fleet traffic to attack within %.0f s (%zu messages, %zu replayable, %d acks "
+                   "among them)\n",
+                   wait_s, s.captured.size(), old_count, old_acks);
       return 1;
     }
     lcm_handle_timeout(radio, 5);
