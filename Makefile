@@ -65,12 +65,13 @@ test: build
 	echo "make test: tidy and plain-build (the sanitized build) at nice 19 beside the other tests: $(BG_LOG)"
 	# setsid -w: should setsid have to fork, it still waits for its child (so
 	# `wait` gets the real status).
-	setsid -w nice -n 19 $(MAKE) --no-print-directory tidy plain-build > $(BG_LOG) 2>&1 &
+	setsid -w nice -n 19 $(MAKE) --no-print-directory -o deps tidy plain-build > $(BG_LOG) 2>&1 &
 	bg=$$!
 	trap 'kill -- -$$bg 2> /dev/null || true' EXIT
 	t0=$$(date +%s)
 	done_at() { echo "make test: $$1 done at $$(date +%T), $$(( $$(date +%s) - t0 )) s after the build"; }
-	for t in format-check test-ros test-cli test-e2e; do $(MAKE) --no-print-directory $$t; done_at $$t; done
+	# -o build -o deps: built and installed above, not again for each phase.
+	for t in format-check test-ros test-cli test-e2e; do $(MAKE) --no-print-directory -o build -o deps $$t; done_at $$t; done
 	if ! wait $$bg; then
 	  tail -n 60 $(BG_LOG) >&2
 	  echo "make test: tidy or the sanitized build failed ($(BG_LOG))" >&2
@@ -79,7 +80,7 @@ test: build
 	trap - EXIT
 	tail -n 2 $(BG_LOG)
 	done_at "tidy and plain-build (in the background)"
-	$(MAKE) --no-print-directory test-plain
+	$(MAKE) --no-print-directory -o deps test-plain
 	done_at test-plain
 	echo "make test: all tests passed"
 
