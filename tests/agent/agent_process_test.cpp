@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +17,8 @@
 #include <vector>
 
 #include "gather_agent/agent_options.hpp"
+#include "gather_agent/roles/role.hpp"
+#include "gather_agent/runner/agent_keys.hpp"
 #include "gather_agent/transport/fleet_auth.hpp"
 #include "gather_core/plan/plan_export.hpp"
 
@@ -47,6 +50,17 @@ const std::string& key_file() {
     return p;
   }();
   return path;
+}
+
+// Agent `id`'s own key file for the test plan, from key_file().
+std::string agent_key_file(int id) {
+  const std::string p = ::testing::TempDir() + "/gather_agent_process_test_" + std::to_string(::getpid()) + "_agent" +
+                        std::to_string(id) + ".key";
+  std::filesystem::remove(p);
+  gather::agent::write_key_ring(p,
+                                gather::agent::agent_keys_for(gather::agent::load_fleet_key(key_file()), id,
+                                                              gather::plan::read_plan_file(plan_dir() + "/plan.yaml")));
+  return p;
 }
 
 struct Child {
@@ -97,8 +111,8 @@ int wait_for(pid_t pid, std::chrono::milliseconds limit) {
 }
 
 void expect_clean_stop_on(int sig) {
-  Child c =
-      spawn({GATHER_AGENT_BIN, "--id", "3", "--lcm-url", "memq://", "--key-file", key_file(), "--plan", plan_dir()});
+  Child c = spawn(
+      {GATHER_AGENT_BIN, "--id", "3", "--lcm-url", "memq://", "--key-file", agent_key_file(3), "--plan", plan_dir()});
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // loading the plan, waiting for the OC
   ASSERT_EQ(waitpid(c.pid, nullptr, WNOHANG), 0) << "agent exited before the signal: " << read_all(c.err_fd);
   const auto t0 = std::chrono::steady_clock::now();
@@ -170,6 +184,21 @@ TEST(AgentProcess, BadInputGivesOneLineAndStatus2) {
                    "/nonexistent/fleet.key");
   const std::string open_key = ::testing::TempDir() + "/gather_agent_open_" + std::to_string(::getpid()) + ".key";
   std::filesystem::remove(open_key);
+  // Per-agent keys: another agent's file, or one whose links are not the plan's.
+  expect_bad_input({bin, "--id", "0", "--lcm-url", "memq://", "--key-file", agent_key_file(3), "--plan", plan},
+                   "agent 3's key file, given to agent 0");
+  const gather::agent::FleetKey master = gather::agent::load_fleet_key(key);
+  const std::string stray = ::testing::TempDir() + "/gather_agent_stray_" + std::to_string(::getpid()) + ".key";
+  std::filesystem::remove(stray);
+  std::vector<int16_t> peers =
+      gather::agent::plan_links(gather::plan::read_plan_file(plan + "/plan.yaml")).peers(0);  // and one more:
+  const std::size_t plan_peers = peers.size();
+  for (int16_t k = 1; k < 20 && peers.size() == plan_peers; ++k)
+    if (std::find(peers.begin(), peers.end(), k) == peers.end()) peers.push_back(k);
+  gather::agent::write_key_ring(stray, gather::agent::agent_key_ring(master, 0, peers));
+  expect_bad_input({bin, "--id", "0", "--lcm-url", "memq://", "--key-file", stray, "--plan", plan},
+                   "its plan links it to");
+  std::filesystem::remove(stray);
   std::filesystem::copy_file(key, open_key);
   ::chmod(open_key.c_str(), 0644);
   expect_bad_input({bin, "--id", "0", "--key-file", open_key, "--plan", plan}, "chmod 600");

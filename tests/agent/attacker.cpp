@@ -10,18 +10,20 @@
 //                 among them), each older than the reorder window
 //                 behind a newer one of its sender        -> replayed
 //   tampered      captured valid messages with one bit flipped in the
-//                 payload or the MAC                           -> bad MAC
+//                 payload                                      -> bad MAC
 //   impersonated  captured valid messages with another agent's id as the
 //                 sender                                       -> bad MAC
 // and writes what it sent to --out (YAML): per reason, what the OC must
-// have rejected (it hears every channel) and what each agent must have
-// rejected (agents do not hear the tick replies' URL).
+// have rejected (it holds the master: it checks every message) and what
+// each agent must have (a message under the fleet's key id only where it
+// carries a tag for that agent: per-link keys, docs/security.md; agents do
+// not hear the tick replies' URL).
 #include <lcm/lcm.h>
 #include <unistd.h>
 
 #include <gather_lcm/agent_state_t.hpp>
 #include <gather_lcm/data_t.hpp>
-#include <gather_lcm/envelope_t.hpp>
+#include <gather_lcm/fleet_envelope_t.hpp>
 #include <gather_lcm/request_t.hpp>
 
 #include <algorithm>
@@ -33,6 +35,7 @@
 #include <map>
 #include <random>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -51,22 +54,33 @@ struct Captured {
   bool reply = false;  // heard on the replies' URL
   int16_t sender = 0;  // the envelope's
   int64_t counter = 0;
+  std::vector<int16_t> receivers;                // the agents (and the OC, -1) it carries a tag for
+  std::size_t payload_at = 0, payload_size = 0;  // where its payload is in `bytes`
 };
 
 // The captures a replay of which every receiver refuses: those whose sender
-// sent a newer message on their channel more than the reorder window later
-// (FleetAuth::kReorderUs; every receiver heard that one too). A replay of a
-// newer capture that some receiver never took (it was not yet listening)
-// would pass there once, as a late delivery does.
+// sent a newer message on their channel, to each of the capture's
+// receivers (the OC takes every message), more than the reorder window
+// later (FleetAuth::kReorderUs). A replay of a newer capture that some
+// receiver never took (it was not yet listening) would pass there once, as
+// a late delivery does.
 std::vector<const Captured*> replayable(const std::vector<Captured>& captured) {
-  std::map<std::pair<std::string, int16_t>, int64_t> newest;
+  std::map<std::tuple<std::string, int16_t, int16_t>, int64_t> newest;  // channel, sender, receiver (-1: the OC)
   for (const Captured& c : captured) {
-    int64_t& n = newest[{c.channel, c.sender}];
-    n = std::max(n, c.counter);
+    int64_t& oc = newest[{c.channel, c.sender, -1}];
+    oc = std::max(oc, c.counter);
+    for (int16_t r : c.receivers) {
+      int64_t& n = newest[{c.channel, c.sender, r}];
+      n = std::max(n, c.counter);
+    }
   }
   std::vector<const Captured*> out;
-  for (const Captured& c : captured)
-    if (c.counter < newest[{c.channel, c.sender}] - FleetAuth::kReorderUs - 200'000) out.push_back(&c);
+  for (const Captured& c : captured) {
+    const int64_t before = c.counter + FleetAuth::kReorderUs + 200'000;
+    bool refused = newest[{c.channel, c.sender, -1}] > before;
+    for (int16_t r : c.receivers) refused = refused && newest[{c.channel, c.sender, r}] > before;
+    if (refused) out.push_back(&c);
+  }
   return out;
 }
 
@@ -86,14 +100,15 @@ void on_message(const lcm_recv_buf_t* rbuf, const char* channel, void* user, boo
   if (std::strcmp(channel, gather::agent::kTimeChannel) == 0 ||
       std::strcmp(channel, gather::agent::kTimeAskChannel) == 0)
     return;
-  gather_lcm::envelope_t e;
+  gather_lcm::fleet_envelope_t e;
   if (e.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) != static_cast<int>(rbuf->data_size)) return;
   if (e.key_id != 0) s.key_id = e.key_id;
   if (s.captured.size() < 20000)
     s.captured.push_back({channel,
                           std::vector<uint8_t>(static_cast<const uint8_t*>(rbuf->data),
                                                static_cast<const uint8_t*>(rbuf->data) + rbuf->data_size),
-                          reply, e.sender, e.counter});
+                          reply, e.sender, e.counter, e.receiver, 8 + 2 + 2 + 2 + 8 + 4,
+                          static_cast<std::size_t>(e.size)});
 }
 void on_radio(const lcm_recv_buf_t* rbuf, const char* channel, void* user) { on_message(rbuf, channel, user, false); }
 void on_reply(const lcm_recv_buf_t* rbuf, const char* channel, void* user) { on_message(rbuf, channel, user, true); }
@@ -105,16 +120,21 @@ std::vector<uint8_t> encoded(const T& m) {
   return b;
 }
 
-// `payload` in an envelope signed by `auth` (a key the fleet does not have),
-// its key id then set to `key_id`.
+// `payload` in an envelope signed by `auth` (a key the fleet does not
+// have) for `receivers`, its key id then set to `key_id`.
 std::vector<uint8_t> wrap(FleetAuth& auth, const char* channel, int16_t sender, const std::vector<uint8_t>& payload,
-                          int16_t key_id) {
-  gather_lcm::envelope_t e{};
+                          int16_t key_id, const std::vector<int16_t>& receivers) {
+  gather_lcm::fleet_envelope_t e{};
   EnvelopeHead h;
   e.payload = payload;
-  auth.sign(channel, sender, e.payload.data(), e.payload.size(), h, e.mac);
+  e.receiver = receivers;
+  e.tags.resize(receivers.size() * gather::agent::kTagBytes);
+  auth.sign_tagged(channel, sender, e.payload.data(), e.payload.size(), receivers.data(), receivers.size(), h,
+                   e.tags.data());
   e.version = h.version, e.key_id = key_id, e.sender = h.sender, e.counter = h.counter;
   e.size = static_cast<int32_t>(payload.size());
+  e.n_tags = static_cast<int16_t>(receivers.size());
+  e.tag_bytes = static_cast<int32_t>(e.tags.size());
   return encoded(e);
 }
 
@@ -202,58 +222,68 @@ int main(int argc, char** argv) {
   ::usleep(300000);
 
   std::mt19937_64 rng(12345);
-  FleetAuth own(gather::agent::generate_fleet_key(),
+  FleetAuth own(gather::agent::KeyRing(gather::agent::generate_fleet_key()), gather::agent::PerLinkTags{},
                 {gather::agent::kRequestChannel, gather::agent::kDataChannel, gather::agent::kAckChannel,
                  gather::agent::kStateChannel, gather::agent::kPlanChannel, gather::agent::kTickChannel,
                  gather::agent::kReplyChannel},
                 gather::agent::kMaxTeam + 1);
+  // Tags for everyone: every agent checks (and refuses) what it carries a tag for.
+  std::vector<int16_t> everyone{gather::agent::kOc};
+  for (int a = 0; a < team; ++a) everyone.push_back(static_cast<int16_t>(a));
   // Expected rejections: [reason] for the OC and for each agent.
-  std::map<std::string, long> oc, agent;
-  auto send = [&](const Captured& c, const std::vector<uint8_t>& bytes, const std::string& reason) {
+  std::map<std::string, long> oc;
+  std::vector<std::map<std::string, long>> agent(static_cast<std::size_t>(team));
+  // `counted`: the agents that check it (those it carries a tag for; every
+  // one for another key id or none, which are refused before any tag is looked at).
+  auto send = [&](const Captured& c, const std::vector<uint8_t>& bytes, const std::string& reason,
+                  const std::vector<int16_t>& counted) {
     lcm_publish(c.reply ? replies : radio, c.channel.c_str(), bytes.data(), static_cast<unsigned>(bytes.size()));
     ++oc[reason];
-    if (!c.reply) ++agent[reason];
+    if (!c.reply)
+      for (int16_t r : counted)
+        if (r >= 0 && r < team) ++agent[static_cast<std::size_t>(r)][reason];
     ::usleep(2000);  // a gentle rate: nothing is lost to full socket buffers
   };
   std::vector<const Captured*> radio_msgs, ack_msgs, old_msgs = replayable(kept);
   for (const Captured& c : kept)
-    if (!c.reply) radio_msgs.push_back(&c);
+    if (!c.reply && c.payload_size > 0) radio_msgs.push_back(&c);
   for (const Captured* c : old_msgs)
     if (c->channel == gather::agent::kAckChannel) ack_msgs.push_back(c);
+  auto fresh = [](const char* channel) {  // a message of its own on the radio
+    Captured c;
+    c.channel = channel;
+    return c;
+  };
   auto pick = [&](const std::vector<const Captured*>& v) -> const Captured& { return *v[rng() % v.size()]; };
-  auto any = [&]() -> const Captured& { return kept[rng() % kept.size()]; };
   for (int i = 0; i < each; ++i) {
     const int16_t victim = static_cast<int16_t>(rng() % static_cast<uint64_t>(team));
     // (a) forged agent states and data deliveries, and requests under another key id, and unsigned data.
     gather_lcm::agent_state_t st{};
     st.h = header(victim, gather::agent::kBroadcast, 10.0 + i), st.role = gather_lcm::agent_state_t::ROLE_WORKER;
-    send({gather::agent::kStateChannel, {}, false},
-         wrap(own, gather::agent::kStateChannel, victim, encoded(st), s.key_id), "bad_mac");
+    send(fresh(gather::agent::kStateChannel),
+         wrap(own, gather::agent::kStateChannel, victim, encoded(st), s.key_id, everyone), "bad_mac", everyone);
     gather_lcm::data_t d{};
     d.h = header(victim, gather::agent::kOc, 10.0 + i), d.count = 1;
     d.items[0].key = 7 + i, d.items[0].kind = 1, d.items[0].by = victim, d.items[0].at = 5.0,
     d.items[0].picked_up_by = -1;
-    send({gather::agent::kDataChannel, {}, false}, wrap(own, gather::agent::kDataChannel, victim, encoded(d), s.key_id),
-         "bad_mac");
+    send(fresh(gather::agent::kDataChannel),
+         wrap(own, gather::agent::kDataChannel, victim, encoded(d), s.key_id, everyone), "bad_mac", everyone);
     gather_lcm::request_t r{};
     r.h = header(gather::agent::kOc, gather::agent::kBroadcast, 10.0 + i), r.request = 50 + i, r.parts = 1;
-    send({gather::agent::kRequestChannel, {}, false},
+    send(fresh(gather::agent::kRequestChannel),
          wrap(own, gather::agent::kRequestChannel, gather::agent::kOc, encoded(r),
-              static_cast<int16_t>(s.key_id % 32767 + 1)),
-         "unknown_key");
-    send({gather::agent::kDataChannel, {}, false}, wrap(own, gather::agent::kDataChannel, victim, encoded(d), 0),
-         "unsigned");
+              static_cast<int16_t>(s.key_id % 32767 + 1), {0}),
+         "unknown_key", everyone);
+    send(fresh(gather::agent::kDataChannel), wrap(own, gather::agent::kDataChannel, victim, encoded(d), 0, {}),
+         "unsigned", everyone);
     // (b) replays, delivery acks half of them.
     const Captured& old = (i % 2 == 0 && !ack_msgs.empty()) ? pick(ack_msgs) : pick(old_msgs);
-    send(old, old.bytes, "replayed");
-    // (c) one bit flipped in the payload or the MAC (after the envelope's
-    // fixed fields: fingerprint 8, version, key id, sender 2 each, counter 8,
-    // size 4).
-    const Captured& valid = any();
+    send(old, old.bytes, "replayed", old.receivers);
+    // (c) one bit flipped in the payload.
+    const Captured& valid = pick(radio_msgs);
     std::vector<uint8_t> flipped = valid.bytes;
-    const std::size_t from = 8 + 2 + 2 + 2 + 8 + 4;
-    flipped[from + rng() % (flipped.size() - from)] ^= static_cast<uint8_t>(1u << (rng() % 8));
-    send(valid, flipped, "bad_mac");
+    flipped[valid.payload_at + rng() % valid.payload_size] ^= static_cast<uint8_t>(1u << (rng() % 8));
+    send(valid, flipped, "bad_mac", valid.receivers);
     // (d) a valid radio message passed off as another agent's.
     const Captured& mine = pick(radio_msgs);
     std::vector<uint8_t> other = mine.bytes;
@@ -261,22 +291,24 @@ int main(int argc, char** argv) {
     const int16_t as =
         static_cast<int16_t>((was + 1 + static_cast<int>(rng() % static_cast<uint64_t>(team - 1))) % team);
     other[8 + 4] = static_cast<uint8_t>(static_cast<uint16_t>(as) >> 8), other[8 + 5] = static_cast<uint8_t>(as & 0xff);
-    send(mine, other, "bad_mac");
+    send(mine, other, "bad_mac", mine.receivers);
   }
   // Its own copies come back to it: drain them.
   for (int i = 0; i < 100; ++i) lcm_handle_timeout(radio, 1), lcm_handle_timeout(replies, 0);
   std::ofstream f(out);
   f << "# gather_attacker: messages sent, by the reason they must be rejected for\n";
   f << "captured: " << kept.size() << "\n";
-  for (const auto& [name, m] : {std::make_pair("oc", &oc), std::make_pair("agent", &agent)}) {
+  auto line = [&](const std::string& name, const std::map<std::string, long>& m) {
     f << name << ": {";
     bool first = true;
     for (const char* reason : {"unsigned", "unknown_key", "bad_mac", "replayed", "wrong_sender"}) {
-      f << (first ? "" : ", ") << reason << ": " << (m->count(reason) ? m->at(reason) : 0);
+      f << (first ? "" : ", ") << reason << ": " << (m.count(reason) ? m.at(reason) : 0);
       first = false;
     }
     f << "}\n";
-  }
+  };
+  line("oc", oc);
+  for (int a = 0; a < team; ++a) line("agent " + std::to_string(a), agent[static_cast<std::size_t>(a)]);
   std::printf("gather_attacker: %zu messages captured, %d of each attack sent -> %s\n", kept.size(), each, out.c_str());
   lcm_destroy(radio);
   lcm_destroy(replies);

@@ -11,6 +11,7 @@
 #include <gather_lcm/agent_state_t.hpp>
 #include <gather_lcm/data_t.hpp>
 #include <gather_lcm/envelope_t.hpp>
+#include <gather_lcm/fleet_envelope_t.hpp>
 #include <gather_lcm/request_t.hpp>
 
 #include <algorithm>
@@ -19,11 +20,15 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
+#include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "gather_agent/transport/fleet_auth.hpp"
+#include "gather_agent/transport/fleet_links.hpp"
 #include "gather_agent/transport/lcm_fleet.hpp"
 #include "gather_core/error.hpp"
 
@@ -357,6 +362,198 @@ TEST(FleetKeyTest, KeygenWritesA0600FileThatLoadsBackAndIsNeverOverwritten) {
   std::filesystem::remove_all(dir);
 }
 
+// Per-link keys (docs/security.md): a team of a collector (agent 0) with
+// workers 1 and 2, and a worker of the OC (3). Each holds only its links'
+// keys, derived from the master.
+struct LinkTeam {
+  FleetKey master = key_of(7, 9);
+  FleetLinks links{std::vector<int16_t>{-1, 0, 0, -1}};
+  KeyRing ring(int16_t agent) const { return agent_key_ring(master, agent, links.peers(agent)); }
+  static std::unique_ptr<FleetAuth> auth(std::optional<KeyRing> keys) {
+    return std::make_unique<FleetAuth>(std::move(keys), PerLinkTags{}, kChannels, 8);
+  }
+};
+
+struct Tagged {
+  EnvelopeHead head;
+  std::vector<uint8_t> payload{1, 2, 3, 4};
+  std::vector<int16_t> receivers;
+  std::vector<uint8_t> tags;
+};
+
+// `sender`'s message signed by `a` for `receivers`; nullopt when `a` holds no key for one of them.
+std::optional<Tagged> tagged(FleetAuth& a, int16_t sender, std::vector<int16_t> receivers) {
+  Tagged t;
+  t.receivers = std::move(receivers);
+  t.tags.resize(t.receivers.size() * kTagBytes);
+  if (!a.sign_tagged("A", sender, t.payload.data(), t.payload.size(), t.receivers.data(), t.receivers.size(), t.head,
+                     t.tags.data()))
+    return std::nullopt;
+  return t;
+}
+
+Verdict check(FleetAuth& a, const Tagged& t) {
+  return a.verify_tagged("A", t.head, t.payload.data(), t.payload.size(), t.receivers.data(), t.tags.data(),
+                         t.receivers.size());
+}
+
+TEST(PerLinkKeysTest, LinkKeysAreTheKdfsAndTheSameBothWaysRound) {
+  const LinkTeam team;
+  EXPECT_EQ(link_key(team.master, 1, 0), link_key(team.master, 0, 1));
+  EXPECT_NE(link_key(team.master, 0, 1), link_key(team.master, 0, 2));
+  EXPECT_NE(link_key(team.master, -1, 1), link_key(team.master, 0, 1));
+  EXPECT_NE(link_key(key_of(7, 8), 0, 1), link_key(team.master, 0, 1));
+  KeyRing::Key by_hand{};  // libsodium's KDF, subkey (min + 1) << 16 | (max + 1), context "gthrLINK"
+  crypto_kdf_derive_from_key(by_hand.data(), by_hand.size(), (0ull << 16) | 2ull, "gthrLINK", team.master.key.data());
+  EXPECT_EQ(link_key(team.master, -1, 1), by_hand);
+  // The robot link's key: the same from the master as in an agent's file, and not the master.
+  EXPECT_EQ(robot_link_key(KeyRing(team.master)).key, robot_link_key(team.ring(2)).key);
+  EXPECT_NE(robot_link_key(KeyRing(team.master)).key, team.master.key);
+  EXPECT_EQ(team.links.peers(0), (std::vector<int16_t>{-1, 1, 2}));
+  EXPECT_EQ(team.links.peers(1), (std::vector<int16_t>{-1, 0}));
+  EXPECT_EQ(team.links.peers(3), (std::vector<int16_t>{-1}));
+  EXPECT_EQ(team.links.peers(-1), (std::vector<int16_t>{0, 1, 2, 3}));
+  EXPECT_TRUE(team.links.hears(2, 0, kBroadcast));
+  EXPECT_FALSE(team.links.hears(2, 1, kBroadcast));  // a fellow worker's broadcast
+  EXPECT_FALSE(team.links.hears(3, 0, kBroadcast));
+  EXPECT_TRUE(team.links.hears(3, 0, 3));  // addressed to it
+  EXPECT_FALSE(team.links.hears(0, 0, kBroadcast));
+}
+
+TEST(PerLinkKeysTest, EachReceiverChecksItsOwnTagAndTheMasterAnyOne) {
+  const LinkTeam team;
+  auto collector = LinkTeam::auth(team.ring(0)), worker1 = LinkTeam::auth(team.ring(1)),
+       worker2 = LinkTeam::auth(team.ring(2)), oc_worker = LinkTeam::auth(team.ring(3)),
+       oc = LinkTeam::auth(KeyRing(team.master));
+  const std::optional<Tagged> hello = tagged(*collector, 0, team.links.peers(0));
+  ASSERT_TRUE(hello);
+  EXPECT_EQ(check(*worker1, *hello), Verdict::kAccepted);
+  EXPECT_EQ(check(*worker2, *hello), Verdict::kAccepted);
+  EXPECT_EQ(check(*oc, *hello), Verdict::kAccepted);
+  EXPECT_EQ(check(*oc_worker, *hello), Verdict::kNotForMe);  // not sent to it: not a refusal
+  EXPECT_EQ(oc_worker->not_for_me(), 1);
+  EXPECT_EQ(oc_worker->counters().total(), 0);
+  EXPECT_EQ(check(*worker1, *hello), Verdict::kReplayed);
+  // Every tag is its receiver's: worker 1's tag moved to worker 2 fails there.
+  std::optional<Tagged> moved = tagged(*collector, 0, {1, 2});
+  ASSERT_TRUE(moved);
+  std::copy(moved->tags.begin(), moved->tags.begin() + kTagBytes, moved->tags.begin() + kTagBytes);
+  EXPECT_EQ(check(*worker2, *moved), Verdict::kBadMac);
+  EXPECT_EQ(check(*worker1, *moved), Verdict::kAccepted);
+  // The payload changed on the way: every receiver refuses it.
+  std::optional<Tagged> changed = tagged(*oc, kOc, {0, 1, 2, 3});
+  ASSERT_TRUE(changed);
+  changed->payload[0] ^= 1;
+  for (FleetAuth* a : {collector.get(), worker1.get(), worker2.get(), oc_worker.get()})
+    EXPECT_EQ(check(*a, *changed), Verdict::kBadMac);
+  // The OC's broadcast, to all: everyone takes it.
+  const std::optional<Tagged> plan = tagged(*oc, kOc, team.links.peers(kOc));
+  ASSERT_TRUE(plan);
+  for (FleetAuth* a : {collector.get(), worker1.get(), worker2.get(), oc_worker.get()})
+    EXPECT_EQ(check(*a, *plan), Verdict::kAccepted);
+  EXPECT_TRUE(oc->sees_all());
+  EXPECT_FALSE(worker1->sees_all());
+}
+
+// A robot taken in the field (worker 1, with its own keys) speaks only as
+// itself, and only to its links.
+TEST(PerLinkKeysTest, ACapturedRobotSpeaksOnlyAsItselfToItsLinks) {
+  const LinkTeam team;
+  const KeyRing captured = team.ring(1);
+  auto thief = LinkTeam::auth(captured);
+  auto collector = LinkTeam::auth(team.ring(0)), worker2 = LinkTeam::auth(team.ring(2)),
+       oc_worker = LinkTeam::auth(team.ring(3)), oc = LinkTeam::auth(KeyRing(team.master));
+  // As itself, to its links: taken.
+  const std::optional<Tagged> own = tagged(*thief, 1, {kOc, 0});
+  ASSERT_TRUE(own);
+  EXPECT_EQ(check(*oc, *own), Verdict::kAccepted);
+  EXPECT_EQ(check(*collector, *own), Verdict::kAccepted);
+  // It holds no key to sign as anyone else, nor to an agent it has no link to.
+  EXPECT_FALSE(tagged(*thief, 0, {2}));    // as its collector, to worker 2
+  EXPECT_FALSE(tagged(*thief, kOc, {2}));  // as the OC
+  EXPECT_FALSE(tagged(*thief, 1, {3}));    // to a worker of another
+  // Its own keys under other names: every receiver refuses the tag.
+  auto as = [&](int16_t agent, std::vector<int16_t> peers) {  // worker 1's link keys, filed as `agent`'s to `peers`
+    KeyRing fake = captured;
+    fake.agent = agent;
+    fake.links.clear();
+    for (std::size_t i = 0; i < peers.size(); ++i)
+      fake.links.emplace_back(peers[i], captured.links[i % captured.links.size()].second);
+    return LinkTeam::auth(fake);
+  };
+  auto fake_collector = as(0, {kOc, 2});
+  const std::optional<Tagged> as_collector = tagged(*fake_collector, 0, {kOc, 2});
+  ASSERT_TRUE(as_collector);
+  EXPECT_EQ(check(*oc, *as_collector), Verdict::kBadMac);
+  EXPECT_EQ(check(*worker2, *as_collector), Verdict::kBadMac);
+  auto fake_oc_to_2 = as(2, {kOc});  // a tag for worker 2 as if from the OC
+  const std::optional<Tagged> as_oc = tagged(*fake_oc_to_2, kOc, {2});
+  ASSERT_TRUE(as_oc);
+  EXPECT_EQ(check(*worker2, *as_oc), Verdict::kBadMac);
+  auto fake_link = as(1, {3});  // as itself, to worker 3 (no link between them)
+  const std::optional<Tagged> unlinked = tagged(*fake_link, 1, {3});
+  ASSERT_TRUE(unlinked);
+  EXPECT_EQ(check(*oc_worker, *unlinked), Verdict::kBadMac);
+  EXPECT_EQ(oc->counters().bad_mac, 1);
+  EXPECT_EQ(worker2->counters().bad_mac, 2);
+  EXPECT_EQ(oc_worker->counters().bad_mac, 1);
+}
+
+TEST(PerLinkKeysTest, AnAgentsKeyFileHoldsItsLinksAndLoadsBack) {
+  const std::string dir = ::testing::TempDir() + "/gather_agent_key_" + std::to_string(::getpid());
+  std::filesystem::create_directories(dir);
+  const LinkTeam team;
+  const std::string path = dir + "/agent-0.key";
+  std::filesystem::remove(path);
+  write_key_ring(path, team.ring(0));
+  struct stat st {};
+  ASSERT_EQ(::stat(path.c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777, 0600u);
+  const KeyRing back = load_key_ring(path);
+  EXPECT_EQ(back.agent, 0);
+  EXPECT_EQ(back.id, 7);
+  EXPECT_EQ(back.key, robot_link_key(KeyRing(team.master)).key);
+  ASSERT_EQ(back.links.size(), 3u);
+  EXPECT_EQ(back.links[0].first, -1);
+  EXPECT_EQ(back.links[0].second, link_key(team.master, 0, -1));
+  EXPECT_EQ(back.links[2].second, link_key(team.master, 0, 2));
+  std::ifstream file(path);
+  const std::string body((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  char master_hex[2 * kKeyBytes + 1];
+  sodium_bin2hex(master_hex, sizeof master_hex, team.master.key.data(), team.master.key.size());
+  EXPECT_EQ(body.find(master_hex), std::string::npos);  // never the master
+  try {
+    load_fleet_key(path);  // the OC's side needs the master
+    ADD_FAILURE() << "an agent's file taken as the master";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("agent 0's key file"), std::string::npos) << e.what();
+  }
+  auto bad = [&](const std::string& text, const std::string& named) {
+    const std::string p = dir + "/bad.key";
+    std::filesystem::remove(p);
+    std::ofstream(p) << text;
+    ::chmod(p.c_str(), 0600);
+    try {
+      load_key_ring(p);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
+    }
+  };
+  const std::string hex(64, 'a'), head = "key_id: 3\nagent: 2\nrobot_key: " + hex + "\n";
+  bad(head, "link: missing");
+  bad(head + "link: -1\n", "bad.key:4: link");
+  bad(head + "link: x " + hex + "\n", "bad.key:4: link");
+  bad(head + "link: -2 " + hex + "\n", "bad.key:4: link");
+  bad(head + "link: -1 " + hex + "\nlink: -1 " + hex + "\n", "link -1 given twice");
+  bad(head + "link: 2 " + hex + "\n", "a link to itself");
+  bad(head + "link: -1 " + hex + "\nkey: " + hex + "\n", "holds no master key");
+  bad("key_id: 3\nagent: 2\nlink: -1 " + hex + "\n", "robot_key: missing");
+  bad("key_id: 3\nkey: " + hex + "\nlink: -1 " + hex + "\n", "agent: missing");
+  bad("key_id: 3\nagent: 5000\n", "agent");
+  std::filesystem::remove_all(dir);
+}
+
 TEST(FleetKeyTest, OptionsNeedAKeyOrAnExplicitInsecure) {
   EXPECT_THROW(fleet_key_from_options("", false, "test"), Error);
   EXPECT_THROW(fleet_key_from_options("some.key", true, "test"), Error);
@@ -366,29 +563,38 @@ TEST(FleetKeyTest, OptionsNeedAKeyOrAnExplicitInsecure) {
 // The transport: a signed envelope on the wire passes; the same bytes
 // changed anywhere, replayed, or carrying a payload whose sender differs
 // from the signed one are dropped and counted, and nothing reaches the queue.
-// `msg` (an LCM message) encoded, signed by `tx` as `sender` on `channel`,
-// in its envelope: the bytes a receiver hears.
+// `msg` (an LCM message) encoded, signed by `tx` (per-link mode) as
+// `sender` on `channel` for `receivers`, in its envelope: the bytes a
+// receiver hears.
 template <typename Msg>
-std::vector<uint8_t> enveloped(FleetAuth& tx, const char* channel, int16_t sender, const Msg& msg) {
+std::vector<uint8_t> enveloped(FleetAuth& tx, const char* channel, int16_t sender, const Msg& msg,
+                               const std::vector<int16_t>& receivers = {kOc}) {
   std::vector<uint8_t> p(static_cast<std::size_t>(msg.getEncodedSize()));
   msg.encode(p.data(), 0, static_cast<int>(p.size()));
-  gather_lcm::envelope_t e{};
+  gather_lcm::fleet_envelope_t e{};
   EnvelopeHead h;
   e.payload = p;
-  tx.sign(channel, sender, e.payload.data(), e.payload.size(), h, e.mac);
+  e.receiver = receivers;
+  e.tags.resize(receivers.size() * kTagBytes);
+  EXPECT_TRUE(tx.sign_tagged(channel, sender, e.payload.data(), e.payload.size(), receivers.data(), receivers.size(), h,
+                             e.tags.data()));
   e.version = h.version, e.key_id = h.key_id, e.sender = h.sender, e.counter = h.counter;
   e.size = static_cast<int32_t>(p.size());
+  e.n_tags = static_cast<int16_t>(receivers.size());
+  e.tag_bytes = static_cast<int32_t>(e.tags.size());
   std::vector<uint8_t> b(static_cast<std::size_t>(e.getEncodedSize()));
   e.encode(b.data(), 0, static_cast<int>(b.size()));
   return b;
 }
 
+const std::vector<std::string> kFleetChannels{kRequestChannel, kDataChannel,    kAckChannel,
+                                              kStateChannel,   kPlanChannel,    kTickChannel,
+                                              kReplyChannel,   kTimeAskChannel, kTimeChannel};
+
 TEST(LcmFleetAuthTest, EnvelopesAreCheckedBeforeThePayloadIsDecoded) {
   const FleetKey key = key_of(7, 1);
   LcmFleet rx("memq://", "memq://", true, key, 20);
-  FleetAuth tx(key,
-               {kRequestChannel, kDataChannel, kAckChannel, kStateChannel, kPlanChannel, kTickChannel, kReplyChannel},
-               kMaxTeam + 1);
+  FleetAuth tx(KeyRing(key), PerLinkTags{}, kFleetChannels, kMaxTeam + 1);
   auto wire = [&](int16_t payload_sender, int16_t envelope_sender) {
     gather_lcm::data_t d{};
     d.h.schema_version = gather_lcm::header_t::SCHEMA_VERSION;
@@ -430,7 +636,7 @@ TEST(LcmFleetAuthTest, EnvelopesAreCheckedBeforeThePayloadIsDecoded) {
   const std::vector<uint8_t> first = wire(3, 3), second = wire(3, 3);
   rx.on_radio(kDataChannel, first.data(), static_cast<int>(first.size()));
   ASSERT_EQ(rx.radio().size(), 3u);
-  gather_lcm::envelope_t e;
+  gather_lcm::fleet_envelope_t e;
   ASSERT_EQ(e.decode(second.data(), 0, static_cast<int>(second.size())), static_cast<int>(second.size()));
   e.size = 0, e.payload.clear();
   std::vector<uint8_t> empty(static_cast<std::size_t>(e.getEncodedSize()));
@@ -451,13 +657,12 @@ TEST(LcmFleetAuthTest, AKindItsSendersRoleNeverSendsIsDroppedAsWrongSender) {
   std::vector<uint8_t> collectors(20, 0);
   collectors[5] = 1;  // agent 5 collects, the others work
   rx.set_team(20, collectors);
-  FleetAuth tx(key,
-               {kRequestChannel, kDataChannel, kAckChannel, kStateChannel, kPlanChannel, kTickChannel, kReplyChannel},
-               kMaxTeam + 1);
+  FleetAuth tx(KeyRing(key), PerLinkTags{}, kFleetChannels, kMaxTeam + 1);
   auto seal = [&](const char* channel, int16_t sender, auto msg) {
     msg.h.schema_version = gather_lcm::header_t::SCHEMA_VERSION;
     msg.h.sender = sender, msg.h.dest = gather_lcm::header_t::BROADCAST;
-    const std::vector<uint8_t> b = enveloped(tx, channel, sender, msg);
+    const std::vector<uint8_t> b =
+        enveloped(tx, channel, sender, msg, {sender == kOc ? int16_t{0} : kOc});  // the OC's to agent 0
     rx.on_radio(channel, b.data(), static_cast<int>(b.size()));
   };
   gather_lcm::request_t request{};

@@ -10,7 +10,7 @@
 #include <gather_lcm/ack_t.hpp>
 #include <gather_lcm/agent_state_t.hpp>
 #include <gather_lcm/data_t.hpp>
-#include <gather_lcm/envelope_t.hpp>
+#include <gather_lcm/fleet_envelope_t.hpp>
 #include <gather_lcm/plan_t.hpp>
 #include <gather_lcm/request_t.hpp>
 #include <gather_lcm/tick_reply_t.hpp>
@@ -49,9 +49,9 @@ FleetKey test_key(int16_t id = 7, uint8_t fill = 0x5a) {
 // about).
 std::vector<uint8_t> in_envelope(const std::vector<uint8_t>& payload, int16_t sender) {
   static int64_t counter = 0;
-  gather_lcm::envelope_t e{};
-  e.version = gather_lcm::envelope_t::VERSION;
-  e.key_id = gather_lcm::envelope_t::UNSIGNED;
+  gather_lcm::fleet_envelope_t e{};
+  e.version = gather_lcm::fleet_envelope_t::VERSION;
+  e.key_id = gather_lcm::fleet_envelope_t::UNSIGNED;
   e.sender = sender;
   e.counter = ++counter;
   e.size = static_cast<int32_t>(payload.size());
@@ -158,9 +158,12 @@ TEST(LcmFleet, ClockAndPlanSurviveTheRoundTrip) {
   f.publish(bad_margin);
   Tick tick;
   tick.tick = 12, tick.t = 1.2, tick.sent_before = 33, tick.commands_before = 4, tick.report = true;
+  tick.expect.assign(20, 0);
+  tick.expect[4] = 33, tick.expect[7] = 2;
   f.publish(tick);
   Reply r;
   r.tick = 12, r.agent = 4, r.sent = 2, r.pose = {3.5, 4.5}, r.role = RoleKind::kCollector, r.keys = {1, 2, 3};
+  r.dests = {kBroadcast, 9};
   r.report.measured = 9, r.link.gated = 77;
   r.measured_goals = {41, 42}, r.path_revision = 3, r.path = {{1.0, 2.0}, {3.25, 4.5}, {6.0, 7.0}};
   f.publish(r);
@@ -177,8 +180,10 @@ TEST(LcmFleet, ClockAndPlanSurviveTheRoundTrip) {
   EXPECT_EQ(f.ticks()[0].sent_before, 33);
   EXPECT_EQ(f.ticks()[0].commands_before, 4);
   EXPECT_TRUE(f.ticks()[0].report);
+  EXPECT_EQ(f.ticks()[0].expect, tick.expect);
   ASSERT_EQ(f.replies().size(), 1u);
   EXPECT_EQ(f.replies()[0].keys.size(), 3u);
+  EXPECT_EQ(f.replies()[0].dests, r.dests);
   EXPECT_EQ(f.replies()[0].link.gated, 77);
   EXPECT_EQ(f.replies()[0].role, RoleKind::kCollector);
   EXPECT_EQ(f.replies()[0].measured_goals, (std::vector<int32_t>{41, 42}));

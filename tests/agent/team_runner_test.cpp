@@ -197,7 +197,7 @@ TEST(TeamRunner, LossyRadioLosesNoDataAndResends) {
       delivered += g.state == mission::GoalState::kDelivered;
       dropped += g.state == mission::GoalState::kDropped;
     }
-    EXPECT_GT(lost, 100);
+    EXPECT_GT(lost, 50);             // of the messages each receiver hears (its links': FleetLinks)
     EXPECT_EQ(measured, delivered);  // every measured goal reached the OC
     EXPECT_EQ(dropped, 0);
     EXPECT_GT(out.duplicate_items, 0);  // lost acks: resent, counted once

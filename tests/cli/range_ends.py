@@ -158,6 +158,8 @@ class Drivers:
             "gather fmm": lambda d: [a.gather, "fmm", "--map", self.scenario["map"], "--source", "350,110"],
             "gather radio": lambda d: [a.gather, "radio", self.base_scenario, "--repeat", "1"],
             "gather keygen": lambda d: [a.gather, "keygen", os.path.join(d, "k.key")],
+            "gather keygen --agent": lambda d: [a.gather, "keygen", os.path.join(d, "k.key"), "--agent", "0", "--plan",
+                                                self.plan, "--master", self.key],
             "gather_agent": lambda d: [a.agent, "--id", "0", "--plan", self.plan, "--key-file", self.key, "--lcm-url",
                                        "memq://", "--silence", "1"],
             "mission_bag": lambda d: [a.mission_bag, self.plan, "--replay", os.path.join(d, "none.log"), "--key-file",

@@ -68,7 +68,7 @@ def attack(a, tmp, key, plan, undisturbed):
           open(os.path.join(out, "goals.csv")).read() == open(os.path.join(undisturbed, "goals.csv")).read())
     sent = {}
     for line in open(report):
-        m = re.match(r"(oc|agent): \{(.*)\}", line.strip())
+        m = re.match(r"(oc|agent \d+): \{(.*)\}", line.strip())
         if m:
             sent[m.group(1)] = {k.strip(): int(v) for k, v in (kv.split(":") for kv in m.group(2).split(","))}
     oc = csv_rows(os.path.join(out, "oc_rejected.csv"))[0]
@@ -76,10 +76,12 @@ def attack(a, tmp, key, plan, undisturbed):
     check("attacked: the OC rejected every attack message by its reason %s" % sent.get("oc"), got_oc == sent.get("oc"),
           "OC counted %s" % got_oc)
     agents = csv_rows(os.path.join(out, "agents.csv"))
-    wrong = [(r["agent"], {k: int(r["rejected_" + k]) for k in REASONS}) for r in agents
-             if {k: int(r["rejected_" + k]) for k in REASONS} != sent.get("agent")]
-    check("attacked: each of the %d agents rejected every attack message it heard by its reason %s" %
-          (len(agents), sent.get("agent")), len(agents) == 20 and not wrong, "agents that differ: %s" % wrong[:4])
+    # Each agent checks what carries a tag for it (per-link keys): its own count.
+    wrong = [(r["agent"], {k: int(r["rejected_" + k]) for k in REASONS}, sent.get("agent " + r["agent"]))
+             for r in agents if {k: int(r["rejected_" + k]) for k in REASONS} != sent.get("agent " + r["agent"])]
+    check("attacked: each of the %d agents rejected every attack message it heard by its reason (agent 0: %s)" %
+          (len(agents), sent.get("agent 0")), len(agents) == 20 and not wrong,
+          "agents that differ (counted, sent): %s" % wrong[:4])
     clean = csv_rows(os.path.join(undisturbed, "oc_rejected.csv"))[0]
     check("undisturbed: nothing rejected", all(int(clean["rejected_" + r]) == 0 for r in REASONS), str(clean))
     # Unsigned only when asked, and then with a warning.

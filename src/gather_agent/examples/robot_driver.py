@@ -41,7 +41,10 @@ IDLE, ACTIVE, REACHED, FAILED, BLOCKED = 0, 1, 2, 3, 4
 
 
 def load_key(path):
-    """The fleet key file (docs/security.md): 'key_id: N' and 'key: 64 hex digits', mode 0600."""
+    """The robot link's key (docs/security.md): from an agent's key file (its 'robot_key'), or derived
+    from the fleet's master key file ('key': libsodium's crypto_kdf_derive_from_key, subkey 0, context
+    "gthrROBT", which is BLAKE2b keyed with the master, salt = the subkey id, personal = the context).
+    Mode 0600."""
     if os.stat(path).st_mode & 0o077:
         sys.exit("robot_driver: %s: readable by others (chmod 600)" % path)
     fields = {}
@@ -49,13 +52,18 @@ def load_key(path):
         line = line.split("#", 1)[0].strip()
         if line:
             name, _, value = line.partition(":")
-            fields[name.strip()] = value.strip()
+            fields.setdefault(name.strip(), value.strip())
     try:
-        key_id, key = int(fields["key_id"]), bytes.fromhex(fields["key"])
+        key_id = int(fields["key_id"])
+        key = bytes.fromhex(fields["robot_key"] if "agent" in fields else fields["key"])
     except (KeyError, ValueError):
-        sys.exit("robot_driver: %s: expected 'key_id: N' and 'key: HEX'" % path)
+        sys.exit("robot_driver: %s: expected 'key_id: N' and 'key: HEX' (the master) or 'robot_key: HEX' "
+                 "(an agent's)" % path)
     if not 1 <= key_id <= 32767 or len(key) != 32:
         sys.exit("robot_driver: %s: key_id must be 1..32767 and the key 32 bytes" % path)
+    if "agent" not in fields:
+        key = hashlib.blake2b(b"", digest_size=32, key=key, salt=struct.pack("<Q", 0) + bytes(8),
+                              person=b"gthrROBT" + bytes(8)).digest()
     return key_id, key
 
 

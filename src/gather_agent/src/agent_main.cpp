@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "gather_agent/agent_options.hpp"
+#include "gather_agent/runner/agent_keys.hpp"
 #include "gather_agent/runner/lockstep.hpp"
 #include "gather_agent/shutdown_signal.hpp"
 #include "gather_core/error.hpp"
@@ -32,16 +33,19 @@ int main(int argc, char** argv) {
       std::printf("%s\n", gather::agent_usage());
       return 0;
     }
-    std::optional<gather::agent::FleetKey> key =
-        gather::agent::fleet_key_from_options(opt.key_file, opt.insecure, "gather_agent " + std::to_string(opt.id));
+    const std::string who = "gather_agent " + std::to_string(opt.id);
+    std::optional<gather::agent::KeyRing> keys = gather::agent::key_ring_from_options(opt.key_file, opt.insecure, who);
     gather::agent::LoadedPlan plan = gather::agent::load_plan(opt.plan);
+    if (keys) gather::agent::check_agent_keys(*keys, opt.key_file, opt.id, plan.plan.file);
+    std::optional<gather::agent::FleetKey> key;  // the robot link's
+    if (keys) key = gather::agent::robot_link_key(*keys);
     // On a robot (--motion lcm) the fleet is a radio network: its default
     // URL reaches the other robots and the OC (ttl=1); a simulation's stays
     // on its host.
     const std::string url = gather::agent::effective_url(
         opt.lcm_url, opt.motion == "lcm" ? gather::agent::kRobotFleetUrl : gather::agent::kHostFleetUrl);
     gather::agent::LcmFleet fleet(
-        url, opt.reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(url) : opt.reply_url, false, key);
+        url, opt.reply_url.empty() ? gather::agent::LcmFleet::reply_url_for(url) : opt.reply_url, false, keys);
     // Its host's clock may be off: the fleet's time is the OC's
     // (transport/fleet_clock.hpp); --clock-skew puts this one off on purpose.
     fleet.time_from_oc(static_cast<int16_t>(opt.id), static_cast<int64_t>(std::llround(opt.clock_skew_s * 1e6)));
@@ -58,6 +62,8 @@ int main(int argc, char** argv) {
                                                             std::vector<int>{opt.id}, key);
     gather::agent::LockstepAgent agent(plan, opt.id, fleet, robot.get(), robot_params);
     agent.set_journal(opt.journal, opt.rejoin);
+    if (keys && keys->master())  // once every input is checked: bad input stays one line
+      std::fprintf(stderr, "%s: %s\n", who.c_str(), gather::agent::master_warning(opt.key_file, opt.id).c_str());
     std::printf("gather_agent %d: plan %s (%s, %d collectors), waiting for the OC on %s\n", opt.id, opt.plan.c_str(),
                 plan.plan.file.method.c_str(), plan.plan.file.collectors, url.c_str());
     std::fflush(stdout);

@@ -34,6 +34,7 @@
 #include "cli.hpp"
 #include "commands.hpp"
 #include "gather_agent/runner/agent_fleet.hpp"
+#include "gather_agent/runner/agent_keys.hpp"
 #include "gather_agent/runner/lockstep.hpp"
 #include "gather_agent/runner/pipe_world.hpp"
 #include "gather_agent/runner/replay.hpp"
@@ -70,16 +71,23 @@ struct Fleet {
 agent::RunOutcome run_over_lcm(agent::TeamSetup& team, const agent::LoadedPlan& plan, uint64_t digest,
                                const agent::RunOptions& opt, double rate, bool wall, const std::string& url,
                                const std::string& reply_url, const std::string& agent_bin, const std::string& key_file,
-                               const std::optional<agent::FleetKey>& key, const Robots& robots, const Fleet& fleet_of) {
+                               const std::optional<agent::FleetKey>& key, const std::string& keys_dir,
+                               const Robots& robots, const Fleet& fleet_of) {
   agent::LcmFleet fleet(url, reply_url, true, key, team.agents());
   std::vector<std::string> command{agent_bin,   "--id", "{id}",        "--plan", plan.dir,
                                    "--lcm-url", url,    "--reply-url", reply_url};
+  // Each agent its own keys (docs/security.md), the robot world the master.
   std::vector<std::string> keying;
-  if (key)
+  if (key) {
     keying = {"--key-file", key_file};
-  else
+    if (!fleet_of.external) {
+      agent::write_agent_keys(*key, plan.plan.file, keys_dir);
+      command.insert(command.end(), {"--key-file", keys_dir + "/agent-{id}.key"});
+    }
+  } else {
     keying = {"--insecure"};
-  command.insert(command.end(), keying.begin(), keying.end());
+    command.insert(command.end(), keying.begin(), keying.end());
+  }
   if (!opt.journal_dir.empty()) command.insert(command.end(), {"--journal", opt.journal_dir});
   if (robots.any()) command.insert(command.end(), {"--motion", "lcm"});
   std::unique_ptr<AgentFleet> world;
@@ -188,14 +196,38 @@ agent::RunOutcome run_in_process(agent::TeamSetup& team, const agent::LoadedPlan
 }  // namespace
 
 int keygen(int argc, char** argv) {
-  cli::Args args(argc, argv, 2, {"--key-id"}, {});
-  if (args.positional().size() != 1) throw cli::UsageError("usage: gather keygen FILE [--key-id N]");
-  const int id = args.get_int(range::kKeygenKeyId, 0);
+  cli::Args args(argc, argv, 2, {"--key-id", "--agent", "--plan", "--master"}, {});
+  const char* usage =
+      "usage: gather keygen FILE [--key-id N]  |  gather keygen FILE --agent K --plan PLAN_DIR --master MASTER";
+  if (args.positional().size() != 1) throw cli::UsageError(usage);
   const std::string path = args.positional()[0];
+  if (args.has("--agent") || args.has("--plan") || args.has("--master")) {
+    // An agent's keys: those of the links its plan gives it, from the master.
+    for (const char* flag : {"--agent", "--plan", "--master"})
+      if (!args.has(flag))
+        throw cli::UsageError(std::string(flag) + " is needed with --agent, --plan and --master: " + usage);
+    if (args.has("--key-id")) throw Error("--key-id", "an agent's key file takes the master's key id");
+    const agent::FleetKey master = agent::load_fleet_key(args.get("--master"));
+    const agent::LoadedPlan plan = agent::load_plan(args.get("--plan"));
+    const int agents = plan.plan.file.agents.count();
+    const int k = args.get_int(range::kKeygenAgent, 0);
+    if (k >= agents)
+      throw Error("--agent", std::to_string(k) + " is not in the plan (agents 0.." + std::to_string(agents - 1) + ")");
+    const agent::KeyRing ring = agent::agent_keys_for(master, k, plan.plan.file);
+    agent::write_key_ring(path, ring);
+    std::printf(
+        "agent %d's keys (%zu links, fleet key %d) -> %s (mode 0600; copy it to that robot only: "
+        "docs/security.md)\n",
+        k, ring.links.size(), ring.id, path.c_str());
+    return 0;
+  }
+  const int id = args.get_int(range::kKeygenKeyId, 0);
   const agent::FleetKey key = agent::generate_fleet_key(id);
   agent::write_fleet_key(path, key);
-  std::printf("fleet key %d -> %s (mode 0600; give it to the OC and every agent: docs/security.md)\n", key.id,
-              path.c_str());
+  std::printf(
+      "fleet master key %d -> %s (mode 0600; the OC's: each robot gets its own keys from it, gather keygen "
+      "--agent: docs/security.md)\n",
+      key.id, path.c_str());
   return 0;
 }
 
@@ -365,7 +397,8 @@ int run(int argc, char** argv) {
                                 : over_lcm
                                     ? run_over_lcm(team, loaded, digest, opt, rate, wall_clock, lcm_url,
                                                    args.get("--reply-url", agent::LcmFleet::reply_url_for(lcm_url)),
-                                                   agent_bin, args.get("--key-file", ""), key, robots, fleet_of)
+                                                   agent_bin, args.get("--key-file", ""), key,
+                                                   (std::filesystem::path(out) / "keys").string(), robots, fleet_of)
                                     : run_in_process(team, loaded, opt, robots);
     if (!r.completed) throw RuntimeError(args.positional()[0], r.failure);
     if (over_lcm) {

@@ -22,6 +22,7 @@
 #include <memory>
 
 #include "gather_agent/runner/agent_fleet.hpp"
+#include "gather_agent/runner/agent_keys.hpp"
 #include "gather_agent/runner/team_runner.hpp"
 #include "gather_agent/transport/lcm_fleet.hpp"
 #include "gather_core/plan/plan_file.hpp"
@@ -181,10 +182,20 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::vector<std::string> command{bin, "--id", "{id}", "--plan", plan_dir};
-  if (key_file.empty())
+  if (key_file.empty()) {
     command.push_back("--insecure");
-  else
-    command.insert(command.end(), {"--key-file", key_file});
+  } else {
+    // Each agent its own keys, from the OC's master (docs/security.md).
+    const std::string keys_dir = (results_dir.empty() ? std::string(".") : results_dir) + "/keys";
+    try {
+      gather::agent::write_agent_keys(gather::agent::load_fleet_key(key_file),
+                                      gather::plan::read_plan_file(plan_dir + "/plan.yaml"), keys_dir);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "fleet: %s\n", e.what());
+      return 1;
+    }
+    command.insert(command.end(), {"--key-file", keys_dir + "/agent-{id}.key"});
+  }
   if (!lcm_url.empty()) command.insert(command.end(), {"--lcm-url", lcm_url});
   if (!restarts.empty())
     command.insert(command.end(), {"--journal", (results_dir.empty() ? "." : results_dir) + "/journal"});
@@ -229,7 +240,7 @@ int main(int argc, char** argv) {
       std::string frame;
       nh.param<std::string>("/oc/frame_id", frame, "map");
       relay = std::make_unique<gather::ScanRelay>(
-          nh, lcm_url, agents, gather::agent::fleet_key_from_options(key_file, key_file.empty(), "fleet"), frame,
+          nh, lcm_url, agents, gather::agent::robot_key_from_options(key_file, key_file.empty(), "fleet"), frame,
           sim_time, 0.35 * style.unit, style.laser);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "fleet: ~laser: %s\n", e.what());

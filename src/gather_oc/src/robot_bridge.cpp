@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
   }
   std::unique_ptr<gather::agent::LcmRobotLink> link;
   try {
-    const std::optional<gather::agent::FleetKey> key = gather::agent::fleet_key_from_options(
+    const std::optional<gather::agent::FleetKey> key = gather::agent::robot_key_from_options(
         s.key_file, s.insecure, "robot_bridge " + std::to_string(s.agent), "~key_file", "~insecure");
     link = std::make_unique<gather::agent::LcmRobotLink>(s.robot_url, gather::agent::LcmRobotLink::Side::kRobots,
                                                          std::vector<int>{s.agent}, key);

@@ -65,7 +65,7 @@ int main(int argc, char** argv) {
   try {
     link = std::make_unique<gather::agent::LcmRobotLink>(
         robot_url, gather::agent::LcmRobotLink::Side::kAgent, std::vector<int>{agent},
-        gather::agent::fleet_key_from_options(key_file, insecure, "world_move_base", "~key_file", "~insecure"));
+        gather::agent::robot_key_from_options(key_file, insecure, "world_move_base", "~key_file", "~insecure"));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "world_move_base: %s\n", e.what());
     return 2;

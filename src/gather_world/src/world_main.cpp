@@ -177,7 +177,9 @@ int run_lcm(world::MrptWorld& w, agent::LoadedPlan& plan, const Options& o, gath
                         agent::kMaxTeam, /*radio=*/false);
   std::vector<int> ids;
   for (int k = 0; k < w.robots(); ++k) ids.push_back(k);
-  agent::LcmRobotLink link(o.robot_url.empty() ? url : o.robot_url, agent::LcmRobotLink::Side::kRobots, ids, key);
+  std::optional<agent::FleetKey> robot_key;
+  if (key) robot_key = agent::robot_link_key(*key);
+  agent::LcmRobotLink link(o.robot_url.empty() ? url : o.robot_url, agent::LcmRobotLink::Side::kRobots, ids, robot_key);
   const uint64_t digest = agent::plan_digest(plan);
   std::vector<agent::NavCommand> held, due;
   std::vector<agent::RobotPose> poses;

@@ -97,6 +97,7 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
       throw Error(where, e.what());
     }
   }
+  links = plan_links(pf);
   meeting_arc_.assign(n, 0.0);
   for (const plan::AgentAssignment& a : pf.agents) {
     if (a.collector || !a.delivers_to.valid()) continue;
@@ -109,6 +110,15 @@ TeamSetup::TeamSetup(const mission::World& w, const mission::MissionPlan& p, con
   if (params.protocol.home_clearance_m > 0) oc_homes = mission::oc_worker_homes(w, p, params.protocol.home_clearance_m);
   start_ = PerAgent<Point2>(mission::team_start_poses(w, p, oc_homes));
   range_ = radio.free_space_range();
+}
+
+FleetLinks plan_links(const plan::PlanFile& plan) {
+  const PerCollector<AgentId> drivers = mission::collector_agents(plan);
+  std::vector<int16_t> upstream;
+  for (const plan::AgentAssignment& a : plan.agents)
+    upstream.push_back(a.collector || !a.delivers_to.valid() ? int16_t{-1}
+                                                             : static_cast<int16_t>(drivers[a.delivers_to].value()));
+  return FleetLinks(std::move(upstream));
 }
 
 GridAStar& TeamSetup::paths() {

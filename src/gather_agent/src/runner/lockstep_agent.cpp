@@ -109,7 +109,7 @@ bool LockstepAgent::take_plan(std::string* why) {
   tick_s_ = p.tick;
   clock_ = p.clock;
   rate_ = p.rate;
-  fleet_.set_team(p.agents, team_->collector_flags());
+  fleet_.set_team(p.agents, team_->collector_flags(), team_->links);
   // A repair (a repaired plan merges segments: docs/faults.md) reads the
   // label image again from the plan directory.
   team_->reload_labels = [dir = plan_.dir, frame = plan_.plan.labels.frame()]() {
@@ -125,7 +125,9 @@ bool LockstepAgent::take_plan(std::string* why) {
 }
 
 bool LockstepAgent::inbox_complete(const Tick& tick) const {
-  return count_tick(held_, tick.tick) >= static_cast<std::size_t>(tick.sent_before);
+  // With its own links' keys it takes only what was sent to it.
+  const bool own = !fleet_.sees_all() && static_cast<std::size_t>(id_) < tick.expect.size();
+  return count_tick(held_, tick.tick) >= static_cast<std::size_t>(own ? tick.expect[id_] : tick.sent_before);
 }
 
 void LockstepAgent::absorb_robot() {
@@ -215,6 +217,8 @@ void LockstepAgent::step(const Tick& tick) {
   reply_.agent = static_cast<int16_t>(id_);
   reply_.status = ReplyStatus::kStepped;
   reply_.sent = static_cast<int32_t>(out.size());
+  reply_.dests.clear();
+  for (std::size_t k = 0; k < out.size(); ++k) reply_.dests.push_back(out[k].h.dest);
   reply_.commands = robot_ ? static_cast<int32_t>(robot_->sent() - commands_before) : 0;
   reply_.pose = unit_.motion->pose();
   reply_.heading = unit_.motion->heading();

@@ -50,7 +50,7 @@ LockstepMaster::LockstepMaster(TeamSetup& team, LcmFleet& fleet, uint64_t digest
   if (!(options_.rate >= 0.0)) throw Error("--rate", "must be >= 0 (0: as fast as the lockstep allows)");
   if (options_.clock == ClockMode::kWall && !(options_.rate > 0.0))
     throw Error("--rate", "must be > 0 with the wall clock (mission seconds per wall second)");
-  fleet_.set_team(team.agents(), team.collector_flags());
+  fleet_.set_team(team.agents(), team.collector_flags(), team.links);
   last_.assign(static_cast<std::size_t>(team.agents()), Reply{});
   for (AgentId a : ids<AgentId>(team.agents())) {  // until the agent says otherwise: the plan's role, its start
     Reply& r = last_[a.index()];
@@ -286,6 +286,7 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   const auto p0 = Clock::now();
   Tick tick = clock_tick(k, t, 0);
   tick.sent_before = sent_before_, tick.commands_before = commands_before_, tick.report = report;
+  tick.expect = expect_;
   fleet_.publish(tick);
   publish_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - p0).count();
 
@@ -320,8 +321,18 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   collect_replies(k, ReplyStatus::kStepped, options_.reply_timeout_s, signal);
   wait_ms_ += std::chrono::duration<double, std::milli>(Clock::now() - r0).count();
   int64_t sent = static_cast<int64_t>(outbox_.size()), commands = 0;
+  // What each agent is to receive of this tick's messages (the next tick's
+  // expect): an agent with its own links' keys takes only those.
+  expect_.assign(static_cast<std::size_t>(team_.agents()), 0);
+  auto count_for = [&](int16_t sender, int16_t dest) {
+    team_.links.receivers(sender, dest, receivers_);
+    for (int16_t r : receivers_)
+      if (r >= 0) ++expect_[static_cast<std::size_t>(r)];
+  };
+  for (std::size_t i = 0; i < outbox_.size(); ++i) count_for(kOc, outbox_[i].h.dest);
   for (const Reply& r : last_) {
     if (killed_[static_cast<std::size_t>(r.agent)]) continue;  // its last reply is of a tick before
+    for (int16_t d : r.dests) count_for(r.agent, d);
     sent += r.sent;
     commands += r.commands;
     if (r.incomplete > 0 || r.late > 0)

@@ -6,6 +6,7 @@
 // fleet (LcmFleet) and the robot interface (LcmRobotLink). Internal to
 // gather_agent_lib: it sees the generated envelope type.
 #include <gather_lcm/envelope_t.hpp>
+#include <gather_lcm/fleet_envelope_t.hpp>
 
 #include <cstdint>
 #include <vector>
@@ -39,6 +40,34 @@ class Envelopes {
  private:
   FleetAuth& auth_;
   gather_lcm::envelope_t e_;
+  std::vector<uint8_t> out_;
+};
+
+// The fleet's envelope (fleet_envelope_t): a tag per receiver, each made
+// with the key of its link to the sender (FleetAuth's per-link mode).
+class FleetEnvelopes {
+ public:
+  FleetEnvelopes(FleetAuth& auth, std::size_t max_payload);
+
+  // The envelope of payload[0, n) from `sender` on `channel` for
+  // receivers[0, count): its bytes in bytes() [0, returned), or -1 when it
+  // does not encode or this process holds no key for one of the receivers.
+  int seal(const char* channel, int16_t sender, const uint8_t* payload, int n, const int16_t* receivers,
+           std::size_t count);
+  const uint8_t* bytes() const { return out_.data(); }
+
+  // As Envelopes::open; kNotForMe: it carries no tag for this receiver.
+  enum class Opened : uint8_t { kOk, kUndecodable, kOutOfRange, kWrongVersion, kRejected, kNotForMe };
+  Opened open(const char* channel, const void* data, int size, bool counters = true);
+  const uint8_t* payload() const { return e_.payload.data(); }
+  int payload_size() const { return e_.size; }
+  int16_t sender() const { return e_.sender; }
+  // The receivers it was sent to (valid until the next open).
+  const std::vector<int16_t>& receivers() const { return e_.receiver; }
+
+ private:
+  FleetAuth& auth_;
+  gather_lcm::fleet_envelope_t e_;
   std::vector<uint8_t> out_;
 };
 

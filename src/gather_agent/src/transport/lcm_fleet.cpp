@@ -140,15 +140,16 @@ std::string LcmFleet::reply_url_for(const std::string& url) {
 }
 
 LcmFleet::LcmFleet(const std::string& url, const std::string& reply_url, bool listen_replies,
-                   std::optional<FleetKey> key, int team, bool radio)
+                   std::optional<KeyRing> keys, int team, bool radio)
     : team_(team),
       listen_replies_(listen_replies),
       buffer_(kBuffer),
-      auth_(std::move(key),
+      auth_(std::move(keys), PerLinkTags{},
             {kRequestChannel, kDataChannel, kAckChannel, kStateChannel, kPlanChannel, kTickChannel, kReplyChannel,
              kTimeAskChannel, kTimeChannel},
             kMaxTeam + 1, &clock_),
-      envelopes_(std::make_unique<Envelopes>(auth_, kBuffer)) {
+      envelopes_(std::make_unique<FleetEnvelopes>(auth_, kBuffer)) {
+  receivers_.reserve(kMaxTeam + 1);
   auth_.mac_only(kTimeAskChannel);
   auth_.mac_only(kTimeChannel);
   if (team < kMaxTeam) auth_.reserve(team);  // an agent learns its team from the plan (set_team)
@@ -193,6 +194,7 @@ void LcmFleet::keep_time() {
   time_asked_us_ = now;
   time_next_us_ = now + (clock_.exchanges() < kQuickExchanges ? kQuickAskUs : kAskUs);
   const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+  address(time_agent_, kOc);
   if (n < 0 || !send(reply_lcm_, kTimeAskChannel, time_agent_, n)) ++publish_failures_;
 }
 
@@ -365,6 +367,7 @@ bool LcmFleet::publish(const Message& m) {
       break;
     }
   }
+  address(m.h.sender, m.h.dest);
   if (n < 0 || !send(lcm_, channel, m.h.sender, n)) return ++publish_failures_, false;
   return true;
 }
@@ -398,6 +401,7 @@ bool LcmFleet::publish(const PlanAnnounce& p) {
   w.home_clearance_m = p.params.protocol.home_clearance_m;
   w.robots = p.robots;
   const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+  address(kOc, kBroadcast);
   if (n < 0 || !send(lcm_, kPlanChannel, kOc, n)) return ++publish_failures_, false;
   return true;
 }
@@ -412,7 +416,10 @@ bool LcmFleet::publish(const Tick& t) {
   w.report = t.report;
   w.done = t.done;
   w.start_us = t.start_us;
+  w.n_expect = static_cast<int16_t>(std::min<std::size_t>(t.expect.size(), gather_lcm::tick_t::MAX_AGENTS));
+  w.expect.assign(t.expect.begin(), t.expect.begin() + w.n_expect);
   const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+  address(kOc, kBroadcast);
   if (n < 0 || !send(lcm_, kTickChannel, kOc, n)) return ++publish_failures_, false;
   return true;
 }
@@ -425,6 +432,8 @@ bool LcmFleet::publish(const Reply& r) {
   w.status = static_cast<int8_t>(r.status);
   w.pid = r.pid;
   w.sent = r.sent;
+  w.n_dests = static_cast<int16_t>(std::min<std::size_t>(r.dests.size(), gather_lcm::tick_reply_t::MAX_DESTS));
+  w.dests.assign(r.dests.begin(), r.dests.begin() + w.n_dests);
   w.commands = r.commands;
   w.x = r.pose.x;
   w.y = r.pose.y;
@@ -485,12 +494,27 @@ bool LcmFleet::publish(const Reply& r) {
     w.path_y[i] = static_cast<float>(r.path[i].y);
   }
   const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+  address(r.agent, kOc);
   if (n < 0 || !send(reply_lcm_, kReplyChannel, r.agent, n)) return ++publish_failures_, false;
   return true;
 }
 
+void LcmFleet::address(int16_t sender, int16_t dest) {
+  receivers_.clear();
+  if (!auth_.secure()) return;  // insecure: no tags, and everyone takes everything
+  if (links_.agents() == team_ && team_ > 0) return links_.receivers(sender, dest, receivers_);
+  // The plan's links not known (yet): the OC's broadcasts go to every agent,
+  // everything else to the OC or to whom it is addressed.
+  if (dest != kBroadcast)
+    receivers_.push_back(dest);
+  else if (sender != kOc)
+    receivers_.push_back(kOc);
+  else
+    for (int a = 0; a < team_; ++a) receivers_.push_back(static_cast<int16_t>(a));
+}
+
 bool LcmFleet::send(lcm_t* lcm, const char* channel, int16_t sender, int n) {
-  const int m = envelopes_->seal(channel, sender, buffer_.data(), n);
+  const int m = envelopes_->seal(channel, sender, buffer_.data(), n, receivers_.data(), receivers_.size());
   if (!recordings_.empty()) return m >= 0;  // a replay: nobody to hear it (memq would keep it)
   return m >= 0 && lcm_publish(lcm, channel, envelopes_->bytes(), static_cast<unsigned>(m)) == 0;
 }
@@ -523,14 +547,15 @@ bool LcmFleet::handle(int timeout_ms, int also_fd) {
 
 const uint8_t* LcmFleet::open(const char* channel, const void* data, int size, int& payload_size, int16_t& sender) {
   switch (envelopes_->open(channel, data, size)) {
-    case Envelopes::Opened::kOk:
+    case FleetEnvelopes::Opened::kOk:
       payload_size = envelopes_->payload_size();
       sender = envelopes_->sender();
       return envelopes_->payload();
-    case Envelopes::Opened::kUndecodable: ++refused_.undecodable; break;
-    case Envelopes::Opened::kOutOfRange: ++refused_.out_of_range; break;
-    case Envelopes::Opened::kWrongVersion: ++refused_.wrong_version; break;
-    case Envelopes::Opened::kRejected: break;  // counted by FleetAuth
+    case FleetEnvelopes::Opened::kUndecodable: ++refused_.undecodable; break;
+    case FleetEnvelopes::Opened::kOutOfRange: ++refused_.out_of_range; break;
+    case FleetEnvelopes::Opened::kWrongVersion: ++refused_.wrong_version; break;
+    case FleetEnvelopes::Opened::kRejected: break;  // counted by FleetAuth
+    case FleetEnvelopes::Opened::kNotForMe: break;  // sent to others (counted by FleetAuth)
   }
   return nullptr;
 }
@@ -573,6 +598,7 @@ void LcmFleet::on_time(const char* channel, const void* data, int size, int16_t 
     w.t1 = received + clock_.offset_us();
     w.t2 = clock_.now_us();
     const int n = w.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+    address(kOc, w.agent);
     if (n < 0 || !send(lcm_, kTimeChannel, kOc, n)) ++publish_failures_;
     return;
   }
@@ -688,11 +714,13 @@ void LcmFleet::on_radio_payload(const char* channel, const void* data, int size,
   radio_.push_back(m);
 }
 
-void LcmFleet::set_team(int agents, std::vector<uint8_t> collectors) {
+void LcmFleet::set_team(int agents, std::vector<uint8_t> collectors, FleetLinks links) {
   if (!collectors.empty() && collectors.size() != static_cast<std::size_t>(agents))
     throw RuntimeError("LcmFleet::set_team", "one role per agent");
+  if (links.agents() != 0 && links.agents() != agents) throw RuntimeError("LcmFleet::set_team", "one link per agent");
   team_ = agents;
   collectors_ = std::move(collectors);
+  links_ = std::move(links);
   auth_.reserve(agents);
 }
 
@@ -708,15 +736,19 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
   // Ticks and plans come from the OC, a reply from its agent.
   if (std::strcmp(channel, kReplyChannel) != 0 && sender != kOc) return auth_.count_wrong_sender();
   if (std::strcmp(channel, kTickChannel) == 0) {
+    w.tick.expect.clear();  // the decoder leaves an array of 0 as it was
     if (safe_decode(w.tick, data, size) != size) return void(++refused_.undecodable);
     if (w.tick.schema_version != gather_lcm::tick_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
     if (w.tick.tick < 0 || !finite(w.tick.t) || w.tick.sent_before < 0 || w.tick.commands_before < 0 ||
-        w.tick.start_us < 0)
+        w.tick.start_us < 0 || w.tick.n_expect < 0 || w.tick.n_expect > gather_lcm::tick_t::MAX_AGENTS ||
+        std::any_of(w.tick.expect.begin(), w.tick.expect.end(),
+                    [&](int32_t e) { return e < 0 || e > w.tick.sent_before; }))
       return void(++refused_.out_of_range);
     Tick t;
     t.tick = w.tick.tick, t.t = w.tick.t, t.sent_before = w.tick.sent_before;
     t.commands_before = w.tick.commands_before;
     t.report = w.tick.report != 0, t.done = w.tick.done != 0, t.start_us = w.tick.start_us;
+    t.expect.assign(w.tick.expect.begin(), w.tick.expect.end());
     ticks_.push_back(t);
   } else if (std::strcmp(channel, kPlanChannel) == 0) {
     if (safe_decode(w.plan, data, size) != size) return void(++refused_.undecodable);
@@ -765,6 +797,7 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
     a.robots = p.robots;
     plans_.push_back(a);
   } else if (std::strcmp(channel, kReplyChannel) == 0) {
+    w.reply.dests.clear();  // the decoder leaves an array of 0 as it was
     if (safe_decode(w.reply, data, size) != size) return void(++refused_.undecodable);
     const gather_lcm::tick_reply_t& r = w.reply;
     if (r.schema_version != gather_lcm::tick_reply_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
@@ -773,7 +806,8 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
         r.n_measured > gather_lcm::tick_reply_t::MAX_MEASURED || r.n_path < 0 ||
         r.n_path > gather_lcm::tick_reply_t::MAX_PATH || r.commands < 0 || !finite(r.heading) || r.nav_state < 0 ||
         r.nav_state > 4 || r.robot_fault < 0 || r.robot_fault > 3 || !finite(r.late_median_s) ||
-        !finite(r.late_max_s) || !finite(r.loop_late_median_s) || !finite(r.loop_late_max_s))
+        !finite(r.late_max_s) || !finite(r.loop_late_median_s) || !finite(r.loop_late_max_s) || r.n_dests != r.sent ||
+        std::any_of(r.dests.begin(), r.dests.end(), [&](int16_t d) { return d < kBroadcast || d >= team_; }))
       return void(++refused_.out_of_range);
     if (r.agent != sender) return auth_.count_wrong_sender();
     for (int i = 0; i < r.n_measured; ++i)
@@ -788,6 +822,7 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
     o.status = static_cast<ReplyStatus>(r.status);
     o.pid = r.pid;
     o.sent = r.sent;
+    o.dests.assign(r.dests.begin(), r.dests.end());
     o.commands = r.commands;
     o.pose = Point2{r.x, r.y};
     o.heading = r.heading;

@@ -34,7 +34,9 @@ void gather_inbox(const std::vector<Message>& sent, int16_t receiver, Point2 at,
                   LinkCounters& counters, std::vector<const Message*>& inbox) {
   inbox.clear();
   for (const Message& m : sent) {
-    if (m.h.sender == receiver || (m.h.dest != receiver && m.h.dest != kBroadcast)) continue;
+    // Addressed to it, or a broadcast from one of its links (FleetLinks):
+    // what it can authenticate, in one process as over LCM.
+    if (!gate.team().links.hears(receiver, m.h.sender, m.h.dest)) continue;
     switch (gate.admit(m.h, receiver, at)) {
       case RangeGate::Verdict::kOutOfRange: ++counters.gated; continue;
       case RangeGate::Verdict::kLost: ++counters.lost; continue;

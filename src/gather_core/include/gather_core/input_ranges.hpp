@@ -94,6 +94,7 @@ struct InputRange {
   X(kRunSpeedFactor, "gather run", "--speed-factor", 0.05, 1, "", 0, nullptr)                                \
   X(kRunSilentIntervals, "gather run", "--silent-intervals", 1.5, 100, "", 0, nullptr)                       \
   X(kKeygenKeyId, "gather keygen", "--key-id", 1, 32767, "", kRangeInt, nullptr)                             \
+  X(kKeygenAgent, "gather keygen --agent", "--agent", 0, 1e6, "", kRangeInt, "is not in the plan")           \
   X(kReportWorkers, "gather partition --report", "--workers", 1, 1000, "", kRangeInt, nullptr)               \
   X(kReportRepeat, "gather partition --report", "--repeat", 1, 1000, "", kRangeInt | kRangeWork, nullptr)    \
   X(kReportSeed, "gather partition --report", "--seed", 0, 2147483647, "", kRangeInt, nullptr)               \

@@ -16,6 +16,7 @@
 #include "gather_agent/messages.hpp"
 #include "gather_agent/motion/motion_backend.hpp"
 #include "gather_agent/roles/custody.hpp"
+#include "gather_agent/transport/fleet_links.hpp"
 #include "gather_core/mission/mission_plan.hpp"
 #include "gather_core/mission/repair.hpp"
 #include "gather_core/mission/route_timetable.hpp"
@@ -77,6 +78,9 @@ class TeamSetup {
   // empty otherwise.
   std::vector<Cell> oc_homes;
   mission::AreaWeights areas;  // of the refresh interval (plan.yaml's area_tile_m)
+  // Who talks to whom (the plan's links, which a repair keeps): what a role
+  // hears, and who a message is signed for.
+  FleetLinks links;
 
   // A* on the reachable cells, for the simulated bases: made on first use
   // (its per-cell arrays are some MB on a large map; an agent on a robot,
@@ -123,6 +127,10 @@ class TeamSetup {
   double range_ = 0.0;
   std::vector<std::pair<std::vector<AgentId>, std::unique_ptr<mission::RepairedPlan>>> repaired_;
 };
+
+// The plan's links (FleetLinks): each worker of a collector to that
+// collector's agent, everyone to the OC.
+FleetLinks plan_links(const plan::PlanFile& plan);
 
 // Messages a step sends, at most `capacity` (the rest is refused and counted).
 class Outbox {

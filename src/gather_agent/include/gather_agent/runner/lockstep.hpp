@@ -235,7 +235,9 @@ class LockstepMaster {
   uint32_t seq_ = 0;
   int64_t tick_ = 0;
   int32_t sent_before_ = 0;
-  int32_t commands_before_ = 0;  // navigation commands the agents sent in the tick before (robots)
+  std::vector<int32_t> expect_;     // per agent: what it is to receive of the tick before's messages
+  std::vector<int16_t> receivers_;  // scratch (FleetLinks::receivers)
+  int32_t commands_before_ = 0;     // navigation commands the agents sent in the tick before (robots)
   int next_check_ = 0;
   double limit_ = 0.0;
   int64_t messages_ = 0;

@@ -36,6 +36,7 @@ namespace agent {
 
 constexpr std::size_t kKeyBytes = 32;  // crypto_auth_hmacsha512256_KEYBYTES
 constexpr std::size_t kMacBytes = 32;  // crypto_auth_hmacsha512256_BYTES
+constexpr std::size_t kTagBytes = 16;  // a per-receiver tag: the MAC's first half
 
 // The fleet's shared secret and its id (1..32767; 0 marks an unsigned
 // message on the wire).
@@ -44,7 +45,47 @@ struct FleetKey {
   std::array<uint8_t, kKeyBytes> key{};
 };
 
-// Reads a key file written by write_fleet_key. Throws gather::Error naming
+// What a process holds to sign and check fleet traffic (docs/security.md):
+// the OC's master key, from which every link's key is derived, or one
+// agent's keys: those of its links (the OC, and its collector or its
+// workers), each derived from the master with libsodium's KDF, and the key
+// of its robot link. An agent's keys authenticate it to its links only: a
+// robot taken in the field can sign as itself, to them, and nothing else.
+struct KeyRing {
+  using Key = std::array<uint8_t, kKeyBytes>;
+  int16_t id = 0;                              // the master's key id (1..32767), on every message
+  int16_t agent = -1;                          // whose keys: -1 (kOc) the master's
+  Key key{};                                   // the master key; an agent's: its robot link's key
+  std::vector<std::pair<int16_t, Key>> links;  // an agent's: link peer (-1: the OC) -> key, by peer
+  bool master() const { return agent < 0; }
+  KeyRing() = default;
+  KeyRing(const FleetKey& master_key);  // NOLINT(google-explicit-constructor): a master is a key ring
+};
+
+// The key of the link between `a` and `b` (ids: -1 the OC, agents 0..),
+// the same either way round: crypto_kdf_derive_from_key(master, subkey
+// (min + 1) << 16 | (max + 1), context "gthrLINK").
+KeyRing::Key link_key(const FleetKey& master, int16_t a, int16_t b);
+// The robot link's key (an agent and its robot's driver): from a master,
+// crypto_kdf_derive_from_key(master, 0, "gthrROBT"); an agent's, as its
+// file gives it.
+FleetKey robot_link_key(const KeyRing& ring);
+// Agent `agent`'s keys for the links `peers` (FleetLinks::peers).
+KeyRing agent_key_ring(const FleetKey& master, int16_t agent, const std::vector<int16_t>& peers);
+
+// Reads a key file: the master (write_fleet_key) or an agent's
+// (write_key_ring). Throws gather::Error naming the file (and the field) as
+// load_fleet_key does.
+KeyRing load_key_ring(const std::string& path);
+// Writes an agent's keys to `path` (mode 0600, never over a file).
+void write_key_ring(const std::string& path, const KeyRing& ring);
+// The keys a process runs with (fleet_key_from_options, for either kind of file).
+std::optional<KeyRing> key_ring_from_options(const std::string& key_file, bool insecure, const std::string& who,
+                                             const std::string& key_flag = "--key-file",
+                                             const std::string& insecure_flag = "--insecure");
+
+// Reads a master key file written by write_fleet_key (an agent's file is
+// refused: the OC's side needs the master). Throws gather::Error naming
 // the file (and the field) when it cannot be read, is readable by group or
 // others (mode & 077: the exit status is 2, as for every bad input), or is
 // malformed.
@@ -66,6 +107,12 @@ std::optional<FleetKey> fleet_key_from_options(const std::string& key_file, bool
                                                const std::string& key_flag = "--key-file",
                                                const std::string& insecure_flag = "--insecure");
 
+// The robot link's key a process runs with (robot_link_key of either kind
+// of key file; none with `insecure`), as key_ring_from_options.
+std::optional<FleetKey> robot_key_from_options(const std::string& key_file, bool insecure, const std::string& who,
+                                               const std::string& key_flag = "--key-file",
+                                               const std::string& insecure_flag = "--insecure");
+
 // The key at `path`, made there first (generate_fleet_key, mode 0600) when
 // no file exists; `created` tells which.
 FleetKey load_or_create_fleet_key(const std::string& path, bool* created = nullptr);
@@ -81,11 +128,17 @@ struct EnvelopeHead {
   int64_t counter = 0;
 };
 
-enum class Verdict : uint8_t { kAccepted, kUnsigned, kUnknownKey, kBadMac, kReplayed };
+// kNotForMe: a per-link message that carries no tag for this receiver (not
+// a refusal: it was sent to others).
+enum class Verdict : uint8_t { kAccepted, kUnsigned, kUnknownKey, kBadMac, kReplayed, kNotForMe };
+
+// FleetAuth's per-link mode (below).
+struct PerLinkTags {};
 
 class FleetAuth {
  public:
-  static constexpr int16_t kVersion = 1;
+  static constexpr int16_t kVersion = 1;        // a single MAC (the robot link: envelope_t)
+  static constexpr int16_t kTaggedVersion = 2;  // per-link tags (the fleet: fleet_envelope_t)
   // How far the fleet's clocks may differ [us]: a sender's first message must
   // be stamped after the receiver started minus this, and at most this far
   // ahead of the receiver's clock.
@@ -105,16 +158,42 @@ class FleetAuth {
   // time, its host's clock corrected by the offset it measured to the OC).
   FleetAuth(std::optional<FleetKey> key, std::vector<std::string> channels, int senders,
             const FleetClock* clock = nullptr);
+  // Per-link mode (the fleet): every message carries a tag for each of its
+  // receivers, made with the key of the link between its sender and that
+  // receiver (docs/security.md): tag = the first kTagBytes of
+  // HMAC-SHA-512-256(link key, BLAKE2b-256(channel NUL, version, key id,
+  // sender, counter, payload size, payload) | receiver). `ring` empty:
+  // insecure. A receiver with an agent's keys checks its own tag; with the
+  // master (the OC, the robot world, a replay) any one tag.
+  FleetAuth(std::optional<KeyRing> ring, PerLinkTags, std::vector<std::string> channels, int senders,
+            const FleetClock* clock = nullptr);
   ~FleetAuth();
   FleetAuth(const FleetAuth&) = delete;
   FleetAuth& operator=(const FleetAuth&) = delete;
 
-  bool secure() const { return key_.has_value(); }
+  bool secure() const { return key_.has_value() || ring_.has_value(); }
 
   // Fills `head` (version, key id, sender, the next counter) and `mac` for a
   // message from `sender` on `channel`. Unsigned mode: key id 0, zero MAC.
   void sign(const char* channel, int16_t sender, const uint8_t* payload, std::size_t size, EnvelopeHead& head,
             uint8_t* mac);
+
+  // Per-link mode: fills `head` and, for each of receivers[0, n), its tag
+  // (tags + i * kTagBytes). False (nothing signed) when this process holds
+  // no key for one of them. Unsigned mode: key id 0, no tags needed.
+  bool sign_tagged(const char* channel, int16_t sender, const uint8_t* payload, std::size_t size,
+                   const int16_t* receivers, std::size_t n, EnvelopeHead& head, uint8_t* tags);
+  // Per-link mode: checks a received envelope's tag for this receiver (any
+  // one tag with the master), then its counter as verify() does. kNotForMe
+  // (counted in not_for_me(), not a refusal): no tag for this receiver.
+  Verdict verify_tagged(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
+                        const int16_t* receivers, const uint8_t* tags, std::size_t n, bool counters = true);
+  // Per-link mode with an agent's keys: it checks (and takes) only what is
+  // sent to it. The master, and insecure mode, take everything.
+  bool sees_all() const { return !ring_ || ring_->master(); }
+  // The agent whose keys these are (-1: the master's, or insecure).
+  int16_t holder() const { return ring_ ? ring_->agent : int16_t{-1}; }
+  int64_t not_for_me() const { return not_for_me_; }
 
   // Checks a received envelope; on kAccepted the sender's counter moves on.
   // Counts every refusal in counters(). Insecure mode accepts everything.
@@ -155,6 +234,13 @@ class FleetAuth {
   int channel_index(const char* channel) const;
   void mac_of(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
               uint8_t* out) const;
+  // The signed fields' digest (per-link mode), and the tag for `receiver` over it.
+  static void digest_of(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
+                        uint8_t* out);
+  // The link's keyed HMAC state (nullptr: no key for it).
+  const crypto_auth_hmacsha512256_state* link_state(int16_t a, int16_t b);
+  // A sender's counter, once its signature passed (verify, verify_tagged).
+  Verdict check_counter(int c, const EnvelopeHead& head);
   // What a receiver has accepted from one sender on one channel.
   struct Seen {
     int64_t newest = 0;  // the highest counter accepted; 0: none yet
@@ -177,6 +263,11 @@ class FleetAuth {
   int64_t reordered_ = 0;
 
   std::optional<FleetKey> key_;
+  std::optional<KeyRing> ring_;  // per-link mode
+  // Per-link mode: each link's keyed state, by (min + 1) << 16 | (max + 1):
+  // an agent's made up front, the master's as links are met.
+  std::vector<std::pair<uint32_t, crypto_auth_hmacsha512256_state>> link_states_;
+  int64_t not_for_me_ = 0;
   std::vector<std::string> channels_;
   int senders_;
   FleetClock host_clock_;       // when no clock is given: the host's (a reference)

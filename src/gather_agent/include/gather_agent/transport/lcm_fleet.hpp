@@ -20,6 +20,7 @@
 #include "gather_agent/roles/role.hpp"
 #include "gather_agent/transport/fleet_auth.hpp"
 #include "gather_agent/transport/fleet_clock.hpp"
+#include "gather_agent/transport/fleet_links.hpp"
 #include "gather_agent/transport/range_gate.hpp"
 
 typedef struct _lcm_t lcm_t;
@@ -27,7 +28,7 @@ typedef struct _lcm_t lcm_t;
 namespace gather {
 namespace agent {
 
-class Envelopes;
+class FleetEnvelopes;
 
 // Channels.
 extern const char* const kRequestChannel;  // GATHER_REQUEST
@@ -63,6 +64,10 @@ struct Tick {
   bool report = false;          // replies carry custody keys
   bool done = false;            // the mission is over
   int64_t start_us = 0;         // wall clock: wall time [us since the epoch] of mission time 0
+  // Per agent: how many of the sent_before messages were sent to it
+  // (FleetLinks::receivers): what an agent that holds only its own links'
+  // keys waits for (empty: sent_before).
+  std::vector<int32_t> expect;
 };
 
 enum class ReplyStatus : uint8_t { kReady = 1, kRefused = 2, kStepped = 3 };
@@ -77,7 +82,8 @@ struct Reply {
   ReplyStatus status = ReplyStatus::kStepped;
   int32_t pid = 0;  // the agent's process id (READY replies)
   int32_t sent = 0;
-  int32_t commands = 0;  // navigation commands sent to its robot in this tick
+  std::vector<int16_t> dests;  // each sent message's destination (header dest), in order
+  int32_t commands = 0;        // navigation commands sent to its robot in this tick
   Point2 pose;
   double heading = 0.0;  // [rad]
   NavState nav_state = NavState::kIdle;
@@ -130,13 +136,14 @@ class LcmFleet {
  public:
   // Opens `url` (radio, plan, ticks) and `reply_url` (replies). `listen_replies`:
   // the OC's side (subscribes to replies; agents only publish there).
-  // `key`: the fleet key every message is signed and checked with; empty:
-  // insecure mode (unsigned, nothing checked; the caller warns). `team`: ids
+  // `keys`: what every message is signed and checked with (the master, or
+  // an agent's links' keys: docs/security.md); empty: insecure mode
+  // (unsigned, nothing checked; the caller warns). `team`: ids
   // 0..team-1 (kMaxTeam until the plan is known). Throws
   // gather::Error("--lcm-url", ...) naming the URL when LCM cannot open it.
   // `radio`: subscribe to the fleet radio (false: gather_world, which needs
   // only the plan and the ticks).
-  LcmFleet(const std::string& url, const std::string& reply_url, bool listen_replies, std::optional<FleetKey> key,
+  LcmFleet(const std::string& url, const std::string& reply_url, bool listen_replies, std::optional<KeyRing> keys,
            int team = kMaxTeam, bool radio = true);
   ~LcmFleet();
   LcmFleet(const LcmFleet&) = delete;
@@ -147,7 +154,9 @@ class LcmFleet {
   // With roles, a radio message of a kind its sender's role never sends is
   // dropped and counted as wrong sender, however well signed: requests and
   // acks come from the OC and collectors, data and states from agents.
-  void set_team(int agents, std::vector<uint8_t> collectors = {});
+  // `links`: who a radio message is signed for (FleetLinks::receivers;
+  // unknown: a broadcast goes to the OC, or from the OC to every agent).
+  void set_team(int agents, std::vector<uint8_t> collectors = {}, FleetLinks links = {});
   // Whether `sender`'s role sends messages of `kind` (set_team).
   bool may_send(int16_t sender, Kind kind) const;
 
@@ -202,6 +211,12 @@ class LcmFleet {
   // Everything dropped on receipt: refused() and rejected().
   int64_t dropped() const { return refused_.total() + auth_.counters().total(); }
   bool secure() const { return auth_.secure(); }
+  // It takes every message (the master's keys, or insecure), not only what
+  // is sent to it (an agent's keys): then a tick's sent_before is what it
+  // waits for, else the tick's expect for it.
+  bool sees_all() const { return auth_.sees_all(); }
+  // Messages that carried no tag for it (sent to others; not a refusal).
+  int64_t not_for_me() const { return auth_.not_for_me(); }
   int64_t publish_failures() const { return publish_failures_; }
   // Its radio's LCM instance (LcmRobotLink shares it when on the same URL).
   lcm_t* radio_lcm() const { return lcm_; }
@@ -218,8 +233,11 @@ class LcmFleet {
   void on_clock(const char* channel, const void* data, int size);
 
  private:
-  // Wraps buffer_[0, n) in a signed envelope from `sender` and publishes it.
+  // Wraps buffer_[0, n) in an envelope from `sender`, signed for
+  // receivers_, and publishes it.
   bool send(lcm_t* lcm, const char* channel, int16_t sender, int n);
+  // receivers_ := who a message from `sender` to `dest` goes to.
+  void address(int16_t sender, int16_t dest);
   // The payload of a received envelope once its signature and counter are
   // good (nullptr otherwise, counted), and its signed sender.
   const uint8_t* open(const char* channel, const void* data, int size, int& payload_size, int16_t& sender);
@@ -232,6 +250,8 @@ class LcmFleet {
   lcm_t* reply_lcm_ = nullptr;
   int team_;
   std::vector<uint8_t> collectors_;  // per agent, 1: collector (empty: roles unknown)
+  FleetLinks links_;                 // the plan's links (none: unknown)
+  std::vector<int16_t> receivers_;   // of the message being sent
   bool listen_replies_;
   std::vector<Message> radio_;
   std::vector<Tick> ticks_;
@@ -245,7 +265,7 @@ class LcmFleet {
   int64_t time_asked_us_ = 0;    // t0 of the ask not yet answered (0: none)
   int64_t time_next_us_ = 0;     // local time of the next ask
   FleetAuth auth_;
-  std::unique_ptr<Envelopes> envelopes_;  // sealing and opening (transport/envelope.hpp)
+  std::unique_ptr<FleetEnvelopes> envelopes_;  // sealing and opening (transport/envelope.hpp)
   struct Recording;
   std::vector<std::unique_ptr<Recording>> recordings_;  // replay(): the logs, each at its next event
   int64_t replayed_ = 0;

@@ -35,6 +35,7 @@ class RangeGate {
   enum class Verdict { kPass, kOutOfRange, kLost };
   Verdict admit(const Header& h, int16_t receiver, Point2 receiver_at) const;
   double loss() const { return loss_; }
+  const TeamSetup& team() const { return team_; }
 
  private:
   const TeamSetup& team_;
