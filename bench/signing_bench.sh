@@ -2,7 +2,8 @@
 # The cost of signed fleet traffic (docs/security.md), in two figures:
 #  1. signing and verifying one message (bench/auth_micro.cpp, Google
 #     Benchmark; median of 3 repetitions) for an agent state, a data batch
-#     and a tick reply;
+#     and a tick reply: one MAC (the robot link), the fleet's per-link tags
+#     for 1 to 301 receivers, and Ed25519 for comparison;
 #  2. the multi-process fleet on maps/office (pap:4 with busy collectors,
 #     3 cycles, 20 gather_agent processes over LCM), signed (--key-file)
 #     against unsigned (--insecure): farm-bench, 5 pairs run in turn, median
@@ -22,8 +23,10 @@ command -v farm-bench >/dev/null || { echo "signing_bench: farm-bench not found 
 cmake -S "$here/src/gather_agent" -B "$here/build/bench_agent" -DCMAKE_BUILD_TYPE=Release -DGATHER_BUILD_BENCH=ON \
   -DBUILD_TESTING=OFF > /dev/null
 cmake --build "$here/build/bench_agent" -j2 --target gather_auth_micro > /dev/null
-echo "== sign / verify one message (HMAC-SHA-512-256, libsodium $(pkg-config --modversion libsodium))"
-echo "(BM_Sign/N, BM_Verify/N: a payload of N bytes; Time is per message)"
+echo "== sign / verify one message (libsodium $(pkg-config --modversion libsodium))"
+echo "(BM_Sign/N, BM_Verify/N: one HMAC-SHA-512-256, the robot link; BM_SignTagged/N/R: the fleet's tags for R"
+echo " receivers; BM_VerifyTagged/N: one receiver's own tag among 20; BM_Ed25519*: public-key signatures, for"
+echo " comparison; a payload of N bytes; Time is per message)"
 "$here/build/bench_agent/gather_auth_micro" --benchmark_repetitions=3 --benchmark_report_aggregates_only=true 2>/dev/null |
   grep -E '^(Benchmark|BM_.*_median)' 
 

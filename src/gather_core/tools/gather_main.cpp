@@ -42,8 +42,9 @@ const Subcommand kSubcommands[] = {
      "runtime, every role in one process (range gate, lockstep clock), or with --lcm (--key-file F | --insecure) one "
      "gather_agent process per agent: goals.csv, cycles.csv, summary.csv, agents.csv"},
     {"keygen", gather::cmd::keygen,
-     "keygen FILE [--key-id N]  a new fleet key (mode 0600) for signed fleet traffic: gather run --lcm --key-file, "
-     "gather_agent --key-file, the OC's key_file (docs/security.md)"},
+     "keygen FILE [--key-id N]  a new fleet master key (mode 0600) for signed fleet traffic: gather run --lcm "
+     "--key-file, the OC's key_file; keygen FILE --agent K --plan PLAN_DIR --master MASTER  agent K's own keys, "
+     "its links' only (gather_agent --key-file on that robot; docs/security.md)"},
 #else
     {"run", nullptr, "run PLAN_DIR --out DIR ...  (needs the gather_agent package: build with it)"},
     {"keygen", nullptr, "keygen FILE  (needs the gather_agent package: build with it)"},
