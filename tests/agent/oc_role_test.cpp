@@ -34,7 +34,7 @@ TEST(OcRole, DeliversOnceCountsDuplicatesAcksAllAndExpiresSkippedRequests) {
   EXPECT_EQ(req->request.count, 2u);
   Message d = message(Kind::kData, 0, kOc, 0, Point2{1.0, 0.25});
   d.data.count = 2, d.data.items[0] = measured(0, 1, 4.5), d.data.items[1] = measured(0, 1, 4.5);
-  d.data.items[0].picked_up_by = 0, d.data.items[0].picked_up_at = 5.0;
+  for (int i = 0; i < 2; ++i) d.data.items[i].picked_up_by = 0, d.data.items[i].picked_up_at = 5.0;
   oc.step(27.0, {d});
   auto& role = static_cast<OcRole&>(*oc.unit.role);
   EXPECT_TRUE(role.resolved(GoalId(0)));
@@ -68,6 +68,25 @@ TEST(OcRole, DeliversOnceCountsDuplicatesAcksAllAndExpiresSkippedRequests) {
   EXPECT_FALSE(role.resolved(GoalId(1)));
   EXPECT_EQ(role.invalid_items(), 4);
   EXPECT_EQ(oc.sent(Kind::kAck)->ack.count, 3u);
+  // Who may hand an item in (its sender is sure: per-link keys): worker 1
+  // with a measurement collector 0 took, and collector 0 with one no
+  // collector took, are refused (and acked: their sender lets go).
+  Message claim = message(Kind::kData, 1, kOc, 3, Point2{1.0, 0.25});
+  claim.data.count = 1, claim.data.items[0] = measured(1, 1, 151.0);
+  claim.data.items[0].picked_up_by = 0, claim.data.items[0].picked_up_at = 151.5;
+  oc.step(153.0, {claim});
+  Message untaken = message(Kind::kData, 0, kOc, 3, Point2{1.0, 0.25});
+  untaken.data.count = 1, untaken.data.items[0] = measured(1, 1, 151.0);
+  oc.step(154.0, {untaken});
+  EXPECT_FALSE(role.resolved(GoalId(1)));
+  EXPECT_EQ(role.invalid_items(), 6);
+  EXPECT_EQ(oc.sent(Kind::kAck)->ack.count, 1u);
+  // The same measurement from its worker, no collector between: taken.
+  Message own = message(Kind::kData, 1, kOc, 4, Point2{1.0, 0.25});
+  own.data.count = 1, own.data.items[0] = measured(1, 1, 151.0);
+  oc.step(155.0, {own});
+  EXPECT_TRUE(role.resolved(GoalId(1)));
+  EXPECT_EQ(role.invalid_items(), 6);
 }
 
 TEST(OcRole, AGoalInNoSegmentExpiresWhenTheNextRequestIsDue) {
@@ -117,6 +136,7 @@ TEST(OcRole, AdoptsALaterDeadlineExpiresLateMeasurementsAndResolvesUnreachableGo
   // goal 0 again, a duplicate.
   d.data.items[4] = measured(0, 1, 95.0);
   d.data.items[4].deadline = std::numeric_limits<double>::infinity();
+  d.data.items[4].picked_up_by = 0, d.data.items[4].picked_up_at = 106.0;
   oc.step(110.0, {d});
   ASSERT_NE(oc.sent(Kind::kAck), nullptr);
   EXPECT_EQ(oc.sent(Kind::kAck)->ack.count, 5u);

@@ -330,9 +330,15 @@ def main():
                                 "--key-file", key, "--lcm-url", "udpm://239.255.76.67:7667?ttl=0", "--clock", "wall",
                                 "--cycles", "1", "--agent-bin", "/bin/true"],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # Robot 0 with its own keys, as deployed (gather keygen --agent).
+    agent_key = os.path.join(tmp, "agent0.key")
+    if not os.path.exists(agent_key):
+        krc, _, kerr = run([a.gather, "keygen", agent_key, "--agent", "0", "--plan", plan, "--master", key])
+        check("gather keygen --agent 0: its own key file, mode 0600",
+              krc == 0 and (os.stat(agent_key).st_mode & 0o777) == 0o600, kerr)
     time.sleep(1.0)  # the OC announces its plan (on its own host only)
-    rc, out, err = run(["host-exec", "r0", a.agent, "--id", "0", "--plan", plan, "--key-file", key, "--lcm-url",
-                        "udpm://239.255.76.67:7667?ttl=0", "--silence", "3"], timeout=60)
+    rc, out, err = run(["host-exec", "r0", a.agent, "--id", "0", "--plan", plan, "--key-file", agent_key,
+                        "--lcm-url", "udpm://239.255.76.67:7667?ttl=0", "--silence", "3"], timeout=60)
     oc_side.kill()
     oc_side.communicate()
     lines = [l for l in err.splitlines() if l.startswith("gather_agent 0:")]

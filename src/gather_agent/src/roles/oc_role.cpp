@@ -173,6 +173,15 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
   // took it on (-1: none), as the item names them: agents of the team.
   if (item.by < 0 || item.by >= team_.agents() || item.picked_up_by < -1 || item.picked_up_by >= team_.agents())
     return false;
+  // Who may hand it in (its sender is sure: per-link keys, docs/security.md):
+  // a measured item that a collector took on, that collector; one no
+  // collector took, its worker; a notice, its worker or the worker's
+  // collector. A robot that claims what another measured is refused.
+  const bool picked = item.kind == ItemKind::kMeasured && item.picked_up_by >= 0;
+  if (picked ? item.picked_up_by != sender.value()
+             : item.by != sender.value() &&
+                   (item.kind == ItemKind::kMeasured || team_.links.upstream()[item.by] != sender.value()))
+    return false;
   const AgentId by(item.by);
   if (item.kind == ItemKind::kSkipped) {
     const int c = skipped_request(item.key);
