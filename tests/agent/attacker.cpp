@@ -13,6 +13,17 @@
 //                 payload                                      -> bad MAC
 //   impersonated  captured valid messages with another agent's id as the
 //                 sender                                       -> bad MAC
+// With --captured FILE (an agent's own key file: a robot taken in the field,
+// a worker of a collector) it also sends, as that robot would, `--each` / 4
+// of each:
+//   as its collector  a request, tagged with its own keys    -> bad MAC
+//   as another worker a data delivery, so tagged               -> bad MAC
+//   as the OC         a request declaring a live agent dead    -> bad MAC
+//   as itself         a request declaring a live agent dead, a plan and a
+//                     tick, to its links (the OC, its collector),
+//                     well signed                              -> wrong sender
+// (its tags for every agent but itself: its own process would take a tag
+// made with its own keys; in the field, that robot is the attacker).
 // and writes what it sent to --out (YAML): per reason, what the OC must
 // have rejected (it holds the master: it checks every message) and what
 // each agent must have (a message under the fleet's key id only where it
@@ -24,7 +35,9 @@
 #include <gather_lcm/agent_state_t.hpp>
 #include <gather_lcm/data_t.hpp>
 #include <gather_lcm/fleet_envelope_t.hpp>
+#include <gather_lcm/plan_t.hpp>
 #include <gather_lcm/request_t.hpp>
+#include <gather_lcm/tick_t.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -33,6 +46,8 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <memory>
+#include <optional>
 #include <random>
 #include <string>
 #include <tuple>
@@ -47,6 +62,7 @@ namespace {
 using gather::agent::EnvelopeHead;
 using gather::agent::FleetAuth;
 using gather::agent::FleetKey;
+using gather::agent::KeyRing;
 
 struct Captured {
   std::string channel;
@@ -148,7 +164,7 @@ gather_lcm::header_t header(int16_t sender, int16_t dest, double t) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string url = "udpm://239.255.76.67:7667?ttl=0", reply_url, out;
+  std::string url = "udpm://239.255.76.67:7667?ttl=0", reply_url, out, captured_file;
   int each = 40, team = 20;
   double wait_s = 60.0;
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -161,6 +177,8 @@ int main(int argc, char** argv) {
       out = v;
     else if (a == "--each")
       each = std::atoi(v.c_str());
+    else if (a == "--captured")
+      captured_file = v;
     else if (a == "--team")
       team = std::atoi(v.c_str());
     else if (a == "--wait")
@@ -171,12 +189,29 @@ int main(int argc, char** argv) {
     }
   }
   if (out.empty() || each < 1 || team < 2) {
-    std::fprintf(
-        stderr,
-        "usage: gather_attacker --out FILE [--lcm-url URL] [--reply-url URL] [--each N] [--team N] [--wait S]\n");
+    std::fprintf(stderr,
+                 "usage: gather_attacker --out FILE [--lcm-url URL] [--reply-url URL] [--each N] [--team N] [--wait S] "
+                 "[--captured AGENT_KEY_FILE]\n");
     return 2;
   }
   if (reply_url.empty()) reply_url = gather::agent::LcmFleet::reply_url_for(url);
+  // The captured robot's keys: a worker of a collector (its links: the OC and that collector).
+  std::optional<gather::agent::KeyRing> stolen;
+  int16_t collector = -1;
+  if (!captured_file.empty()) {
+    try {
+      stolen = gather::agent::load_key_ring(captured_file);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "gather_attacker: %s\n", e.what());
+      return 2;
+    }
+    for (const auto& l : stolen->links)
+      if (l.first >= 0) collector = l.first;
+    if (stolen->master() || stolen->links.size() != 2 || collector < 0) {
+      std::fprintf(stderr, "gather_attacker: %s: not the keys of a worker of a collector\n", captured_file.c_str());
+      return 2;
+    }
+  }
   lcm_t* radio = lcm_create(url.c_str());
   lcm_t* replies = lcm_create(reply_url.c_str());
   if (!radio || !replies) {
@@ -222,6 +257,7 @@ int main(int argc, char** argv) {
   ::usleep(300000);
 
   std::mt19937_64 rng(12345);
+  int16_t f_captured = -1;
   FleetAuth own(gather::agent::KeyRing(gather::agent::generate_fleet_key()), gather::agent::PerLinkTags{},
                 {gather::agent::kRequestChannel, gather::agent::kDataChannel, gather::agent::kAckChannel,
                  gather::agent::kStateChannel, gather::agent::kPlanChannel, gather::agent::kTickChannel,
@@ -293,11 +329,78 @@ int main(int argc, char** argv) {
     other[8 + 4] = static_cast<uint8_t>(static_cast<uint16_t>(as) >> 8), other[8 + 5] = static_cast<uint8_t>(as & 0xff);
     send(mine, other, "bad_mac", mine.receivers);
   }
+  if (stolen) {
+    const int16_t thief = stolen->agent;
+    const KeyRing::Key& to_oc = stolen->links[0].second;  // its key with the OC (links by peer: -1 first)
+    std::vector<int16_t> others;                          // every agent but itself
+    for (int a = 0; a < team; ++a)
+      if (a != thief) others.push_back(static_cast<int16_t>(a));
+    std::vector<int16_t> oc_and_others{gather::agent::kOc};
+    oc_and_others.insert(oc_and_others.end(), others.begin(), others.end());
+    // Its own keys, filed as `as`'s links to `to` (for the OC, -1: as a master).
+    auto posing = [&](int16_t as, const std::vector<int16_t>& to) {
+      KeyRing fake;
+      fake.id = stolen->id, fake.agent = as, fake.key = to_oc;
+      if (as >= 0)
+        for (int16_t r : to)
+          if (r != as) fake.links.emplace_back(r, to_oc);
+      std::sort(fake.links.begin(), fake.links.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+      return std::make_unique<FleetAuth>(
+          fake, gather::agent::PerLinkTags{},
+          std::vector<std::string>{gather::agent::kRequestChannel, gather::agent::kDataChannel,
+                                   gather::agent::kPlanChannel, gather::agent::kTickChannel},
+          gather::agent::kMaxTeam + 1);
+    };
+    FleetAuth itself(*stolen, gather::agent::PerLinkTags{},
+                     {gather::agent::kRequestChannel, gather::agent::kPlanChannel, gather::agent::kTickChannel},
+                     gather::agent::kMaxTeam + 1);
+    // A live agent (neither itself nor its collector) to declare dead, and to pose as.
+    int16_t peer = static_cast<int16_t>((thief + 1) % team);
+    while (peer == thief || peer == collector) peer = static_cast<int16_t>((peer + 1) % team);
+    auto as_collector = posing(collector, oc_and_others), as_peer = posing(peer, oc_and_others),
+         as_oc = posing(gather::agent::kOc, others);
+    // Its wrap(), but with the fleet's key id: a tag made with a key of the fleet.
+    auto sealed = [&](FleetAuth& by, const char* channel, int16_t sender, const std::vector<uint8_t>& payload,
+                      const std::vector<int16_t>& to) { return wrap(by, channel, sender, payload, s.key_id, to); };
+    const std::vector<int16_t> links{gather::agent::kOc, collector};
+    for (int i = 0; i < std::max(1, each / 4); ++i) {
+      gather_lcm::request_t r{};
+      r.h = header(collector, gather::agent::kBroadcast, 20.0 + i), r.request = 60 + i, r.parts = 1;
+      send(fresh(gather::agent::kRequestChannel),
+           sealed(*as_collector, gather::agent::kRequestChannel, collector, encoded(r), oc_and_others), "bad_mac",
+           others);
+      gather_lcm::data_t d{};
+      d.h = header(peer, gather::agent::kOc, 20.0 + i), d.count = 1;
+      d.items[0].key = i, d.items[0].kind = 1, d.items[0].by = peer, d.items[0].at = 5.0, d.items[0].picked_up_by = -1;
+      send(fresh(gather::agent::kDataChannel),
+           sealed(*as_peer, gather::agent::kDataChannel, peer, encoded(d), oc_and_others), "bad_mac", others);
+      gather_lcm::request_t death{};
+      death.h = header(gather::agent::kOc, gather::agent::kBroadcast, 20.0 + i), death.request = 0, death.parts = 1;
+      death.n_dead = 1, death.dead = {peer};
+      send(fresh(gather::agent::kRequestChannel),
+           sealed(*as_oc, gather::agent::kRequestChannel, gather::agent::kOc, encoded(death), others), "bad_mac",
+           others);
+      // As itself, well signed, what its role never sends: dropped as wrong sender by its links.
+      death.h.sender = thief;
+      send(fresh(gather::agent::kRequestChannel),
+           sealed(itself, gather::agent::kRequestChannel, thief, encoded(death), links), "wrong_sender", links);
+      gather_lcm::plan_t plan{};
+      plan.schema_version = gather_lcm::plan_t::SCHEMA_VERSION, plan.agents = team, plan.cycles = 1;
+      send(fresh(gather::agent::kPlanChannel), sealed(itself, gather::agent::kPlanChannel, thief, encoded(plan), links),
+           "wrong_sender", links);
+      gather_lcm::tick_t tick{};
+      tick.schema_version = gather_lcm::tick_t::SCHEMA_VERSION, tick.tick = 1000000 + i, tick.done = true;
+      send(fresh(gather::agent::kTickChannel), sealed(itself, gather::agent::kTickChannel, thief, encoded(tick), links),
+           "wrong_sender", links);
+    }
+    f_captured = thief;
+  }
   // Its own copies come back to it: drain them.
   for (int i = 0; i < 100; ++i) lcm_handle_timeout(radio, 1), lcm_handle_timeout(replies, 0);
   std::ofstream f(out);
   f << "# gather_attacker: messages sent, by the reason they must be rejected for\n";
   f << "captured: " << kept.size() << "\n";
+  if (f_captured >= 0) f << "robot: " << f_captured << "  # the captured robot's own keys, attacks as it\n";
   auto line = [&](const std::string& name, const std::map<std::string, long>& m) {
     f << name << ": {";
     bool first = true;

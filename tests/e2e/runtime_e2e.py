@@ -48,10 +48,18 @@ def attack(a, tmp, key, plan, undisturbed):
     """An attacker without the key, in this namespace, during the pap:4 run of
     `undisturbed` (same plan, seed and cycles): forged, replayed, tampered and
     impersonated messages change nothing (goals.csv byte-identical), and the
-    OC and every agent reject each of them by its reason."""
+    OC and every agent reject each of them by its reason. It also holds a
+    captured robot's own keys, and poses as its collector, another worker
+    and the OC, and sends as itself what its role never sends."""
     out = os.path.join(tmp, "attacked")
     report = os.path.join(tmp, "attack.yaml")
-    attacker = subprocess.Popen([a.attacker, "--out", report, "--each", "40", "--wait", "120"],
+    # A robot taken in the field: the first worker of a collector, its own keys.
+    workers = [int(m.group(1)) for m in re.finditer(r"\{id: (\d+), role: worker, segment: \d+, collector: (\d+)\}",
+                                                      open(os.path.join(plan, "plan.yaml")).read())]
+    stolen = os.path.join(tmp, "stolen.key")
+    rc, _, err = run([a.gather, "keygen", stolen, "--agent", str(workers[0]), "--plan", plan, "--master", key])
+    check("gather keygen --agent %d: the captured robot's own keys" % workers[0], rc == 0, err)
+    attacker = subprocess.Popen([a.attacker, "--out", report, "--each", "40", "--wait", "120", "--captured", stolen],
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     rc, stdout, err = run([a.gather, "run", plan, "--cycles", str(a.cycles), "--seed", "3", "--out", out, "--lcm",
                            "--key-file", key])
@@ -67,6 +75,8 @@ def attack(a, tmp, key, plan, undisturbed):
     check("attacked: goals.csv identical to the undisturbed run",
           open(os.path.join(out, "goals.csv")).read() == open(os.path.join(undisturbed, "goals.csv")).read())
     sent = {}
+    check("the attacker attacked as robot %d too, with its own keys" % workers[0],
+          ("robot: %d" % workers[0]) in open(report).read())
     for line in open(report):
         m = re.match(r"(oc|agent \d+): \{(.*)\}", line.strip())
         if m:
