@@ -17,7 +17,8 @@ sim / run, gather_agent) under a 20 s timeout. A case fails when the process
 is killed by a signal, a sanitizer reports (AddressSanitizer, LeakSanitizer,
 "runtime error:"), it runs longer than 20 s, its peak RSS exceeds 1 GiB, it
 exits with a status other than 0, 1 or 2, or it exits 2 with anything but
-exactly one line on stderr. The fleet key file is mutated too. LCM payloads
+exactly one line on stderr. The key files (the master, an agent's own) are
+mutated too. LCM payloads
 and envelopes are fuzzed by the unit tests LcmFleet.Mutated... and
 LcmFleetAuthTest (in the same sanitized build).
 
@@ -132,6 +133,10 @@ class Fuzzer:
         r = subprocess.run([a.gather, "keygen", os.path.join(self.base, "fleet.key")], capture_output=True, timeout=60)
         if r.returncode != 0:
             sys.exit("fuzz_smoke: cannot make a fleet key: " + r.stderr.decode(errors="replace")[-400:])
+        r = subprocess.run([a.gather, "keygen", os.path.join(self.base, "agent0.key"), "--agent", "0", "--plan", out,
+                            "--master", os.path.join(self.base, "fleet.key")], capture_output=True, timeout=60)
+        if r.returncode != 0:
+            sys.exit("fuzz_smoke: cannot make agent 0's key: " + r.stderr.decode(errors="replace")[-400:])
         self.failures = 0
         self.kinds = {}
         self.statuses = {}
@@ -249,8 +254,9 @@ class Fuzzer:
                              [self.a.agent, "--id", str(r.randrange(4)), "--lcm-url", "memq://", "--silence", "0.5",
                               "--key-file", key, "--plan", plan]])
         elif kind == "key":
-            # A mutated fleet key file (mode 0600), read by the agent.
-            self.write(d, "fleet.key", self.mutate_text(open(key).read()))
+            # A mutated key file (mode 0600): the master or agent 0's own, read by the agent.
+            key = os.path.join(d, r.choice(["fleet.key", "agent0.key"]))
+            self.write(d, os.path.basename(key), self.mutate_text(open(key).read()))
             os.chmod(key, 0o600)
             argv = [self.a.agent, "--id", "0", "--lcm-url", "memq://", "--silence", "0.5", "--key-file", key,
                     "--plan", plan]
