@@ -19,6 +19,9 @@
 //   as its collector  a request, tagged with its own keys    -> bad MAC
 //   as another worker a data delivery, so tagged               -> bad MAC
 //   as the OC         a request declaring a live agent dead    -> bad MAC
+//   as its collector, data for the OC, and as the OC, a tick for all, with
+//                     good tags for itself only               -> bad MAC
+//                     (checked by the OC, and by itself)
 //   as itself         a request declaring a live agent dead, a plan and a
 //                     tick, to its links (the OC, its collector),
 //                     well signed                              -> wrong sender
@@ -352,7 +355,8 @@ int main(int argc, char** argv) {
           gather::agent::kMaxTeam + 1);
     };
     FleetAuth itself(*stolen, gather::agent::PerLinkTags{},
-                     {gather::agent::kRequestChannel, gather::agent::kPlanChannel, gather::agent::kTickChannel},
+                     {gather::agent::kRequestChannel, gather::agent::kDataChannel, gather::agent::kPlanChannel,
+                      gather::agent::kTickChannel},
                      gather::agent::kMaxTeam + 1);
     // A live agent (neither itself nor its collector) to declare dead, and to pose as.
     int16_t peer = static_cast<int16_t>((thief + 1) % team);
@@ -380,6 +384,22 @@ int main(int argc, char** argv) {
       send(fresh(gather::agent::kRequestChannel),
            sealed(*as_oc, gather::agent::kRequestChannel, gather::agent::kOc, encoded(death), others), "bad_mac",
            others);
+      // Good tags, for itself only (it holds its links' keys), on messages as
+      // its collector to the OC and as the OC to all: their receivers are not
+      // those their addresses give, and every receiver that checks them (the
+      // OC, which checks every tag; itself, whose tag is good) drops them.
+      const std::vector<int16_t> just_itself{thief};
+      gather_lcm::data_t handed{};
+      handed.h = header(collector, gather::agent::kOc, 20.0 + i), handed.count = 1;
+      handed.items[0] = d.items[0], handed.items[0].picked_up_by = collector;
+      send(fresh(gather::agent::kDataChannel),
+           sealed(itself, gather::agent::kDataChannel, collector, encoded(handed), just_itself), "bad_mac",
+           just_itself);
+      gather_lcm::tick_t fake_tick{};
+      fake_tick.schema_version = gather_lcm::tick_t::SCHEMA_VERSION, fake_tick.tick = 2000000 + i;
+      send(fresh(gather::agent::kTickChannel),
+           sealed(itself, gather::agent::kTickChannel, gather::agent::kOc, encoded(fake_tick), just_itself), "bad_mac",
+           just_itself);
       // As itself, well signed, what its role never sends: dropped as wrong sender by its links.
       death.h.sender = thief;
       send(fresh(gather::agent::kRequestChannel),

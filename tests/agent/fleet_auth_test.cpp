@@ -13,6 +13,7 @@
 #include <gather_lcm/envelope_t.hpp>
 #include <gather_lcm/fleet_envelope_t.hpp>
 #include <gather_lcm/request_t.hpp>
+#include <gather_lcm/tick_t.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -372,6 +373,12 @@ struct LinkTeam {
   static std::unique_ptr<FleetAuth> auth(std::optional<KeyRing> keys) {
     return std::make_unique<FleetAuth>(std::move(keys), PerLinkTags{}, kChannels, 8);
   }
+  // The OC: the master, with the plan's links.
+  std::unique_ptr<FleetAuth> oc() const {
+    auto a = auth(KeyRing(master));
+    a->set_links(links);
+    return a;
+  }
 };
 
 struct Tagged {
@@ -416,15 +423,15 @@ TEST(PerLinkKeysTest, LinkKeysAreTheKdfsAndTheSameBothWaysRound) {
   EXPECT_TRUE(team.links.hears(2, 0, kBroadcast));
   EXPECT_FALSE(team.links.hears(2, 1, kBroadcast));  // a fellow worker's broadcast
   EXPECT_FALSE(team.links.hears(3, 0, kBroadcast));
-  EXPECT_TRUE(team.links.hears(3, 0, 3));  // addressed to it
+  EXPECT_TRUE(team.links.hears(1, 0, 1));   // addressed to it, by its collector
+  EXPECT_FALSE(team.links.hears(3, 0, 3));  // addressed to it, but from no link of its
   EXPECT_FALSE(team.links.hears(0, 0, kBroadcast));
 }
 
-TEST(PerLinkKeysTest, EachReceiverChecksItsOwnTagAndTheMasterAnyOne) {
+TEST(PerLinkKeysTest, EachReceiverChecksItsOwnTagAndTheMasterEveryOne) {
   const LinkTeam team;
   auto collector = LinkTeam::auth(team.ring(0)), worker1 = LinkTeam::auth(team.ring(1)),
-       worker2 = LinkTeam::auth(team.ring(2)), oc_worker = LinkTeam::auth(team.ring(3)),
-       oc = LinkTeam::auth(KeyRing(team.master));
+       worker2 = LinkTeam::auth(team.ring(2)), oc_worker = LinkTeam::auth(team.ring(3)), oc = team.oc();
   const std::optional<Tagged> hello = tagged(*collector, 0, team.links.peers(0));
   ASSERT_TRUE(hello);
   EXPECT_EQ(check(*worker1, *hello), Verdict::kAccepted);
@@ -462,7 +469,7 @@ TEST(PerLinkKeysTest, ACapturedRobotSpeaksOnlyAsItselfToItsLinks) {
   const KeyRing captured = team.ring(1);
   auto thief = LinkTeam::auth(captured);
   auto collector = LinkTeam::auth(team.ring(0)), worker2 = LinkTeam::auth(team.ring(2)),
-       oc_worker = LinkTeam::auth(team.ring(3)), oc = LinkTeam::auth(KeyRing(team.master));
+       oc_worker = LinkTeam::auth(team.ring(3)), oc = team.oc();
   // As itself, to its links: taken.
   const std::optional<Tagged> own = tagged(*thief, 1, {kOc, 0});
   ASSERT_TRUE(own);
@@ -497,6 +504,44 @@ TEST(PerLinkKeysTest, ACapturedRobotSpeaksOnlyAsItselfToItsLinks) {
   EXPECT_EQ(oc->counters().bad_mac, 1);
   EXPECT_EQ(worker2->counters().bad_mac, 2);
   EXPECT_EQ(oc_worker->counters().bad_mac, 1);
+}
+
+// The master (the OC, the robot world, a replay) checks every tag, and
+// derives keys only for the plan's links: a robot's good tag for its own
+// link does not pass alongside one it cannot make, and an outsider cannot
+// make it derive keys for pairs it names.
+TEST(PerLinkKeysTest, TheMasterChecksEveryTagAndDerivesOnlyThePlansLinks) {
+  const LinkTeam team;
+  auto thief = LinkTeam::auth(team.ring(1)), worker2 = LinkTeam::auth(team.ring(2));
+  auto oc = LinkTeam::auth(KeyRing(team.master));
+  // Agent 1 signs as its collector for itself (it holds that link's key) and
+  // for worker 2 (it does not): worker 2's tag is garbage.
+  std::optional<Tagged> posing = tagged(*thief, 0, {1});
+  ASSERT_TRUE(posing);
+  posing->receivers.push_back(2);
+  posing->tags.resize(2 * kTagBytes, 0x5a);
+  EXPECT_EQ(check(*oc, *posing), Verdict::kBadMac);
+  EXPECT_EQ(check(*worker2, *posing), Verdict::kBadMac);
+  // Before the plan's links, the master knows the OC's links only: a
+  // worker's message to its collector is not checked against any key.
+  auto collector = LinkTeam::auth(team.ring(0));
+  std::optional<Tagged> data = tagged(*thief, 1, {0});
+  ASSERT_TRUE(data);
+  EXPECT_EQ(check(*oc, *data), Verdict::kBadMac);
+  oc->set_links(team.links);  // the plan's links: now it is
+  std::optional<Tagged> again = tagged(*thief, 1, {0});
+  ASSERT_TRUE(again);
+  EXPECT_EQ(check(*oc, *again), Verdict::kAccepted);
+  EXPECT_EQ(check(*collector, *again), Verdict::kAccepted);
+  // A pair that is no link of the plan (workers 1 and 2): no key, whoever signs.
+  Tagged unlinked = *again;
+  unlinked.receivers = {2};
+  EXPECT_EQ(check(*oc, unlinked), Verdict::kBadMac);
+  EXPECT_FALSE(tagged(*oc, 1, {2}));  // nor can the master sign for it, once it knows the plan
+  // And the OC's own broadcasts: every agent's tag good.
+  std::optional<Tagged> tick = tagged(*oc, kOc, team.links.peers(kOc));
+  ASSERT_TRUE(tick);
+  EXPECT_EQ(check(*oc, *tick), Verdict::kAccepted);
 }
 
 TEST(PerLinkKeysTest, AnAgentsKeyFileHoldsItsLinksAndLoadsBack) {
@@ -647,6 +692,47 @@ TEST(LcmFleetAuthTest, EnvelopesAreCheckedBeforeThePayloadIsDecoded) {
   EXPECT_EQ(rx.refused().undecodable, undecodable);
   rx.on_radio(kDataChannel, second.data(), static_cast<int>(second.size()));  // its counter was not used up
   EXPECT_EQ(rx.radio().size(), 4u);
+}
+
+// A captured robot's good tags for its own links, on a message that claims
+// another sender or other addresses (its collector's data for the OC, the
+// OC's tick for all, its collector's reply), are dropped by the OC (the
+// master): the receivers must be those the message's kind and addresses give.
+TEST(LcmFleetAuthTest, GoodTagsForOthersThanTheAddressesSayAreDropped) {
+  const FleetKey master = key_of(7, 1);
+  LcmFleet rx("memq://", "memq://", true, master, 20);
+  std::vector<int16_t> upstream(20, -1);
+  upstream[1] = 0, upstream[2] = 0;  // workers 1 and 2 of collector 0
+  std::vector<uint8_t> collectors(20, 0);
+  collectors[0] = 1;
+  const FleetLinks links(upstream);
+  rx.set_team(20, collectors, links);
+  FleetAuth thief(agent_key_ring(master, 1, links.peers(1)), PerLinkTags{}, kFleetChannels, kMaxTeam + 1);
+  gather_lcm::data_t d{};
+  d.h.schema_version = gather_lcm::header_t::SCHEMA_VERSION;
+  d.h.sender = 0, d.h.dest = kOc, d.count = 0;
+  const std::vector<uint8_t> as_collector = enveloped(thief, kDataChannel, 0, d, {1});
+  rx.on_radio(kDataChannel, as_collector.data(), static_cast<int>(as_collector.size()));
+  EXPECT_EQ(rx.radio().size(), 0u);
+  EXPECT_EQ(rx.rejected().bad_mac, 1);
+  gather_lcm::tick_t t{};
+  t.schema_version = gather_lcm::tick_t::SCHEMA_VERSION, t.tick = 5;
+  const std::vector<uint8_t> as_oc = enveloped(thief, kTickChannel, kOc, t, {1});
+  rx.on_clock(kTickChannel, as_oc.data(), static_cast<int>(as_oc.size()));
+  EXPECT_EQ(rx.ticks().size(), 0u);
+  EXPECT_EQ(rx.rejected().bad_mac, 2);
+  // What it may say, as itself, to its links: taken.
+  d.h.sender = 1, d.h.dest = kOc;
+  const std::vector<uint8_t> own = enveloped(thief, kDataChannel, 1, d, {kOc});
+  rx.on_radio(kDataChannel, own.data(), static_cast<int>(own.size()));
+  EXPECT_EQ(rx.radio().size(), 1u);
+  // Its broadcast to the OC alone (not to its collector as well): dropped.
+  d.h.dest = kBroadcast;
+  const std::vector<uint8_t> narrow = enveloped(thief, kDataChannel, 1, d, {kOc});
+  rx.on_radio(kDataChannel, narrow.data(), static_cast<int>(narrow.size()));
+  EXPECT_EQ(rx.radio().size(), 1u);
+  EXPECT_EQ(rx.rejected().bad_mac, 3);
+  EXPECT_EQ(rx.rejected().total(), 3);
 }
 
 // A message of a kind its sender's role never sends is dropped however well

@@ -177,6 +177,9 @@ int run_lcm(world::MrptWorld& w, agent::LoadedPlan& plan, const Options& o, gath
                         agent::kMaxTeam, /*radio=*/false);
   std::vector<int> ids;
   for (int k = 0; k < w.robots(); ++k) ids.push_back(k);
+  // The plan's team and links: a master checks every tag of the OC's ticks
+  // and plan, to every agent of it.
+  fleet.set_team(plan.plan.file.agents.count(), {}, agent::plan_links(plan.plan.file));
   std::optional<agent::FleetKey> robot_key;
   if (key) robot_key = agent::robot_link_key(*key);
   agent::LcmRobotLink link(o.robot_url.empty() ? url : o.robot_url, agent::LcmRobotLink::Side::kRobots, ids, robot_key);

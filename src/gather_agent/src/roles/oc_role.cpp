@@ -174,13 +174,14 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
   if (item.by < 0 || item.by >= team_.agents() || item.picked_up_by < -1 || item.picked_up_by >= team_.agents())
     return false;
   // Who may hand it in (its sender is sure: per-link keys, docs/security.md):
-  // a measured item that a collector took on, that collector; one no
-  // collector took, its worker; a notice, its worker or the worker's
-  // collector. A robot that claims what another measured is refused.
+  // a measured item that a collector took on, that collector, from one of
+  // its workers; one no collector took, its worker; a notice, its worker or
+  // the worker's collector. A robot that claims what another measured is
+  // refused.
   const bool picked = item.kind == ItemKind::kMeasured && item.picked_up_by >= 0;
-  if (picked ? item.picked_up_by != sender.value()
-             : item.by != sender.value() &&
-                   (item.kind == ItemKind::kMeasured || team_.links.upstream()[item.by] != sender.value()))
+  const bool from_collector = team_.links.upstream()[static_cast<std::size_t>(item.by)] == sender.value();
+  if (picked ? item.picked_up_by != sender.value() || !from_collector
+             : item.by != sender.value() && (item.kind == ItemKind::kMeasured || !from_collector))
     return false;
   const AgentId by(item.by);
   if (item.kind == ItemKind::kSkipped) {

@@ -358,7 +358,7 @@ FleetAuth::~FleetAuth() {
   }
 }
 
-const crypto_auth_hmacsha512256_state* FleetAuth::link_state(int16_t a, int16_t b) {
+const crypto_auth_hmacsha512256_state* FleetAuth::link_state(int16_t a, int16_t b, bool signing) {
   if (!ring_ || a == b) return nullptr;
   if (!ring_->master() && a != ring_->agent && b != ring_->agent) return nullptr;  // not its link
   const uint32_t index = link_index(a, b);
@@ -366,6 +366,19 @@ const crypto_auth_hmacsha512256_state* FleetAuth::link_state(int16_t a, int16_t 
                              [](const auto& l, uint32_t i) { return l.first < i; });
   if (it != link_states_.end() && it->first == index) return &it->second;
   if (!ring_->master()) return nullptr;  // an agent holds its links' keys only
+  // The master: the plan's links were derived by set_links(); before it,
+  // to check a message, only the OC's links to agents (a bounded set), as
+  // they are met; to sign one (its own choice), any pair.
+  if (links_set_ || std::max(a, b) + 1 >= senders_ || std::min(a, b) < -1) return nullptr;
+  if (!signing && a != -1 && b != -1) return nullptr;
+  return derive(a, b);
+}
+
+const crypto_auth_hmacsha512256_state* FleetAuth::derive(int16_t a, int16_t b) {
+  const uint32_t index = link_index(a, b);
+  auto it = std::lower_bound(link_states_.begin(), link_states_.end(), index,
+                             [](const auto& l, uint32_t i) { return l.first < i; });
+  if (it != link_states_.end() && it->first == index) return &it->second;
   FleetKey master;
   master.id = ring_->id;
   master.key = ring_->key;
@@ -408,6 +421,20 @@ void tag_of(const crypto_auth_hmacsha512256_state& keyed, const uint8_t* digest,
 
 }  // namespace
 
+void FleetAuth::set_links(const FleetLinks& links) {
+  if (!ring_ || !ring_->master()) return;
+  // The plan's links, derived now; none other from here on (those met
+  // before are dropped).
+  for (auto& l : link_states_) sodium_memzero(&l.second, sizeof l.second);
+  link_states_.clear();
+  for (int a = 0; a < links.agents(); ++a) {
+    derive(kOc, static_cast<int16_t>(a));
+    const int16_t up = links.upstream()[static_cast<std::size_t>(a)];
+    if (links.linked(static_cast<int16_t>(a), up)) derive(static_cast<int16_t>(a), up);
+  }
+  links_set_ = true;
+}
+
 bool FleetAuth::sign_tagged(const char* channel, int16_t sender, const uint8_t* payload, std::size_t size,
                             const int16_t* receivers, std::size_t n, EnvelopeHead& head, uint8_t* tags) {
   head.version = kTaggedVersion;
@@ -427,7 +454,7 @@ bool FleetAuth::sign_tagged(const char* channel, int16_t sender, const uint8_t* 
   uint8_t digest[32];
   digest_of(channel, head, payload, size, digest);
   for (std::size_t i = 0; i < n; ++i) {
-    const crypto_auth_hmacsha512256_state* keyed = link_state(sender, receivers[i]);
+    const crypto_auth_hmacsha512256_state* keyed = link_state(sender, receivers[i], /*signing=*/true);
     if (!keyed) return false;
     tag_of(*keyed, digest, receivers[i], tags + i * kTagBytes);
   }
@@ -443,18 +470,29 @@ Verdict FleetAuth::verify_tagged(const char* channel, const EnvelopeHead& head, 
   if (head.key_id != ring_->id || head.version != kTaggedVersion) return ++counters_.unknown_key, Verdict::kUnknownKey;
   const int c = channel_index(channel);
   if (c < 0 || head.sender < -1 || head.sender + 1 >= senders_) return ++counters_.bad_mac, Verdict::kBadMac;
-  // Its own tag; with the master, the OC's if there is one, else the first.
-  std::size_t which = n;
-  for (std::size_t i = 0; i < n && which == n; ++i)
-    if (receivers[i] == ring_->agent) which = i;
-  if (which == n && ring_->master() && n > 0) which = 0;
-  if (which == n) return ++not_for_me_, Verdict::kNotForMe;
-  const crypto_auth_hmacsha512256_state* keyed = link_state(head.sender, receivers[which]);
-  if (!keyed) return ++counters_.bad_mac, Verdict::kBadMac;  // no link between them: nobody holds such a key
   uint8_t digest[32], expected[kTagBytes];
-  digest_of(channel, head, payload, size, digest);
-  tag_of(*keyed, digest, receivers[which], expected);
-  if (crypto_verify_16(expected, tags + which * kTagBytes) != 0) return ++counters_.bad_mac, Verdict::kBadMac;
+  // A tag `i` made with the key of its receiver's link to the sender.
+  auto good = [&](std::size_t i) {
+    const crypto_auth_hmacsha512256_state* keyed = link_state(head.sender, receivers[i]);
+    if (!keyed) return false;  // no such link: nobody holds a key for it
+    tag_of(*keyed, digest, receivers[i], expected);
+    return crypto_verify_16(expected, tags + i * kTagBytes) == 0;
+  };
+  if (ring_->master()) {
+    // The master checks every tag: a robot can make good tags for its own
+    // links only, so a message it passes off as another's fails here.
+    if (n == 0) return ++counters_.bad_mac, Verdict::kBadMac;
+    digest_of(channel, head, payload, size, digest);
+    for (std::size_t i = 0; i < n; ++i)
+      if (!good(i)) return ++counters_.bad_mac, Verdict::kBadMac;
+  } else {
+    std::size_t which = n;
+    for (std::size_t i = 0; i < n && which == n; ++i)
+      if (receivers[i] == ring_->agent) which = i;
+    if (which == n) return ++not_for_me_, Verdict::kNotForMe;
+    digest_of(channel, head, payload, size, digest);
+    if (!good(which)) return ++counters_.bad_mac, Verdict::kBadMac;
+  }
   if (!counters || mac_only_[static_cast<std::size_t>(c)]) return Verdict::kAccepted;
   return check_counter(c, head);
 }

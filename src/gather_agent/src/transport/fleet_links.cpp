@@ -19,15 +19,14 @@ bool FleetLinks::linked(int16_t a, int16_t b) const {
 
 bool FleetLinks::hears(int16_t receiver, int16_t sender, int16_t dest) const {
   if (receiver == sender) return false;
-  if (dest == kBroadcast) return linked(sender, receiver);
-  return dest == receiver;
+  return (dest == kBroadcast || dest == receiver) && linked(sender, receiver);
 }
 
 void FleetLinks::receivers(int16_t sender, int16_t dest, std::vector<int16_t>& out) const {
   out.clear();
   if (!valid(sender)) return;
   if (dest != kBroadcast) {
-    if (valid(dest) && dest != sender) out.push_back(dest);
+    if (linked(sender, dest)) out.push_back(dest);
     return;
   }
   if (sender == kOc) {
@@ -39,7 +38,7 @@ void FleetLinks::receivers(int16_t sender, int16_t dest, std::vector<int16_t>& o
   const std::vector<int16_t>& down = downstream_[static_cast<std::size_t>(sender)];
   // By id: the collector among its workers' ids would be out of order only
   // for a worker, which has no workers of its own.
-  if (up >= 0) out.push_back(up);
+  if (valid(up) && up >= 0) out.push_back(up);
   out.insert(out.end(), down.begin(), down.end());
 }
 

@@ -513,6 +513,14 @@ void LcmFleet::address(int16_t sender, int16_t dest) {
     for (int a = 0; a < team_; ++a) receivers_.push_back(static_cast<int16_t>(a));
 }
 
+bool LcmFleet::addressed_right(int16_t sender, int16_t dest) {
+  if (!auth_.secure() || links_.agents() != team_ || team_ <= 0) return true;
+  address(sender, dest);
+  if (envelopes_->receivers() == receivers_) return true;
+  auth_.count_bad_mac();  // its tags are good, but for others than its addresses say
+  return false;
+}
+
 bool LcmFleet::send(lcm_t* lcm, const char* channel, int16_t sender, int n) {
   const int m = envelopes_->seal(channel, sender, buffer_.data(), n, receivers_.data(), receivers_.size());
   if (!recordings_.empty()) return m >= 0;  // a replay: nobody to hear it (memq would keep it)
@@ -592,7 +600,9 @@ void LcmFleet::on_time(const char* channel, const void* data, int size, int16_t 
   if (safe_decode(w, data, size) != size) return void(++refused_.undecodable);
   if (w.schema_version != gather_lcm::time_sync_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
   if (w.agent < 0 || w.agent >= team_ || w.t0 <= 0 || w.t1 < 0 || w.t2 < w.t1) return void(++refused_.out_of_range);
-  if (std::strcmp(channel, kTimeAskChannel) == 0) {  // the OC: answer at once
+  const bool ask = std::strcmp(channel, kTimeAskChannel) == 0;
+  if (ask ? !addressed_right(sender, kOc) : !addressed_right(kOc, w.agent)) return;
+  if (ask) {  // the OC: answer at once
     if (!listen_replies_ || time_agent_ >= 0) return;
     if (w.agent != sender) return auth_.count_wrong_sender();
     w.t1 = received + clock_.offset_us();
@@ -696,6 +706,7 @@ void LcmFleet::on_radio_payload(const char* channel, const void* data, int size,
   }
   if (h->schema_version != gather_lcm::header_t::SCHEMA_VERSION) return void(++refused_.wrong_version);
   if (h->sender != sender) return auth_.count_wrong_sender();
+  if (!addressed_right(sender, h->dest)) return;
   if (!may_send(sender, m.h.kind)) return auth_.count_wrong_sender();  // not its role's to send
   if (h->sender < kOc || h->sender >= team_ || (h->dest != kBroadcast && (h->dest < kOc || h->dest >= team_)) ||
       h->seq < 0 || h->request < -1 || h->dead < 0 || h->dead > kMaxDead || !finite(h->t) || !finite(h->x) ||
@@ -721,6 +732,7 @@ void LcmFleet::set_team(int agents, std::vector<uint8_t> collectors, FleetLinks 
   team_ = agents;
   collectors_ = std::move(collectors);
   links_ = std::move(links);
+  if (links_.agents() == agents) auth_.set_links(links_);  // the master: the plan's links, and no other
   auth_.reserve(agents);
 }
 
@@ -735,6 +747,9 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
   Wire& w = wire();
   // Ticks and plans come from the OC, a reply from its agent.
   if (std::strcmp(channel, kReplyChannel) != 0 && sender != kOc) return auth_.count_wrong_sender();
+  // Ticks and plans to every agent, a reply to the OC.
+  if (std::strcmp(channel, kReplyChannel) == 0 ? !addressed_right(sender, kOc) : !addressed_right(kOc, kBroadcast))
+    return;
   if (std::strcmp(channel, kTickChannel) == 0) {
     w.tick.expect.clear();  // the decoder leaves an array of 0 as it was
     if (safe_decode(w.tick, data, size) != size) return void(++refused_.undecodable);

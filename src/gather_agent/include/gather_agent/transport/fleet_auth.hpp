@@ -30,6 +30,7 @@
 
 #include "gather_agent/transport/auth_counters.hpp"
 #include "gather_agent/transport/fleet_clock.hpp"
+#include "gather_agent/transport/fleet_links.hpp"
 
 namespace gather {
 namespace agent {
@@ -183,11 +184,23 @@ class FleetAuth {
   // no key for one of them. Unsigned mode: key id 0, no tags needed.
   bool sign_tagged(const char* channel, int16_t sender, const uint8_t* payload, std::size_t size,
                    const int16_t* receivers, std::size_t n, EnvelopeHead& head, uint8_t* tags);
-  // Per-link mode: checks a received envelope's tag for this receiver (any
-  // one tag with the master), then its counter as verify() does. kNotForMe
-  // (counted in not_for_me(), not a refusal): no tag for this receiver.
+  // Per-link mode: checks a received envelope's tag for this receiver (with
+  // the master: every tag, each receiver's), then its counter as verify()
+  // does. kNotForMe (counted in not_for_me(), not a refusal): no tag for
+  // this receiver. That the receivers are the message's own is LcmFleet's
+  // check (it decodes the addresses).
   Verdict verify_tagged(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
                         const int16_t* receivers, const uint8_t* tags, std::size_t n, bool counters = true);
+  // Per-link mode with the master: the links it checks and signs for (the
+  // plan's: FleetLinks), their keys derived now. Until then only the OC's
+  // links to agents 0..senders - 2 are derived, as they are met; never a
+  // link the plan does not have (an outsider cannot make a receiver derive
+  // and keep keys for pairs it names).
+  void set_links(const FleetLinks& links);
+  // A message whose tags passed but whose receivers are not those its kind
+  // and addresses say (LcmFleet): counted as bad MAC.
+  void count_bad_mac() { ++counters_.bad_mac; }
+
   // Per-link mode with an agent's keys: it checks (and takes) only what is
   // sent to it. The master, and insecure mode, take everything.
   bool sees_all() const { return !ring_ || ring_->master(); }
@@ -237,8 +250,11 @@ class FleetAuth {
   // The signed fields' digest (per-link mode), and the tag for `receiver` over it.
   static void digest_of(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
                         uint8_t* out);
-  // The link's keyed HMAC state (nullptr: no key for it).
-  const crypto_auth_hmacsha512256_state* link_state(int16_t a, int16_t b);
+  // The link's keyed HMAC state (nullptr: no key for it), to sign with or
+  // to check a received tag with (set_links() says which the master derives).
+  const crypto_auth_hmacsha512256_state* link_state(int16_t a, int16_t b, bool signing = false);
+  // The master: the link's keyed state, derived and kept.
+  const crypto_auth_hmacsha512256_state* derive(int16_t a, int16_t b);
   // A sender's counter, once its signature passed (verify, verify_tagged).
   Verdict check_counter(int c, const EnvelopeHead& head);
   // What a receiver has accepted from one sender on one channel.
@@ -268,6 +284,7 @@ class FleetAuth {
   // an agent's made up front, the master's as links are met.
   std::vector<std::pair<uint32_t, crypto_auth_hmacsha512256_state>> link_states_;
   int64_t not_for_me_ = 0;
+  bool links_set_ = false;  // the master: set_links() was given the plan's links
   std::vector<std::string> channels_;
   int senders_;
   FleetClock host_clock_;       // when no clock is given: the host's (a reference)

@@ -16,15 +16,16 @@ class FleetLinks {
  public:
   FleetLinks() = default;
   // `upstream`, per agent 0..N-1: the agent id of its plan's collector, or
-  // -1 (a collector, a worker of the OC).
+  // -1 (a collector, a worker of the OC). An id outside the team links to
+  // nothing.
   explicit FleetLinks(std::vector<int16_t> upstream);
 
   int agents() const { return static_cast<int>(upstream_.size()); }
   // -1 (the OC) and agents 0..N-1 are ids here; anything else is linked to nothing.
   bool linked(int16_t a, int16_t b) const;
   // Whether `receiver` takes a message from `sender` addressed to `dest`
-  // (an id, or kBroadcast): dest is the receiver, or a broadcast from one
-  // of its links. Never its own messages.
+  // (an id, or kBroadcast): from one of its links, addressed to it or to
+  // all. Never its own messages.
   bool hears(int16_t receiver, int16_t sender, int16_t dest) const;
   // Everyone who hears it (the OC first, then agents by id).
   void receivers(int16_t sender, int16_t dest, std::vector<int16_t>& out) const;

@@ -238,6 +238,11 @@ class LcmFleet {
   bool send(lcm_t* lcm, const char* channel, int16_t sender, int n);
   // receivers_ := who a message from `sender` to `dest` goes to.
   void address(int16_t sender, int16_t dest);
+  // With a key and the plan's links: whether the envelope just opened was
+  // signed for exactly those its sender and address give (address());
+  // else it is counted as bad MAC (a robot's good tags for its own links on
+  // a message that claims other addresses or another sender) and false.
+  bool addressed_right(int16_t sender, int16_t dest);
   // The payload of a received envelope once its signature and counter are
   // good (nullptr otherwise, counted), and its signed sender.
   const uint8_t* open(const char* channel, const void* data, int size, int& payload_size, int16_t& sender);
