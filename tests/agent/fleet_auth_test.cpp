@@ -307,6 +307,22 @@ TEST(FleetAuthTest, AReorderingLinkLosesNothingWithinTheWindowAndItsReplaysAreAl
       static_cast<long long>(refused));
 }
 
+// A key file of `text` (mode 0600) in `dir` is refused by `load`, with an
+// error that names `named`.
+template <typename Load>
+void refused(const std::string& dir, const std::string& text, const std::string& named, Load load) {
+  const std::string p = dir + "/bad.key";
+  std::filesystem::remove(p);
+  std::ofstream(p) << text;
+  ::chmod(p.c_str(), 0600);
+  try {
+    load(p);
+    ADD_FAILURE() << "accepted: " << text;
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
+  }
+}
+
 TEST(FleetKeyTest, KeygenWritesA0600FileThatLoadsBackAndIsNeverOverwritten) {
   const std::string dir = ::testing::TempDir() + "/gather_key_" + std::to_string(::getpid());
   std::filesystem::create_directories(dir);
@@ -335,18 +351,7 @@ TEST(FleetKeyTest, KeygenWritesA0600FileThatLoadsBackAndIsNeverOverwritten) {
   ::chmod(path.c_str(), 0640);
   EXPECT_THROW(load_fleet_key(path), Error);
 
-  auto bad = [&](const std::string& text, const std::string& named) {
-    const std::string p = dir + "/bad.key";
-    std::filesystem::remove(p);
-    std::ofstream(p) << text;
-    ::chmod(p.c_str(), 0600);
-    try {
-      load_fleet_key(p);
-      ADD_FAILURE() << "accepted: " << text;
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
-    }
-  };
+  auto bad = [&](const std::string& text, const std::string& named) { refused(dir, text, named, load_fleet_key); };
   const std::string hex(64, 'a');
   bad("key: " + hex + "\n", "key_id");
   bad("key_id: 3\n", "key");
@@ -573,18 +578,7 @@ TEST(PerLinkKeysTest, AnAgentsKeyFileHoldsItsLinksAndLoadsBack) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("agent 0's key file"), std::string::npos) << e.what();
   }
-  auto bad = [&](const std::string& text, const std::string& named) {
-    const std::string p = dir + "/bad.key";
-    std::filesystem::remove(p);
-    std::ofstream(p) << text;
-    ::chmod(p.c_str(), 0600);
-    try {
-      load_key_ring(p);
-      ADD_FAILURE() << "accepted: " << text;
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
-    }
-  };
+  auto bad = [&](const std::string& text, const std::string& named) { refused(dir, text, named, load_key_ring); };
   const std::string hex(64, 'a'), head = "key_id: 3\nagent: 2\nrobot_key: " + hex + "\n";
   bad(head, "link: missing");
   bad(head + "link: -1\n", "bad.key:4: link");

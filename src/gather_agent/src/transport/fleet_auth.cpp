@@ -313,15 +313,11 @@ std::string describe(const AuthCounters& a) {
 
 FleetAuth::FleetAuth(std::optional<FleetKey> key, std::vector<std::string> channels, int senders,
                      const FleetClock* clock)
-    : key_(std::move(key)),
-      channels_(std::move(channels)),
-      senders_(senders),
-      clock_(clock ? clock : &host_clock_),
-      started_local_us_(clock_->local_us()),
-      mac_only_(channels_.size(), false) {
-  need_sodium();
-  if (key_) crypto_auth_hmacsha512256_init(&keyed_, key_->key.data(), key_->key.size());
-}
+    : FleetAuth(std::move(key), std::nullopt, std::move(channels), senders, clock) {}
+
+FleetAuth::FleetAuth(std::optional<KeyRing> ring, PerLinkTags, std::vector<std::string> channels, int senders,
+                     const FleetClock* clock)
+    : FleetAuth(std::nullopt, std::move(ring), std::move(channels), senders, clock) {}
 
 namespace {
 
@@ -332,15 +328,17 @@ uint32_t link_index(int16_t a, int16_t b) {
 
 }  // namespace
 
-FleetAuth::FleetAuth(std::optional<KeyRing> ring, PerLinkTags, std::vector<std::string> channels, int senders,
-                     const FleetClock* clock)
-    : ring_(std::move(ring)),
+FleetAuth::FleetAuth(std::optional<FleetKey> key, std::optional<KeyRing> ring, std::vector<std::string> channels,
+                     int senders, const FleetClock* clock)
+    : key_(std::move(key)),
+      ring_(std::move(ring)),
       channels_(std::move(channels)),
       senders_(senders),
       clock_(clock ? clock : &host_clock_),
       started_local_us_(clock_->local_us()),
       mac_only_(channels_.size(), false) {
   need_sodium();
+  if (key_) crypto_auth_hmacsha512256_init(&keyed_, key_->key.data(), key_->key.size());
   if (!ring_ || ring_->master()) return;
   for (const auto& l : ring_->links) {
     link_states_.emplace_back(link_index(ring_->agent, l.first), crypto_auth_hmacsha512256_state{});

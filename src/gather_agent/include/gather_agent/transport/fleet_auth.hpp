@@ -244,6 +244,10 @@ class FleetAuth {
   void reserve(int team);
 
  private:
+  // One MAC under `key`, or per-link tags under `ring` (one of them, or
+  // neither: insecure).
+  FleetAuth(std::optional<FleetKey> key, std::optional<KeyRing> ring, std::vector<std::string> channels, int senders,
+            const FleetClock* clock);
   int channel_index(const char* channel) const;
   void mac_of(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
               uint8_t* out) const;
