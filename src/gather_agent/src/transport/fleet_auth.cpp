@@ -38,6 +38,17 @@ void put_be(uint8_t* p, uint64_t v, int bytes) {
   for (int i = bytes - 1; i >= 0; --i) p[i] = static_cast<uint8_t>(v & 0xff), v >>= 8;
 }
 
+// The envelope's signed fields, big endian: version, key id, sender (2
+// bytes each), counter (8), payload size (4).
+constexpr std::size_t kSignedFields = 2 + 2 + 2 + 8 + 4;
+void signed_fields(const EnvelopeHead& head, std::size_t size, uint8_t* out) {
+  put_be(out, static_cast<uint16_t>(head.version), 2);
+  put_be(out + 2, static_cast<uint16_t>(head.key_id), 2);
+  put_be(out + 4, static_cast<uint16_t>(head.sender), 2);
+  put_be(out + 6, static_cast<uint64_t>(head.counter), 8);
+  put_be(out + 14, static_cast<uint32_t>(size), 4);
+}
+
 }  // namespace
 
 namespace {
@@ -390,12 +401,8 @@ const crypto_auth_hmacsha512256_state* FleetAuth::derive(int16_t a, int16_t b) {
 
 void FleetAuth::digest_of(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
                           uint8_t* out) {
-  uint8_t fields[2 + 2 + 2 + 8 + 4];
-  put_be(fields, static_cast<uint16_t>(head.version), 2);
-  put_be(fields + 2, static_cast<uint16_t>(head.key_id), 2);
-  put_be(fields + 4, static_cast<uint16_t>(head.sender), 2);
-  put_be(fields + 6, static_cast<uint64_t>(head.counter), 8);
-  put_be(fields + 14, static_cast<uint32_t>(size), 4);
+  uint8_t fields[kSignedFields];
+  signed_fields(head, size, fields);
   crypto_generichash_blake2b_state st;
   crypto_generichash_blake2b_init(&st, nullptr, 0, 32);
   crypto_generichash_blake2b_update(&st, reinterpret_cast<const unsigned char*>(channel), std::strlen(channel) + 1);
@@ -561,12 +568,8 @@ void FleetAuth::Window::keep(int64_t c, int64_t& floor) {
 void FleetAuth::mac_of(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
                        uint8_t* out) const {
   // channel NUL | version | key id | sender | counter | payload size (big endian) | payload
-  uint8_t fields[2 + 2 + 2 + 8 + 4];
-  put_be(fields, static_cast<uint16_t>(head.version), 2);
-  put_be(fields + 2, static_cast<uint16_t>(head.key_id), 2);
-  put_be(fields + 4, static_cast<uint16_t>(head.sender), 2);
-  put_be(fields + 6, static_cast<uint64_t>(head.counter), 8);
-  put_be(fields + 14, static_cast<uint32_t>(size), 4);
+  uint8_t fields[kSignedFields];
+  signed_fields(head, size, fields);
   crypto_auth_hmacsha512256_state st = keyed_;
   crypto_auth_hmacsha512256_update(&st, reinterpret_cast<const unsigned char*>(channel), std::strlen(channel) + 1);
   crypto_auth_hmacsha512256_update(&st, fields, sizeof fields);
