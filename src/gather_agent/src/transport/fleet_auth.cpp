@@ -182,12 +182,21 @@ FleetKey load_fleet_key(const std::string& path) { return master_of(load_key_rin
 
 KeyRing::KeyRing(const FleetKey& master_key) : id(master_key.id), agent(-1), key(master_key.key) {}
 
+namespace {
+
+// A link's number, the same either way round: (min + 1) << 16 | (max + 1).
+// Its key's KDF subkey id, and where a receiver keeps its keyed state.
+uint32_t link_index(int16_t a, int16_t b) {
+  const int lo = std::min(a, b) + 1, hi = std::max(a, b) + 1;
+  return static_cast<uint32_t>(lo) << 16 | static_cast<uint32_t>(hi);
+}
+
+}  // namespace
+
 KeyRing::Key link_key(const FleetKey& master, int16_t a, int16_t b) {
   need_sodium();
-  const int lo = std::min(a, b) + 1, hi = std::max(a, b) + 1;
   KeyRing::Key out{};
-  crypto_kdf_derive_from_key(out.data(), out.size(), static_cast<uint64_t>(lo) << 16 | static_cast<uint64_t>(hi),
-                             "gthrLINK", master.key.data());
+  crypto_kdf_derive_from_key(out.data(), out.size(), link_index(a, b), "gthrLINK", master.key.data());
   return out;
 }
 
@@ -329,15 +338,6 @@ FleetAuth::FleetAuth(std::optional<FleetKey> key, std::vector<std::string> chann
 FleetAuth::FleetAuth(std::optional<KeyRing> ring, PerLinkTags, std::vector<std::string> channels, int senders,
                      const FleetClock* clock)
     : FleetAuth(std::nullopt, std::move(ring), std::move(channels), senders, clock) {}
-
-namespace {
-
-uint32_t link_index(int16_t a, int16_t b) {
-  const int lo = std::min(a, b) + 1, hi = std::max(a, b) + 1;
-  return static_cast<uint32_t>(lo) << 16 | static_cast<uint32_t>(hi);
-}
-
-}  // namespace
 
 FleetAuth::FleetAuth(std::optional<FleetKey> key, std::optional<KeyRing> ring, std::vector<std::string> channels,
                      int senders, const FleetClock* clock)
