@@ -13,7 +13,7 @@ CYCLES ?= 0
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps pylcm build run readme-figures test format format-check tidy bench-fmm-ab test-ros plain-build test-plain test-cli test-e2e bench-fmm bench-runtime bench-faults bench-robots bench-signing identity-check bench-planner partition-report scenario-report regime-report runtime-report clean help
+.PHONY: all deps pylcm build run readme-figures test format format-check tidy bench-fmm-ab test-ros plain-build test-plain plain-unit-bg test-plain-rest test-cli test-e2e bench-fmm bench-runtime bench-faults bench-robots bench-signing identity-check bench-planner partition-report scenario-report regime-report runtime-report clean help
 
 all: build
 
@@ -54,10 +54,12 @@ readme-figures: build
 	tools/netns-run xvfb-run -a -s "-screen 0 1400x900x24" bash -c \
 	  '$(SETUP) && $(PYTHON) tools/readme_figures.py --scenario $(abspath $(SCENARIO))'
 
-# The CPU-bound checks that need no ROS (clang-tidy, then the sanitized
-# build of test-plain) run at nice 19 beside the ROS, CLI and end-to-end
-# tests, which wait mostly on the wall clock (an e2e test uses about half
-# of the 2 cores); then the sanitized unit tests and the fuzz smoke run
+# The CPU-bound checks that need no ROS (clang-tidy, the sanitized build of
+# test-plain, then its unit tests but those that time the wall clock) run at
+# nice 19 beside the ROS, CLI and end-to-end tests, which wait mostly on the
+# wall clock (an e2e test uses about half of the 2 cores); then the unit
+# tests that time the wall clock ($(WALL_CLOCK_TESTS): an agent process's
+# exit, its clock's round trip) and the fuzz smoke (a timeout per case) run
 # alone. The background's output is in build/test-background.log.
 BG_LOG := build/test-background.log
 test: build
@@ -65,7 +67,7 @@ test: build
 	echo "make test: tidy and plain-build (the sanitized build) at nice 19 beside the other tests: $(BG_LOG)"
 	# setsid -w: should setsid have to fork, it still waits for its child (so
 	# `wait` gets the real status).
-	setsid -w nice -n 19 $(MAKE) --no-print-directory -o deps tidy plain-build > $(BG_LOG) 2>&1 &
+	setsid -w nice -n 19 $(MAKE) --no-print-directory -o deps tidy plain-unit-bg > $(BG_LOG) 2>&1 &
 	bg=$$!
 	trap 'kill -- -$$bg 2> /dev/null || true' EXIT
 	t0=$$(date +%s)
@@ -73,15 +75,15 @@ test: build
 	# -o build -o deps: built and installed above, not again for each phase.
 	for t in format-check test-ros test-cli test-e2e; do $(MAKE) --no-print-directory -o build -o deps $$t; done_at $$t; done
 	if ! wait $$bg; then
-	  tail -n 60 $(BG_LOG) >&2
-	  echo "make test: tidy or the sanitized build failed ($(BG_LOG))" >&2
+	  tail -n 150 $(BG_LOG) >&2
+	  echo "make test: tidy, the sanitized build or its unit tests failed ($(BG_LOG))" >&2
 	  exit 1
 	fi
 	trap - EXIT
-	tail -n 2 $(BG_LOG)
-	done_at "tidy and plain-build (in the background)"
-	$(MAKE) --no-print-directory -o deps test-plain
-	done_at test-plain
+	grep -E "tests passed|plain-build:" $(BG_LOG)
+	done_at "tidy, plain-build and its unit tests (in the background)"
+	$(MAKE) --no-print-directory -o deps -o plain-build test-plain-rest
+	done_at "test-plain (the wall-clock unit tests and the fuzz smoke)"
 	echo "make test: all tests passed"
 
 # The committed .clang-format on every C++ file of the repository: `make
@@ -124,11 +126,20 @@ plain-build: deps
 	cmake --build $(PLAIN) -j$(JOBS)
 	@test -x $(PLAIN)/gather_agent && if ldd $(PLAIN)/gather_agent | grep -q libopencv; then echo "gather_agent must not link OpenCV (figures live in gather_figures)" >&2; exit 1; fi
 	@echo "plain-build: gather_core and gather_agent built with the sanitizers ($(PLAIN))"
+PLAIN_CTEST = ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir $(PLAIN) --output-on-failure -j$(JOBS) --timeout 600
+FUZZ_SMOKE = $(PYTHON) tests/fuzz/fuzz_smoke.py --gather $(PLAIN)/gather_core/gather --agent $(PLAIN)/gather_agent \
+  --cases $(FUZZ_CASES) --seed 1 --jobs $(JOBS) --keep results/fuzz
+WALL_CLOCK_TESTS := ^(AgentProcess|FleetClock)[.]
 test-plain: plain-build
-	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  ctest --test-dir $(PLAIN) --output-on-failure -j$(JOBS) --timeout 600
-	$(PYTHON) tests/fuzz/fuzz_smoke.py --gather $(PLAIN)/gather_core/gather --agent $(PLAIN)/gather_agent \
-	  --cases $(FUZZ_CASES) --seed 1 --jobs $(JOBS) --keep results/fuzz
+	$(PLAIN_CTEST)
+	$(FUZZ_SMOKE)
+# make test's split of test-plain: the background part, then the rest.
+plain-unit-bg: plain-build
+	$(PLAIN_CTEST) -E '$(WALL_CLOCK_TESTS)'
+test-plain-rest: plain-build
+	$(PLAIN_CTEST) -R '$(WALL_CLOCK_TESTS)'
+	$(FUZZ_SMOKE)
 
 # Every bad input gives one line naming the file and exit status 2, from every
 # binary: bad scenarios, and bad plan directories.

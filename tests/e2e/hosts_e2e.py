@@ -6,8 +6,8 @@ The OC (`gather run --lcm --clock wall`) runs on host `oc`, agent k on host
 `rk` (each a network namespace on one bridge, UDP multicast with ttl=1
 across the links, as on a radio network). Each agent's clock is put seconds
 off (--clock-skew); the fleet runs on the OC's time, each agent measuring its
-offset. In the middle of the mission one robot's link goes down for a
-minute. Checks: the mission completes, every agent measured its offset,
+offset. In the middle of the mission one robot's link goes down for 30 s
+(300 s of mission time at --rate 10). Checks: the mission completes, every agent measured its offset,
 every goal ends in one final state, none lost with an agent, none recorded
 twice, and what the partition cost against the same plan in one process
 (lockstep, no partition) is printed. The OC's lcm-logger recording is
@@ -168,10 +168,10 @@ def main():
     ap.add_argument("--pylcm", default=os.path.join(REPO, "build", "pylcm"),
                     help="the lcm package and lcm-gen --python types (make pylcm), for the example driver")
     ap.add_argument("--config", default="pap:4")
-    ap.add_argument("--rate", type=float, default=5.0, help="mission seconds per wall second")
+    ap.add_argument("--rate", type=float, default=10.0, help="mission seconds per wall second")
     ap.add_argument("--cycles", type=int, default=6)
-    ap.add_argument("--down-at", type=float, default=20.0, help="[s of wall time after the start] the link goes down")
-    ap.add_argument("--down-for", type=float, default=60.0, help="[s of wall time]")
+    ap.add_argument("--down-at", type=float, default=10.0, help="[s of wall time after the start] the link goes down")
+    ap.add_argument("--down-for", type=float, default=30.0, help="[s of wall time]")
     ap.add_argument("--keep", default="", help="keep the run's files here")
     a = ap.parse_args()
     hosts = os.environ.get("GATHER_HOSTS", "").split()
