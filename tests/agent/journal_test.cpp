@@ -43,7 +43,7 @@ std::size_t file_size(const std::string& p) { return static_cast<std::size_t>(st
 TEST(Journal, WhatIsSyncedComesBackOnReplay) {
   const std::string p = temp_dir("replay") + "/a.journal";
   Progress prog;
-  prog.resolved = 3, prog.measured = 11, prog.expired = 2, prog.dead = {4};
+  prog.resolved = 3, prog.measured = 11, prog.expired = 2, prog.dead = {4}, prog.revoked = 1;
   prog.learned = {{GoalId(40), Cell{5, 6}, 100.0}, {GoalId(41), Cell{7, 8}, 100.0}};
   prog.known = {GoalId(41)};
   {
@@ -71,6 +71,7 @@ TEST(Journal, WhatIsSyncedComesBackOnReplay) {
   EXPECT_EQ(s.progress.resolved, 3);
   EXPECT_EQ(s.progress.measured, 11);
   EXPECT_EQ(s.progress.dead, std::vector<int16_t>{4});
+  EXPECT_EQ(s.progress.revoked, 1u);
   ASSERT_EQ(s.progress.learned.size(), 2u);
   EXPECT_EQ(s.progress.learned[1].cell.col, 8);
   EXPECT_EQ(s.progress.known, std::vector<GoalId>{GoalId(41)});

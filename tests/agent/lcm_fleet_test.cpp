@@ -106,8 +106,12 @@ TEST(LcmFleet, EveryRadioMessageSurvivesTheRoundTrip) {
   r.request.request = 3, r.request.issued_at = 300.5, r.request.first_goal = 120, r.request.total = 300;
   r.request.part = 1, r.request.parts = 2, r.request.count = 44;
   for (int i = 0; i < 44; ++i) r.request.cells[i] = static_cast<uint32_t>(1000 + 7 * i);
+  r.request.dead_count = 2, r.request.dead[0] = 7, r.request.dead[1] = 3, r.request.dead_revoked = 2;
   Message got = roundtrip(f, r);
   expect_header(got.h, r.h);
+  EXPECT_EQ(got.request.dead_count, 2u);
+  EXPECT_EQ(got.request.dead[1], 3);
+  EXPECT_EQ(got.request.dead_revoked, 2u);
   EXPECT_EQ(got.request.first_goal, 120);
   EXPECT_EQ(got.request.count, 44u);
   EXPECT_EQ(got.request.cells[43], 1000u + 7 * 43);
@@ -275,6 +279,19 @@ TEST(LcmFleet, GarbageTruncatedOversizedWrongVersionOutOfRangeAreCountedAndDropp
   variant([](gather_lcm::data_t& e) { e.items[0].by = -4; });
   EXPECT_EQ(f.refused().out_of_range, 8);
   EXPECT_EQ(f.radio().size(), 1u);  // still only the valid one
+
+  // A request that says a declaration it does not list was revoked.
+  gather_lcm::request_t q{};
+  q.h.schema_version = gather_lcm::header_t::SCHEMA_VERSION;
+  q.h.sender = kOc, q.h.dest = kBroadcast;
+  q.parts = 1, q.n_dead = 2, q.dead = {4, 6}, q.dead_revoked = 2;
+  feed(f, kRequestChannel, encoded(q), kOc);
+  ASSERT_EQ(f.radio().size(), 2u);
+  EXPECT_EQ(f.radio().back().request.dead_revoked, 2u);
+  q.dead_revoked = 4;  // bit 2: no third declaration
+  feed(f, kRequestChannel, encoded(q), kOc);
+  EXPECT_EQ(f.refused().out_of_range, 9);
+  EXPECT_EQ(f.radio().size(), 2u);
 }
 
 TEST(LcmFleet, MutatedMessagesNeverCrashAndAreEitherValidOrCounted) {

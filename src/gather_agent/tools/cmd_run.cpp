@@ -236,13 +236,13 @@ int run(int argc, char** argv) {
                                  "--loss",     "--loss-seed",    "--lcm-url", "--reply-url",    "--agent-bin",
                                  "--rate",     "--clock",        "--kill",    "--repair",       "--silent-intervals",
                                  "--restart",  "--key-file",     "--robots",  "--world-config", "--world-bin",
-                                 "--protocol", "--speed-factor", "--agents",  "--replay"},
+                                 "--protocol", "--speed-factor", "--agents",  "--replay",       "--revoke"},
                  {"--lcm", "--insecure"});
   if (args.positional().size() != 1 || !args.has("--out"))
     throw cli::UsageError(
         "usage: gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT] [--loss P] "
         "[--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none] [--silent-intervals K] [--restart "
-        "ID@T[,ID@T...]] [--robots ideal|mrpt|external [--world-config YAML] [--world-bin FILE]] [--protocol "
+        "ID@T[,ID@T...]] [--revoke ID@T[,ID@T...]] [--robots ideal|mrpt|external [--world-config YAML] [--world-bin FILE]] [--protocol "
         "ideal|robots] [--speed-factor F] "
         "[--lcm (--key-file F | "
         "--insecure) [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R] [--clock lockstep|wall] "
@@ -293,7 +293,7 @@ int run(int argc, char** argv) {
   std::optional<agent::FleetKey> replay_key;
   if (args.has("--replay")) {
     for (const char* flag : {"--clock", "--rate", "--agents", "--robots", "--cycles", "--seed", "--seeds", "--kill",
-                             "--restart", "--loss", "--loss-seed", "--agent-bin", "--lcm-url", "--reply-url", "--tick",
+                             "--restart", "--revoke", "--loss", "--loss-seed", "--agent-bin", "--lcm-url", "--reply-url", "--tick",
                              "--protocol", "--repair", "--silent-intervals", "--speed-factor"})
       if (args.has(flag))
         throw cli::UsageError(std::string("--replay takes the mission's settings from the recording: no ") + flag);
@@ -350,6 +350,10 @@ int run(int argc, char** argv) {
     for (const agent::Kill& k : opt.kills)
       if (r.agent == k.agent)
         throw cli::UsageError("--restart: agent " + std::to_string(r.agent) + " is also killed (--kill)");
+  // The OC revokes these agents' keys (docs/security.md, "Revocation").
+  for (const agent::Kill& r :
+       agent::parse_kills(args.get("--revoke", ""), static_cast<int>(loaded.plan.file.agents.size()), "--revoke"))
+    params.revoke.emplace_back(static_cast<int16_t>(r.agent), r.at);
   const std::string agents_kind = args.get("--agents", "spawn");
   if (agents_kind != "spawn" && agents_kind != "external")
     throw cli::UsageError(
@@ -422,6 +426,12 @@ int run(int argc, char** argv) {
     refresh += r.result.refresh_mean_s, per_cycle += r.result.goals_per_cycle;
     slowest = std::min(slowest, (wall_clock ? r.end_s : r.result.mission_s) * 1000.0 / r.wall_ms);
     messages += r.messages, ticks += r.ticks;
+    for (const agent::Revocation& v : r.revoked)
+      std::printf(
+          "seed %u: agent %d's keys revoked at %.0f s: the OC dropped %lld of its messages and refused %lld of its "
+          "items from others; every goal it held is lost with it\n",
+          team.params.seed, v.agent, v.at, static_cast<long long>(v.oc_refused),
+          static_cast<long long>(v.oc_discarded));
     if (!opt.kills.empty() || !opt.restarts.empty() || !r.declared_dead.empty()) {
       std::string dead;
       for (const auto& [a, at] : r.declared_dead)

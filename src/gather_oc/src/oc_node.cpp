@@ -74,7 +74,7 @@ bool same_map(const gather::OccupancyGrid& a, const gather::OccupancyGrid& b) {
 
 // Settings users change per run (private parameters; mission.launch's arguments).
 struct Settings {
-  std::string results_dir, lcm_url, reply_url, clock, frame, kill, restart, repair, key_file, robots, agents;
+  std::string results_dir, lcm_url, reply_url, clock, frame, kill, restart, revoke, repair, key_file, robots, agents;
   int cycles = 0, seed = -1, loss_seed = 1;
   double rate = 0.0, tick = 0.1, loss = 0.0, ready_timeout = 60.0, map_timeout = 30.0, view_period = 0.5;
   double silent_intervals = 2.0;
@@ -104,6 +104,7 @@ std::string read_settings(ros::NodeHandle& pnh, ros::NodeHandle& nh, Settings& s
   read(typed_param(pnh, "loss_seed", s.loss_seed, 1));
   read(typed_param<std::string>(pnh, "kill", s.kill, "none"));
   read(typed_param<std::string>(pnh, "restart", s.restart, "none"));
+  read(typed_param<std::string>(pnh, "revoke", s.revoke, "none"));
   read(typed_param<std::string>(pnh, "repair", s.repair, "merge"));
   read(typed_param(pnh, "silent_intervals", s.silent_intervals, 2.0));
   read(typed_param(pnh, "ready_timeout", s.ready_timeout, 60.0));
@@ -357,6 +358,9 @@ int main(int argc, char** argv) {
     mo.tick = set.tick, mo.rate = set.rate, mo.loss = set.loss, mo.loss_seed = static_cast<uint64_t>(set.loss_seed);
     mo.ready_timeout_s = set.ready_timeout;
     mo.observe = true;
+    // The OC revokes these agents' keys (docs/security.md, "Revocation").
+    for (const gather::agent::Kill& r : gather::agent::parse_kills(set.revoke, team_ptr->agents(), "~revoke"))
+      team_ptr->params.revoke.emplace_back(static_cast<int16_t>(r.agent), r.at);
     mo.kills = gather::agent::parse_kills(set.kill, team_ptr->agents(), "~kill");
     mo.restarts = gather::agent::parse_kills(set.restart, team_ptr->agents(), "~restart");  // fleet_node respawns them
     if (!mo.kills.empty() && set.clock == "wall") throw gather::Error("~kill", "needs the lockstep clock");

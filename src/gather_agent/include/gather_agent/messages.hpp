@@ -60,7 +60,11 @@ struct RequestPart {
   // them (the plan every agent executes is mission::repair_plan of them).
   uint8_t dead_count = 0;
   int16_t dead[kMaxDead];
+  // Bit i: the OC revoked dead[i]'s keys (docs/security.md, "Revocation"):
+  // every message from it is dropped, and what it holds is lost with it.
+  uint32_t dead_revoked = 0;
 };
+static_assert(kMaxDead <= 32, "RequestPart::dead_revoked has a bit per declaration");
 
 // What happened to a goal (or to a whole request of one worker), carried to
 // the OC under custody: kept by the sender until acked, resent at the next

@@ -53,6 +53,7 @@ RoleReport CollectorRole::report() const {
   r.late_median_s = legs_stats_.median_late(), r.late_max_s = legs_stats_.max_late();
   r.loops = loop_stats_.legs();
   r.loop_late_median_s = loop_stats_.median_late(), r.loop_late_max_s = loop_stats_.max_late();
+  r.refused_revoked = refused_revoked();
   return r;
 }
 
@@ -60,6 +61,7 @@ void CollectorRole::restore(const DataItem* items, std::size_t n, const Progress
   for (std::size_t i = 0; i < n; ++i)
     if (custody_.put(items[i]) == Custody::Put::kFull) ++counters_.refused_full;
   dead_.assign(p.dead.begin(), p.dead.end());
+  revoked_ = p.revoked;
   if (std::find(dead_.begin(), dead_.end(), id_) != dead_.end()) retired_ = true, motion_.stop(now);
   // The passes ahead of it, not those behind: it hands requests on from here.
   timetable_prev_ = now;

@@ -56,6 +56,9 @@ OcRole::OcRole(TeamSetup& team, MotionBackend& station) : Role(kOc, station), te
   declared_at_.assign(team.agents(), -1.0);
   grace_until_.assign(team.agents(), 0.0);
   dead_.reserve(kMaxDead);
+  revoked_at_.assign(team.agents(), -1.0);
+  discarded_of_.assign(team.agents(), 0);
+  discarded_.assign(goals_.size(), 0);
 }
 
 std::size_t OcRole::requested() const { return first_[static_cast<std::size_t>(issued_)]; }
@@ -67,6 +70,7 @@ RoleReport OcRole::report() const {
   r.requests = newest_request();
   r.pending = static_cast<int64_t>(requested() - resolved_count_);
   r.dead_known = static_cast<int64_t>(dead_.size());
+  r.refused_revoked = refused_revoked();
   return r;
 }
 
@@ -112,7 +116,29 @@ bool OcRole::open(GoalId goal, const DataItem* item) {
   return true;
 }
 
-void OcRole::declare_dead(AgentId agent, double now, Outbox& out) {
+void OcRole::before_control(double now, Outbox& out) {
+  for (const auto& [id, at] : team_.params.revoke) {
+    const AgentId a(id);
+    if (!a.within(team_.agents()) || revoked_at_[a] >= 0 || now < at - 1e-9) continue;
+    revoked_at_[a] = now;
+    if (declared_at_[a] < 0) {
+      if (dead_.size() < static_cast<std::size_t>(kMaxDead)) declare_dead(a, now, out, true);
+      continue;
+    }
+    // Declared dead before (it fell silent): its declaration is revoked now.
+    for (std::size_t i = 0; i < dead_.size(); ++i)
+      if (dead_[i] == a.value()) revoked_ |= 1u << i;
+    if (issued_ > 0) issue(issued_ - 1, kBroadcast, now, out);
+  }
+}
+
+bool OcRole::of_revoked(const DataItem& item) const {
+  if (item.by < 0 || item.by >= team_.agents()) return false;
+  const double at = revoked_at_[AgentId(item.by)];
+  return at >= 0 && !(item.kind == ItemKind::kMeasured && item.picked_up_by >= 0 && item.picked_up_at <= at + 1e-9);
+}
+
+void OcRole::declare_dead(AgentId agent, double now, Outbox& out, bool revoke) {
   const plan::AgentAssignment before = assigned(agent);
   PerAgent<uint8_t> served_by_it(team_.agents(), 0);  // whose goals it had
   served_by_it[agent] = 1;
@@ -120,6 +146,7 @@ void OcRole::declare_dead(AgentId agent, double now, Outbox& out) {
     for (AgentId a : ids<AgentId>(team_.agents()))
       if (!assigned(a).collector && assigned(a).delivers_to == before.delivers_to) served_by_it[a] = 1;
   dead_.push_back(static_cast<int16_t>(agent.value()));
+  if (revoke) revoked_ |= 1u << (dead_.size() - 1);
   declared_at_[agent] = now;
   repair_ = &team_.repaired(dead_.data(), dead_.size());
   // What was its own is declared lost now: the goals of the requests issued
@@ -311,7 +338,14 @@ void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox
       acks_.clear();
       const std::size_t count = std::min<std::size_t>(m.data.count, kMaxBatch);
       for (std::size_t k = 0; k < count; ++k) {
-        if (!apply(m.data.items[k], s, now)) ++invalid_;
+        const DataItem& item = m.data.items[k];
+        if (of_revoked(item)) {  // acked: its holder lets go; lost with the revoked agent
+          ++discarded_of_[AgentId(item.by)];
+          if (item.kind == ItemKind::kMeasured && GoalId(item.key).within(static_cast<int>(requested())))
+            discarded_[static_cast<std::size_t>(item.key)] = 1;
+        } else if (!apply(item, s, now)) {
+          ++invalid_;
+        }
         acks_.push_back(m.data.items[k].key);  // acked either way: its sender lets go
       }
       if (Message* a = send(out, Kind::kAck, m.h.sender, now)) {

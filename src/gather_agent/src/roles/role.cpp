@@ -210,9 +210,42 @@ void Role::restore(const DataItem*, std::size_t, const Progress&, double) {
 
 bool Role::learn_dead(const RequestPart& part) {
   const std::size_t n = std::min<std::size_t>(part.dead_count, kMaxDead);
-  if (n <= dead_.size()) return false;
+  if (n < dead_.size()) return false;
+  // Revocations of declarations this role knows (or learns now): the OC
+  // only sets bits, never clears one.
+  const uint32_t mask = n >= 32 ? ~0u : (1u << n) - 1u;
+  revoked_ |= part.dead_revoked & mask;
+  if (n == dead_.size()) return false;
   dead_.assign(part.dead, part.dead + n);
   return true;
+}
+
+uint64_t Role::revoked_bits() const { return static_cast<uint64_t>(__builtin_popcount(revoked_)); }
+
+bool Role::revoked(int16_t agent) const {
+  if (revoked_ == 0) return false;
+  for (std::size_t i = 0; i < dead_.size(); ++i)
+    if (dead_[i] == agent) return (revoked_ >> i) & 1u;
+  return false;
+}
+
+int64_t Role::refused_revoked() const {
+  int64_t n = 0;
+  for (int64_t r : refused_) n += r;
+  return n;
+}
+
+void Role::control(double now, const Message* const* inbox, std::size_t n, Outbox& out) {
+  before_control(now, out);
+  if (revoked_ == 0) return step(now, inbox, n, out);
+  admitted_.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    bool refused = false;
+    for (std::size_t d = 0; d < dead_.size() && !refused; ++d)
+      if (dead_[d] == inbox[i]->h.sender && ((revoked_ >> d) & 1u)) refused = true, ++refused_[d];
+    if (!refused) admitted_.push_back(inbox[i]);
+  }
+  step(now, admitted_.data(), admitted_.size(), out);
 }
 
 void Role::hand_in(const TeamSetup& team, double now, const Message* const* inbox, std::size_t n, Outbox& out,
@@ -247,6 +280,7 @@ void Role::hand_in(const TeamSetup& team, double now, const Message* const* inbo
 void Role::stamp_dead(RequestPart& part) const {
   part.dead_count = static_cast<uint8_t>(std::min<std::size_t>(dead_.size(), kMaxDead));
   std::copy(dead_.begin(), dead_.begin() + part.dead_count, part.dead);
+  part.dead_revoked = revoked_;
 }
 
 }  // namespace agent

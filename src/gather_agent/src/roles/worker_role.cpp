@@ -90,6 +90,7 @@ void WorkerRole::progress(Progress& out) const {
   out.measured = counters_.measured, out.dropped = counters_.dropped;
   out.expired = counters_.expired, out.skipped = counters_.skipped;
   out.dead.assign(dead_.begin(), dead_.end());
+  out.revoked = revoked_;
   out.learned.clear();
   for (std::size_t i = 0; i < policy_->goals(); ++i) out.learned.push_back(policy_->goal(i));
   out.known.clear();
@@ -102,6 +103,7 @@ void WorkerRole::restore(const DataItem* items, std::size_t n, const Progress& p
   counters_.measured = p.measured, counters_.dropped = p.dropped;
   counters_.expired = p.expired, counters_.skipped = p.skipped;
   dead_.assign(p.dead.begin(), p.dead.end());
+  revoked_ = p.revoked;
   if (!dead_.empty()) repair(now);
   if (retired_) return;
   resolved_ = p.resolved;
@@ -180,6 +182,7 @@ RoleReport WorkerRole::report() const {
   r.dead_known = static_cast<int64_t>(dead_.size());
   r.legs = legs_stats_.legs(), r.legs_late = legs_stats_.late();
   r.late_median_s = legs_stats_.median_late(), r.late_max_s = legs_stats_.max_late();
+  r.refused_revoked = refused_revoked();
   return r;
 }
 

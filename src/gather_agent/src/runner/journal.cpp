@@ -20,7 +20,7 @@ namespace agent {
 namespace {
 
 constexpr char kMagic[4] = {'G', 'J', 'R', 'N'};
-constexpr uint32_t kVersion = 2;  // 2: an item's deadline, unreachable items
+constexpr uint32_t kVersion = 3;  // 2: an item's deadline, unreachable items; 3: revoked declarations
 constexpr std::size_t kHeader = 4 + 4 + 4 + 8;
 constexpr std::size_t kRecordHead = 4 + 4 + 1;
 constexpr uint32_t kMaxPayload = 1u << 20;  // a progress snapshot of 16384 goals fits
@@ -83,6 +83,7 @@ void encode_progress(std::vector<uint8_t>& out, const Progress& p) {
   put_raw(out, p.measured), put_raw(out, p.dropped), put_raw(out, p.expired), put_raw(out, p.skipped);
   put_raw(out, static_cast<uint32_t>(p.dead.size()));
   for (int16_t d : p.dead) put_raw(out, d);
+  put_raw(out, p.revoked);
   put_raw(out, static_cast<uint32_t>(p.learned.size()));
   for (const mission::KnownGoal& g : p.learned) {
     put_raw(out, static_cast<int32_t>(g.id.value())), put_raw(out, static_cast<int32_t>(g.cell.row)),
@@ -101,6 +102,7 @@ bool decode_progress(const uint8_t* at, const uint8_t* end, Progress& p) {
   p.dead.resize(n);
   for (int16_t& d : p.dead)
     if (!get_raw(at, end, d)) return false;
+  if (!get_raw(at, end, p.revoked) || (n < 32 && (p.revoked >> n) != 0)) return false;
   if (!get_raw(at, end, n) || n > kMaxRequestParts * kRequestPartGoals) return false;
   p.learned.resize(n);
   for (mission::KnownGoal& g : p.learned) {

@@ -201,7 +201,7 @@ void LockstepAgent::step(const Tick& tick) {
   }
   Outbox& out = *outbox_;
   out.clear();
-  role.step(tick.t, inbox_.data(), inbox_.size(), out);
+  role.control(tick.t, inbox_.data(), inbox_.size(), out);
   if (journal_) journal_->after_step(*unit_.motion, tick.t);  // durable before its messages go out
   for (std::size_t k = 0; k < out.size(); ++k) {
     out[k].h.seq = seq_++;
@@ -276,7 +276,7 @@ void LockstepAgent::step_wall(double t) {
   gather_inbox(current_, role.id(), unit_.motion->pose(), *gate_, link_, inbox_);
   Outbox& out = *outbox_;
   out.clear();
-  role.step(t, inbox_.data(), inbox_.size(), out);
+  role.control(t, inbox_.data(), inbox_.size(), out);
   if (journal_) journal_->after_step(*unit_.motion, t);  // durable before its messages go out
   for (std::size_t k = 0; k < out.size(); ++k) {
     out[k].h.seq = seq_++;

@@ -231,7 +231,7 @@ bool LockstepMaster::tick_wall(ShutdownSignal* signal) {
   held_.clear();
   gather_inbox(current_, oc_role.id(), oc_.motion->pose(), gate_, link_, inbox_);
   outbox_.clear();
-  oc_role.step(t, inbox_.data(), inbox_.size(), outbox_);
+  oc_role.control(t, inbox_.data(), inbox_.size(), outbox_);
   for (std::size_t i = 0; i < outbox_.size(); ++i) {
     outbox_[i].h.seq = seq_++;
     outbox_[i].h.tick = -1;
@@ -307,7 +307,7 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   take_tick(held_, current_, k, late);
   gather_inbox(current_, oc_role.id(), oc_.motion->pose(), gate_, link_, inbox_);
   outbox_.clear();
-  oc_role.step(t, inbox_.data(), inbox_.size(), outbox_);
+  oc_role.control(t, inbox_.data(), inbox_.size(), outbox_);
   for (std::size_t i = 0; i < outbox_.size(); ++i) {
     outbox_[i].h.seq = seq_++;
     outbox_[i].h.tick = k;
@@ -437,6 +437,7 @@ RunOutcome LockstepMaster::finish() {
   out.kills = options_.kills;
   out.restarts = options_.restarts;
   for (int16_t a : oc().dead()) out.declared_dead.emplace_back(a, oc().declared_dead_at(AgentId(a)));
+  out.revoked = revocations(oc());
   if (!out.completed) {
     out.failure = "mission not finished at t = " + std::to_string(out.end_s) + " s (limit " + std::to_string(limit_) +
                   " s): " + std::to_string(oc().requested() - oc().resolved_count()) + " of " +

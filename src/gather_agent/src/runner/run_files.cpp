@@ -16,7 +16,7 @@ const char* const kAgentsCsvHeader =
     "method,collectors,seed,agent,role,measured,expired,skipped,dropped,carried,delivered,sent,received,gated,lost,"
     "bad,overflow,rejected_unsigned,rejected_unknown_key,rejected_bad_mac,rejected_replayed,rejected_wrong_sender,"
     "legs,legs_late,late_median_s,late_max_s,nav_failures,unreachable,contacts,robot_faults,loops,loop_late_median_s,"
-    "loop_late_max_s\n";
+    "loop_late_max_s,refused_revoked\n";
 
 LoadedPlan load_plan(const std::string& plan_dir) {
   namespace fs = std::filesystem;
@@ -53,7 +53,7 @@ void append_agent_rows(std::string& out, const plan::PlanFile& plan, unsigned se
     std::snprintf(
         line, sizeof line,
         "%s,%d,%u,%d,%s,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,%lld,"
-        "%.1f,%.1f,%lld,%lld,%d,%lld,%lld,%.1f,%.1f\n",
+        "%.1f,%.1f,%lld,%lld,%d,%lld,%lld,%.1f,%.1f,%lld\n",
         plan.method.c_str(), plan.collectors, seed, a.id, role_kind_name(a.role),
         static_cast<long long>(a.report.measured), static_cast<long long>(a.report.expired),
         static_cast<long long>(a.report.skipped), static_cast<long long>(a.report.dropped),
@@ -66,7 +66,8 @@ void append_agent_rows(std::string& out, const plan::PlanFile& plan, unsigned se
         static_cast<long long>(a.report.legs), static_cast<long long>(a.report.legs_late), a.report.late_median_s,
         a.report.late_max_s, static_cast<long long>(a.report.nav_failures),
         static_cast<long long>(a.report.unreachable), a.contacts, static_cast<long long>(a.robot.faults),
-        static_cast<long long>(a.report.loops), a.report.loop_late_median_s, a.report.loop_late_max_s);
+        static_cast<long long>(a.report.loops), a.report.loop_late_median_s, a.report.loop_late_max_s,
+        static_cast<long long>(a.report.refused_revoked));
     out += line;
   }
 }
@@ -139,9 +140,14 @@ void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const M
     auto it = faults.emplace(a, std::make_pair(-1.0, at)).first;
     it->second.second = at;
   }
-  for (const auto& [a, t] : faults)
+  for (const auto& [a, t] : faults) {
+    double revoked_at = -1.0;
+    for (const Revocation& r : run.revoked)
+      if (r.agent == a) revoked_at = r.at;
     y << YAML::Flow << YAML::BeginMap << YAML::Key << "agent" << YAML::Value << a << YAML::Key << "killed_at"
-      << YAML::Value << t.first << YAML::Key << "declared_dead_at" << YAML::Value << t.second << YAML::EndMap;
+      << YAML::Value << t.first << YAML::Key << "declared_dead_at" << YAML::Value << t.second << YAML::Key
+      << "revoked_at" << YAML::Value << revoked_at << YAML::EndMap;
+  }
   y << YAML::EndSeq;
   y << YAML::Key << "agents" << YAML::Value << YAML::BeginSeq;
   for (const AgentSummary& a : run.agents) {
@@ -185,7 +191,8 @@ const char* const kOcRejectedCsvHeader =
     "method,collectors,seed,rejected_unsigned,rejected_unknown_key,rejected_bad_mac,rejected_replayed,"
     "rejected_wrong_sender\n";
 
-const char* const kFaultsCsvHeader = "method,collectors,seed,agent,role,killed_at,declared_at,restarted,recovered\n";
+const char* const kFaultsCsvHeader =
+    "method,collectors,seed,agent,role,killed_at,declared_at,restarted,recovered,revoked_at,oc_refused,oc_discarded\n";
 
 void append_fault_rows(std::string& out, const plan::PlanFile& plan, unsigned seed, const RunOutcome& run) {
   std::map<int, std::pair<double, double>> rows;  // agent -> (killed_at, declared_at), -1: not
@@ -195,17 +202,21 @@ void append_fault_rows(std::string& out, const plan::PlanFile& plan, unsigned se
     auto it = rows.emplace(a, std::make_pair(-1.0, at)).first;
     it->second.second = at;
   }
-  char line[256];
+  char line[320];
   for (const auto& [a, t] : rows) {
     const plan::AgentAssignment& x = plan.agents[AgentId(a)];
     bool restarted = false;
     for (const Kill& k : run.restarts) restarted = restarted || k.agent == a;
-    std::snprintf(line, sizeof line, "%s,%d,%u,%d,%s,%.3f,%.3f,%d,%lld\n", plan.method.c_str(), plan.collectors, seed,
-                  a,
+    Revocation revoked{a, -1.0, 0, 0};
+    for (const Revocation& r : run.revoked)
+      if (r.agent == a) revoked = r;
+    std::snprintf(line, sizeof line, "%s,%d,%u,%d,%s,%.3f,%.3f,%d,%lld,%.3f,%lld,%lld\n", plan.method.c_str(),
+                  plan.collectors, seed, a,
                   x.collector              ? "collector"
                   : !x.delivers_to.valid() ? "oc_worker"
                                            : "collector_worker",
-                  t.first, t.second, restarted ? 1 : 0, static_cast<long long>(run.recovered));
+                  t.first, t.second, restarted ? 1 : 0, static_cast<long long>(run.recovered), revoked.at,
+                  static_cast<long long>(revoked.oc_refused), static_cast<long long>(revoked.oc_discarded));
     out += line;
   }
 }

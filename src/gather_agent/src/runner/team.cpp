@@ -47,6 +47,17 @@ AgentUnit make_oc(TeamSetup& team) {
   return u;
 }
 
+std::vector<Revocation> revocations(const OcRole& oc) {
+  std::vector<Revocation> out;
+  for (std::size_t i = 0; i < oc.dead().size(); ++i) {
+    const AgentId a(oc.dead()[i]);
+    if (!((oc.revoked_mask() >> i) & 1u)) continue;
+    out.push_back(Revocation{a.value(), oc.revoked_at(a), oc.refused_revoked(i), oc.discarded_of(a)});
+  }
+  std::sort(out.begin(), out.end(), [](const Revocation& x, const Revocation& y) { return x.agent < y.agent; });
+  return out;
+}
+
 void check_conservation(const OcRole& oc, int64_t measured_total, std::vector<int32_t>& custody, double now) {
   std::sort(custody.begin(), custody.end());
   custody.erase(std::unique(custody.begin(), custody.end()), custody.end());
@@ -62,6 +73,12 @@ void check_conservation(const OcRole& oc, int64_t measured_total, std::vector<in
     ++carried;
     lost_carried += oc.resolved(goal) && oc.goals()[goal.index()].state == mission::GoalState::kLostWithAgent;
   }
+  // Refused: measurements of a revoked agent that another handed in after
+  // the revocation (OcRole::of_revoked), held by nobody now, not delivered.
+  int64_t refused = 0;
+  for (const mission::GoalRecord& g : oc.goals())
+    refused += oc.discarded(g.id) && !delivered_goal(g.id) &&
+               !std::binary_search(custody.begin(), custody.end(), g.id.value());
   int64_t delivered = 0, expired = 0, dropped = 0, lost = 0;
   for (const mission::GoalRecord& g : oc.goals()) {
     if (!oc.resolved(g.id)) continue;
@@ -70,12 +87,14 @@ void check_conservation(const OcRole& oc, int64_t measured_total, std::vector<in
     dropped += g.state == mission::GoalState::kDropped;
     lost += g.state == mission::GoalState::kLostWithAgent;
   }
-  if (measured_total != delivered + carried)
-    throw RuntimeError("conservation",
-                       "at t = " + std::to_string(now) + " s: " + std::to_string(measured_total) +
-                           " goals measured and stored, but " + std::to_string(delivered) + " delivered + " +
-                           std::to_string(carried) + " carried (" +
-                           (measured_total > delivered + carried ? "data lost" : "goals counted twice") + ")");
+  if (measured_total != delivered + carried + refused)
+    throw RuntimeError("conservation", "at t = " + std::to_string(now) + " s: " + std::to_string(measured_total) +
+                                           " goals measured and stored, but " + std::to_string(delivered) +
+                                           " delivered + " + std::to_string(carried) + " carried + " +
+                                           std::to_string(refused) + " refused as a revoked agent's (" +
+                                           (measured_total > delivered + carried + refused ? "data lost"
+                                                                                           : "goals counted twice") +
+                                           ")");
   const int64_t requested = static_cast<int64_t>(oc.requested());
   const int64_t pending = requested - delivered - carried - expired - dropped - (lost - lost_carried);
   if (pending < 0)

@@ -47,7 +47,7 @@ std::vector<Kill> parse_kills(const std::string& list, int agents, const std::st
     const Kill k =
         parse_kill(list.substr(from, comma == std::string::npos ? std::string::npos : comma - from), agents, flag);
     for (const Kill& other : kills)
-      if (other.agent == k.agent) throw Error(flag, "agent " + std::to_string(k.agent) + " is killed twice");
+      if (other.agent == k.agent) throw Error(flag, "agent " + std::to_string(k.agent) + " is named twice");
     kills.push_back(k);
     if (kills.size() > static_cast<std::size_t>(kMaxDead))
       throw Error(flag, "at most " + std::to_string(kMaxDead) + " agents");
@@ -217,7 +217,7 @@ bool TeamRunner::tick() {
       gather_inbox(sent_, u.role->id(), u.motion->pose(), gate_, links_[i], inbox_);
     }
     out.clear();
-    u.role->step(t, inbox_.data(), inbox_.size(), out);
+    u.role->control(t, inbox_.data(), inbox_.size(), out);
     if (journals_[i]) journals_[i]->after_step(*u.motion, t);  // durable before its messages go out
     if (after_) after_();
     for (std::size_t k = 0; k < out.size(); ++k) {
@@ -302,6 +302,7 @@ RunOutcome TeamRunner::run() {
   out.restarts = options_.restarts;
   out.restored = restored_;
   for (int16_t a : oc().dead()) out.declared_dead.emplace_back(a, oc().declared_dead_at(AgentId(a)));
+  out.revoked = revocations(oc());
   if (!out.completed && std::getenv("GATHER_DEBUG")) {
     for (const mission::GoalRecord& g : oc().goals()) {
       if (g.id.index() >= oc().requested() || oc().resolved(g.id)) continue;

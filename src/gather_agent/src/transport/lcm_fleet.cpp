@@ -318,6 +318,7 @@ bool LcmFleet::publish(const Message& m) {
         r.cells[i] = i < m.request.count ? static_cast<int32_t>(m.request.cells[i]) : 0;
       r.n_dead = static_cast<int8_t>(std::min<int>(m.request.dead_count, kMaxDead));
       r.dead.assign(m.request.dead, m.request.dead + r.n_dead);
+      r.dead_revoked = static_cast<int32_t>(m.request.dead_revoked);
       n = r.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
       channel = kRequestChannel;
       break;
@@ -464,6 +465,7 @@ bool LcmFleet::publish(const Reply& r) {
   w.request = static_cast<int32_t>(r.report.requests);
   w.refused_full = static_cast<int32_t>(r.report.refused_full);
   w.lost_notices = static_cast<int32_t>(r.report.lost_notices);
+  w.refused_revoked = r.report.refused_revoked;
   w.link_sent = r.link.sent;
   w.link_received = r.link.received;
   w.link_gated = r.link.gated;
@@ -654,6 +656,10 @@ void LcmFleet::on_radio_payload(const char* channel, const void* data, int size,
         return void(++refused_.out_of_range);
       m.request.dead[i] = r.dead[static_cast<std::size_t>(i)];
     }
+    // A bit for each declaration it lists, none beyond.
+    const uint32_t revoked = static_cast<uint32_t>(r.dead_revoked);
+    if (r.n_dead < 32 && (revoked >> r.n_dead) != 0) return void(++refused_.out_of_range);
+    m.request.dead_revoked = revoked;
   } else if (std::strcmp(channel, kDataChannel) == 0) {
     if (!decoded(safe_decode(w.data, data, size))) return;
     const gather_lcm::data_t& d = w.data;
@@ -856,6 +862,7 @@ void LcmFleet::on_clock_payload(const char* channel, const void* data, int size,
     o.report.measured = r.measured, o.report.expired = r.expired, o.report.skipped = r.skipped;
     o.report.dropped = r.dropped, o.report.pending = r.pending, o.report.requests = r.request;
     o.report.refused_full = r.refused_full, o.report.lost_notices = r.lost_notices;
+    o.report.refused_revoked = r.refused_revoked;
     o.carried = r.carried, o.notices = r.notices;
     o.link.sent = r.link_sent, o.link.received = r.link_received, o.link.gated = r.link_gated;
     o.link.lost = r.link_lost, o.link.bad = r.link_bad, o.link.overflow = r.link_overflow;

@@ -20,6 +20,8 @@ class OcRole : public Role {
   OcRole(TeamSetup& team, MotionBackend& station);
 
   void step(double now, const Message* const* inbox, std::size_t n, Outbox& out) override;
+  // Revokes the keys due by now (MissionParams::revoke).
+  void before_control(double now, Outbox& out) override;
   RoleKind kind() const override { return RoleKind::kOcRole; }
   RoleReport report() const override;
   int32_t newest_request() const override { return issued_ - 1; }
@@ -46,6 +48,13 @@ class OcRole : public Role {
   // Measurements of goals another agent's notice (or the OC) had resolved
   // without data, delivered all the same (open()).
   int64_t overridden() const { return overridden_; }
+  // Revocation (docs/security.md): when the OC revoked each agent's keys
+  // (-1: it did not); the items of it that others handed in after that and
+  // the OC refused (what it held then, picked up from it later), and
+  // whether goal g's measurement was refused so.
+  double revoked_at(AgentId agent) const { return revoked_at_[agent]; }
+  int64_t discarded_of(AgentId agent) const { return discarded_of_[agent]; }
+  bool discarded(GoalId goal) const { return discarded_[goal.index()] != 0; }
   // The plan the OC runs now (the original until it declares a death).
   const mission::MissionPlan& current_plan() const { return repair_ ? repair_->plan : team_.plan; }
   // A team on robots at the end of its time: every goal not resolved yet is
@@ -73,7 +82,10 @@ class OcRole : public Role {
   const plan::AgentAssignment& assigned(AgentId agent) const { return current_plan().file.agents[agent]; }
   // Declares `agent` dead at `now`: repairs the plan, declares lost what was
   // its own (docs/faults.md), and tells whoever is in the coverage.
-  void declare_dead(AgentId agent, double now, Outbox& out);
+  void declare_dead(AgentId agent, double now, Outbox& out, bool revoke = false);
+  // An item of a revoked agent handed in by another (not one its collector
+  // took from it before the revocation): refused.
+  bool of_revoked(const DataItem& item) const;
 
   TeamSetup& team_;
   std::vector<std::size_t> first_;          // first goal id of each cycle's request, and the total at the end
@@ -100,6 +112,9 @@ class OcRole : public Role {
   const mission::RepairedPlan* repair_ = nullptr;
   int64_t recovered_ = 0, overridden_ = 0;
   std::vector<uint8_t> closed_;  // by goal: lost at the mission's end (close())
+  PerAgent<double> revoked_at_;
+  PerAgent<int64_t> discarded_of_;
+  std::vector<uint8_t> discarded_;  // by goal
 };
 
 }  // namespace agent

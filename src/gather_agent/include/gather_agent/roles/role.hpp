@@ -7,6 +7,7 @@
 // (runner/team_runner) and one process per robot (gather_agent).
 // Units: every time (`now`, `t`, `at`, deadlines) is mission time [s] since
 // the first request; positions are map coordinates [m].
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -54,6 +55,11 @@ struct MissionParams {
   // them (only the OC uses it; goals_per_request must be at least the
   // largest count of a cycle).
   std::vector<std::pair<int, Point2>> fixed_goals;
+  // The OC revokes these agents' keys at these mission times [s]
+  // (docs/security.md, "Revocation"; only the OC uses it): from then on it
+  // and, once they learn it, every agent drop their messages, and what they
+  // hold is lost with them. At most kMaxDead, each agent once.
+  std::vector<std::pair<int16_t, double>> revoke;
 };
 
 // Everything the roles of one team share, read-only once built (except the
@@ -163,6 +169,7 @@ struct RoleReport {
   int64_t pending = 0;       // goals known and not yet measured
   int64_t refused_full = 0;  // items refused because the custody buffer was full
   int64_t lost_notices = 0;  // notices that found no room (must stay 0)
+  int64_t refused_revoked = 0;  // messages dropped: their sender's keys were revoked (Role::control)
   int64_t requests = 0;      // newest request known
   int64_t dead_known = 0;    // the OC's declarations of dead agents it knows
   // Its robot: waypoints reached, those reached late (LegStats) and by how
@@ -183,6 +190,7 @@ struct Progress {
   int32_t resolved = -1;                                        // every request up to this one learned or skipped
   int64_t measured = 0, dropped = 0, expired = 0, skipped = 0;  // its counters
   std::vector<int16_t> dead;                                    // the OC's declarations it knows
+  uint32_t revoked = 0;                                         // bit i: dead[i]'s keys revoked
   std::vector<mission::KnownGoal> learned;  // the request it works on: its goals here, in learning order
   std::vector<GoalId> known;                // those not yet measured or expired
 };
@@ -198,6 +206,12 @@ class Role {
   // was advanced to `now`: `inbox` holds this tick's messages for this role
   // (already past the range gate), in (sender, seq) order.
   virtual void step(double now, const Message* const* inbox, std::size_t n, Outbox& out) = 0;
+  // What the runners call: step() on the inbox without the messages of
+  // agents whose keys the OC revoked (docs/security.md, "Revocation"), as
+  // far as this role knows; those are dropped and counted.
+  void control(double now, const Message* const* inbox, std::size_t n, Outbox& out);
+  // What control() does before it filters (the OC revokes keys here).
+  virtual void before_control(double /*now*/, Outbox& /*out*/) {}
   virtual RoleKind kind() const = 0;
   virtual RoleReport report() const = 0;
   // Items this role holds in custody (nullptr: none).
@@ -214,12 +228,20 @@ class Role {
   // The agents the OC has declared dead, as far as this role knows, in the
   // order the OC declared them.
   const std::vector<int16_t>& dead() const { return dead_; }
+  // Of those, the ones whose keys the OC revoked (bit i: dead()[i]).
+  uint32_t revoked_mask() const { return revoked_; }
+  bool revoked(int16_t agent) const;
+  // Messages control() dropped from dead()[i] after it learned of its
+  // revocation, and from all of them.
+  int64_t refused_revoked(std::size_t i) const { return i < refused_.size() ? refused_[i] : 0; }
+  int64_t refused_revoked() const;
 
   // Restart support (runner/journal). Changes whenever progress() would.
-  virtual uint64_t progress_version() const { return dead_.size(); }
+  virtual uint64_t progress_version() const { return dead_.size() + revoked_bits(); }
   virtual void progress(Progress& out) const {
     out = Progress{};
     out.dead = dead_;
+    out.revoked = revoked_;
   }
   // A fresh role takes over what its process's previous life journaled:
   // the items it held (`items`), its progress, at mission time `now`.
@@ -240,8 +262,11 @@ class Role {
   // request, the deaths it knows).
   Message* send(Outbox& out, Kind kind, int16_t dest, double now);
   // Takes the OC's list of dead agents from a request part when it is longer
-  // than the one known (the OC only appends to it); true when it grew.
+  // than the one known (the OC only appends to it); true when it grew. The
+  // revocations among them are learned too, also when only they are new.
   bool learn_dead(const RequestPart& part);
+  // Revoked declarations known (a part of progress_version()).
+  uint64_t revoked_bits() const;
   // Writes the known list into a request part passed on.
   void stamp_dead(RequestPart& part) const;
   // A role declared dead while alive (its messages were lost, or its robot
@@ -254,6 +279,9 @@ class Role {
   int16_t id_;
   MotionBackend& motion_;
   std::vector<int16_t> dead_;
+  uint32_t revoked_ = 0;                     // bit i: dead_[i]'s keys revoked
+  std::array<int64_t, kMaxDead> refused_{};  // control(): messages dropped, by declaration
+  std::vector<const Message*> admitted_;     // control(): the inbox without them
   bool handing_in_ = false;       // driving to the OC with what it holds
   bool hand_in_contact_ = false;  // in contact with the OC at the last step
 };

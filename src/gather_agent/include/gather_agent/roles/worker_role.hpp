@@ -36,7 +36,7 @@ class WorkerRole : public Role {
   const mission::WorkerPolicy& policy() const { return *policy_; }
   bool delivers_to_oc() const { return policy_->delivers_to_oc(); }
   bool retired() const override { return retired_; }
-  uint64_t progress_version() const override { return progress_version_; }
+  uint64_t progress_version() const override { return progress_version_ + revoked_bits(); }
   void progress(Progress& out) const override;
   void restore(const DataItem* items, std::size_t n, const Progress& progress, double now) override;
   // Its collector went silent for longer than the OC waits to declare it

@@ -47,6 +47,17 @@ struct AgentSummary {
   std::string robot_fault;
 };
 
+// An agent whose keys the OC revoked (docs/security.md, "Revocation"):
+// when, the messages of it the OC dropped from then on, and its items the
+// OC refused from others (OcRole::of_revoked).
+struct Revocation {
+  int agent = 0;
+  double at = 0.0;  // [s]
+  int64_t oc_refused = 0;
+  int64_t oc_discarded = 0;
+};
+std::vector<Revocation> revocations(const OcRole& oc);
+
 // Every goal measured and stored is delivered or in some agent's custody
 // (requested = delivered + carried + pending + expired + dropped, with
 // carried counted from the custody buffers themselves): throws gather::Error

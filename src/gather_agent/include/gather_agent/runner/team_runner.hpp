@@ -75,6 +75,8 @@ struct RunOutcome {
   // (or the OC expired) that another measured, delivered (OcRole::open).
   std::vector<std::pair<int, double>> declared_dead;
   int64_t recovered = 0, overridden = 0;
+  // Keys the OC revoked (MissionParams::revoke), in agent order.
+  std::vector<Revocation> revoked;
   std::vector<Kill> kills;     // as asked (RunOptions::kills)
   std::vector<Kill> restarts;  // as asked (RunOptions::restarts)
   // In one process: (agent, measured items its journal gave back) per restart.
