@@ -25,6 +25,7 @@ GATHER = os.path.join(REPO, "catkin_ws", "devel", "lib", "gather_core", "gather"
 AGENT = os.path.join(REPO, "catkin_ws", "devel", "lib", "gather_agent", "gather_agent")
 ATTACKER = os.path.join(REPO, "catkin_ws", "devel", "lib", "gather_agent", "gather_attacker")
 REASONS = ("unsigned", "unknown_key", "bad_mac", "replayed", "wrong_sender")
+REVOKE_AT = 150.0  # [s] the attack's captured robot's keys are revoked then
 results = []
 
 
@@ -45,12 +46,15 @@ def csv_rows(path):
 
 
 def attack(a, tmp, key, plan, undisturbed):
-    """An attacker without the key, in this namespace, during the pap:4 run of
-    `undisturbed` (same plan, seed and cycles): forged, replayed, tampered and
-    impersonated messages change nothing (goals.csv byte-identical), and the
-    OC and every agent reject each of them by its reason. It also holds a
-    captured robot's own keys, and poses as its collector, another worker
-    and the OC, and sends as itself what its role never sends."""
+    """An attacker without the key, in this namespace, during a pap:4 run
+    (the plan, seed and cycles of `undisturbed`): forged, replayed, tampered
+    and impersonated messages change nothing, and the OC and every agent
+    reject each of them by its reason. It also holds a captured robot's own
+    keys, and poses as its collector, another worker and the OC, and sends
+    as itself what its role never sends. The OC revokes that robot's keys in
+    the middle of the run (--revoke): from then on the OC and its collector
+    drop its process's messages and count them, and the run is byte for
+    byte the same run with the same revocation in one process, no attacker."""
     out = os.path.join(tmp, "attacked")
     report = os.path.join(tmp, "attack.yaml")
     # A robot taken in the field: the first worker of a collector, its own keys.
@@ -61,8 +65,9 @@ def attack(a, tmp, key, plan, undisturbed):
     check("gather keygen --agent %d: the captured robot's own keys" % workers[0], rc == 0, err)
     attacker = subprocess.Popen([a.attacker, "--out", report, "--each", "40", "--wait", "120", "--captured", stolen],
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    revoke = "%d@%g" % (workers[0], REVOKE_AT)
     rc, stdout, err = run([a.gather, "run", plan, "--cycles", str(a.cycles), "--seed", "3", "--out", out, "--lcm",
-                           "--key-file", key])
+                           "--key-file", key, "--revoke", revoke])
     try:
         a_out, a_err = attacker.communicate(timeout=60)
     except subprocess.TimeoutExpired:
@@ -72,8 +77,29 @@ def attack(a, tmp, key, plan, undisturbed):
         return
     if not check("the attacker attacked (status 0)", attacker.returncode == 0, a_out + a_err):
         return
-    check("attacked: goals.csv identical to the undisturbed run",
-          open(os.path.join(out, "goals.csv")).read() == open(os.path.join(undisturbed, "goals.csv")).read())
+    one = os.path.join(tmp, "revoked_one")
+    rc, _, err = run([a.gather, "run", plan, "--cycles", str(a.cycles), "--seed", "3", "--out", one, "--revoke", revoke])
+    check("the same run in one process, robot %d's keys revoked at %g s" % (workers[0], REVOKE_AT), rc == 0, err)
+    for name in ("goals.csv", "cycles.csv", "faults.csv"):
+        check("attacked and revoked: %s identical to the same revocation in one process, no attacker" % name,
+              open(os.path.join(out, name)).read() == open(os.path.join(one, name)).read())
+    faults = csv_rows(os.path.join(out, "faults.csv"))
+    row = [r for r in faults if r["agent"] == str(workers[0])]
+    check("revoked: robot %d declared dead at its revocation, the OC dropped %s of its messages"
+          % (workers[0], row[0]["oc_refused"] if row else "?"),
+          len(row) == 1 and float(row[0]["revoked_at"]) == float(row[0]["declared_at"]) >= REVOKE_AT and
+          int(row[0]["oc_refused"]) > 0, str(faults))
+    refused = {r["agent"]: int(r["refused_revoked"]) for r in csv_rows(os.path.join(out, "agents.csv"))}
+    refused_one = {r["agent"]: int(r["refused_revoked"]) for r in csv_rows(os.path.join(one, "agents.csv"))}
+    collector = re.search(r"\{id: %d, role: worker, segment: \d+, collector: (\d+)\}" % workers[0],
+                          open(os.path.join(plan, "plan.yaml")).read()).group(1)
+    collector_agent = [m.group(1) for m in re.finditer(r"\{id: (\d+), role: collector, segment: \d+, collector: %s\}"
+                                                       % collector, open(os.path.join(plan, "plan.yaml")).read())]
+    check("revoked: its collector (agent %s) dropped %s of its messages, as in one process"
+          % (collector_agent[0] if collector_agent else "?",
+             refused.get(collector_agent[0]) if collector_agent else "?"),
+          collector_agent and refused.get(collector_agent[0], 0) > 0 and refused == refused_one,
+          "over LCM %s, in one process %s" % (refused, refused_one))
     sent = {}
     check("the attacker attacked as robot %d too, with its own keys" % workers[0],
           ("robot: %d" % workers[0]) in open(report).read())
