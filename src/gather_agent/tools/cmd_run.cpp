@@ -242,7 +242,8 @@ int run(int argc, char** argv) {
     throw cli::UsageError(
         "usage: gather run PLAN_DIR --out DIR [--cycles C] [--seeds K] [--seed S] [--tick DT] [--loss P] "
         "[--loss-seed N] [--kill ID@T[,ID@T...]] [--repair merge|none] [--silent-intervals K] [--restart "
-        "ID@T[,ID@T...]] [--revoke ID@T[,ID@T...]] [--robots ideal|mrpt|external [--world-config YAML] [--world-bin FILE]] [--protocol "
+        "ID@T[,ID@T...]] [--revoke ID@T[,ID@T...]] [--robots ideal|mrpt|external [--world-config YAML] [--world-bin "
+        "FILE]] [--protocol "
         "ideal|robots] [--speed-factor F] "
         "[--lcm (--key-file F | "
         "--insecure) [--lcm-url URL] [--reply-url URL] [--agent-bin FILE] [--rate R] [--clock lockstep|wall] "
@@ -292,9 +293,10 @@ int run(int argc, char** argv) {
   std::optional<agent::Recording> recording;
   std::optional<agent::FleetKey> replay_key;
   if (args.has("--replay")) {
-    for (const char* flag : {"--clock", "--rate", "--agents", "--robots", "--cycles", "--seed", "--seeds", "--kill",
-                             "--restart", "--revoke", "--loss", "--loss-seed", "--agent-bin", "--lcm-url", "--reply-url", "--tick",
-                             "--protocol", "--repair", "--silent-intervals", "--speed-factor"})
+    for (const char* flag :
+         {"--clock",     "--rate",    "--agents",   "--robots", "--cycles",           "--seed",        "--seeds",
+          "--kill",      "--restart", "--revoke",   "--loss",   "--loss-seed",        "--agent-bin",   "--lcm-url",
+          "--reply-url", "--tick",    "--protocol", "--repair", "--silent-intervals", "--speed-factor"})
       if (args.has(flag))
         throw cli::UsageError(std::string("--replay takes the mission's settings from the recording: no ") + flag);
     const std::vector<std::string> logs = agent::replay_logs(args.get("--replay"), "--replay");

@@ -88,13 +88,12 @@ void check_conservation(const OcRole& oc, int64_t measured_total, std::vector<in
     lost += g.state == mission::GoalState::kLostWithAgent;
   }
   if (measured_total != delivered + carried + refused)
-    throw RuntimeError("conservation", "at t = " + std::to_string(now) + " s: " + std::to_string(measured_total) +
-                                           " goals measured and stored, but " + std::to_string(delivered) +
-                                           " delivered + " + std::to_string(carried) + " carried + " +
-                                           std::to_string(refused) + " refused as a revoked agent's (" +
-                                           (measured_total > delivered + carried + refused ? "data lost"
-                                                                                           : "goals counted twice") +
-                                           ")");
+    throw RuntimeError(
+        "conservation",
+        "at t = " + std::to_string(now) + " s: " + std::to_string(measured_total) + " goals measured and stored, but " +
+            std::to_string(delivered) + " delivered + " + std::to_string(carried) + " carried + " +
+            std::to_string(refused) + " refused as a revoked agent's (" +
+            (measured_total > delivered + carried + refused ? "data lost" : "goals counted twice") + ")");
   const int64_t requested = static_cast<int64_t>(oc.requested());
   const int64_t pending = requested - delivered - carried - expired - dropped - (lost - lost_carried);
   if (pending < 0)

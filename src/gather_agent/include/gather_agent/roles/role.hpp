@@ -162,16 +162,16 @@ class Outbox {
 struct RoleReport {
   RoleKind role = RoleKind::kWorker;
   int id = 0;
-  int64_t measured = 0;      // goals measured and stored
-  int64_t dropped = 0;       // goals measured whose data could not be stored
-  int64_t expired = 0;       // goals expired (notices made)
-  int64_t skipped = 0;       // requests skipped (notices made)
-  int64_t pending = 0;       // goals known and not yet measured
-  int64_t refused_full = 0;  // items refused because the custody buffer was full
-  int64_t lost_notices = 0;  // notices that found no room (must stay 0)
+  int64_t measured = 0;         // goals measured and stored
+  int64_t dropped = 0;          // goals measured whose data could not be stored
+  int64_t expired = 0;          // goals expired (notices made)
+  int64_t skipped = 0;          // requests skipped (notices made)
+  int64_t pending = 0;          // goals known and not yet measured
+  int64_t refused_full = 0;     // items refused because the custody buffer was full
+  int64_t lost_notices = 0;     // notices that found no room (must stay 0)
   int64_t refused_revoked = 0;  // messages dropped: their sender's keys were revoked (Role::control)
-  int64_t requests = 0;      // newest request known
-  int64_t dead_known = 0;    // the OC's declarations of dead agents it knows
+  int64_t requests = 0;         // newest request known
+  int64_t dead_known = 0;       // the OC's declarations of dead agents it knows
   // Its robot: waypoints reached, those reached late (LegStats) and by how
   // much [s], commands it failed, goals it could not reach.
   int64_t legs = 0, legs_late = 0;
@@ -282,8 +282,8 @@ class Role {
   uint32_t revoked_ = 0;                     // bit i: dead_[i]'s keys revoked
   std::array<int64_t, kMaxDead> refused_{};  // control(): messages dropped, by declaration
   std::vector<const Message*> admitted_;     // control(): the inbox without them
-  bool handing_in_ = false;       // driving to the OC with what it holds
-  bool hand_in_contact_ = false;  // in contact with the OC at the last step
+  bool handing_in_ = false;                  // driving to the OC with what it holds
+  bool hand_in_contact_ = false;             // in contact with the OC at the last step
 };
 
 }  // namespace agent
