@@ -15,6 +15,7 @@ import argparse
 import csv
 import os
 import re
+import signal
 import subprocess
 import sys
 import tempfile
@@ -128,12 +129,71 @@ def attack(a, tmp, key, plan, undisturbed):
     check("--lcm without a key: status 2, one line", rc == 2 and err.count("\n") == 1 and "--key-file" in err, err)
 
 
+def reordering(a, tmp, key, plan):
+    """The OC on one LCM URL, the agents on another, joined by a link that
+    holds each message up to 3 ms and lets them go in a random order
+    (tests/e2e/reorder_link.py), and sends 2% of the OC's messages to the
+    agents twice: the mission is byte for byte the one in one process, every
+    message that came after a newer one of its sender was taken (the reorder
+    window: nothing counted as replayed but the duplicates), and each agent
+    refused the duplicates that carried a tag for it (all but those that
+    came after its last report: its counters travel in its tick replies)."""
+    side_a, side_b = "udpm://239.255.76.67:7667?ttl=0", "udpm://239.255.76.68:7671?ttl=0"
+    report = os.path.join(tmp, "reorder_link.yaml")
+    env = dict(os.environ, PYTHONPATH=os.path.abspath(a.pylcm))
+    link = subprocess.Popen([sys.executable, os.path.join(REPO, "tests", "e2e", "reorder_link.py"), "--a", side_a,
+                             "--b", side_b, "--report", report, "--hold-ms", "3", "--duplicate", "0.02"], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    wrapper = os.path.join(tmp, "agent_on_side_b.sh")
+    with open(wrapper, "w") as f:  # gather run starts each agent on its URL: move it to side B
+        f.write("#!/bin/bash\nargs=()\nwhile [ $# -gt 0 ]; do\n  if [ \"$1\" = --lcm-url ]; then args+=(--lcm-url '%s'); "
+                "shift 2; else args+=(\"$1\"); shift; fi\ndone\nexec %s \"${args[@]}\"\n" % (side_b, a.agent))
+    os.chmod(wrapper, 0o755)
+    one, out = os.path.join(tmp, "reorder_one"), os.path.join(tmp, "reordered")
+    time.sleep(0.5)
+    run([a.gather, "run", plan, "--cycles", "1", "--seed", "3", "--out", one])
+    rc, _, err = run([a.gather, "run", plan, "--cycles", "1", "--seed", "3", "--out", out, "--lcm", "--key-file", key,
+                      "--lcm-url", side_a, "--agent-bin", wrapper], timeout=300)
+    link.send_signal(signal.SIGTERM)
+    l_out, l_err = link.communicate(timeout=30)
+    if not check("through a link that reorders: the mission completes (status %d)" % rc, rc == 0, err[-2000:]):
+        return
+    if not check("the reordering link reported (status %d)" % link.returncode, link.returncode == 0 and
+                 os.path.exists(report), l_out + l_err):
+        return
+    counted = {}
+    for line in open(report):
+        m = re.match(r"(\w+): \{(.*)\}", line.strip())
+        if m:
+            counted[m.group(1)] = {int(k) if k.strip().lstrip("-").isdigit() else k.strip(): int(v)
+                                   for k, v in (kv.split(":") for kv in m.group(2).split(",") if kv.strip())}
+    out_of_order = counted["to_a"]["out_of_order"] + counted["to_b"]["out_of_order"]
+    for name in ("goals.csv", "cycles.csv"):
+        check("reordered: %s == in one process (byte for byte)" % name,
+              open(os.path.join(one, name), "rb").read() == open(os.path.join(out, name), "rb").read())
+    oc = csv_rows(os.path.join(out, "oc_rejected.csv"))[0]
+    agents = csv_rows(os.path.join(out, "agents.csv"))
+    replayed = {int(r["agent"]): int(r["rejected_replayed"]) for r in agents}
+    others = sum(int(r["rejected_" + k]) for r in agents for k in REASONS if k != "replayed")
+    others += sum(int(oc["rejected_" + k]) for k in REASONS)
+    want = {k: counted["replays_for"].get(k, 0) for k in replayed}
+    late = {k: want[k] - replayed[k] for k in want}
+    check("reordered: %d messages came after a newer one of their sender and channel (%s); all taken, the OC "
+          "refused nothing, the agents refused the %d duplicates meant for them (%d after their last report)" %
+          (out_of_order, counted, counted["to_b"]["duplicated"], sum(late.values())),
+          out_of_order > 10 and counted["to_b"]["duplicated"] > 0 and others == 0 and
+          all(0 <= n <= 2 for n in late.values()) and sum(replayed.values()) > 0,
+          "replayed by agent %s, the link's duplicates per receiver %s, other rejections %d" % (replayed, want, others))
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--cycles", type=int, default=3)
     ap.add_argument("--gather", default=GATHER)
     ap.add_argument("--agent", default=AGENT)
     ap.add_argument("--attacker", default=ATTACKER)
+    ap.add_argument("--pylcm", default=os.path.join(REPO, "build", "pylcm"),
+                    help="the lcm package and lcm-gen --python types (make pylcm), for the reordering link")
     a = ap.parse_args()
     if os.environ.get("GATHER_NETNS") != "1":
         print("runtime_e2e: run me inside tools/netns-run (LCM multicast must stay in a private namespace)",
@@ -321,6 +381,7 @@ def main():
 
     if "pap:4" in plans:
         attack(a, tmp, key, plans["pap:4"], os.path.join(tmp, "lcm_pap4"))
+        reordering(a, tmp, key, plans["pap:4"])
 
     failed = results.count(False)
     print("%d passed, %d failed" % (len(results) - failed, failed))
