@@ -60,7 +60,7 @@ struct Stepper {
     inbox.clear();
     for (const Message& m : inbox_store) inbox.push_back(&m);
     out.clear();
-    unit.role->step(t, inbox.data(), inbox.size(), out);
+    unit.role->control(t, inbox.data(), inbox.size(), out);
   }
   const Message* sent(Kind k) const {
     for (std::size_t i = 0; i < out.size(); ++i)

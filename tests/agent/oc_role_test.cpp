@@ -203,6 +203,94 @@ TEST(OcRole, AnUnreachableItemAfterItsGoalWasResolvedIsADuplicate) {
 // all (it took the segment over while the OC and the owner disagreed on
 // who is dead): the data is real, delivered; acked and dropped, it would
 // be lost (gather run's conservation check stopped the cave, seed 2).
+TEST(OcRole, ARevokedWorkerIsDeclaredAtOnceItsMessagesDroppedAndWhatItHeldThenRefused) {
+  CorridorTeam c(2, {{0, {5.05, 0.25}}, {0, {9.05, 0.25}}, {1, {7.05, 0.25}}});
+  c.team->params.revoke = {{1, 10.0}};
+  Stepper oc{make_oc(*c.team)};
+  auto& role = static_cast<OcRole&>(*oc.unit.role);
+  oc.step(0.0);
+  oc.step(10.0);
+  EXPECT_DOUBLE_EQ(role.revoked_at(AgentId(1)), 10.0);
+  EXPECT_DOUBLE_EQ(role.declared_dead_at(AgentId(1)), 10.0);  // at once
+  const Message* news = oc.sent(Kind::kRequest);
+  ASSERT_NE(news, nullptr);
+  ASSERT_EQ(news->request.dead_count, 1u);
+  EXPECT_EQ(news->request.dead[0], 1);
+  EXPECT_EQ(news->request.dead_revoked, 1u);
+  EXPECT_EQ(role.goals()[0].state, mission::GoalState::kLostWithAgent);
+  EXPECT_EQ(role.goals()[1].state, mission::GoalState::kLostWithAgent);
+  // Its collector (agent 0) hands in two of its measurements: one taken
+  // from it before the revocation (delivered, recovered), one after (refused).
+  Message d = message(Kind::kData, 0, kOc, 0, Point2{1.0, 0.25});
+  d.data.count = 3, d.data.items[0] = measured(0, 1, 4.5), d.data.items[1] = measured(1, 1, 4.6);
+  d.data.items[0].picked_up_by = 0, d.data.items[0].picked_up_at = 9.0;
+  d.data.items[1].picked_up_by = 0, d.data.items[1].picked_up_at = 11.0;
+  d.data.items[2] = measured(1, 1, 4.6);  // the same, claimed as its own by the collector: not its to hand in
+  oc.step(12.0, {d});
+  EXPECT_EQ(role.goals()[0].state, mission::GoalState::kDelivered);
+  EXPECT_EQ(role.goals()[1].state, mission::GoalState::kLostWithAgent);
+  EXPECT_EQ(role.discarded_of(AgentId(1)), 1);
+  EXPECT_TRUE(role.discarded(GoalId(1)));
+  EXPECT_FALSE(role.discarded(GoalId(0)));
+  EXPECT_EQ(role.invalid_items(), 1);
+  ASSERT_NE(oc.sent(Kind::kAck), nullptr);
+  EXPECT_EQ(oc.sent(Kind::kAck)->ack.count, 3u);  // acked, all: the collector lets go
+  // The revoked worker hands in its own: dropped before the role, counted, not acked.
+  Message own = message(Kind::kData, 1, kOc, 0, Point2{1.0, 0.25});
+  own.data.count = 1, own.data.items[0] = measured(1, 1, 4.6);
+  oc.step(13.0, {own});
+  EXPECT_EQ(oc.sent(Kind::kAck), nullptr);
+  EXPECT_EQ(role.refused_revoked(0), 1);
+  EXPECT_EQ(role.goals()[1].state, mission::GoalState::kLostWithAgent);
+}
+
+TEST(OcRole, AnAgentDeclaredDeadBeforeIsRevokedTooAndTheNewsBroadcast) {
+  CorridorTeam c(2, {{0, {5.05, 0.25}}, {0, {9.05, 0.25}}, {1, {7.05, 0.25}}});
+  c.team->params.revoke = {{1, 5000.0}};
+  Stepper oc{make_oc(*c.team)};
+  auto& role = static_cast<OcRole&>(*oc.unit.role);
+  oc.step(0.0);
+  double t = 0.0;
+  while (role.declared_dead_at(AgentId(1)) < 0 && t < 4000.0) oc.step(t += 10.0);  // silent: declared
+  ASSERT_GE(role.declared_dead_at(AgentId(1)), 0.0);
+  EXPECT_EQ(role.revoked_mask(), 0u);
+  oc.step(5000.0);
+  EXPECT_DOUBLE_EQ(role.revoked_at(AgentId(1)), 5000.0);
+  std::size_t i = 0;
+  while (role.dead()[i] != 1) ++i;
+  EXPECT_EQ(role.revoked_mask(), 1u << i);
+  const Message* news = oc.sent(Kind::kRequest);
+  ASSERT_NE(news, nullptr);
+  EXPECT_EQ(news->request.dead_revoked, 1u << i);
+}
+
+TEST(Conservation, EachMeasuredGoalIsDeliveredCarriedOrRefusedAndNothingElseIs) {
+  CorridorTeam c(2, {{0, {5.05, 0.25}}, {0, {9.05, 0.25}}, {1, {7.05, 0.25}}});
+  Stepper oc{make_oc(*c.team)};
+  auto& role = static_cast<OcRole&>(*oc.unit.role);
+  oc.step(0.0);
+  Message d = message(Kind::kData, 0, kOc, 0, Point2{1.0, 0.25});
+  d.data.count = 1, d.data.items[0] = measured(0, 1, 4.5);
+  d.data.items[0].picked_up_by = 0, d.data.items[0].picked_up_at = 5.0;
+  oc.step(6.0, {d});  // goal 0 delivered
+  std::vector<uint8_t> m(role.goals().size(), 0);
+  std::vector<int32_t> custody;
+  m[0] = 1;
+  EXPECT_NO_THROW(check_conservation(role, m, custody, 6.0));
+  m[1] = 1;  // goal 1 measured, held by nobody: lost
+  EXPECT_THROW(check_conservation(role, m, custody, 6.0), RuntimeError);
+  custody = {1};  // carried
+  EXPECT_NO_THROW(check_conservation(role, m, custody, 6.0));
+  custody = {1, 2};  // goal 2 carried, but nobody measured it
+  EXPECT_THROW(check_conservation(role, m, custody, 6.0), RuntimeError);
+  custody = {1, 0};  // a copy of delivered goal 0 still held (its ack on the way): the same measurement
+  EXPECT_NO_THROW(check_conservation(role, m, custody, 6.0));
+  m[0] = 2;  // measured by two workers: one copy delivered is enough
+  EXPECT_NO_THROW(check_conservation(role, m, custody, 6.0));
+  m[0] = 0;  // delivered, never measured
+  EXPECT_THROW(check_conservation(role, m, custody, 6.0), RuntimeError);
+}
+
 TEST(OcRole, AMeasurementOfAGoalAnotherWorkerGaveUpIsDelivered) {
   CorridorTeam c(1, {{0, {5.05, 0.25}}, {0, {6.05, 0.25}}});
   Stepper oc{make_oc(*c.team)};

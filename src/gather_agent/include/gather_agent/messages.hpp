@@ -38,7 +38,9 @@ struct Header {
   double t = 0.0;        // [s] mission time at sending
   Point2 pos;            // [m] sender's position at sending
   int32_t request = -1;  // newest request the sender knows, -1 none
-  uint8_t dead = 0;      // how many of the OC's declarations of dead agents the sender knows
+  // How many of the OC's declarations of dead agents the sender knows, and
+  // of the revocations among them (Role::known_declarations: 0 .. 2 kMaxDead).
+  uint8_t dead = 0;
   // [s] a collector: how far behind its timetable it is at sending (< 0:
   // ahead), measured from what its robot reported; 0 from anyone else.
   double delay = 0.0;

@@ -103,7 +103,7 @@ void CollectorRole::on_request(const RequestPart& part, double now) {
 }
 
 void CollectorRole::hand_request(Served& w, double now, Outbox& out) {
-  if (!complete_ || (w.handed >= request_id_ && w.handed_dead >= dead_.size())) return;
+  if (!complete_ || (w.handed >= request_id_ && w.handed_dead >= known_declarations())) return;
   const uint16_t parts = parts_[0].parts;
   for (uint16_t p = 0; p < parts; ++p)
     if (Message* m = send(out, Kind::kRequest, w.agent, now)) {
@@ -111,7 +111,7 @@ void CollectorRole::hand_request(Served& w, double now, Outbox& out) {
       stamp_dead(m->request);
     }
   w.handed = request_id_;
-  w.handed_dead = dead_.size();
+  w.handed_dead = known_declarations();
 }
 
 double CollectorRole::planned_at(std::size_t vertex) const {
@@ -224,7 +224,7 @@ void CollectorRole::step(double now, const Message* const* inbox, std::size_t n,
         }
         // A worker that lacks the request it should have (it missed the
         // meeting area) gets it now.
-        if ((m.h.request < request_id_ || m.h.dead < dead_.size()) && w->handed >= request_id_)
+        if ((m.h.request < request_id_ || m.h.dead < known_declarations()) && w->handed >= request_id_)
           w->handed = -1, hand_request(*w, now, out);
         break;
       }
@@ -234,7 +234,7 @@ void CollectorRole::step(double now, const Message* const* inbox, std::size_t n,
         // before this loop's pass handed it (it missed request 0 at the
         // start, or the hand-over at the pass was lost); a beacon only
         // after the pass.
-        if (w && (m.h.request < request_id_ || m.h.dead < dead_.size()) &&
+        if (w && (m.h.request < request_id_ || m.h.dead < known_declarations()) &&
             (m.h.dest == id_ || w->handed >= request_id_))
           w->handed = -1, hand_request(*w, now, out);
         break;

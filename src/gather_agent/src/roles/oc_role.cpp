@@ -120,16 +120,26 @@ void OcRole::before_control(double now, Outbox& out) {
   for (const auto& [id, at] : team_.params.revoke) {
     const AgentId a(id);
     if (!a.within(team_.agents()) || revoked_at_[a] >= 0 || now < at - 1e-9) continue;
-    revoked_at_[a] = now;
     if (declared_at_[a] < 0) {
-      if (dead_.size() < static_cast<std::size_t>(kMaxDead)) declare_dead(a, now, out, true);
+      // Past kMaxDead declarations none is made, a revocation neither
+      // (docs/faults.md): it waits for room, which never comes.
+      if (dead_.size() >= static_cast<std::size_t>(kMaxDead)) continue;
+      revoked_at_[a] = now;
+      declare_dead(a, now, out, true);
       continue;
     }
+    revoked_at_[a] = now;
     // Declared dead before (it fell silent): its declaration is revoked now.
     for (std::size_t i = 0; i < dead_.size(); ++i)
       if (dead_[i] == a.value()) revoked_ |= 1u << i;
     if (issued_ > 0) issue(issued_ - 1, kBroadcast, now, out);
   }
+}
+
+bool OcRole::discard(const DataItem& item) {
+  ++discarded_of_[AgentId(item.by)];
+  if (item.kind == ItemKind::kMeasured) discarded_[static_cast<std::size_t>(item.key)] = 1;
+  return true;  // acked: its holder lets go; lost with the revoked agent
 }
 
 bool OcRole::of_revoked(const DataItem& item) const {
@@ -215,6 +225,7 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
     const int c = skipped_request(item.key);
     if (c < 0 || c >= issued_ || skipped_worker(item.key) != item.by) return false;
     if (!(item.at >= issued_at_[static_cast<std::size_t>(c)] - 1e-6) || !(item.at <= now + 1e-6)) return false;
+    if (of_revoked(item)) return discard(item);
     for (std::size_t i = first_[static_cast<std::size_t>(c)]; i < first_[static_cast<std::size_t>(c) + 1]; ++i) {
       mission::GoalRecord& g = goals_[i];
       if (g.worker != by || !open(g.id)) continue;
@@ -244,6 +255,7 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
   if (item.kind == ItemKind::kMeasured && item.picked_up_by >= 0 &&
       !(item.picked_up_at >= item.at - 1e-3 && item.picked_up_at <= now + eps))
     return false;
+  if (of_revoked(item)) return discard(item);
   if (!open(goal, &item)) {
     ++duplicates_;
     return true;
@@ -338,14 +350,7 @@ void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox
       acks_.clear();
       const std::size_t count = std::min<std::size_t>(m.data.count, kMaxBatch);
       for (std::size_t k = 0; k < count; ++k) {
-        const DataItem& item = m.data.items[k];
-        if (of_revoked(item)) {  // acked: its holder lets go; lost with the revoked agent
-          ++discarded_of_[AgentId(item.by)];
-          if (item.kind == ItemKind::kMeasured && GoalId(item.key).within(static_cast<int>(requested())))
-            discarded_[static_cast<std::size_t>(item.key)] = 1;
-        } else if (!apply(item, s, now)) {
-          ++invalid_;
-        }
+        if (!apply(m.data.items[k], s, now)) ++invalid_;
         acks_.push_back(m.data.items[k].key);  // acked either way: its sender lets go
       }
       if (Message* a = send(out, Kind::kAck, m.h.sender, now)) {
@@ -363,7 +368,7 @@ void OcRole::step(double now, const Message* const* inbox, std::size_t n, Outbox
     // the OC before the OC's repair says so).
     const plan::AgentAssignment& a = assigned(s);
     const bool from_oc = a.collector || !a.delivers_to.valid() || addressed;
-    const bool lags = m.h.request < issued_ - 1 || m.h.dead < dead_.size();
+    const bool lags = m.h.request < issued_ - 1 || m.h.dead < known_declarations();
     double& answered = answered_at_[s];
     if (from_oc && issued_ > 0 && lags &&
         ((addressed && answered < now) || now - answered >= team_.params.resend_after)) {

@@ -200,7 +200,7 @@ Message* Role::send(Outbox& out, Kind kind, int16_t dest, double now) {
   m->h.pos = motion_.pose();
   m->h.request = newest_request();
   m->h.delay = delay();
-  m->h.dead = static_cast<uint8_t>(dead_.size());
+  m->h.dead = static_cast<uint8_t>(known_declarations());
   return m;
 }
 

@@ -74,6 +74,7 @@ LockstepMaster::LockstepMaster(TeamSetup& team, LcmFleet& fleet, uint64_t digest
   current_.reserve(kHeld);
   inbox_.reserve(1024);
   limit_ = options_.time_limit > 0 ? options_.time_limit : time_limit(team);
+  measured_.assign(oc().goals().size(), 0);
 }
 
 LockstepMaster::~LockstepMaster() = default;
@@ -149,6 +150,7 @@ void LockstepMaster::collect_replies(int64_t tick, ReplyStatus want, double time
       replied_[a] = 1, --missing;
       if (r.status == ReplyStatus::kReady) pid_[a] = r.pid;
       if (r.path_revision == last_[a].path_revision && r.path.empty()) r.path.swap(last_[a].path);
+      for (int32_t g : r.measured_goals) count_measured(measured_, g);
       if (options_.observe)
         for (int32_t g : r.measured_goals) events_.measured.push_back(MeasuredEvent{g, r.agent, tick * options_.tick});
       last_[a] = std::move(r);
@@ -351,12 +353,8 @@ bool LockstepMaster::tick(ShutdownSignal* signal) {
   // Conservation at every cycle's end, from the agents' own custody.
   while (next_check_ < team_.params.cycles && t >= (next_check_ + 1) * team_.period) {
     keys_.clear();
-    int64_t measured = 0;
-    for (const Reply& r : last_) {
-      if (r.role == RoleKind::kWorker) measured += r.report.measured;
-      keys_.insert(keys_.end(), r.keys.begin(), r.keys.end());
-    }
-    check_conservation(oc(), measured, keys_, t);
+    for (const Reply& r : last_) keys_.insert(keys_.end(), r.keys.begin(), r.keys.end());
+    check_conservation(oc(), measured_, keys_, t);
     ++next_check_;
   }
   ++tick_;

@@ -58,42 +58,54 @@ std::vector<Revocation> revocations(const OcRole& oc) {
   return out;
 }
 
-void check_conservation(const OcRole& oc, int64_t measured_total, std::vector<int32_t>& custody, double now) {
+void count_measured(std::vector<uint8_t>& measured, int32_t goal) {
+  if (goal >= 0 && static_cast<std::size_t>(goal) < measured.size() && measured[static_cast<std::size_t>(goal)] < 255)
+    ++measured[static_cast<std::size_t>(goal)];
+}
+
+void check_conservation(const OcRole& oc, const std::vector<uint8_t>& measured, std::vector<int32_t>& custody,
+                        double now) {
   std::sort(custody.begin(), custody.end());
   custody.erase(std::unique(custody.begin(), custody.end()), custody.end());
   auto delivered_goal = [&](GoalId goal) {
     return oc.resolved(goal) && oc.goals()[goal.index()].state == mission::GoalState::kDelivered;
+  };
+  auto carried_goal = [&](GoalId goal) { return std::binary_search(custody.begin(), custody.end(), goal.value()); };
+  auto fail = [&](const GoalId goal, const std::string& what) {
+    throw RuntimeError("conservation", "at t = " + std::to_string(now) + " s: " + to_string(goal) + " " + what);
   };
   // Carried: in someone's custody (a dead agent's too) and not delivered;
   // the OC may already have declared it lost with an agent.
   int64_t carried = 0, lost_carried = 0;
   for (int32_t key : custody) {
     const GoalId goal(key);  // a measured item's key is its goal
-    if (!goal.within(static_cast<int>(oc.goals().size())) || delivered_goal(goal)) continue;
+    if (!goal.within(static_cast<int>(oc.goals().size()))) continue;
+    if (goal.index() >= measured.size() || measured[goal.index()] == 0)
+      fail(goal, "is carried, but nobody measured it");
+    if (delivered_goal(goal)) continue;
     ++carried;
     lost_carried += oc.resolved(goal) && oc.goals()[goal.index()].state == mission::GoalState::kLostWithAgent;
   }
-  // Refused: measurements of a revoked agent that another handed in after
-  // the revocation (OcRole::of_revoked), held by nobody now, not delivered.
-  int64_t refused = 0;
-  for (const mission::GoalRecord& g : oc.goals())
-    refused += oc.discarded(g.id) && !delivered_goal(g.id) &&
-               !std::binary_search(custody.begin(), custody.end(), g.id.value());
   int64_t delivered = 0, expired = 0, dropped = 0, lost = 0;
   for (const mission::GoalRecord& g : oc.goals()) {
+    const uint8_t times = g.id.index() < measured.size() ? measured[g.id.index()] : 0;
+    // Each goal measured and stored is delivered, carried, or refused as a
+    // revoked agent's (OcRole::of_revoked): one of them, for a goal measured
+    // once. A goal two workers measured (a repair's new owner and the one
+    // it replaced, still at work until it learned of the repair) needs one
+    // of them only: the other copy may be held where it can go no more.
+    const int copies = delivered_goal(g.id) + (!delivered_goal(g.id) && carried_goal(g.id)) +
+                       (!delivered_goal(g.id) && !carried_goal(g.id) && oc.discarded(g.id));
+    if (times == 1 && copies != 1) fail(g.id, "was measured once, but is neither delivered nor carried (data lost)");
+    if (times > 1 && copies == 0)
+      fail(g.id, "was measured " + std::to_string(times) + " times, but is neither delivered nor carried (data lost)");
+    if (times == 0 && delivered_goal(g.id)) fail(g.id, "is delivered, but nobody measured it");
     if (!oc.resolved(g.id)) continue;
     delivered += g.state == mission::GoalState::kDelivered;
     expired += g.state == mission::GoalState::kExpired || g.state == mission::GoalState::kUnreachable;
     dropped += g.state == mission::GoalState::kDropped;
     lost += g.state == mission::GoalState::kLostWithAgent;
   }
-  if (measured_total != delivered + carried + refused)
-    throw RuntimeError(
-        "conservation",
-        "at t = " + std::to_string(now) + " s: " + std::to_string(measured_total) + " goals measured and stored, but " +
-            std::to_string(delivered) + " delivered + " + std::to_string(carried) + " carried + " +
-            std::to_string(refused) + " refused as a revoked agent's (" +
-            (measured_total > delivered + carried + refused ? "data lost" : "goals counted twice") + ")");
   const int64_t requested = static_cast<int64_t>(oc.requested());
   const int64_t pending = requested - delivered - carried - expired - dropped - (lost - lost_carried);
   if (pending < 0)

@@ -101,13 +101,11 @@ double time_limit(const TeamSetup& team) {
   return (team.params.cycles + 5) * team.period + 3.0 * longest + 2.0 * farthest / team.speed;
 }
 
-void check_team_conservation(const OcRole& oc, const std::vector<AgentUnit>& agents, double now,
-                             std::vector<int32_t>& scratch) {
+void check_team_conservation(const OcRole& oc, const std::vector<AgentUnit>& agents,
+                             const std::vector<uint8_t>& measured, double now, std::vector<int32_t>& scratch) {
   scratch.clear();
-  int64_t measured = 0;
   for (const AgentUnit& u : agents) {
     if (!u.role) continue;
-    if (u.role->kind() == RoleKind::kWorker) measured += u.role->report().measured;
     if (const Custody* c = u.role->custody())
       for (std::size_t i = 0; i < c->size(); ++i)
         if (c->item(i).kind == ItemKind::kMeasured) scratch.push_back(c->item(i).key);
@@ -173,6 +171,7 @@ TeamRunner::TeamRunner(TeamSetup& team, const RunOptions& options)
   next_.reserve(units_.size() * 8);
   inbox_.reserve(options_.inbox);
   limit_ = options_.time_limit > 0 ? options_.time_limit : time_limit(team);
+  measured_.assign(oc().goals().size(), 0);
 }
 
 TeamRunner::~TeamRunner() = default;
@@ -218,6 +217,8 @@ bool TeamRunner::tick() {
     }
     out.clear();
     u.role->control(t, inbox_.data(), inbox_.size(), out);
+    if (const std::vector<GoalId>* m = u.role->measured_in_step())
+      for (GoalId g : *m) count_measured(measured_, g.value());
     if (journals_[i]) journals_[i]->after_step(*u.motion, t);  // durable before its messages go out
     if (after_) after_();
     for (std::size_t k = 0; k < out.size(); ++k) {
@@ -232,7 +233,7 @@ bool TeamRunner::tick() {
   ++ticks_;
   // Conservation at every cycle's end.
   while (next_check_ < team_.params.cycles && t >= (next_check_ + 1) * team_.period) {
-    check_team_conservation(oc(), units_, t, custody_scratch_);
+    check_team_conservation(oc(), units_, measured_, t, custody_scratch_);
     ++next_check_;
   }
   // Done when every goal is resolved and every ack has landed (no agent

@@ -86,7 +86,7 @@ void to_wire(const Header& h, gather_lcm::header_t& w) {
   w.x = h.pos.x;
   w.y = h.pos.y;
   w.request = h.request;
-  w.dead = static_cast<int8_t>(std::min<int>(h.dead, kMaxDead));
+  w.dead = static_cast<int8_t>(std::min<int>(h.dead, 2 * kMaxDead));
   w.delay = h.delay;
 }
 
@@ -715,7 +715,7 @@ void LcmFleet::on_radio_payload(const char* channel, const void* data, int size,
   if (!addressed_right(sender, h->dest)) return;
   if (!may_send(sender, m.h.kind)) return auth_.count_wrong_sender();  // not its role's to send
   if (h->sender < kOc || h->sender >= team_ || (h->dest != kBroadcast && (h->dest < kOc || h->dest >= team_)) ||
-      h->seq < 0 || h->request < -1 || h->dead < 0 || h->dead > kMaxDead || !finite(h->t) || !finite(h->x) ||
+      h->seq < 0 || h->request < -1 || h->dead < 0 || h->dead > 2 * kMaxDead || !finite(h->t) || !finite(h->x) ||
       !finite(h->y) || !(std::abs(h->delay) <= kMaxDelay))
     return void(++refused_.out_of_range);
   m.h.sender = h->sender;

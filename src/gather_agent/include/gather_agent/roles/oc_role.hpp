@@ -84,8 +84,11 @@ class OcRole : public Role {
   // its own (docs/faults.md), and tells whoever is in the coverage.
   void declare_dead(AgentId agent, double now, Outbox& out, bool revoke = false);
   // An item of a revoked agent handed in by another (not one its collector
-  // took from it before the revocation): refused.
+  // took from it before the revocation): refused (apply() asks, once the
+  // item passed every check of who may hand it in and when: discard()
+  // counts it).
   bool of_revoked(const DataItem& item) const;
+  bool discard(const DataItem& item);
 
   TeamSetup& team_;
   std::vector<std::size_t> first_;          // first goal id of each cycle's request, and the total at the end

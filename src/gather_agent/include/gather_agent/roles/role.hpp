@@ -267,6 +267,10 @@ class Role {
   bool learn_dead(const RequestPart& part);
   // Revoked declarations known (a part of progress_version()).
   uint64_t revoked_bits() const;
+  // What a header says the sender knows of the OC's declarations: the
+  // deaths and the revocations among them (0 .. 2 kMaxDead). A receiver
+  // that knows more passes its list on.
+  std::size_t known_declarations() const { return dead_.size() + revoked_bits(); }
   // Writes the known list into a request part passed on.
   void stamp_dead(RequestPart& part) const;
   // A role declared dead while alive (its messages were lost, or its robot

@@ -255,6 +255,7 @@ class LockstepMaster {
   std::vector<Message> held_, current_;
   std::vector<const Message*> inbox_;
   std::vector<int32_t> keys_;
+  std::vector<uint8_t> measured_;  // by goal: how many workers measured it (check_conservation)
   ViewEvents events_;
   std::chrono::steady_clock::time_point started_;
   double wait_ms_ = 0.0, oc_ms_ = 0.0, publish_ms_ = 0.0, inbox_ms_ = 0.0;

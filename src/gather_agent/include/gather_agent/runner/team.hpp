@@ -58,12 +58,17 @@ struct Revocation {
 };
 std::vector<Revocation> revocations(const OcRole& oc);
 
-// Every goal measured and stored is delivered or in some agent's custody
-// (requested = delivered + carried + pending + expired + dropped, with
-// carried counted from the custody buffers themselves): throws gather::Error
-// ("conservation ...") naming the numbers when not. `custody` are the keys
-// of every measured item any agent holds (duplicates allowed).
-void check_conservation(const OcRole& oc, int64_t measured_total, std::vector<int32_t>& custody, double now);
+// Every goal measured and stored is delivered or in some agent's custody, or
+// was refused as a revoked agent's, and nothing is delivered or carried that
+// nobody measured (requested = delivered + carried + pending + expired +
+// dropped + lost, with carried counted from the custody buffers
+// themselves): throws gather::Error ("conservation ...") naming the goal or
+// the numbers when not. `measured`: by goal, how many workers measured and
+// stored it (count_measured, from Role::measured_in_step); `custody`: the
+// keys of every measured item any agent holds (duplicates allowed).
+void check_conservation(const OcRole& oc, const std::vector<uint8_t>& measured, std::vector<int32_t>& custody,
+                        double now);
+void count_measured(std::vector<uint8_t>& measured, int32_t goal);
 
 }  // namespace agent
 }  // namespace gather

@@ -134,6 +134,7 @@ class TeamRunner {
   int next_check_ = 0;  // the next cycle end to check conservation at
   double limit_ = 0.0;
   std::vector<int32_t> custody_scratch_;
+  std::vector<uint8_t> measured_;  // by goal: how many workers measured it (check_conservation)
   void (*before_)() = nullptr;
   void (*after_)() = nullptr;
 };
@@ -146,8 +147,8 @@ bool still_owes(const RoleReport& worker, const OcRole& oc);
 
 // Conservation over a team in one process (custody read from the roles,
 // the dead ones' included).
-void check_team_conservation(const OcRole& oc, const std::vector<AgentUnit>& agents, double now,
-                             std::vector<int32_t>& scratch);
+void check_team_conservation(const OcRole& oc, const std::vector<AgentUnit>& agents,
+                             const std::vector<uint8_t>& measured, double now, std::vector<int32_t>& scratch);
 
 // At the end of a run in one process, where the ground truth is at hand:
 // every goal the OC declared lost with an agent was in the custody of an
