@@ -429,11 +429,7 @@ int run(int argc, char** argv) {
     slowest = std::min(slowest, (wall_clock ? r.end_s : r.result.mission_s) * 1000.0 / r.wall_ms);
     messages += r.messages, ticks += r.ticks;
     for (const agent::Revocation& v : r.revoked)
-      std::printf(
-          "seed %u: agent %d's keys revoked at %.0f s: the OC dropped %lld of its messages and refused %lld of its "
-          "items from others; every goal it held is lost with it\n",
-          team.params.seed, v.agent, v.at, static_cast<long long>(v.oc_refused),
-          static_cast<long long>(v.oc_discarded));
+      std::printf("seed %u: %s\n", team.params.seed, agent::describe(v).c_str());
     if (!opt.kills.empty() || !opt.restarts.empty() || !r.declared_dead.empty()) {
       std::string dead;
       for (const auto& [a, at] : r.declared_dead)

@@ -440,6 +440,8 @@ int main(int argc, char** argv) {
           pf.method.c_str(), pf.collectors, params.cycles, out.result.goals.size(), out.result.refresh_mean_s,
           pf.est_refresh_s, out.result.goals_per_cycle, pf.est_goals, static_cast<long long>(out.ticks),
           out.wall_ms / 1000.0, out.wall_ms > 0 ? out.end_s * 1000.0 / out.wall_ms : 0.0, set.results_dir.c_str());
+      for (const gather::agent::Revocation& v : out.revoked)
+        std::printf("oc: %s\n", gather::agent::describe(v).c_str());
     } else {
       failure = out.failure + (ros::ok() ? "" : " (stopped)") + "; " + set.results_dir + "/mission.yaml";
     }

@@ -58,6 +58,12 @@ std::vector<Revocation> revocations(const OcRole& oc) {
   return out;
 }
 
+std::string describe(const Revocation& r) {
+  return "agent " + std::to_string(r.agent) + "'s keys revoked at " + std::to_string(static_cast<int64_t>(r.at)) +
+         " s: the OC dropped " + std::to_string(r.oc_refused) + " of its messages and refused " +
+         std::to_string(r.oc_discarded) + " of its items from others; what it held is lost with it";
+}
+
 void count_measured(std::vector<uint8_t>& measured, int32_t goal) {
   if (goal >= 0 && static_cast<std::size_t>(goal) < measured.size() && measured[static_cast<std::size_t>(goal)] < 255)
     ++measured[static_cast<std::size_t>(goal)];

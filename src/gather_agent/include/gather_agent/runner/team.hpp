@@ -57,6 +57,8 @@ struct Revocation {
   int64_t oc_discarded = 0;
 };
 std::vector<Revocation> revocations(const OcRole& oc);
+// "agent K's keys revoked at T s: ..." (gather run's and the OC node's line).
+std::string describe(const Revocation& r);
 
 // Every goal measured and stored is delivered or in some agent's custody, or
 // was refused as a revoked agent's, and nothing is delivered or carried that
