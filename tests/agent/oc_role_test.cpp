@@ -199,10 +199,6 @@ TEST(OcRole, AnUnreachableItemAfterItsGoalWasResolvedIsADuplicate) {
   EXPECT_EQ(role2.invalid_items(), 1);
 }
 
-// A goal its owner gave up (expired) that another worker measured after
-// all (it took the segment over while the OC and the owner disagreed on
-// who is dead): the data is real, delivered; acked and dropped, it would
-// be lost (gather run's conservation check stopped the cave, seed 2).
 TEST(OcRole, ARevokedWorkerIsDeclaredAtOnceItsMessagesDroppedAndWhatItHeldThenRefused) {
   CorridorTeam c(2, {{0, {5.05, 0.25}}, {0, {9.05, 0.25}}, {1, {7.05, 0.25}}});
   c.team->params.revoke = {{1, 10.0}};
@@ -291,6 +287,10 @@ TEST(Conservation, EachMeasuredGoalIsDeliveredCarriedOrRefusedAndNothingElseIs) 
   EXPECT_THROW(check_conservation(role, m, custody, 6.0), RuntimeError);
 }
 
+// A goal its owner gave up (expired) that another worker measured after
+// all (it took the segment over while the OC and the owner disagreed on
+// who is dead): the data is real, delivered; acked and dropped, it would
+// be lost (gather run's conservation check stopped the cave, seed 2).
 TEST(OcRole, AMeasurementOfAGoalAnotherWorkerGaveUpIsDelivered) {
   CorridorTeam c(1, {{0, {5.05, 0.25}}, {0, {6.05, 0.25}}});
   Stepper oc{make_oc(*c.team)};
