@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "corridor_team.hpp"
 #include "gather_agent/motion/motion_backend.hpp"
 #include "gather_agent/roles/role.hpp"
 #include "gather_agent/runner/team_runner.hpp"
@@ -138,6 +139,72 @@ TEST(Revocation, ARevokedCollectorDeliversNothingMoreAndItsCargoIsLost) {
     lost += g.state == mission::GoalState::kLostWithAgent;
   }
   EXPECT_GT(lost, 0);
+}
+
+// A reachable cell of `segment` in the plan (the first in row-major order),
+// as a point of the map.
+Point2 a_point_of(const TeamSetup& team, SegmentId segment) {
+  const LabelImage& labels = team.plan.labels;
+  for (std::size_t i = 0; i < labels.size(); ++i)
+    if (labels[i] == segment.label() && team.world.reaches(labels.frame().cell(i)))
+      return team.world.scenario.grid.cell_center(labels.frame().cell(i));
+  ADD_FAILURE() << "no reachable cell in " << to_string(segment);
+  return Point2{};
+}
+
+// Claims of goals a worker never measured (item 5 of the issue): the OC
+// takes a measurement from a worker only of a cell a plan or a repair could
+// have given it. Here worker X gives a goal up, the OC then declares X (a
+// revocation, at once), and X's segment goes to its neighbour B: B's
+// measurement of it is real and delivered (overridden); the same claim by
+// another worker Z, or B's claim of a goal in Z's segment, is refused.
+TEST(Revocation, AClaimOfAGoalNoPlanGaveTheClaimantIsRefused) {
+  const mission::MissionPlan& plan = Office::get().pap4;
+  const AgentId x = a_worker(plan, true);
+  MissionParams p = testing_support::office_params(1, 1);
+  TeamSetup probe(Office::get().ctx, plan, p);
+  const SegmentId sx = plan.file.agents[x].segment;
+  const Point2 px = a_point_of(probe, sx);
+  const int16_t dead[] = {static_cast<int16_t>(x.value())};
+  const Cell cx = probe.world.scenario.grid.world_to_cell(px);
+  const AgentId b = probe.worker_of_segment(SegmentId(probe.repaired(dead, 1).plan.labels.at(cx)));
+  ASSERT_TRUE(b.valid());
+  ASSERT_NE(b, x);
+  AgentId z;
+  for (const plan::AgentAssignment& a : plan.file.agents)
+    if (!a.collector && a.id != x && a.id != b) z = a.id;
+  ASSERT_TRUE(z.valid());
+  p.fixed_goals = {{0, px}, {0, a_point_of(probe, plan.file.agents[z].segment)}};
+  p.goals_per_request = 2;
+  p.revoke = {{static_cast<int16_t>(x.value()), 3.0}};
+  TeamSetup team(Office::get().ctx, plan, p);
+  agent_testing::Stepper oc{make_oc(team)};
+  auto& role = static_cast<OcRole&>(*oc.unit.role);
+  oc.step(0.0);
+  auto data = [&](AgentId from, DataItem item, uint32_t seq) {
+    Message m = agent_testing::message(Kind::kData, static_cast<int16_t>(from.value()), kOc, seq, Point2{});
+    m.data.count = 1, m.data.items[0] = item;
+    return m;
+  };
+  DataItem gave_up;
+  gave_up.key = 0, gave_up.kind = ItemKind::kExpired, gave_up.by = static_cast<int16_t>(x.value()), gave_up.at = 1.5;
+  gave_up.deadline = 1.5;
+  oc.step(2.0, {data(x, gave_up, 0)});
+  ASSERT_EQ(role.goals()[0].state, mission::GoalState::kExpired);
+  oc.step(3.0);  // X revoked: declared dead, its segment merged into B's
+  ASSERT_DOUBLE_EQ(role.declared_dead_at(x), 3.0);
+  const auto zi = static_cast<int16_t>(z.value()), bi = static_cast<int16_t>(b.value());
+  oc.step(4.0, {data(z, agent_testing::measured(0, zi, 3.5), 0)});
+  EXPECT_EQ(role.invalid_items(), 1);
+  EXPECT_EQ(role.goals()[0].state, mission::GoalState::kExpired);
+  oc.step(5.0, {data(b, agent_testing::measured(1, bi, 4.5), 0)});
+  EXPECT_EQ(role.invalid_items(), 2);
+  EXPECT_FALSE(role.resolved(GoalId(1)));
+  oc.step(6.0, {data(b, agent_testing::measured(0, bi, 5.5), 1)});
+  EXPECT_EQ(role.invalid_items(), 2);
+  EXPECT_EQ(role.goals()[0].state, mission::GoalState::kDelivered);
+  EXPECT_EQ(role.goals()[0].measured_by, b);
+  EXPECT_EQ(role.overridden(), 1);
 }
 
 TEST(Revocation, ParsesLikeKillsAndRefusesAnAgentNamedTwice) {

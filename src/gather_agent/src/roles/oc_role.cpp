@@ -136,6 +136,27 @@ void OcRole::before_control(double now, Outbox& out) {
   }
 }
 
+bool OcRole::could_serve(AgentId w, GoalId goal) {
+  const uint32_t cell = cell_of_[goal.index()];
+  auto serves = [&](const mission::MissionPlan& p) {
+    const int32_t label = p.labels[cell];
+    return label > 0 && team_.worker_of_segment(SegmentId(label)) == w;
+  };
+  if (team_.assignment(w).collector) return false;
+  if (serves(team_.plan)) return true;
+  const plan::AgentAssignment& a = team_.assignment(w);
+  std::vector<int16_t> set;
+  for (std::size_t k = 0; k <= dead_.size(); ++k) {
+    set.assign(dead_.begin(), dead_.begin() + static_cast<std::ptrdiff_t>(k));
+    if (k > 0 && serves(team_.repaired(set.data(), set.size()).plan)) return true;
+    if (a.delivers_to.valid()) {
+      set.push_back(static_cast<int16_t>(team_.collector_agent(a.delivers_to).value()));
+      if (serves(team_.repaired(set.data(), set.size()).plan)) return true;
+    }
+  }
+  return false;
+}
+
 bool OcRole::discard(const DataItem& item) {
   ++discarded_of_[AgentId(item.by)];
   if (item.kind == ItemKind::kMeasured) discarded_[static_cast<std::size_t>(item.key)] = 1;
@@ -248,6 +269,7 @@ bool OcRole::apply(const DataItem& item, AgentId sender, double now) {
     // the data is real, and acked either way; refused, it would be lost. Its
     // notices (expired, dropped, unreachable) are the owner's to give.
     if (!new_owner && item.kind != ItemKind::kMeasured) return false;
+    if (!new_owner && !could_serve(by, goal)) return false;
   }
   // Times a worker and a collector could have: after the request, not after now.
   const double eps = 1e-6;
