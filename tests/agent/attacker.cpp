@@ -27,6 +27,11 @@
 //                     well signed                              -> wrong sender
 // (its tags for every agent but itself: its own process would take a tag
 // made with its own keys; in the field, that robot is the attacker).
+// With --captured FILE --claim G1,G2,... it does only this, once it heard a
+// request of the OC: as itself, well signed for the OC, it hands in a
+// measurement of each goal listed (goals of other workers' segments, that
+// it never measured) -> refused by the OC as invalid items (mission.yaml
+// oc.invalid_items), and writes `claims: N` to --out.
 // and writes what it sent to --out (YAML): per reason, what the OC must
 // have rejected (it holds the master: it checks every message) and what
 // each agent must have (a message under the fleet's key id only where it
@@ -106,6 +111,7 @@ std::vector<const Captured*> replayable(const std::vector<Captured>& captured) {
 struct State {
   std::vector<Captured> captured;
   bool ticking = false;
+  bool requested = false;  // a request of the OC heard
   bool capturing = true;
   int16_t key_id = 0;
 };
@@ -114,6 +120,7 @@ void on_message(const lcm_recv_buf_t* rbuf, const char* channel, void* user, boo
   State& s = *static_cast<State*>(user);
   if (!s.capturing) return;
   if (std::strcmp(channel, gather::agent::kTickChannel) == 0) s.ticking = true;
+  if (std::strcmp(channel, gather::agent::kRequestChannel) == 0) s.requested = true;
   // The clock exchange's channels are checked for key and MAC only, by
   // design (docs/security.md): a replay there is harmless and not counted.
   if (std::strcmp(channel, gather::agent::kTimeChannel) == 0 ||
@@ -167,8 +174,9 @@ gather_lcm::header_t header(int16_t sender, int16_t dest, double t) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string url = "udpm://239.255.76.67:7667?ttl=0", reply_url, out, captured_file;
+  std::string url = "udpm://239.255.76.67:7667?ttl=0", reply_url, out, captured_file, claim;
   int each = 40, team = 20;
+  double at_x = 0.0, at_y = 0.0;
   double wait_s = 60.0;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
@@ -186,6 +194,10 @@ int main(int argc, char** argv) {
       team = std::atoi(v.c_str());
     else if (a == "--wait")
       wait_s = std::atof(v.c_str());
+    else if (a == "--claim")
+      claim = v;
+    else if (a == "--at")  // x,y [m]: where it says it is (the range gate takes the sender's word)
+      std::sscanf(v.c_str(), "%lf,%lf", &at_x, &at_y);
     else {
       std::fprintf(stderr, "gather_attacker: unknown flag %s\n", a.c_str());
       return 2;
@@ -194,7 +206,17 @@ int main(int argc, char** argv) {
   if (out.empty() || each < 1 || team < 2) {
     std::fprintf(stderr,
                  "usage: gather_attacker --out FILE [--lcm-url URL] [--reply-url URL] [--each N] [--team N] [--wait S] "
-                 "[--captured AGENT_KEY_FILE]\n");
+                 "[--captured AGENT_KEY_FILE [--claim G1,G2,... [--at X,Y]]]\n");
+    return 2;
+  }
+  std::vector<int32_t> claims;
+  for (std::size_t from = 0; !claim.empty() && from <= claim.size();) {
+    const std::size_t comma = std::min(claim.find(',', from), claim.size());
+    claims.push_back(std::atoi(claim.substr(from, comma - from).c_str()));
+    from = comma + 1;
+  }
+  if (!claims.empty() && captured_file.empty()) {
+    std::fprintf(stderr, "gather_attacker: --claim needs --captured\n");
     return 2;
   }
   if (reply_url.empty()) reply_url = gather::agent::LcmFleet::reply_url_for(url);
@@ -225,8 +247,38 @@ int main(int argc, char** argv) {
   lcm_subscription_set_queue_capacity(lcm_subscribe(radio, ".*", on_radio, &s), 100000);
   lcm_subscription_set_queue_capacity(lcm_subscribe(replies, ".*", on_reply, &s), 100000);
 
-  // Listen until the clock ticks and some traffic (acks among it) is kept.
   const auto t0 = std::chrono::steady_clock::now();
+  if (!claims.empty()) {  // claims of goals it never measured, as itself, once the OC has requested
+    while (!s.requested) {
+      if (std::chrono::steady_clock::now() - t0 > std::chrono::duration<double>(wait_s)) {
+        std::fprintf(stderr, "gather_attacker: no request of the OC heard within %.0f s\n", wait_s);
+        return 1;
+      }
+      lcm_handle_timeout(radio, 5);
+      lcm_handle_timeout(replies, 0);
+    }
+    s.capturing = false;
+    FleetAuth itself(*stolen, gather::agent::PerLinkTags{}, {gather::agent::kDataChannel}, gather::agent::kMaxTeam + 1);
+    for (std::size_t i = 0; i < claims.size(); ++i) {
+      gather_lcm::data_t d{};
+      d.h = header(stolen->agent, gather::agent::kOc, 1.0), d.count = 1;
+      d.h.seq = static_cast<int32_t>(2000000 + i), d.h.x = at_x, d.h.y = at_y;
+      d.items[0].key = claims[i], d.items[0].kind = 1, d.items[0].by = stolen->agent, d.items[0].at = 1.0;
+      d.items[0].picked_up_by = -1, d.items[0].picked_up_at = -1.0, d.items[0].deadline = 1e9;
+      const std::vector<uint8_t> bytes =
+          wrap(itself, gather::agent::kDataChannel, stolen->agent, encoded(d), s.key_id, {gather::agent::kOc});
+      lcm_publish(radio, gather::agent::kDataChannel, bytes.data(), static_cast<unsigned>(bytes.size()));
+      ::usleep(20000);
+    }
+    std::ofstream f(out);
+    f << "# gather_attacker: claims of goals it never measured, as robot " << stolen->agent << "\n";
+    f << "claims: " << claims.size() << "\n";
+    std::printf("gather_attacker: %zu claims sent as robot %d -> %s\n", claims.size(), stolen->agent, out.c_str());
+    lcm_destroy(radio);
+    lcm_destroy(replies);
+    return f ? 0 : 1;
+  }
+  // Listen until the clock ticks and some traffic (acks among it) is kept.
   // Checked a few times a second: enough captures a replay of which every
   // receiver refuses, delivery acks among them.
   std::size_t old_count = 0;

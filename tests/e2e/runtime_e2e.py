@@ -129,6 +129,47 @@ def attack(a, tmp, key, plan, undisturbed):
     check("--lcm without a key: status 2, one line", rc == 2 and err.count("\n") == 1 and "--key-file" in err, err)
 
 
+def claims(a, tmp, key, plan):
+    """A captured robot (a worker of a collector, its own keys) hands in,
+    as itself and well signed, measurements of goals of other workers'
+    segments that it never measured, during a wall-clock mission over LCM:
+    the OC refuses each (an invalid item) and records none of them as
+    measured by it. (On the lockstep clock any extra well-signed message
+    stops the run: the OC counts each tick's messages.)"""
+    import yaml
+    text = open(os.path.join(plan, "plan.yaml")).read()
+    thief = int(re.search(r"\{id: (\d+), role: worker, segment: \d+, collector: \d+\}", text).group(1))
+    stolen = os.path.join(tmp, "claims_thief.key")
+    run([a.gather, "keygen", stolen, "--agent", str(thief), "--plan", plan, "--master", key])
+    ref = os.path.join(tmp, "claims_ref")
+    run([a.gather, "run", plan, "--cycles", "1", "--out", ref])
+    goals = [r["goal"] for r in csv_rows(os.path.join(ref, "goals.csv")) if r["worker"] != str(thief)][:12]
+    ox, oy = yaml.safe_load(open(os.path.join(REPO, "maps", "office.scenario.yaml")))["oc"]
+    report, out = os.path.join(tmp, "claims.yaml"), os.path.join(tmp, "claimed")
+    attacker = subprocess.Popen([a.attacker, "--out", report, "--captured", stolen, "--claim", ",".join(goals),
+                                 "--at", "%g,%g" % (ox, oy), "--wait", "60"],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    rc, stdout, err = run([a.gather, "run", plan, "--cycles", "1", "--out", out, "--lcm", "--key-file", key,
+                           "--clock", "wall", "--rate", "10"], timeout=180)
+    try:
+        a_out, a_err = attacker.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        attacker.kill()
+        a_out, a_err = attacker.communicate()
+    if not check("claims: the wall-clock mission completes (status %d)" % rc, rc == 0, err[-1500:]):
+        return
+    if not check("claims: robot %d claimed %d goals of other workers (status %d)" % (thief, len(goals),
+                                                                                  attacker.returncode),
+                 attacker.returncode == 0 and len(goals) >= 10, a_out + a_err):
+        return
+    m = re.search(r"the OC refused (\d+) invalid items", stdout)
+    refused = int(m.group(1)) if m else 0
+    taken = [r["goal"] for r in csv_rows(os.path.join(out, "goals.csv"))
+             if r["goal"] in goals and r["measured_by"] == str(thief)]
+    check("claims: the OC refused all %d (%d invalid items) and recorded none as measured by robot %d"
+          % (len(goals), refused, thief), refused == len(goals) and not taken, "taken: %s\n%s" % (taken, stdout))
+
+
 def reordering(a, tmp, key, plan):
     """The OC on one LCM URL, the agents on another, joined by a link that
     holds each message up to 3 ms and lets them go in a random order
@@ -382,6 +423,7 @@ def main():
     if "pap:4" in plans:
         attack(a, tmp, key, plans["pap:4"], os.path.join(tmp, "lcm_pap4"))
         reordering(a, tmp, key, plans["pap:4"])
+        claims(a, tmp, key, plans["pap:4"])
 
     failed = results.count(False)
     print("%d passed, %d failed" % (len(results) - failed, failed))

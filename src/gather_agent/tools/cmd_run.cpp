@@ -430,6 +430,11 @@ int run(int argc, char** argv) {
     messages += r.messages, ticks += r.ticks;
     for (const agent::Revocation& v : r.revoked)
       std::printf("seed %u: %s\n", team.params.seed, agent::describe(v).c_str());
+    if (r.invalid_items > 0)
+      std::printf(
+          "seed %u: the OC refused %lld invalid items (acked, not taken: items naming no goal of the mission, or "
+          "that their sender may not hand in, such as a claim of a goal no plan gave it)\n",
+          team.params.seed, static_cast<long long>(r.invalid_items));
     if (!opt.kills.empty() || !opt.restarts.empty() || !r.declared_dead.empty()) {
       std::string dead;
       for (const auto& [a, at] : r.declared_dead)
