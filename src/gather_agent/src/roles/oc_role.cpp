@@ -144,16 +144,11 @@ bool OcRole::could_serve(AgentId w, GoalId goal) {
   };
   if (team_.assignment(w).collector) return false;
   if (serves(team_.plan)) return true;
-  const plan::AgentAssignment& a = team_.assignment(w);
-  std::vector<int16_t> set;
-  for (std::size_t k = 0; k <= dead_.size(); ++k) {
-    set.assign(dead_.begin(), dead_.begin() + static_cast<std::ptrdiff_t>(k));
-    if (k > 0 && serves(team_.repaired(set.data(), set.size()).plan)) return true;
-    if (a.delivers_to.valid()) {
-      set.push_back(static_cast<int16_t>(team_.collector_agent(a.delivers_to).value()));
-      if (serves(team_.repaired(set.data(), set.size()).plan)) return true;
-    }
-  }
+  // (A worker that suspects its collector adds it to the set: a dead
+  // collector changes no segment, so the prefixes cover it. Each prefix's
+  // repair was made at its declaration: none is computed here.)
+  for (std::size_t k = 1; k <= dead_.size(); ++k)
+    if (serves(team_.repaired(dead_.data(), k).plan)) return true;
   return false;
 }
 

@@ -50,6 +50,7 @@ LockstepAgent::LockstepAgent(LoadedPlan& plan, int id, LcmFleet& fleet, LcmRobot
   inbox_.reserve(1024);
   reply_.keys.reserve(4096);
   reply_.measured_goals.reserve(kReplyMaxPoints);
+  unreported_.reserve(kReplyMaxPoints);
   reply_.path.reserve(kReplyMaxPoints);
 }
 
@@ -245,11 +246,14 @@ void LockstepAgent::step(const Tick& tick) {
   if (tick.report && c)
     for (std::size_t i = 0; i < c->size(); ++i)
       if (c->item(i).kind == ItemKind::kMeasured) reply_.keys.push_back(c->item(i).key);
-  // For the OC's views: what it measured, and its path when that changed.
-  reply_.measured_goals.clear();
+  // For the OC's views and its conservation check: what it measured (more
+  // than a reply holds waits for the next one), and its path when that changed.
   if (const std::vector<GoalId>* m = role.measured_in_step())
-    for (std::size_t i = 0; i < std::min(m->size(), kReplyMaxPoints); ++i)
-      reply_.measured_goals.push_back((*m)[i].value());
+    for (GoalId g : *m) unreported_.push_back(g.value());
+  reply_.measured_goals.clear();
+  const std::size_t now = std::min(unreported_.size(), kReplyMaxPoints);
+  reply_.measured_goals.assign(unreported_.begin(), unreported_.begin() + static_cast<std::ptrdiff_t>(now));
+  unreported_.erase(unreported_.begin(), unreported_.begin() + static_cast<std::ptrdiff_t>(now));
   reply_.path.clear();
   if (unit_.motion->path_revision() != reply_.path_revision) {
     reply_.path_revision = unit_.motion->path_revision();

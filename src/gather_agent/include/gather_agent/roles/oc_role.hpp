@@ -90,9 +90,9 @@ class OcRole : public Role {
   bool of_revoked(const DataItem& item) const;
   // Whether worker `w` could have been given `goal`'s cell: by the plan, or
   // by a repair after some of the OC's declarations so far (in their order:
-  // a worker may lag behind them), with or without its collector (a worker
-  // that suspects its collector repairs its plan alone). A measurement by
-  // any other worker is a claim no plan gave it: refused.
+  // a worker may lag behind them; one that suspects its collector repairs
+  // its plan alone, which changes no segment). A measurement by any other
+  // worker is a claim no plan gave it: refused.
   bool could_serve(AgentId w, GoalId goal);
   bool discard(const DataItem& item);
 

@@ -106,6 +106,7 @@ class LockstepAgent {
   std::vector<Message> current_;  // the messages of the tick being processed
   std::vector<const Message*> inbox_;
   Reply reply_;
+  std::vector<int32_t> unreported_;  // goals measured, not yet in a reply (at most kReplyMaxPoints a reply)
   std::string journal_dir_;
   bool rejoin_ = false;
   std::unique_ptr<JournalKeeper> journal_;
