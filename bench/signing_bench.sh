@@ -6,7 +6,7 @@
 #     for 1 to 301 receivers, and Ed25519 for comparison;
 #  2. the multi-process fleet on maps/office (pap:4 with busy collectors,
 #     3 cycles, 20 gather_agent processes over LCM), signed (--key-file)
-#     against unsigned (--insecure): farm-bench, 5 pairs run in turn, median
+#     against unsigned (--insecure): farm-bench, 9 pairs run in turn, median
 #     wall time and the median of the pairs' ratios.
 #
 #   bench/signing_bench.sh GATHER   (make bench-signing; sends LCM multicast:
@@ -35,6 +35,6 @@ trap 'rm -rf "$tmp"' EXIT
 "$G" plan "$here/maps/office.scenario.yaml" --config pap:4 --association off --out "$tmp/plan" > /dev/null
 "$G" keygen "$tmp/fleet.key" > /dev/null
 echo "== maps/office pap:4, 3 cycles, 20 agent processes over LCM: A signed, B unsigned (--insecure)"
-farm-bench -n 5 --timeout 1200 --vs "$G run $tmp/plan --cycles 3 --out $tmp/unsigned --lcm --insecure" -- \
+farm-bench -n 9 --timeout 1800 --vs "$G run $tmp/plan --cycles 3 --out $tmp/unsigned --lcm --insecure" -- \
   "$G" run "$tmp/plan" --cycles 3 --out "$tmp/signed" --lcm --key-file "$tmp/fleet.key"
 cmp "$tmp/signed/goals.csv" "$tmp/unsigned/goals.csv" && echo "goals.csv: signed and unsigned runs identical"
