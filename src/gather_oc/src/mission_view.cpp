@@ -116,7 +116,7 @@ visualization_msgs::MarkerArray MissionView::team_markers(const std::vector<agen
     id.color = style_.label;
     id.text = collector ? "C" + std::to_string(as.delivers_to.value()) + " (" + std::to_string(r.agent) + ")"
                         : std::to_string(r.agent);
-    if (dead) id.text += " dead";
+    if (dead) id.text += ledger->revoked_at(agent) >= 0 ? " revoked" : " dead";
     out.markers.push_back(id);
     if (!robots_) continue;
     // The robot itself, to scale: its footprint and a line along its heading.
