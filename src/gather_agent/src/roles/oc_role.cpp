@@ -130,8 +130,8 @@ void OcRole::before_control(double now, Outbox& out) {
     }
     revoked_at_[a] = now;
     // Declared dead before (it fell silent): its declaration is revoked now.
-    for (std::size_t i = 0; i < dead_.size(); ++i)
-      if (dead_[i] == a.value()) revoked_ |= 1u << i;
+    const auto i = std::find(dead_.begin(), dead_.end(), a.value()) - dead_.begin();
+    revoked_ |= 1u << i;
     if (issued_ > 0) issue(issued_ - 1, kBroadcast, now, out);
   }
 }

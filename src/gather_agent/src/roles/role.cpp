@@ -222,11 +222,11 @@ bool Role::learn_dead(const RequestPart& part) {
 
 uint64_t Role::revoked_bits() const { return static_cast<uint64_t>(__builtin_popcount(revoked_)); }
 
-bool Role::revoked(int16_t agent) const {
-  if (revoked_ == 0) return false;
-  for (std::size_t i = 0; i < dead_.size(); ++i)
-    if (dead_[i] == agent) return (revoked_ >> i) & 1u;
-  return false;
+int Role::revoked_index(int16_t agent) const {
+  if (revoked_ != 0)
+    for (std::size_t i = 0; i < dead_.size(); ++i)
+      if (dead_[i] == agent) return (revoked_ >> i) & 1u ? static_cast<int>(i) : -1;
+  return -1;
 }
 
 int64_t Role::refused_revoked() const {
@@ -240,10 +240,11 @@ void Role::control(double now, const Message* const* inbox, std::size_t n, Outbo
   if (revoked_ == 0) return step(now, inbox, n, out);
   admitted_.clear();
   for (std::size_t i = 0; i < n; ++i) {
-    bool refused = false;
-    for (std::size_t d = 0; d < dead_.size() && !refused; ++d)
-      if (dead_[d] == inbox[i]->h.sender && ((revoked_ >> d) & 1u)) refused = true, ++refused_[d];
-    if (!refused) admitted_.push_back(inbox[i]);
+    const int d = revoked_index(inbox[i]->h.sender);
+    if (d >= 0)
+      ++refused_[static_cast<std::size_t>(d)];
+    else
+      admitted_.push_back(inbox[i]);
   }
   step(now, admitted_.data(), admitted_.size(), out);
 }

@@ -141,12 +141,10 @@ void write_mission_yaml(const std::string& path, const LoadedPlan& plan, const M
     it->second.second = at;
   }
   for (const auto& [a, t] : faults) {
-    double revoked_at = -1.0;
-    for (const Revocation& r : run.revoked)
-      if (r.agent == a) revoked_at = r.at;
+    const Revocation* revoked = revocation_of(run.revoked, a);
     y << YAML::Flow << YAML::BeginMap << YAML::Key << "agent" << YAML::Value << a << YAML::Key << "killed_at"
       << YAML::Value << t.first << YAML::Key << "declared_dead_at" << YAML::Value << t.second << YAML::Key
-      << "revoked_at" << YAML::Value << revoked_at << YAML::EndMap;
+      << "revoked_at" << YAML::Value << (revoked ? revoked->at : -1.0) << YAML::EndMap;
   }
   y << YAML::EndSeq;
   y << YAML::Key << "agents" << YAML::Value << YAML::BeginSeq;
@@ -207,9 +205,8 @@ void append_fault_rows(std::string& out, const plan::PlanFile& plan, unsigned se
     const plan::AgentAssignment& x = plan.agents[AgentId(a)];
     bool restarted = false;
     for (const Kill& k : run.restarts) restarted = restarted || k.agent == a;
-    Revocation revoked{a, -1.0, 0, 0};
-    for (const Revocation& r : run.revoked)
-      if (r.agent == a) revoked = r;
+    const Revocation* found = revocation_of(run.revoked, a);
+    const Revocation revoked = found ? *found : Revocation{a, -1.0, 0, 0};
     std::snprintf(line, sizeof line, "%s,%d,%u,%d,%s,%.3f,%.3f,%d,%lld,%.3f,%lld,%lld\n", plan.method.c_str(),
                   plan.collectors, seed, a,
                   x.collector              ? "collector"

@@ -58,6 +58,12 @@ std::vector<Revocation> revocations(const OcRole& oc) {
   return out;
 }
 
+const Revocation* revocation_of(const std::vector<Revocation>& revoked, int agent) {
+  for (const Revocation& r : revoked)
+    if (r.agent == agent) return &r;
+  return nullptr;
+}
+
 std::string describe(const Revocation& r) {
   return "agent " + std::to_string(r.agent) + "'s keys revoked at " + std::to_string(static_cast<int64_t>(r.at)) +
          " s: the OC dropped " + std::to_string(r.oc_refused) + " of its messages and refused " +
@@ -96,16 +102,15 @@ void check_conservation(const OcRole& oc, const std::vector<uint8_t>& measured, 
   for (const mission::GoalRecord& g : oc.goals()) {
     const uint8_t times = g.id.index() < measured.size() ? measured[g.id.index()] : 0;
     // Each goal measured and stored is delivered, carried, or refused as a
-    // revoked agent's (OcRole::of_revoked): one of them, for a goal measured
-    // once. A goal two workers measured (a repair's new owner and the one
-    // it replaced, still at work until it learned of the repair) needs one
-    // of them only: the other copy may be held where it can go no more.
-    const int copies = delivered_goal(g.id) + (!delivered_goal(g.id) && carried_goal(g.id)) +
-                       (!delivered_goal(g.id) && !carried_goal(g.id) && oc.discarded(g.id));
-    if (times == 1 && copies != 1) fail(g.id, "was measured once, but is neither delivered nor carried (data lost)");
-    if (times > 1 && copies == 0)
-      fail(g.id, "was measured " + std::to_string(times) + " times, but is neither delivered nor carried (data lost)");
-    if (times == 0 && delivered_goal(g.id)) fail(g.id, "is delivered, but nobody measured it");
+    // revoked agent's (OcRole::of_revoked). A goal two workers measured (a
+    // repair's new owner and the one it replaced, still at work until it
+    // learned of the repair) needs one copy only: the other may be held
+    // where it can go no more.
+    const bool delivered_now = delivered_goal(g.id);
+    if (times > 0 && !delivered_now && !carried_goal(g.id) && !oc.discarded(g.id))
+      fail(g.id,
+           "was measured " + std::to_string(times) + " time(s), but is neither delivered nor carried (data lost)");
+    if (times == 0 && delivered_now) fail(g.id, "is delivered, but nobody measured it");
     if (!oc.resolved(g.id)) continue;
     delivered += g.state == mission::GoalState::kDelivered;
     expired += g.state == mission::GoalState::kExpired || g.state == mission::GoalState::kUnreachable;

@@ -230,7 +230,9 @@ class Role {
   const std::vector<int16_t>& dead() const { return dead_; }
   // Of those, the ones whose keys the OC revoked (bit i: dead()[i]).
   uint32_t revoked_mask() const { return revoked_; }
-  bool revoked(int16_t agent) const;
+  bool revoked(int16_t agent) const { return revoked_index(agent) >= 0; }
+  // Its declaration's index in dead() when its keys were revoked, else -1.
+  int revoked_index(int16_t agent) const;
   // Messages control() dropped from dead()[i] after it learned of its
   // revocation, and from all of them.
   int64_t refused_revoked(std::size_t i) const { return i < refused_.size() ? refused_[i] : 0; }

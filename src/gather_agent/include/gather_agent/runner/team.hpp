@@ -57,6 +57,8 @@ struct Revocation {
   int64_t oc_discarded = 0;
 };
 std::vector<Revocation> revocations(const OcRole& oc);
+// `agent`'s among `revoked` (nullptr: it was not revoked).
+const Revocation* revocation_of(const std::vector<Revocation>& revoked, int agent);
 // "agent K's keys revoked at T s: ..." (gather run's and the OC node's line).
 std::string describe(const Revocation& r);
 
