@@ -177,8 +177,9 @@ def reordering(a, tmp, key, plan):
     agents twice: the mission is byte for byte the one in one process, every
     message that came after a newer one of its sender was taken (the reorder
     window: nothing counted as replayed but the duplicates), and each agent
-    refused the duplicates that carried a tag for it (all but those that
-    came after its last report: its counters travel in its tick replies)."""
+    refused the duplicates that carried a tag for it (at least 80% of them:
+    those that came after its last report, the final ticks' messages, are
+    not in its counters, which travel in its tick replies)."""
     side_a, side_b = "udpm://239.255.76.67:7667?ttl=0", "udpm://239.255.76.68:7671?ttl=0"
     report = os.path.join(tmp, "reorder_link.yaml")
     env = dict(os.environ, PYTHONPATH=os.path.abspath(a.pylcm))
@@ -223,7 +224,8 @@ def reordering(a, tmp, key, plan):
           "refused nothing, the agents refused the %d duplicates meant for them (%d after their last report)" %
           (out_of_order, counted, counted["to_b"]["duplicated"], sum(late.values())),
           out_of_order > 10 and counted["to_b"]["duplicated"] > 0 and others == 0 and
-          all(0 <= n <= 2 for n in late.values()) and sum(replayed.values()) > 0,
+          all(0 <= replayed[k] <= want[k] and replayed[k] >= 0.8 * want[k] for k in want) and
+          sum(replayed.values()) > 0,
           "replayed by agent %s, the link's duplicates per receiver %s, other rejections %d" % (replayed, want, others))
 
 
