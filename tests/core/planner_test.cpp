@@ -115,9 +115,6 @@ TEST_F(PlannerTest, OptionsOutsideTheirRangeNameTheField) {
     EXPECT_NE(std::string(e.what()).find("pair_sources = 0 must be in [1, 64]"), std::string::npos) << e.what();
   }
   opt = plan::PlannerOptions{};
-  opt.home_box_margin_m = -1.0;
-  EXPECT_THROW(plan::sweep(*ctx_, opt), Error);
-  opt = plan::PlannerOptions{};
   opt.tsp_constant = std::nan("");
   EXPECT_THROW(plan::check_options(opt), Error);
   EXPECT_NO_THROW(plan::check_options(plan::PlannerOptions{}));

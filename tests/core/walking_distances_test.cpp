@@ -81,6 +81,76 @@ TEST(WalkingDistancesTest, CellsRankByTheirWalkFromTheHome) {
   }
 }
 
+// 6 m x 4 m with a wall at x = 3 m from the north edge down to y = 0.5 m:
+// the way from the west half to the east half goes round its south end.
+// The OC in the west half's north-west corner.
+Scenario walled() {
+  Scenario s = testing_support::open_strip("walled", 60, 40, Point2{0.25, 3.75});
+  std::vector<int8_t> v(60 * 40, 0);
+  std::vector<uint8_t> f(60 * 40, 1);
+  for (int r = 5; r < 40; ++r)
+    v[static_cast<std::size_t>(r) * 60 + 30] = 100, f[static_cast<std::size_t>(r) * 60 + 30] = 0;
+  s.grid = OccupancyGrid(60, 40, 0.1, Point2{0, 0}, v, f);
+  return s;
+}
+
+TEST(HomeWalksTest, KeptOrMarchedAloneAWalkIsTheWholeMapsMarch) {
+  const Scenario scenario = walled();
+  const PlanContext ctx{scenario};
+  // A segment in the east half's north-east, and a home in the west half's north.
+  std::vector<Cell> cells;
+  for (int r = 34; r < 40; ++r)
+    for (int c = 45; c < 60; ++c) cells.push_back(Cell{r, c});
+  const Cell home{39, 20};
+  fmm::FastMarching whole = ctx.coverage_field;
+  fmm::SolveOptions so;
+  so.labels = false;
+  whole.solve({fmm::Source::at_cell(home)}, so);
+  std::vector<double> expected;
+  for (Cell c : cells) expected.push_back(whole.time(c));
+  ASSERT_GT(expected.front(), 2 * 3.4) << "the walk goes round the wall's south end";
+
+  fmm::FastMarching walk = ctx.coverage_field;
+  HomeWalks kept(std::size_t{1} << 30), alone(0);
+  std::vector<double> first, again, marched;
+  kept.distances(home, cells, walk, first);
+  kept.distances(home, cells, walk, again);  // from the kept field
+  alone.distances(home, cells, walk, marched);
+  EXPECT_EQ(first, expected);
+  EXPECT_EQ(again, expected);
+  EXPECT_EQ(marched, expected);
+  EXPECT_EQ(kept.kept(), 1u);
+  EXPECT_EQ(kept.marched(), 1u);
+  EXPECT_EQ(alone.kept(), 0u);
+  EXPECT_EQ(alone.marched(), 1u);
+}
+
+TEST(HomeWalksTest, ASegmentsHomeWalkIsMarchedOnTheWholeMap) {
+  const Scenario scenario = walled();
+  const PlanContext ctx{scenario};
+  // Segment 1: the west half; segment 2: the east half.
+  LabelImage labels(scenario.grid.frame());
+  std::vector<Cell> east;
+  for (int r = 0; r < 40; ++r)
+    for (int c = 0; c < 60; ++c)
+      if (scenario.grid.is_free(Cell{r, c})) {
+        labels.at(Cell{r, c}) = c < 30 ? 1 : 2;
+        if (c >= 30) east.push_back(Cell{r, c});
+      }
+  WorkerGraph graph = build_worker_graph(scenario.grid, labels, 2, ctx.coverage, ctx.coverage_distance, &ctx.roomy);
+  segment_distances(ctx, labels, graph, PlannerOptions{});
+  const Cell home = ctx.oc_worker_home(east);
+  ASSERT_GE(home.row, 0);
+  fmm::FastMarching whole = ctx.coverage_field;
+  fmm::SolveOptions so;
+  so.labels = false;
+  whole.solve({fmm::Source::at_cell(home)}, so);
+  double sum = 0.0;
+  for (Cell c : east) sum += whole.time(c);
+  EXPECT_NEAR(graph.segment(SegmentId(2)).mean_home_distance, sum / static_cast<double>(east.size()), 1e-9);
+  EXPECT_GE(ctx.home_walks->kept(), 1u);
+}
+
 }  // namespace
 }  // namespace plan
 }  // namespace gather

@@ -19,6 +19,7 @@
 #include "gather_core/plan/plan_export.hpp"
 #include "gather_core/plan/plan_file.hpp"
 #include "gather_core/plan/planner.hpp"
+#include "gather_core/plan/walking_distances.hpp"
 #include "gather_core/scenario/scenario.hpp"
 
 namespace gather {
@@ -115,9 +116,11 @@ int plan(int argc, char** argv) {
   }
   std::printf(
       "stages [ms, summed over configurations]: context %.0f, partition %.0f, graph %.0f, groups %.0f, "
-      "routes %.0f, estimates %.0f, association %.0f; sweep wall %.0f ms on %d threads; total %.0f ms\n",
+      "routes %.0f, estimates %.0f, association %.0f; sweep wall %.0f ms on %d threads; homes' walks %zu "
+      "(%zu kept); total %.0f ms\n",
       ctx_ms, sum.partition_ms, sum.graph_ms, sum.groups_ms, sum.routes_ms, sum.estimate_ms, sum.associate_ms,
-      sweep.wall_ms, sweep.threads, std::chrono::duration<double, std::milli>(Clock::now() - t_start).count());
+      sweep.wall_ms, sweep.threads, ctx.home_walks->marched(), ctx.home_walks->kept(),
+      std::chrono::duration<double, std::milli>(Clock::now() - t_start).count());
   std::printf(
       "best by U on the %s refresh: %s with %d collectors and %d workers (U = %.3f, est. latency %.1f s, "
       "interval %.1f s, %.2f goals per cycle of %.1f s) -> %s/plan.yaml\n",

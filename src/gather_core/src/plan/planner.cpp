@@ -39,7 +39,10 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 
 double plan_memory_bytes(std::size_t cells, int agents, int threads, std::size_t configs) {
   const double n = static_cast<double>(cells), a = static_cast<double>(agents);
-  return 90e6 + n * (40.0 + 4.0 * static_cast<double>(configs)) + threads * (50.0 * n + 480.0 * a * a);
+  // The home walks kept (HomeWalks): a field of 4 B a cell per home, at
+  // most kHomeWalkBytes, and homes are fewer than the team's segments.
+  const double home_walks = std::min(static_cast<double>(kHomeWalkBytes), 4.0 * n * a);
+  return 90e6 + home_walks + n * (40.0 + 4.0 * static_cast<double>(configs)) + threads * (50.0 * n + 480.0 * a * a);
 }
 
 int threads_within_budget(const Scenario& s, int threads, std::size_t configs) {
@@ -75,6 +78,7 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
   coverage_distance = coverage_field.times();
   // The simulator's own table of distances from the OC's cell.
   oc_walk = mission::SharedDistances(*this).from_oc;
+  home_walks = std::make_shared<HomeWalks>(kHomeWalkBytes);
   for (std::size_t i = 0; i < coverage_distance.size(); ++i) {
     if (coverage[i]) coverage_distance[i] = 0.0;
     if (!reachable[i])
@@ -126,7 +130,6 @@ void check_options(const PlannerOptions& opt) {
   require_in_range(opt.smoothing_passes, 0, 20, where, "smoothing_passes");
   require_in_range(opt.association_trials, 1, 64, where, "association_trials");
   require_in_range(opt.pair_sources, 1, 64, where, "pair_sources");
-  require_in_range(opt.home_box_margin_m, 0, 1000, where, "home_box_margin_m", " m");
   require_in_range(opt.pass_radius_m, 0.1, 10, where, "pass_radius_m", " m");
   require_in_range(opt.pass_step_m, 0.05, 5, where, "pass_step_m", " m");
   require_in_range(opt.pass_probe_m, 0.01, 1, where, "pass_probe_m", " m");

@@ -69,11 +69,60 @@ void sort_distances(std::vector<double>& d, std::vector<uint64_t>& keys, std::ve
 
 }  // namespace
 
+void HomeWalks::distances(Cell home, const std::vector<Cell>& cells, fmm::FastMarching& walk,
+                          std::vector<double>& out) {
+  out.resize(cells.size());
+  const uint64_t key = static_cast<uint64_t>(static_cast<uint32_t>(home.row)) << 32 | static_cast<uint32_t>(home.col);
+  const std::size_t bytes = (static_cast<std::size_t>(walk.height()) + 4) * walk.stride() * sizeof(float);
+  std::shared_ptr<const Times> field;
+  bool keep = false;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    auto it = fields_.find(key);
+    if (it != fields_.end())
+      field = it->second;
+    else if (reserved_ + bytes <= budget_)
+      keep = true, reserved_ += bytes, ++marched_;
+    else
+      ++marched_;
+  }
+  fmm::SolveOptions so;
+  so.labels = false;
+  if (!field && keep) {
+    walk.solve({fmm::Source::at_cell(home)}, so);
+    auto times = std::make_shared<Times>(walk.padded_times(), walk.padded_times() + bytes / sizeof(float));
+    const std::lock_guard<std::mutex> lock(mutex_);
+    auto [it, added] = fields_.emplace(key, std::move(times));
+    if (!added) reserved_ -= bytes, --marched_;  // another thread kept it meanwhile: the same field
+    field = it->second;
+  }
+  if (field) {
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const float t = walk.contains(cells[i]) ? (*field)[walk.padded(cells[i])] : kInf;
+      out[i] = t < kInf ? static_cast<double>(t) : kInf;
+    }
+    return;
+  }
+  so.targets = cells;
+  walk.solve({fmm::Source::at_cell(home)}, so);
+  for (std::size_t i = 0; i < cells.size(); ++i) out[i] = walk.time(cells[i]);
+}
+
+std::size_t HomeWalks::kept() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return fields_.size();
+}
+
+std::size_t HomeWalks::marched() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return marched_;
+}
+
 // Each segment's walking distances, marched at unit speed on the reachable
 // space (as the workers walk), each march stopped once the segment's cells
 // are reached:
 //  - mean_home_distance and home_quantiles: from the home of its worker as
-//    a worker of the OC;
+//    a worker of the OC, on the whole map (ctx.home_walks);
 //  - mean_oc_distance and oc_quantiles: from the OC's cell (ctx.oc_walk,
 //    no march), where that worker starts the mission;
 //  - mean_pair_distance: between two of its cells, the mean over the cells
@@ -109,22 +158,22 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
   fmm::FastMarching walk = ctx.coverage_field;  // unit speed on the reachable space
   fmm::SolveOptions so;
   so.labels = false;
+  // Adds the reached distances of `out` to `sum`, counted in `n`.
+  auto add = [](const std::vector<double>& out, double& sum, std::size_t& n) {
+    for (double t : out)
+      if (t < kInf) sum += t, ++n;
+  };
   // Distances [m] from `from` to the segment's cells `to` into `out` (+inf
-  // where not reached): in the segment's window, else (when `box_with` is on
-  // the map) in a box around the segment and that cell, else on the whole
-  // map. Adds the reached ones to `sum`, counted in `n`.
-  auto distances = [&](Cell from, const std::vector<Cell>& to, mission::SegmentWindow& window, Cell box_with,
-                       std::vector<double>& out, double& sum, std::size_t& n) {
+  // where not reached): in the segment's window, else on the whole map.
+  auto distances = [&](Cell from, const std::vector<Cell>& to, mission::SegmentWindow& window, std::vector<double>& out,
+                       double& sum, std::size_t& n) {
     out.resize(to.size());
-    if (!window.march(from, to, out.data()) &&
-        !(grid.contains(box_with) &&
-          mission::SegmentWindow(grid, to, box_with, opt.home_box_margin_m).march(from, to, out.data()))) {
+    if (!window.march(from, to, out.data())) {
       so.targets = to;
       walk.solve({fmm::Source::at_cell(from)}, so);
       for (std::size_t i = 0; i < to.size(); ++i) out[i] = walk.time(to[i]);
     }
-    for (double t : out)
-      if (t < kInf) sum += t, ++n;
+    add(out, sum, n);
   };
   for (SegmentId k : segment_ids(cells.count())) {
     WorkerSegment& seg = graph.segments[k];
@@ -134,10 +183,8 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     double sum = 0.0;
     std::size_t n = 0;
     const Cell home = ctx.oc_worker_home(cells[k]);
-    // From the home: in the segment's window when the home lies in it (a
-    // segment that touches the coverage), else in a box around both.
-    mission::SegmentWindow window(grid, cells[k], opt.protocol.window_margin_m);
-    if (home.row >= 0) distances(home, cells[k], window, home, walk_time, sum, n);
+    // From the home, on the whole map as its worker walks from there.
+    if (home.row >= 0) ctx.home_walks->distances(home, cells[k], walk, walk_time), add(walk_time, sum, n);
     if (n > 0) seg.mean_home_distance = sum / static_cast<double>(n);
     // Ascending by distance, ties by row-major order: keys (the distance's
     // float bits, which sort like distances >= 0) << 32 | index in cells[k].
@@ -172,10 +219,11 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     }
     // Between its cells, in its window as the worker walks between goals
     // (on the whole map when the window does not connect them).
+    mission::SegmentWindow window(grid, cells[k], opt.protocol.window_margin_m);
     sum = 0.0, n = 0;
     const std::size_t sources = std::min(pair_sources, cells[k].size());
     for (std::size_t j = 0; j < sources; ++j)
-      distances(cells[k][(2 * j + 1) * cells[k].size() / (2 * sources)], cells[k], window, Cell{-1, -1}, pair, sum, n);
+      distances(cells[k][(2 * j + 1) * cells[k].size() / (2 * sources)], cells[k], window, pair, sum, n);
     if (n > 0) seg.mean_pair_distance = sum / static_cast<double>(n);
   }
   return rank;

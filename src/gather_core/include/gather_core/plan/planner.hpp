@@ -8,6 +8,7 @@
 // time and the goals delivered per cycle. The sweep compares all
 // configurations by the utility U and picks the best. The estimate model is
 // documented in docs/planner.md.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,8 @@
 
 namespace gather {
 namespace plan {
+
+class HomeWalks;
 
 // The sweep's options. The fields from tsp_constant on change results; the
 // defaults are the ones the reports (docs/scenarios.md, docs/regimes.md) were
@@ -53,10 +56,6 @@ struct PlannerOptions {
   // Walking distances: a segment's mean pair distance is the mean of the
   // marches from this many of its cells, range [1, 64].
   int pair_sources = 3;
-  // Walking distances: the walk from an OC worker's home is marched in a box
-  // around its segment and its home grown by this margin [m] (the whole map
-  // when a cell is not reached in it), range [0, 1000].
-  double home_box_margin_m = 3.0;
   // Routes: a stretch of a collector's route within this distance [m] of a
   // served segment's cells is a pass, where its worker hands data over on
   // the move, range [0.1, 10].
@@ -156,6 +155,9 @@ struct PlanContext : mission::World {
   // cell, where every worker starts the mission; +inf unreachable
   // (mission::SharedDistances::from_oc, the simulator's table).
   Field oc_walk;
+  // The walks from the OC workers' homes, kept for the configurations
+  // (walking_distances.hpp; kHomeWalkBytes at most).
+  std::shared_ptr<HomeWalks> home_walks;
 };
 
 struct Estimates {

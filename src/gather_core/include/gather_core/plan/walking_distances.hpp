@@ -3,6 +3,9 @@
 // home, from the OC's cell, and between its cells (docs/planner.md,
 // "Estimate model").
 #include <cstdint>
+#include <memory>
+#include <mutex>
+#include <unordered_map>
 #include <vector>
 
 #include "gather_core/plan/planner.hpp"
@@ -10,12 +13,45 @@
 namespace gather {
 namespace plan {
 
+// The walks from the OC workers' homes, shared by a sweep's configurations.
+// A worker of the OC walks from its home to its goals on the whole map
+// (mission::WorkerPolicy::march), so its distances are marched there too.
+// Homes are cells of the coverage's border, and a few of them serve most
+// segments of every configuration: each home's field (every cell) is
+// marched once, on first need, and kept while the kept fields fit in
+// `budget_bytes`; past that a home's walk is marched for the asked cells
+// alone (stopped once they are reached). Both give the same distances, so
+// what is kept changes only the time, never a result. Thread-safe.
+class HomeWalks {
+ public:
+  explicit HomeWalks(std::size_t budget_bytes) : budget_(budget_bytes) {}
+  // Distances [m] from `home` to `cells` into `out` (+inf where not
+  // reached), on `walk`: unit speed on the reachable space (a copy of
+  // PlanContext::coverage_field, owned by the calling thread).
+  void distances(Cell home, const std::vector<Cell>& cells, fmm::FastMarching& walk, std::vector<double>& out);
+  // Fields kept, and marches run: fields kept plus walks marched alone.
+  std::size_t kept() const;
+  std::size_t marched() const;
+
+ private:
+  using Times = std::vector<float>;  // the padded times of a whole march
+  std::size_t budget_;
+  mutable std::mutex mutex_;
+  std::unordered_map<uint64_t, std::shared_ptr<const Times>> fields_;  // by home (row << 32 | col)
+  std::size_t reserved_ = 0;                                           // bytes of the fields kept or being marched
+  std::size_t marched_ = 0;
+};
+
+// The HomeWalks budget a PlanContext gets: 64 MiB (64 fields of a
+// 250,000-cell planning grid: planner.max_cells' default).
+constexpr std::size_t kHomeWalkBytes = std::size_t{64} << 20;
+
 // Fills graph.segments' mean_home_distance, home_quantiles,
 // mean_oc_distance, oc_quantiles and mean_pair_distance (see
 // walking_distances.cpp); returns each cell's rank in its segment by
 // walking distance from that home, in [0, 1) (-1 off the segments), in the
 // labels' frame.
-// `opt`: pair_sources and home_box_margin_m.
+// `opt`: pair_sources. The homes' walks come from ctx.home_walks.
 Field segment_distances(const PlanContext& ctx, const LabelImage& labels, WorkerGraph& graph,
                         const PlannerOptions& opt);
 
