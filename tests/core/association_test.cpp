@@ -164,5 +164,30 @@ TEST_F(AssociationTest, MovingAWholeGroupNeverLowersTheScore) {
     }
 }
 
+// The balance scores its trials only once one of them brings the route
+// within the period: with 16 robots on the office and a request every
+// 80 s, the grown groups make routes so long that balance steps shed
+// segments unscored,
+// and every route ends within the period; with a request every 600 s every
+// trial fits, and none is unscored.
+TEST_F(AssociationTest, TheBalanceScoresItsTrialsOnceOneOfThemFitsThePeriod) {
+  Scenario crowded = *scenario_;
+  crowded.team.agents = 16;
+  crowded.mission.period = 80.0;
+  const plan::PlanContext ctx(crowded);
+  crowded.mission.period = 600.0;
+  const plan::PlanContext slow_ctx(crowded);
+  int unscored = 0;
+  for (partition::Method m : partition::all_methods())
+    for (int nc = 1; nc <= 2; ++nc) {
+      const auto cfg = plan::plan_configuration(ctx, m, nc);
+      unscored += cfg.moves_unscored;
+      EXPECT_LE(cfg.moves_unscored, cfg.moved_to_oc);
+      for (const auto& r : cfg.routes) EXPECT_LE(r.period, ctx.cycle_period * (1 + 1e-9));
+      EXPECT_EQ(plan::plan_configuration(slow_ctx, m, nc).moves_unscored, 0) << partition::method_name(m) << " " << nc;
+    }
+  EXPECT_GT(unscored, 0) << "no balance step had every trial route over the period: nothing was tested";
+}
+
 }  // namespace
 }  // namespace gather

@@ -5,11 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "corridor.hpp"
 #include "gather_core/plan/planner.hpp"
 #include "gather_core/plan/worker_graph.hpp"
+#include "small_office.hpp"
 
 namespace gather {
 namespace plan {
@@ -86,6 +88,28 @@ TEST(RouteBuilderTest, ServingBothHalvesMeetsThemInVisitingOrder) {
       EXPECT_GE(p, 0.0);
       EXPECT_LE(p, r.length + 1e-9);
     }
+}
+
+// The landmarks' bound is admissible: on the small office (rooms off a
+// corridor, where the straight line is a poor bound) A* finds legs of the
+// same least cost with it as with the octile distance alone, and pops
+// fewer cells.
+TEST(RouteBuilderTest, TheLandmarksBoundFindsTheLeastCostPoppingFewerCells) {
+  const PlanContext& ctx = testing_support::SmallOffice::context();
+  const OccupancyGrid& grid = ctx.scenario.grid;
+  std::vector<Point2> free;
+  for (std::size_t i = 0; i < grid.size(); ++i)
+    if (ctx.route_speed[i] > 0) free.push_back(grid.cell_center(grid.cell(i)));
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<std::size_t> pick(0, free.size() - 1);
+  std::size_t with = 0, without = 0;
+  for (int n = 0; n < 60; ++n) {
+    const Point2 a = free[pick(rng)], b = free[pick(rng)];
+    const double exact = leg_search_cost(ctx, a, b, false, &without);
+    ASSERT_TRUE(std::isfinite(exact));
+    EXPECT_NEAR(leg_search_cost(ctx, a, b, true, &with), exact, 1e-3 * std::max(1.0, exact)) << n;
+  }
+  EXPECT_LT(2 * with, without) << "the landmarks popped " << with << " cells, the octile distance " << without;
 }
 
 }  // namespace

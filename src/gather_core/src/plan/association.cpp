@@ -69,11 +69,14 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, Co
   // the workers that changes (that collector's and k's), returns J;
   // undo() restores the state before the move.
   std::map<std::vector<SegmentId>, CollectorRoute> routes;  // by the segments served
-  auto route_of = [&](CollectorId c, const std::vector<SegmentId>& segs) {
+  auto built_route = [&](CollectorId c, const std::vector<SegmentId>& segs) -> const CollectorRoute& {
     auto it = routes.find(segs);
     if (it == routes.end())
       it = routes.emplace(segs, build_route(ctx, fm, cfg.graph, cfg.partition.labels, segs, c, opt, &legs)).first;
-    CollectorRoute r = it->second;
+    return it->second;
+  };
+  auto route_of = [&](CollectorId c, const std::vector<SegmentId>& segs) {
+    CollectorRoute r = built_route(c, segs);
     r.collector = c;
     return r;
   };
@@ -177,12 +180,29 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, Co
       for (const auto& [g, k] : gain)
         if (cfg.graph.segment(k).coverage_distance > cfg.graph.segment(farthest).coverage_distance) farthest = k;
       if (std::find(trials.begin(), trials.end(), farthest) == trials.end()) trials.push_back(farthest);
+      // The trials' routes first: while every one of them is still longer
+      // than T, the move that shortens the route most goes, unscored (its
+      // workers' estimates would be of a loop that skips requests, which
+      // the next steps change again); else the best J.
       SegmentId best_k = trials.front();
-      double best = -kInf;
+      double shortest = kInf;
+      bool fits = false;
       for (SegmentId k : trials) {
-        const double j = try_move(k);
-        undo();
-        if (j > best) best = j, best_k = k;
+        std::vector<SegmentId> segs = segments_of(cfg, c);
+        segs.erase(std::find(segs.begin(), segs.end(), k));
+        const double period = built_route(c, segs).period;
+        fits = fits || period <= T * (1.0 + 1e-9);
+        if (period < shortest) shortest = period, best_k = k;
+      }
+      if (fits) {
+        double best = -kInf;
+        for (SegmentId k : trials) {
+          const double j = try_move(k);
+          undo();
+          if (j > best) best = j, best_k = k;
+        }
+      } else {
+        ++cfg.moves_unscored;
       }
       try_move(best_k);
       ++cfg.moved_to_oc;

@@ -79,6 +79,7 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
   // The simulator's own table of distances from the OC's cell.
   oc_walk = mission::SharedDistances(*this).from_oc;
   home_walks = std::make_shared<HomeWalks>(kHomeWalkBytes);
+  leg_landmarks = std::make_shared<LegLandmarks>();
   for (std::size_t i = 0; i < coverage_distance.size(); ++i) {
     if (coverage[i]) coverage_distance[i] = 0.0;
     if (!reachable[i])

@@ -91,28 +91,23 @@ struct AStarWork {
   }
 };
 
-// Shortest 8-connected path a -> b [m] on the route speed map by A* (octile
-// heuristic; no diagonal step past a blocked corner). A leg between two
-// meeting areas is short, and A* explores only around it, where an FMM march
-// without a heuristic would flood a disc of the leg's length. Returns cell
-// centres from a's cell to b's cell; empty if b cannot be reached.
-std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
+// The 8-connected search on the route speed map (no diagonal step past a
+// blocked corner) from `start` until `goal` is popped (or, with no goal,
+// every reachable cell is final), ordered by cost + h(cell): A* with a
+// consistent `h`, Dijkstra with h = 0. The costs and parents are left in
+// `work`.
+// `popped` (optional): counts the cells popped.
+template <class Heuristic>
+void search(const PlanContext& ctx, std::size_t start, std::size_t goal, AStarWork& work, Heuristic h,
+            std::size_t* popped = nullptr) {
   const OccupancyGrid& grid = ctx.scenario.grid;
   const int w = grid.width();
-  const Cell ca = grid.world_to_cell(a), cb = grid.world_to_cell(b);
-  const std::size_t start = grid.index(ca), goal = grid.index(cb);
-  thread_local AStarWork work;
   work.begin(grid.size());
-  const auto& speed = ctx.route_speed;
-  auto h = [&](std::size_t i) {
-    const double dx = std::abs(static_cast<int>(i % w) - cb.col), dy = std::abs(static_cast<int>(i / w) - cb.row);
-    return static_cast<float>(std::max(dx, dy) + (std::sqrt(2.0) - 1.0) * std::min(dx, dy));  // at speed 1
-  };
   work.set(start, 0.0f, 0);
   work.push(AStarWork::entry(h(start), static_cast<uint32_t>(start)));
   static const int dr[8] = {0, 0, 1, -1, 1, 1, -1, -1}, dc[8] = {1, -1, 0, 0, 1, -1, 1, -1};
   const int rows = grid.height();
-  const double* sp = speed.data();
+  const double* sp = ctx.route_speed.data();
   // 1 / speed: the speed map holds 1 and tight_speed (and 0 off the
   // reachable space), so the divisions are done once.
   const double tight = ctx.tight_speed, tight_pace = 1.0 / tight;
@@ -124,6 +119,7 @@ std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
     if (i == goal) break;
     const float gi = work.cost(i);
     if (f > gi + h(i) + 1e-4f) continue;  // stale entry
+    if (popped) ++*popped;
     const int r = static_cast<int>(i / static_cast<uint32_t>(w)), c = static_cast<int>(i % static_cast<uint32_t>(w));
     const double pace_i = pace(sp[i]);
     for (int k = 0; k < 8; ++k) {
@@ -141,6 +137,78 @@ std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
       }
     }
   }
+}
+
+// The landmarks' costs (LegLandmarks), searched once: from the OC's cell,
+// then from the cell farthest (by the least of the costs so far) from the
+// landmarks before.
+const LegLandmarks& landmarks(const PlanContext& ctx) {
+  LegLandmarks& lm = *ctx.leg_landmarks;
+  std::call_once(lm.once, [&]() {
+    const OccupancyGrid& grid = ctx.scenario.grid;
+    const std::size_t n = grid.size();
+    constexpr auto kL = static_cast<std::size_t>(LegLandmarks::kCount);
+    lm.cost.assign(n * kL, std::numeric_limits<float>::infinity());
+    std::vector<float> nearest(n, std::numeric_limits<float>::infinity());  // least cost from the landmarks so far
+    AStarWork work;
+    std::size_t next = grid.index(ctx.oc_cell);
+    for (std::size_t l = 0; l < kL; ++l) {
+      lm.cells.push_back(next);
+      search(ctx, next, static_cast<std::size_t>(-1), work, [](std::size_t) { return 0.0f; });
+      float farthest = -1.0f;
+      for (std::size_t i = 0; i < n; ++i) {
+        const float d = work.cost(i);
+        lm.cost[i * kL + l] = d;
+        nearest[i] = std::min(nearest[i], d);
+        if (nearest[i] < std::numeric_limits<float>::infinity() && nearest[i] > farthest)
+          farthest = nearest[i], next = i;
+      }
+    }
+  });
+  return lm;
+}
+
+// Shortest 8-connected path a -> b [m] on the route speed map by A*, its
+// heuristic the larger of the octile distance (at speed 1) and the
+// landmarks' bound. A leg between two meeting areas is short, and A*
+// explores only around it, where an FMM march without a heuristic would
+// flood a disc of the leg's length. Returns cell centres from a's cell to
+// b's cell; empty if b cannot be reached.
+// The A* of a leg from cell `start` to cell `goal` into `work`, with the
+// landmarks' bound or (`landmarks` false) the octile distance alone.
+void leg_search(const PlanContext& ctx, std::size_t start, std::size_t goal, bool landmarks_on, AStarWork& work,
+                std::size_t* popped = nullptr) {
+  const OccupancyGrid& grid = ctx.scenario.grid;
+  const int w = grid.width();
+  const Cell cb = grid.cell(goal);
+  auto octile = [&](std::size_t i) {
+    const double dx = std::abs(static_cast<int>(i % w) - cb.col), dy = std::abs(static_cast<int>(i / w) - cb.row);
+    return static_cast<float>(std::max(dx, dy) + (std::sqrt(2.0) - 1.0) * std::min(dx, dy));  // at speed 1
+  };
+  if (!landmarks_on) return search(ctx, start, goal, work, octile, popped);
+  const LegLandmarks& lm = landmarks(ctx);
+  constexpr auto kL = static_cast<std::size_t>(LegLandmarks::kCount);
+  const float* to_goal = lm.cost.data() + goal * kL;
+  const float* cost = lm.cost.data();
+  search(
+      ctx, start, goal, work,
+      [&](std::size_t i) {
+        float best = octile(i);
+        const float* at = cost + i * kL;
+        for (std::size_t l = 0; l < kL; ++l) {
+          const float d = std::abs(at[l] - to_goal[l]);  // NaN or +inf where a landmark reaches neither
+          if (d > best && d < std::numeric_limits<float>::infinity()) best = d;
+        }
+        return best;
+      },
+      popped);
+}
+
+std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
+  const OccupancyGrid& grid = ctx.scenario.grid;
+  const std::size_t start = grid.index(grid.world_to_cell(a)), goal = grid.index(grid.world_to_cell(b));
+  thread_local AStarWork work;
+  leg_search(ctx, start, goal, true, work);
   std::vector<Point2> path;
   if (!std::isfinite(work.cost(goal))) return path;
   for (std::size_t i = goal;; i = work.parent(i)) {
@@ -154,6 +222,17 @@ std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
 }
 
 }  // namespace
+
+double leg_search_cost(const PlanContext& ctx, Point2 a, Point2 b, bool landmarks_on, std::size_t* popped) {
+  const OccupancyGrid& grid = ctx.scenario.grid;
+  const Cell ca = grid.world_to_cell(a), cb = grid.world_to_cell(b);
+  if (!grid.contains(ca) || !grid.contains(cb)) return kInf;
+  AStarWork work;
+  const std::size_t goal = grid.index(cb);
+  leg_search(ctx, grid.index(ca), goal, landmarks_on, work, popped);
+  const float c = work.cost(goal);
+  return c < std::numeric_limits<float>::infinity() ? static_cast<double>(c) : kInf;
+}
 
 // Builds the closed route of one collector through the entry cells of its
 // segments: geodesic legs from FMM, visiting order by mission::order_closed_tour,

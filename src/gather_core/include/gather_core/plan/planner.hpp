@@ -26,6 +26,7 @@ namespace gather {
 namespace plan {
 
 class HomeWalks;
+struct LegLandmarks;
 
 // The sweep's options. The fields from tsp_constant on change results; the
 // defaults are the ones the reports (docs/scenarios.md, docs/regimes.md) were
@@ -158,6 +159,9 @@ struct PlanContext : mission::World {
   // The walks from the OC workers' homes, kept for the configurations
   // (walking_distances.hpp; kHomeWalkBytes at most).
   std::shared_ptr<HomeWalks> home_walks;
+  // The landmarks of the A* between meeting areas (route_builder.hpp),
+  // searched on the first leg's need.
+  std::shared_ptr<LegLandmarks> leg_landmarks;
 };
 
 struct Estimates {
@@ -184,6 +188,9 @@ struct ConfigurationPlan {
   PerSegment<std::vector<AreaDeliveries>> area_parts;  // the tiles of each segment (no deliveries)
   int moved_to_oc = 0;                                 // segments the association step gave back to the OC
   int moves_scored = 0;  // moves the association scored (each re-estimates its collector's workers)
+  // Balance steps whose trial routes were all longer than the period: the
+  // shortest went, unscored (associate()).
+  int moves_unscored = 0;
   PerCollector<CollectorRoute> routes;
   Estimates estimates;
   double utility = 0.0;

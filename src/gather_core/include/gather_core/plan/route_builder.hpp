@@ -4,6 +4,7 @@
 // the visiting order by an exact or a 2-opt tour, polished with OMPL.
 #include <cstdint>
 #include <map>
+#include <mutex>
 #include <utility>
 #include <vector>
 
@@ -18,6 +19,29 @@ namespace plan {
 // two stops (kOcStop: the OC): a leg depends on nothing else, and a route
 // rebuilt with a stop less (the association's trials) keeps most of its
 // legs. Within one configuration (one thread).
+// Landmarks for the A* of the legs between meeting areas (ALT: the
+// triangle inequality bounds the cost from a cell to the leg's end by
+// |d_L(cell) - d_L(end)| for every landmark L, a far tighter bound than the
+// straight line where walls make the way long). The cost of every cell from
+// each landmark, on the legs' own 8-connected graph, is searched once per
+// sweep, on the first leg's need. Thread-safe.
+struct LegLandmarks {
+  // Landmarks per cell; the first is the OC's cell, each next the cell
+  // farthest from those before.
+  static constexpr int kCount = 6;
+  std::once_flag once;
+  std::vector<float> cost;         // [cell * kCount + l]: the legs' cost (cells) from landmark l, +inf unreached
+  std::vector<std::size_t> cells;  // the landmarks (map indices)
+};
+
+// The cost (in cells: a straight step between two roomy cells costs 1) of
+// the A* leg from a to b (as a route's leg
+// between two meeting areas searches it), with the landmarks' bound or
+// (`landmarks` false) the octile distance alone; +inf when b is not
+// reached. Both bounds are admissible, so both give the least cost; the
+// landmarks pop fewer cells. `popped` (optional): adds the cells popped.
+double leg_search_cost(const PlanContext& ctx, Point2 a, Point2 b, bool landmarks, std::size_t* popped = nullptr);
+
 struct LegCache {
   static constexpr std::size_t kOcStop = static_cast<std::size_t>(-1);
   std::map<std::pair<std::size_t, std::size_t>, PolishedPath> legs;
