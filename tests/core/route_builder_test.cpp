@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "corridor.hpp"
+#include "gather_core/error.hpp"
 #include "gather_core/plan/planner.hpp"
 #include "gather_core/plan/worker_graph.hpp"
 #include "small_office.hpp"
@@ -110,6 +111,18 @@ TEST(RouteBuilderTest, TheLandmarksBoundFindsTheLeastCostPoppingFewerCells) {
     EXPECT_NEAR(leg_search_cost(ctx, a, b, true, &with), exact, 1e-3 * std::max(1.0, exact)) << n;
   }
   EXPECT_LT(2 * with, without) << "the landmarks popped " << with << " cells, the octile distance " << without;
+}
+
+// A route's legs search with landmarks from PlannerOptions::leg_landmarks_team
+// robots on; the option is checked.
+TEST(RouteBuilderTest, LegsSearchWithLandmarksForLargeTeams) {
+  const Scenario& s = testing_support::SmallOffice::scenario();  // 8 robots
+  EXPECT_FALSE(PlanContext(s).use_leg_landmarks);
+  PlannerOptions opt;
+  opt.leg_landmarks_team = 8;
+  EXPECT_TRUE(PlanContext(s, opt).use_leg_landmarks);
+  opt.leg_landmarks_team = -1;
+  EXPECT_THROW(check_options(opt), Error);
 }
 
 }  // namespace

@@ -80,6 +80,7 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
   oc_walk = mission::SharedDistances(*this).from_oc;
   home_walks = std::make_shared<HomeWalks>(kHomeWalkBytes);
   leg_landmarks = std::make_shared<LegLandmarks>();
+  use_leg_landmarks = s.team.agents >= options.leg_landmarks_team;
   for (std::size_t i = 0; i < coverage_distance.size(); ++i) {
     if (coverage[i]) coverage_distance[i] = 0.0;
     if (!reachable[i])
@@ -135,6 +136,7 @@ void check_options(const PlannerOptions& opt) {
   require_in_range(opt.pass_step_m, 0.05, 5, where, "pass_step_m", " m");
   require_in_range(opt.pass_probe_m, 0.01, 1, where, "pass_probe_m", " m");
   require_in_range(opt.tight_speed, 0.001, 1, where, "tight_speed");
+  require_in_range(opt.leg_landmarks_team, 0, 100000, where, "leg_landmarks_team");
   require_in_range(opt.contact_step_m, 0.05, 5, where, "contact_step_m", " m");
   require_in_range(opt.lateness_bins, 8, 4096, where, "lateness_bins");
   require_in_range(opt.delivery_samples, 1, 256, where, "delivery_samples");

@@ -169,8 +169,8 @@ const LegLandmarks& landmarks(const PlanContext& ctx) {
 }
 
 // Shortest 8-connected path a -> b [m] on the route speed map by A*, its
-// heuristic the larger of the octile distance (at speed 1) and the
-// landmarks' bound. A leg between two meeting areas is short, and A*
+// heuristic the octile distance (at speed 1), or the larger of it and the
+// landmarks' bound (PlanContext::use_leg_landmarks). A leg between two meeting areas is short, and A*
 // explores only around it, where an FMM march without a heuristic would
 // flood a disc of the leg's length. Returns cell centres from a's cell to
 // b's cell; empty if b cannot be reached.
@@ -208,7 +208,7 @@ std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
   const OccupancyGrid& grid = ctx.scenario.grid;
   const std::size_t start = grid.index(grid.world_to_cell(a)), goal = grid.index(grid.world_to_cell(b));
   thread_local AStarWork work;
-  leg_search(ctx, start, goal, true, work);
+  leg_search(ctx, start, goal, ctx.use_leg_landmarks, work);
   std::vector<Point2> path;
   if (!std::isfinite(work.cost(goal))) return path;
   for (std::size_t i = goal;; i = work.parent(i)) {

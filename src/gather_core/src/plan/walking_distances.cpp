@@ -74,38 +74,48 @@ void HomeWalks::distances(Cell home, const std::vector<Cell>& cells, fmm::FastMa
   out.resize(cells.size());
   const uint64_t key = static_cast<uint64_t>(static_cast<uint32_t>(home.row)) << 32 | static_cast<uint32_t>(home.col);
   const std::size_t bytes = (static_cast<std::size_t>(walk.height()) + 4) * walk.stride() * sizeof(float);
-  std::shared_ptr<const Times> field;
+  Kept kept;
   bool keep = false;
   {
     const std::lock_guard<std::mutex> lock(mutex_);
-    auto it = fields_.find(key);
+    const auto it = fields_.find(key);
     if (it != fields_.end())
-      field = it->second;
+      kept = it->second, keep = true;
     else if (reserved_ + bytes <= budget_)
-      keep = true, reserved_ += bytes, ++marched_;
-    else
-      ++marched_;
+      keep = true, reserved_ += bytes;
   }
+  // From the kept march, when it reached every cell (its finite times are
+  // final), or when it reached all it could.
+  if (kept.times) {
+    bool all = true;
+    for (std::size_t i = 0; i < cells.size() && all; ++i) {
+      const float t = walk.contains(cells[i]) ? (*kept.times)[walk.padded(cells[i])] : kInf;
+      out[i] = t < kInf ? static_cast<double>(t) : kInf;
+      all = t < kInf || kept.whole;
+    }
+    if (all) return;
+  }
+  // Else marched until every cell is reached (on the whole map if one is
+  // never reached), and kept if it reaches farther than the kept one.
   fmm::SolveOptions so;
   so.labels = false;
-  if (!field && keep) {
-    walk.solve({fmm::Source::at_cell(home)}, so);
-    auto times = std::make_shared<Times>(walk.padded_times(), walk.padded_times() + bytes / sizeof(float));
-    const std::lock_guard<std::mutex> lock(mutex_);
-    auto [it, added] = fields_.emplace(key, std::move(times));
-    if (!added) reserved_ -= bytes, --marched_;  // another thread kept it meanwhile: the same field
-    field = it->second;
-  }
-  if (field) {
-    for (std::size_t i = 0; i < cells.size(); ++i) {
-      const float t = walk.contains(cells[i]) ? (*field)[walk.padded(cells[i])] : kInf;
-      out[i] = t < kInf ? static_cast<double>(t) : kInf;
-    }
-    return;
-  }
   so.targets = cells;
   walk.solve({fmm::Source::at_cell(home)}, so);
-  for (std::size_t i = 0; i < cells.size(); ++i) out[i] = walk.time(cells[i]);
+  Kept now;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    out[i] = walk.time(cells[i]);
+    if (out[i] < kInf)
+      now.reach = std::max(now.reach, out[i]);
+    else
+      now.whole = true;
+  }
+  const std::lock_guard<std::mutex> lock(mutex_);
+  ++marched_;
+  if (!keep) return;
+  Kept& slot = fields_[key];
+  if (slot.times && !now.whole && slot.reach >= now.reach) return;  // another thread kept one as far meanwhile
+  now.times = std::make_shared<const Times>(walk.padded_times(), walk.padded_times() + bytes / sizeof(float));
+  slot = std::move(now);
 }
 
 std::size_t HomeWalks::kept() const {

@@ -73,6 +73,14 @@ struct PlannerOptions {
   // (PlanContext::route_speed; the context is built with these options),
   // range [0.001, 1].
   double tight_speed = 0.05;
+  // Routes: a leg between two meeting areas is searched with landmarks
+  // (route_builder.hpp: fewer cells searched, at the cost of searching the
+  // whole map from each landmark once, about 30 ms each on a 250,000-cell
+  // grid) when the team has at least this many robots; a smaller team's
+  // sweep searches too few legs to repay them. Both find legs of the least
+  // cost, but of equal-cost legs not always the same one. The context is
+  // built with it. Range [0, 100000].
+  int leg_landmarks_team = 40;
   // The estimate's discretisation (plan/estimate; finer is nearer the model
   // it approximates, and slower):
   // [m] of route between two probes of its contact with a worker, range [0.05, 5];
@@ -132,7 +140,7 @@ struct PlanContext : mission::World {
   // Throws gather::Error naming the field when `options` are out of range
   // (check_options), or when one configuration of the scenario would not
   // plan within kMemoryBudget (before anything is allocated for it); of
-  // the options, only tight_speed shapes the context.
+  // the options, only tight_speed and leg_landmarks_team shape the context.
   explicit PlanContext(const Scenario& scenario, const PlannerOptions& options = {});
   Raster<double> coverage_distance;  // [m] geodesic distance to the coverage, +inf unreachable
   double farthest = 0.0;             // [m] largest coverage_distance over reachable cells
@@ -162,6 +170,7 @@ struct PlanContext : mission::World {
   // The landmarks of the A* between meeting areas (route_builder.hpp),
   // searched on the first leg's need.
   std::shared_ptr<LegLandmarks> leg_landmarks;
+  bool use_leg_landmarks = false;  // team.agents >= PlannerOptions::leg_landmarks_team
 };
 
 struct Estimates {

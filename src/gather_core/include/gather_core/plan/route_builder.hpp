@@ -15,16 +15,13 @@
 namespace gather {
 namespace plan {
 
-// The polished legs of routes built on one partition, by the cells of their
-// two stops (kOcStop: the OC): a leg depends on nothing else, and a route
-// rebuilt with a stop less (the association's trials) keeps most of its
-// legs. Within one configuration (one thread).
 // Landmarks for the A* of the legs between meeting areas (ALT: the
 // triangle inequality bounds the cost from a cell to the leg's end by
 // |d_L(cell) - d_L(end)| for every landmark L, a far tighter bound than the
 // straight line where walls make the way long). The cost of every cell from
 // each landmark, on the legs' own 8-connected graph, is searched once per
-// sweep, on the first leg's need. Thread-safe.
+// sweep, on the first leg's need (PlanContext::use_leg_landmarks: teams of
+// PlannerOptions::leg_landmarks_team robots or more). Thread-safe.
 struct LegLandmarks {
   // Landmarks per cell; the first is the OC's cell, each next the cell
   // farthest from those before.
@@ -35,13 +32,17 @@ struct LegLandmarks {
 };
 
 // The cost (in cells: a straight step between two roomy cells costs 1) of
-// the A* leg from a to b (as a route's leg
-// between two meeting areas searches it), with the landmarks' bound or
+// the A* leg from a to b (as a route's leg between two meeting areas
+// searches it), with the landmarks' bound or
 // (`landmarks` false) the octile distance alone; +inf when b is not
 // reached. Both bounds are admissible, so both give the least cost; the
 // landmarks pop fewer cells. `popped` (optional): adds the cells popped.
 double leg_search_cost(const PlanContext& ctx, Point2 a, Point2 b, bool landmarks, std::size_t* popped = nullptr);
 
+// The polished legs of routes built on one partition, by the cells of their
+// two stops (kOcStop: the OC): a leg depends on nothing else, and a route
+// rebuilt with a stop less (the association's trials) keeps most of its
+// legs. Within one configuration (one thread).
 struct LegCache {
   static constexpr std::size_t kOcStop = static_cast<std::size_t>(-1);
   std::map<std::pair<std::size_t, std::size_t>, PolishedPath> legs;

@@ -17,11 +17,13 @@ namespace plan {
 // A worker of the OC walks from its home to its goals on the whole map
 // (mission::WorkerPolicy::march), so its distances are marched there too.
 // Homes are cells of the coverage's border, and a few of them serve most
-// segments of every configuration: each home's field (every cell) is
-// marched once, on first need, and kept while the kept fields fit in
-// `budget_bytes`; past that a home's walk is marched for the asked cells
-// alone (stopped once they are reached). Both give the same distances, so
-// what is kept changes only the time, never a result. Thread-safe.
+// segments of every configuration: a home's march, stopped once it reached
+// the asked cells, is kept (while the kept marches fit in `budget_bytes`)
+// and answers every later ask whose cells it reached; an ask it did not
+// reach marches again, farther, and that march is kept instead. A march
+// reaches its cells with the same times whether it stops there or runs
+// over the whole map, so what is kept changes only the time, never a
+// result. Thread-safe.
 class HomeWalks {
  public:
   explicit HomeWalks(std::size_t budget_bytes) : budget_(budget_bytes) {}
@@ -29,16 +31,21 @@ class HomeWalks {
   // reached), on `walk`: unit speed on the reachable space (a copy of
   // PlanContext::coverage_field, owned by the calling thread).
   void distances(Cell home, const std::vector<Cell>& cells, fmm::FastMarching& walk, std::vector<double>& out);
-  // Fields kept, and marches run: fields kept plus walks marched alone.
+  // Homes whose march is kept, and marches run.
   std::size_t kept() const;
   std::size_t marched() const;
 
  private:
-  using Times = std::vector<float>;  // the padded times of a whole march
+  using Times = std::vector<float>;  // the padded times of a march: finite where final, +inf elsewhere
+  struct Kept {
+    std::shared_ptr<const Times> times;
+    double reach = 0.0;  // [m] the farthest cell it was asked for
+    bool whole = false;  // it ran over all it could reach (some asked cell was never reached)
+  };
   std::size_t budget_;
   mutable std::mutex mutex_;
-  std::unordered_map<uint64_t, std::shared_ptr<const Times>> fields_;  // by home (row << 32 | col)
-  std::size_t reserved_ = 0;                                           // bytes of the fields kept or being marched
+  std::unordered_map<uint64_t, Kept> fields_;  // by home (row << 32 | col)
+  std::size_t reserved_ = 0;                   // bytes of the marches kept
   std::size_t marched_ = 0;
 };
 
