@@ -433,6 +433,37 @@ TEST(PerLinkKeysTest, LinkKeysAreTheKdfsAndTheSameBothWaysRound) {
   EXPECT_FALSE(team.links.hears(0, 0, kBroadcast));
 }
 
+// A tag by hand, as docs/security.md specifies it: BLAKE2b with a 16-byte
+// output keyed with the link's key, of the message's BLAKE2b-256 digest
+// (channel and its NUL, version, key id, sender, counter, payload size, big
+// endian, then the payload) and the receiver's id (2 bytes, big endian).
+TEST(PerLinkKeysTest, ATagIsTheDocumentedKeyedBlake2b) {
+  const LinkTeam team;
+  auto collector = LinkTeam::auth(team.ring(0));
+  const std::optional<Tagged> t = tagged(*collector, 0, {kOc, 1});
+  ASSERT_TRUE(t);
+  EXPECT_EQ(t->head.version, FleetAuth::kTaggedVersion);
+  std::vector<uint8_t> m{'A', 0};
+  auto be = [&](uint64_t v, int bytes) {
+    for (int i = bytes - 1; i >= 0; --i) m.push_back(static_cast<uint8_t>(v >> (8 * i)));
+  };
+  be(static_cast<uint16_t>(t->head.version), 2), be(static_cast<uint16_t>(t->head.key_id), 2),
+      be(static_cast<uint16_t>(t->head.sender), 2);
+  be(static_cast<uint64_t>(t->head.counter), 8), be(t->payload.size(), 4);
+  m.insert(m.end(), t->payload.begin(), t->payload.end());
+  uint8_t digest[32];
+  crypto_generichash_blake2b(digest, sizeof digest, m.data(), m.size(), nullptr, 0);
+  for (std::size_t i = 0; i < t->receivers.size(); ++i) {
+    uint8_t in[34], tag[kTagBytes];
+    std::memcpy(in, digest, 32);
+    in[32] = static_cast<uint8_t>(static_cast<uint16_t>(t->receivers[i]) >> 8);
+    in[33] = static_cast<uint8_t>(static_cast<uint16_t>(t->receivers[i]) & 0xff);
+    const KeyRing::Key key = link_key(team.master, 0, t->receivers[i]);
+    crypto_generichash_blake2b(tag, sizeof tag, in, sizeof in, key.data(), key.size());
+    EXPECT_EQ(std::memcmp(tag, t->tags.data() + i * kTagBytes, kTagBytes), 0) << "receiver " << t->receivers[i];
+  }
+}
+
 TEST(PerLinkKeysTest, EachReceiverChecksItsOwnTagAndTheMasterEveryOne) {
   const LinkTeam team;
   auto collector = LinkTeam::auth(team.ring(0)), worker1 = LinkTeam::auth(team.ring(1)),

@@ -21,8 +21,20 @@ namespace agent {
 
 static_assert(kKeyBytes == crypto_auth_hmacsha512256_KEYBYTES, "key size");
 static_assert(kMacBytes == crypto_auth_hmacsha512256_BYTES, "MAC size");
+static_assert(kTagBytes >= crypto_generichash_blake2b_BYTES_MIN && kTagBytes <= crypto_generichash_blake2b_BYTES_MAX,
+              "a tag is a BLAKE2b output");
+static_assert(kKeyBytes >= crypto_generichash_blake2b_KEYBYTES_MIN &&
+                  kKeyBytes <= crypto_generichash_blake2b_KEYBYTES_MAX,
+              "a link key keys BLAKE2b");
 
 namespace {
+
+// A link's keyed state: BLAKE2b keyed with the link key, an output of
+// kTagBytes (the output length is in BLAKE2b's parameter block: a tag is
+// no truncation of a longer hash).
+void keyed_state(const KeyRing::Key& key, crypto_generichash_blake2b_state& st) {
+  crypto_generichash_blake2b_init(&st, key.data(), key.size(), kTagBytes);
+}
 
 void need_sodium() {
   if (sodium_init() < 0) throw RuntimeError("libsodium", "sodium_init failed");
@@ -352,8 +364,8 @@ FleetAuth::FleetAuth(std::optional<FleetKey> key, std::optional<KeyRing> ring, s
   if (key_) crypto_auth_hmacsha512256_init(&keyed_, key_->key.data(), key_->key.size());
   if (!ring_ || ring_->master()) return;
   for (const auto& l : ring_->links) {
-    link_states_.emplace_back(link_index(ring_->agent, l.first), crypto_auth_hmacsha512256_state{});
-    crypto_auth_hmacsha512256_init(&link_states_.back().second, l.second.data(), l.second.size());
+    link_states_.emplace_back(link_index(ring_->agent, l.first), crypto_generichash_blake2b_state{});
+    keyed_state(l.second, link_states_.back().second);
   }
   std::sort(link_states_.begin(), link_states_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
 }
@@ -367,7 +379,7 @@ FleetAuth::~FleetAuth() {
   }
 }
 
-const crypto_auth_hmacsha512256_state* FleetAuth::link_state(int16_t a, int16_t b, bool signing) {
+const crypto_generichash_blake2b_state* FleetAuth::link_state(int16_t a, int16_t b, bool signing) {
   if (!ring_ || a == b) return nullptr;
   if (!ring_->master() && a != ring_->agent && b != ring_->agent) return nullptr;  // not its link
   const uint32_t index = link_index(a, b);
@@ -383,7 +395,7 @@ const crypto_auth_hmacsha512256_state* FleetAuth::link_state(int16_t a, int16_t 
   return derive(a, b);
 }
 
-const crypto_auth_hmacsha512256_state* FleetAuth::derive(int16_t a, int16_t b) {
+const crypto_generichash_blake2b_state* FleetAuth::derive(int16_t a, int16_t b) {
   const uint32_t index = link_index(a, b);
   auto it = std::lower_bound(link_states_.begin(), link_states_.end(), index,
                              [](const auto& l, uint32_t i) { return l.first < i; });
@@ -393,8 +405,8 @@ const crypto_auth_hmacsha512256_state* FleetAuth::derive(int16_t a, int16_t b) {
   master.key = ring_->key;
   KeyRing::Key key = link_key(master, a, b);
   sodium_memzero(master.key.data(), master.key.size());
-  it = link_states_.emplace(it, index, crypto_auth_hmacsha512256_state{});
-  crypto_auth_hmacsha512256_init(&it->second, key.data(), key.size());
+  it = link_states_.emplace(it, index, crypto_generichash_blake2b_state{});
+  keyed_state(key, it->second);
   sodium_memzero(key.data(), key.size());
   return &it->second;
 }
@@ -413,15 +425,13 @@ void FleetAuth::digest_of(const char* channel, const EnvelopeHead& head, const u
 
 namespace {
 
-void tag_of(const crypto_auth_hmacsha512256_state& keyed, const uint8_t* digest, int16_t receiver, uint8_t* out) {
+void tag_of(const crypto_generichash_blake2b_state& keyed, const uint8_t* digest, int16_t receiver, uint8_t* out) {
   uint8_t to[2];
   put_be(to, static_cast<uint16_t>(receiver), 2);
-  uint8_t mac[kMacBytes];
-  crypto_auth_hmacsha512256_state st = keyed;
-  crypto_auth_hmacsha512256_update(&st, digest, 32);
-  crypto_auth_hmacsha512256_update(&st, to, sizeof to);
-  crypto_auth_hmacsha512256_final(&st, mac);
-  std::memcpy(out, mac, kTagBytes);
+  crypto_generichash_blake2b_state st = keyed;
+  crypto_generichash_blake2b_update(&st, digest, 32);
+  crypto_generichash_blake2b_update(&st, to, sizeof to);
+  crypto_generichash_blake2b_final(&st, out, kTagBytes);
 }
 
 }  // namespace
@@ -459,7 +469,7 @@ bool FleetAuth::sign_tagged(const char* channel, int16_t sender, const uint8_t* 
   uint8_t digest[32];
   digest_of(channel, head, payload, size, digest);
   for (std::size_t i = 0; i < n; ++i) {
-    const crypto_auth_hmacsha512256_state* keyed = link_state(sender, receivers[i], /*signing=*/true);
+    const crypto_generichash_blake2b_state* keyed = link_state(sender, receivers[i], /*signing=*/true);
     if (!keyed) return false;
     tag_of(*keyed, digest, receivers[i], tags + i * kTagBytes);
   }
@@ -478,7 +488,7 @@ Verdict FleetAuth::verify_tagged(const char* channel, const EnvelopeHead& head, 
   uint8_t digest[32], expected[kTagBytes];
   // A tag `i` made with the key of its receiver's link to the sender.
   auto good = [&](std::size_t i) {
-    const crypto_auth_hmacsha512256_state* keyed = link_state(head.sender, receivers[i]);
+    const crypto_generichash_blake2b_state* keyed = link_state(head.sender, receivers[i]);
     if (!keyed) return false;  // no such link: nobody holds a key for it
     tag_of(*keyed, digest, receivers[i], expected);
     return crypto_verify_16(expected, tags + i * kTagBytes) == 0;

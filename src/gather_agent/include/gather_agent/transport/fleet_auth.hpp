@@ -20,6 +20,7 @@
 // restarts is not open to captures of earlier traffic either. No code here sees LCM types: LcmFleet
 // wraps and unwraps the envelope.
 #include <sodium/crypto_auth_hmacsha512256.h>
+#include <sodium/crypto_generichash_blake2b.h>
 
 #include <array>
 #include <cstddef>
@@ -37,7 +38,7 @@ namespace agent {
 
 constexpr std::size_t kKeyBytes = 32;  // crypto_auth_hmacsha512256_KEYBYTES
 constexpr std::size_t kMacBytes = 32;  // crypto_auth_hmacsha512256_BYTES
-constexpr std::size_t kTagBytes = 16;  // a per-receiver tag: the MAC's first half
+constexpr std::size_t kTagBytes = 16;  // a per-receiver tag: keyed BLAKE2b, 16 bytes
 
 // The fleet's shared secret and its id (1..32767; 0 marks an unsigned
 // message on the wire).
@@ -139,7 +140,7 @@ struct PerLinkTags {};
 class FleetAuth {
  public:
   static constexpr int16_t kVersion = 1;        // a single MAC (the robot link: envelope_t)
-  static constexpr int16_t kTaggedVersion = 2;  // per-link tags (the fleet: fleet_envelope_t)
+  static constexpr int16_t kTaggedVersion = 3;  // per-link tags (the fleet: fleet_envelope_t)
   // How far the fleet's clocks may differ [us]: a sender's first message must
   // be stamped after the receiver started minus this, and at most this far
   // ahead of the receiver's clock.
@@ -161,11 +162,12 @@ class FleetAuth {
             const FleetClock* clock = nullptr);
   // Per-link mode (the fleet): every message carries a tag for each of its
   // receivers, made with the key of the link between its sender and that
-  // receiver (docs/security.md): tag = the first kTagBytes of
-  // HMAC-SHA-512-256(link key, BLAKE2b-256(channel NUL, version, key id,
-  // sender, counter, payload size, payload) | receiver). `ring` empty:
-  // insecure. A receiver with an agent's keys checks its own tag; with the
-  // master (the OC, the robot world, a replay) any one tag.
+  // receiver (docs/security.md): tag = BLAKE2b with an output of kTagBytes,
+  // keyed with the link key (libsodium's crypto_generichash), of
+  // BLAKE2b-256(channel NUL, version, key id, sender, counter, payload
+  // size, payload) | receiver. `ring` empty: insecure. A receiver with an
+  // agent's keys checks its own tag; with the master (the OC, the robot
+  // world, a replay) every tag.
   FleetAuth(std::optional<KeyRing> ring, PerLinkTags, std::vector<std::string> channels, int senders,
             const FleetClock* clock = nullptr);
   ~FleetAuth();
@@ -256,9 +258,9 @@ class FleetAuth {
                         uint8_t* out);
   // The link's keyed HMAC state (nullptr: no key for it), to sign with or
   // to check a received tag with (set_links() says which the master derives).
-  const crypto_auth_hmacsha512256_state* link_state(int16_t a, int16_t b, bool signing = false);
+  const crypto_generichash_blake2b_state* link_state(int16_t a, int16_t b, bool signing = false);
   // The master: the link's keyed state, derived and kept.
-  const crypto_auth_hmacsha512256_state* derive(int16_t a, int16_t b);
+  const crypto_generichash_blake2b_state* derive(int16_t a, int16_t b);
   // A sender's counter, once its signature passed (verify, verify_tagged).
   Verdict check_counter(int c, const EnvelopeHead& head);
   // What a receiver has accepted from one sender on one channel.
@@ -286,7 +288,7 @@ class FleetAuth {
   std::optional<KeyRing> ring_;  // per-link mode
   // Per-link mode: each link's keyed state, by (min + 1) << 16 | (max + 1):
   // an agent's made up front, the master's as links are met.
-  std::vector<std::pair<uint32_t, crypto_auth_hmacsha512256_state>> link_states_;
+  std::vector<std::pair<uint32_t, crypto_generichash_blake2b_state>> link_states_;
   int64_t not_for_me_ = 0;
   bool links_set_ = false;  // the master: set_links() was given the plan's links
   std::vector<std::string> channels_;
