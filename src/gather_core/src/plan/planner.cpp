@@ -40,7 +40,7 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 double plan_memory_bytes(std::size_t cells, int agents, int threads, std::size_t configs) {
   const double n = static_cast<double>(cells), a = static_cast<double>(agents);
   // The home walks kept (HomeWalks): a field of 4 B a cell per home, at
-  // most kHomeWalkBytes, and homes are fewer than the team's segments.
+  // most kHomeWalkBytes; a small team on a small grid keeps less.
   const double home_walks = std::min(static_cast<double>(kHomeWalkBytes), 4.0 * n * a);
   return 90e6 + home_walks + n * (40.0 + 4.0 * static_cast<double>(configs)) + threads * (50.0 * n + 480.0 * a * a);
 }

@@ -69,34 +69,36 @@ void sort_distances(std::vector<double>& d, std::vector<uint64_t>& keys, std::ve
 
 }  // namespace
 
+float HomeWalks::Kept::at(Cell c) const {
+  const int r = c.row - origin.row, q = c.col - origin.col;
+  if (!times || r < 0 || q < 0 || r >= rows || q >= cols) return std::numeric_limits<float>::infinity();
+  return (*times)[static_cast<std::size_t>(r) * static_cast<std::size_t>(cols) + static_cast<std::size_t>(q)];
+}
+
 void HomeWalks::distances(Cell home, const std::vector<Cell>& cells, fmm::FastMarching& walk,
                           std::vector<double>& out) {
   out.resize(cells.size());
   const uint64_t key = static_cast<uint64_t>(static_cast<uint32_t>(home.row)) << 32 | static_cast<uint32_t>(home.col);
-  const std::size_t bytes = (static_cast<std::size_t>(walk.height()) + 4) * walk.stride() * sizeof(float);
   Kept kept;
-  bool keep = false;
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     const auto it = fields_.find(key);
-    if (it != fields_.end())
-      kept = it->second, keep = true;
-    else if (reserved_ + bytes <= budget_)
-      keep = true, reserved_ += bytes;
+    if (it != fields_.end()) kept = it->second;
   }
   // From the kept march, when it reached every cell (its finite times are
   // final), or when it reached all it could.
   if (kept.times) {
     bool all = true;
     for (std::size_t i = 0; i < cells.size() && all; ++i) {
-      const float t = walk.contains(cells[i]) ? (*kept.times)[walk.padded(cells[i])] : kInf;
+      const float t = kept.at(cells[i]);
       out[i] = t < kInf ? static_cast<double>(t) : kInf;
       all = t < kInf || kept.whole;
     }
     if (all) return;
   }
   // Else marched until every cell is reached (on the whole map if one is
-  // never reached), and kept if it reaches farther than the kept one.
+  // never reached), and kept if it reaches farther than the kept one: the
+  // box of the cells it reached.
   fmm::SolveOptions so;
   so.labels = false;
   so.targets = cells;
@@ -109,12 +111,39 @@ void HomeWalks::distances(Cell home, const std::vector<Cell>& cells, fmm::FastMa
     else
       now.whole = true;
   }
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    ++marched_;
+    const auto it = fields_.find(key);
+    if (it != fields_.end() && !now.whole && it->second.reach >= now.reach) return;  // as far kept meanwhile
+  }
+  const float* t = walk.padded_times();
+  const std::size_t stride = walk.stride();
+  auto time_at = [&](int r, int c) {
+    return t[static_cast<std::size_t>(r + 2) * stride + static_cast<std::size_t>(c + 2)];  // FastMarching::padded
+  };
+  int r0 = walk.height(), r1 = -1, c0 = walk.width(), c1 = -1;
+  for (int r = 0; r < walk.height(); ++r)
+    for (int c = 0; c < walk.width(); ++c)
+      if (time_at(r, c) < kInf) r0 = std::min(r0, r), r1 = std::max(r1, r), c0 = std::min(c0, c), c1 = std::max(c1, c);
+  if (r1 < 0) return;  // nothing reached, not even the home
+  now.origin = Cell{r0, c0}, now.rows = r1 - r0 + 1, now.cols = c1 - c0 + 1;
+  auto times = std::make_shared<Times>(static_cast<std::size_t>(now.rows) * static_cast<std::size_t>(now.cols));
+  for (int r = 0; r < now.rows; ++r)
+    for (int c = 0; c < now.cols; ++c)
+      (*times)[static_cast<std::size_t>(r) * static_cast<std::size_t>(now.cols) + static_cast<std::size_t>(c)] =
+          time_at(r0 + r, c0 + c);
+  now.times = std::move(times);
+  const std::size_t bytes = now.times->size() * sizeof(float);
   const std::lock_guard<std::mutex> lock(mutex_);
-  ++marched_;
-  if (!keep) return;
   Kept& slot = fields_[key];
+  const std::size_t before = slot.times ? slot.times->size() * sizeof(float) : 0;
   if (slot.times && !now.whole && slot.reach >= now.reach) return;  // another thread kept one as far meanwhile
-  now.times = std::make_shared<const Times>(walk.padded_times(), walk.padded_times() + bytes / sizeof(float));
+  if (kept_bytes_ - before + bytes > budget_) {
+    if (!slot.times) fields_.erase(key);
+    return;
+  }
+  kept_bytes_ = kept_bytes_ - before + bytes;
   slot = std::move(now);
 }
 

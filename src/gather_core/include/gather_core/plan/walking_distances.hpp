@@ -18,8 +18,9 @@ namespace plan {
 // (mission::WorkerPolicy::march), so its distances are marched there too.
 // Homes are cells of the coverage's border, and a few of them serve most
 // segments of every configuration: a home's march, stopped once it reached
-// the asked cells, is kept (while the kept marches fit in `budget_bytes`)
-// and answers every later ask whose cells it reached; an ask it did not
+// the asked cells, is kept (over the box of the cells it reached, while the
+// kept marches fit in `budget_bytes`) and answers every later ask whose
+// cells it reached; an ask it did not
 // reach marches again, farther, and that march is kept instead. A march
 // reaches its cells with the same times whether it stops there or runs
 // over the whole map, so what is kept changes only the time, never a
@@ -36,22 +37,26 @@ class HomeWalks {
   std::size_t marched() const;
 
  private:
-  using Times = std::vector<float>;  // the padded times of a march: finite where final, +inf elsewhere
+  using Times = std::vector<float>;  // a march's times: finite where final, +inf elsewhere
   struct Kept {
-    std::shared_ptr<const Times> times;
-    double reach = 0.0;  // [m] the farthest cell it was asked for
-    bool whole = false;  // it ran over all it could reach (some asked cell was never reached)
+    std::shared_ptr<const Times> times;  // over the box of the cells it reached, row-major
+    Cell origin{0, 0};                   // the box's first cell on the map
+    int rows = 0, cols = 0;
+    double reach = 0.0;      // [m] the farthest cell it was asked for
+    bool whole = false;      // it ran over all it could reach (some asked cell was never reached)
+    float at(Cell c) const;  // +inf off the box
   };
   std::size_t budget_;
   mutable std::mutex mutex_;
   std::unordered_map<uint64_t, Kept> fields_;  // by home (row << 32 | col)
-  std::size_t reserved_ = 0;                   // bytes of the marches kept
+  std::size_t kept_bytes_ = 0;                 // of the marches kept
   std::size_t marched_ = 0;
 };
 
-// The HomeWalks budget a PlanContext gets: 64 MiB (64 fields of a
-// 250,000-cell planning grid: planner.max_cells' default).
-constexpr std::size_t kHomeWalkBytes = std::size_t{64} << 20;
+// The HomeWalks budget a PlanContext gets: 32 MiB (32 whole marches on a
+// 250,000-cell planning grid, planner.max_cells' default; a march stopped
+// near its home keeps less).
+constexpr std::size_t kHomeWalkBytes = std::size_t{32} << 20;
 
 // Fills graph.segments' mean_home_distance, home_quantiles,
 // mean_oc_distance, oc_quantiles and mean_pair_distance (see
