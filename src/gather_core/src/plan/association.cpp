@@ -189,7 +189,9 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, Co
       bool fits = false;
       for (SegmentId k : trials) {
         std::vector<SegmentId> segs = segments_of(cfg, c);
-        segs.erase(std::find(segs.begin(), segs.end(), k));
+        const auto at = std::find(segs.begin(), segs.end(), k);
+        if (at == segs.end()) continue;  // not c's (ranked(c) lists c's workers only)
+        segs.erase(at);
         const double period = built_route(c, segs).period;
         fits = fits || period <= T * (1.0 + 1e-9);
         if (period < shortest) shortest = period, best_k = k;

@@ -42,7 +42,12 @@ double plan_memory_bytes(std::size_t cells, int agents, int threads, std::size_t
   // The home walks kept (HomeWalks): a field of 4 B a cell per home, at
   // most kHomeWalkBytes; a small team on a small grid keeps less.
   const double home_walks = std::min(static_cast<double>(kHomeWalkBytes), 4.0 * n * a);
-  return 90e6 + home_walks + n * (40.0 + 4.0 * static_cast<double>(configs)) + threads * (50.0 * n + 480.0 * a * a);
+  // The legs' landmarks (LegLandmarks) of a team that uses them (the
+  // default PlannerOptions::leg_landmarks_team): 24 B a cell kept, 16 B
+  // more while they are searched.
+  const double landmarks = agents >= PlannerOptions{}.leg_landmarks_team ? 40.0 * n : 0.0;
+  return 90e6 + home_walks + landmarks + n * (40.0 + 4.0 * static_cast<double>(configs)) +
+         threads * (50.0 * n + 480.0 * a * a);
 }
 
 int threads_within_budget(const Scenario& s, int threads, std::size_t configs) {

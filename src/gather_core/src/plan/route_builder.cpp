@@ -168,12 +168,6 @@ const LegLandmarks& landmarks(const PlanContext& ctx) {
   return lm;
 }
 
-// Shortest 8-connected path a -> b [m] on the route speed map by A*, its
-// heuristic the octile distance (at speed 1), or the larger of it and the
-// landmarks' bound (PlanContext::use_leg_landmarks). A leg between two meeting areas is short, and A*
-// explores only around it, where an FMM march without a heuristic would
-// flood a disc of the leg's length. Returns cell centres from a's cell to
-// b's cell; empty if b cannot be reached.
 // The A* of a leg from cell `start` to cell `goal` into `work`, with the
 // landmarks' bound or (`landmarks` false) the octile distance alone.
 void leg_search(const PlanContext& ctx, std::size_t start, std::size_t goal, bool landmarks_on, AStarWork& work,
@@ -196,7 +190,7 @@ void leg_search(const PlanContext& ctx, std::size_t start, std::size_t goal, boo
         float best = octile(i);
         const float* at = cost + i * kL;
         for (std::size_t l = 0; l < kL; ++l) {
-          const float d = std::abs(at[l] - to_goal[l]);  // NaN or +inf where a landmark reaches neither
+          const float d = std::abs(at[l] - to_goal[l]);  // NaN if a landmark reaches neither, +inf if one
           if (d > best && d < std::numeric_limits<float>::infinity()) best = d;
         }
         return best;
@@ -204,6 +198,12 @@ void leg_search(const PlanContext& ctx, std::size_t start, std::size_t goal, boo
       popped);
 }
 
+// Shortest 8-connected path a -> b [m] on the route speed map by A*, its
+// heuristic the octile distance (at speed 1), or the larger of it and the
+// landmarks' bound (PlanContext::use_leg_landmarks). A leg between two meeting areas is short, and A*
+// explores only around it, where an FMM march without a heuristic would
+// flood a disc of the leg's length. Returns cell centres from a's cell to
+// b's cell; empty if b cannot be reached.
 std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
   const OccupancyGrid& grid = ctx.scenario.grid;
   const std::size_t start = grid.index(grid.world_to_cell(a)), goal = grid.index(grid.world_to_cell(b));

@@ -104,12 +104,11 @@ void HomeWalks::distances(Cell home, const std::vector<Cell>& cells, fmm::FastMa
   so.targets = cells;
   walk.solve({fmm::Source::at_cell(home)}, so);
   Kept now;
+  // Not stopped at its cells (some was never reached): it reached all it could.
+  now.whole = !walk.stats().stopped_early;
   for (std::size_t i = 0; i < cells.size(); ++i) {
     out[i] = walk.time(cells[i]);
-    if (out[i] < kInf)
-      now.reach = std::max(now.reach, out[i]);
-    else
-      now.whole = true;
+    if (out[i] < kInf) now.reach = std::max(now.reach, out[i]);
   }
   {
     const std::lock_guard<std::mutex> lock(mutex_);

@@ -256,7 +256,7 @@ class FleetAuth {
   // The signed fields' digest (per-link mode), and the tag for `receiver` over it.
   static void digest_of(const char* channel, const EnvelopeHead& head, const uint8_t* payload, std::size_t size,
                         uint8_t* out);
-  // The link's keyed HMAC state (nullptr: no key for it), to sign with or
+  // The link's keyed BLAKE2b state (nullptr: no key for it), to sign with or
   // to check a received tag with (set_links() says which the master derives).
   const crypto_generichash_blake2b_state* link_state(int16_t a, int16_t b, bool signing = false);
   // The master: the link's keyed state, derived and kept.

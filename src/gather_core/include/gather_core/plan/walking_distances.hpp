@@ -42,8 +42,8 @@ class HomeWalks {
     std::shared_ptr<const Times> times;  // over the box of the cells it reached, row-major
     Cell origin{0, 0};                   // the box's first cell on the map
     int rows = 0, cols = 0;
-    double reach = 0.0;      // [m] the farthest cell it was asked for
-    bool whole = false;      // it ran over all it could reach (some asked cell was never reached)
+    double reach = 0.0;      // [m] the farthest asked cell it reached
+    bool whole = false;      // it ran over all it could reach (it did not stop at its cells)
     float at(Cell c) const;  // +inf off the box
   };
   std::size_t budget_;
