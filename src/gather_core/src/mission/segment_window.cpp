@@ -22,17 +22,13 @@ void spread_line(const uint8_t* in, uint8_t* out, int n, std::size_t stride, int
   }
 }
 
-// The window's grid: the bounding box of `cells` (and of `also` if on the
-// map) plus `margin` cells, free where the map is free and, if `near_only`,
-// within `margin` cells (Chebyshev) of `cells`: one pass along rows, then
-// one along columns.
-OccupancyGrid window_grid(const OccupancyGrid& grid, const std::vector<Cell>& cells, Cell also, int margin,
-                          bool near_only, Cell& origin) {
+// The window's grid: the bounding box of `cells` plus `margin` cells, free
+// where the map is free and within `margin` cells (Chebyshev) of `cells`:
+// one pass along rows, then one along columns.
+OccupancyGrid window_grid(const OccupancyGrid& grid, const std::vector<Cell>& cells, int margin, Cell& origin) {
   int r0 = grid.height(), r1 = -1, c0 = grid.width(), c1 = -1;
   for (Cell c : cells)
     r0 = std::min(r0, c.row), r1 = std::max(r1, c.row), c0 = std::min(c0, c.col), c1 = std::max(c1, c.col);
-  if (grid.contains(also))
-    r0 = std::min(r0, also.row), r1 = std::max(r1, also.row), c0 = std::min(c0, also.col), c1 = std::max(c1, also.col);
   r0 = std::max(0, r0 - margin), c0 = std::max(0, c0 - margin);
   r1 = std::min(grid.height() - 1, r1 + margin), c1 = std::min(grid.width() - 1, c1 + margin);
   const int ww = c1 - c0 + 1, wh = r1 - r0 + 1;
@@ -48,7 +44,6 @@ OccupancyGrid window_grid(const OccupancyGrid& grid, const std::vector<Cell>& ce
     }
   origin = Cell{r0, c0};
   const Point2 o{grid.origin().x + c0 * grid.resolution(), grid.origin().y + r0 * grid.resolution()};
-  if (!near_only) return OccupancyGrid(ww, wh, grid.resolution(), o, vals, fr);
   std::vector<uint8_t> near(vals.size(), 0), rows(vals.size(), 0);
   for (Cell c : cells) near[at(c.row - r0, c.col - c0)] = 1;
   for (int r = 0; r < wh; ++r) spread_line(&near[at(r, 0)], &rows[at(r, 0)], ww, 1, margin);
@@ -61,15 +56,7 @@ OccupancyGrid window_grid(const OccupancyGrid& grid, const std::vector<Cell>& ce
 }  // namespace
 
 SegmentWindow::SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, double margin)
-    : fm_(window_grid(grid, cells, Cell{-1, -1}, static_cast<int>(std::ceil(margin / grid.resolution())), true,
-                      origin_)),
-      source_(1) {
-  options_.labels = false;
-}
-
-SegmentWindow::SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, Cell also, double margin)
-    : fm_(window_grid(grid, cells, also, static_cast<int>(std::ceil(margin / grid.resolution())), false, origin_)),
-      source_(1) {
+    : fm_(window_grid(grid, cells, static_cast<int>(std::ceil(margin / grid.resolution())), origin_)), source_(1) {
   options_.labels = false;
 }
 

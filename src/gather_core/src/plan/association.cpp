@@ -187,8 +187,9 @@ void associate(const PlanContext& ctx, fmm::FastMarching& fm, LegCache& legs, Co
       SegmentId best_k = trials.front();
       double shortest = kInf;
       bool fits = false;
+      const std::vector<SegmentId> served = segments_of(cfg, c);
       for (SegmentId k : trials) {
-        std::vector<SegmentId> segs = segments_of(cfg, c);
+        std::vector<SegmentId> segs = served;
         const auto at = std::find(segs.begin(), segs.end(), k);
         if (at == segs.end()) continue;  // not c's (ranked(c) lists c's workers only)
         segs.erase(at);

@@ -4,8 +4,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <map>
+#include <string>
 
+#include "gather_core/error.hpp"
 #include "gather_core/fmm/path.hpp"
 #include "gather_core/numeric.hpp"
 #include "gather_core/plan/loop_schedule.hpp"
@@ -416,31 +417,23 @@ void combine(Estimates& e, const PlanContext& ctx) {
   double weighted = 0.0;
   for (const WorkerEstimate& w : e.workers) e.goals += w.delivered_goals, weighted += w.delivered_goals * w.refresh_s;
   e.refresh_s = e.goals > 0 ? weighted / e.goals : 0.0;
-  // Per tile, in the order of their ids (ctx.tile_ids, ascending; a part
-  // of a tile that is not one of them comes after, in id order too);
-  // area_m2: the tile's whole reachable area.
+  // Per tile, in the order of their ids (ctx.tile_ids, ascending: the
+  // tiles a segment's parts come from, PlanContext::tile_of_cell); area_m2:
+  // the tile's whole reachable area.
   const std::vector<int64_t>& ids = ctx.tile_ids;
   std::vector<AreaDeliveries> tiles(ids.size());
   for (std::size_t i = 0; i < ids.size(); ++i) tiles[i].area_m2 = ctx.areas.area.at(ids[i]);
-  std::map<int64_t, AreaDeliveries> others;
   for (const WorkerEstimate& w : e.workers)
     for (const AreaDeliveries& a : w.areas) {
       const auto it = std::lower_bound(ids.begin(), ids.end(), a.area);
-      if (it != ids.end() && *it == a.area)
-        tiles[static_cast<std::size_t>(it - ids.begin())].merge(a);
-      else
-        others[a.area].merge(a);
+      if (it == ids.end() || *it != a.area)
+        throw RuntimeError("plan::combine", "area " + std::to_string(a.area) + " is none of the context's tiles");
+      tiles[static_cast<std::size_t>(it - ids.begin())].merge(a);
     }
   const int cycles = std::max(1, ctx.scenario.mission.cycles);
   const double horizon = cycles * ctx.cycle_period;
   double sum = 0.0, weights = 0.0;
-  if (others.empty())
-    for (const AreaDeliveries& t : tiles) sum += t.area_m2 * t.interval(horizon), weights += t.area_m2;
-  else {  // the ids of both, merged in ascending order (as one map would hold them)
-    std::map<int64_t, AreaDeliveries> all(others.begin(), others.end());
-    for (std::size_t i = 0; i < ids.size(); ++i) all[ids[i]] = tiles[i];
-    for (const auto& [id, t] : all) sum += t.area_m2 * t.interval(horizon), weights += t.area_m2;
-  }
+  for (const AreaDeliveries& t : tiles) sum += t.area_m2 * t.interval(horizon), weights += t.area_m2;
   e.interval_s = weights > 0 ? sum / weights : horizon;
 }
 

@@ -153,7 +153,6 @@ const LegLandmarks& landmarks(const PlanContext& ctx) {
     AStarWork work;
     std::size_t next = grid.index(ctx.oc_cell);
     for (std::size_t l = 0; l < kL; ++l) {
-      lm.cells.push_back(next);
       search(ctx, next, static_cast<std::size_t>(-1), work, [](std::size_t) { return 0.0f; });
       float farthest = -1.0f;
       for (std::size_t i = 0; i < n; ++i) {

@@ -115,6 +115,7 @@ void HomeWalks::distances(Cell home, const std::vector<Cell>& cells, fmm::FastMa
     ++marched_;
     const auto it = fields_.find(key);
     if (it != fields_.end() && !now.whole && it->second.reach >= now.reach) return;  // as far kept meanwhile
+    if (it == fields_.end() && kept_bytes_ >= budget_) return;                       // no room for another
   }
   const float* t = walk.padded_times();
   const std::size_t stride = walk.stride();

@@ -20,9 +20,6 @@ class SegmentWindow {
   // `cells`: the segment's cells (map indices), not empty; `margin` [m]
   // (ProtocolParams::window_margin_m for a worker's window).
   SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, double margin);
-  // A box for walks to the segment from `also`: the bounding box of `cells`
-  // and `also` plus `margin` [m], free wherever the map is.
-  SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, Cell also, double margin);
 
   // Distances [m] from `from` to `targets` (map cells), marched in the window.
   // False when `from` or a target lies outside the window or is not reached

@@ -49,6 +49,8 @@ WorkerEstimate estimate_worker(const PlanContext& ctx, const ConfigurationPlan& 
                                const RadioModel& radio, const PlannerOptions& opt);
 
 // The configuration's goals, refresh latency and interval from e.workers.
+// Their areas are parts of ctx's tiles (ConfigurationPlan::area_parts);
+// throws gather::RuntimeError for another.
 void combine(Estimates& e, const PlanContext& ctx);
 
 // Every worker's estimate of cfg, combined.

@@ -27,8 +27,7 @@ struct LegLandmarks {
   // farthest from those before.
   static constexpr int kCount = 6;
   std::once_flag once;
-  std::vector<float> cost;         // [cell * kCount + l]: the legs' cost (cells) from landmark l, +inf unreached
-  std::vector<std::size_t> cells;  // the landmarks (map indices)
+  std::vector<float> cost;  // [cell * kCount + l]: the legs' cost (cells) from landmark l, +inf unreached
 };
 
 // The cost (in cells: a straight step between two roomy cells costs 1) of
