@@ -380,6 +380,37 @@ TEST(FastMarching, WorkspaceReuseGivesSameResultWithoutGrowing) {
   }
 }
 
+TEST(FastMarching, BindingAnotherGridGivesAFreshWorkspacesResult) {
+  // A workspace that marched on a large grid, bound to a smaller one with
+  // another origin and walls (and back), gives what a new workspace gives.
+  const OccupancyGrid big = office_grid(300, 60, 3, 12);
+  const OccupancyGrid small = make_grid(
+      40, 25, [](int r, int c) { return !(c == 20 && r < 18); }, 0.1, Point2{3.0, -2.0});
+  FastMarching fm(big);
+  SolveOptions labelled;
+  fm.solve({Source::at_cell({30, 30}), Source::at_cell({200, 250})}, labelled);
+  fm.bind(small.frame(), small.free_mask());
+  EXPECT_EQ(fm.width(), 40);
+  EXPECT_EQ(fm.height(), 25);
+  EXPECT_FALSE(fm.reached(Cell{2, 2}));  // nothing of the last solve is left
+  SolveOptions plain;
+  plain.labels = false;
+  fm.solve({Source::at_cell({2, 2})}, plain);
+  FastMarching fresh(small);
+  fresh.solve({Source::at_cell({2, 2})}, plain);
+  EXPECT_EQ(fm.times(), fresh.times());
+  EXPECT_GT(fm.time(Cell{2, 30}), 1.5);  // around the wall's end
+  EXPECT_DOUBLE_EQ(fm.time_at(Point2{3.0 + 0.35, -2.0 + 0.25}), fresh.time_at(Point2{3.0 + 0.35, -2.0 + 0.25}));
+  fm.bind(big.frame(), big.free_mask());
+  fm.solve({Source::at_cell({30, 30}), Source::at_cell({200, 250})}, labelled);
+  FastMarching again(big);
+  again.solve({Source::at_cell({30, 30}), Source::at_cell({200, 250})}, labelled);
+  EXPECT_EQ(fm.times(), again.times());
+  EXPECT_EQ(fm.labels(), again.labels());
+  // A mask that is not the frame's size is refused.
+  EXPECT_THROW(fm.bind(small.frame(), big.free_mask()), Error);
+}
+
 TEST(FastMarching, EarlyStopAtTargetsAndMaxTime) {
   const OccupancyGrid g = office_grid(300, 60, 3, 12);
   FastMarching fm(g);

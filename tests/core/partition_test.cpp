@@ -2,15 +2,18 @@
 // of maps/ and ../shared/maps/ipa, edge cases of N_w, bad input, metrics.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "gather_core/error.hpp"
 #include "gather_core/figures/partition_figure.hpp"
 #include "gather_core/grid/reachability.hpp"
+#include "gather_core/partition/front_growth.hpp"
 #include "gather_core/partition/metrics.hpp"
 #include "gather_core/partition/partition.hpp"
 #include "gather_core/scenario/scenario.hpp"
@@ -61,6 +64,32 @@ void expect_contract(const OccupancyGrid& g, Cell oc, const PartitionResult& p, 
     const std::size_t n = testing_support::flood_size(p.labels, first[k]);
     EXPECT_EQ(n, count[k]) << what << " segment " << k << " is not 4-connected";
   }
+}
+
+TEST(FrontGrowthTest, LowerListsTheCellsItLowered) {
+  // A room with a wall across most of it: each front from a new source
+  // lowers the distances of the cells nearer to it than to the ones before,
+  // and lists exactly those.
+  Mask region(GridFrame{30, 20, 0.5, Point2{}}, 1);
+  for (int r = 0; r < 15; ++r) region[static_cast<std::size_t>(r) * 30 + 15] = 0;
+  FrontGrowth fronts(region);
+  std::vector<float> dist(region.size(), std::numeric_limits<float>::infinity());
+  std::vector<uint32_t> lowered;
+  std::size_t total = 0;
+  for (const std::size_t source : {std::size_t{2 * 30 + 2}, std::size_t{2 * 30 + 27}, std::size_t{18 * 30 + 15}}) {
+    const std::vector<float> before = dist;
+    fronts.lower(source, dist, &lowered);
+    std::vector<uint32_t> changed;
+    for (std::size_t i = 0; i < dist.size(); ++i)
+      if (dist[i] < before[i]) changed.push_back(static_cast<uint32_t>(i));
+    std::sort(lowered.begin(), lowered.end());
+    EXPECT_EQ(lowered, changed) << "source " << source;
+    EXPECT_FALSE(lowered.empty());
+    total += lowered.size();
+  }
+  EXPECT_GT(total, region.size() - 15);  // the first front reached every cell of the region
+  fronts.lower(2 * 30 + 2, dist, &lowered);  // a source again: nothing comes nearer
+  EXPECT_TRUE(lowered.empty());
 }
 
 TEST(Partition, ContractOnEveryMap) {

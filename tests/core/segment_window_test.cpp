@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "gather_core/error.hpp"
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/mission/segment_window.hpp"
 #include "predicate_grid.hpp"
@@ -97,6 +98,28 @@ TEST(SegmentWindowTest, TheMarginDecidesWhichWaysTheWindowSees) {
   ASSERT_TRUE(mission::SegmentWindow(grid, seg, 0.3).march(Cell{10, 10}, seg, out.data()));
   const std::vector<double> ref = on_the_map(grid, Cell{10, 10}, seg);
   for (std::size_t i = 0; i < seg.size(); ++i) EXPECT_NEAR(out[i], ref[i], 1e-5) << i;
+}
+
+TEST(SegmentWindowTest, AWindowBoundToAnotherSegmentMarchesAsANewOne) {
+  // The planner binds one window to each segment in turn: what it marches
+  // there is what a window made for that segment marches.
+  const OccupancyGrid grid = predicate_grid(
+      80, 60, [](int r, int c) { return !(c == 30 && r > 10); }, 0.1);
+  std::vector<Cell> wide;  // free cells only: a segment holds no wall
+  for (Cell c : block(5, 50, 5, 70))
+    if (grid.is_free(c)) wide.push_back(c);
+  const std::vector<Cell> small = block(20, 30, 40, 50);
+  mission::SegmentWindow window(grid, wide, 1.0);
+  std::vector<double> out(wide.size());
+  ASSERT_TRUE(window.march(Cell{40, 10}, wide, out.data()));
+  window.bind(grid, small, 1.0);
+  std::vector<double> again(small.size()), fresh(small.size());
+  ASSERT_TRUE(window.march(Cell{22, 42}, small, again.data()));
+  ASSERT_TRUE(mission::SegmentWindow(grid, small, 1.0).march(Cell{22, 42}, small, fresh.data()));
+  EXPECT_EQ(again, fresh);
+  // The wide segment's cells are off the small one's window now.
+  EXPECT_FALSE(window.march(Cell{40, 10}, wide, out.data()));
+  EXPECT_THROW(window.bind(grid, {}, 1.0), Error);
 }
 
 TEST(SegmentWindowTest, AWindowDoesNotHoldAFarHome) {

@@ -23,20 +23,34 @@ std::string cell_text(Cell c) { return "(" + std::to_string(c.row) + ", " + std:
 
 }  // namespace
 
-FastMarching::FastMarching(const OccupancyGrid& grid)
-    : width_(grid.width()),
-      height_(grid.height()),
-      stride_(static_cast<std::size_t>(grid.width()) + 2 * kPad),
-      resolution_(grid.resolution()),
-      origin_(grid.origin()) {
-  const std::size_t rows = static_cast<std::size_t>(height_) + 2 * kPad;
-  if (rows * stride_ >= std::numeric_limits<uint32_t>::max())
-    throw Error("fmm", "grid of " + std::to_string(width_) + " x " + std::to_string(height_) + " cells is too large");
+FastMarching::FastMarching(const OccupancyGrid& grid) { bind(grid.frame(), grid.free_mask()); }
+
+void FastMarching::bind(const GridFrame& frame, const std::vector<uint8_t>& free) {
+  if (free.size() != frame.size())
+    throw Error("fmm",
+                "free mask of " + std::to_string(free.size()) + " cells for a grid of " + std::to_string(frame.size()));
+  const std::size_t stride = static_cast<std::size_t>(frame.width) + 2 * kPad;
+  const std::size_t rows = static_cast<std::size_t>(frame.height) + 2 * kPad;
+  if (rows * stride >= std::numeric_limits<uint32_t>::max())
+    throw Error(
+        "fmm", "grid of " + std::to_string(frame.width) + " x " + std::to_string(frame.height) + " cells is too large");
+  width_ = frame.width, height_ = frame.height, stride_ = stride;
+  resolution_ = frame.resolution, origin_ = frame.origin;
   mask_.assign(rows * stride_, 0);
-  const auto& free = grid.free_mask();
-  for (int r = 0; r < height_; ++r)
-    for (int c = 0; c < width_; ++c)
-      mask_[padded(Cell{r, c})] = free[static_cast<std::size_t>(r) * width_ + c] != 0 ? 1 : 0;
+  for (int r = 0; r < height_; ++r) {
+    const uint8_t* in = &free[static_cast<std::size_t>(r) * static_cast<std::size_t>(width_)];
+    uint8_t* out = &mask_[padded(Cell{r, 0})];
+    for (int c = 0; c < width_; ++c) out[c] = in[c] != 0 ? 1 : 0;
+  }
+  // Nothing of the last solve is valid on the new grid: sized again by the next solve.
+  times_.clear();
+  labels_.clear();
+  labels_on_ = false;
+  touched_.clear();
+  touched_overflow_ = true;
+  seeds_.clear();
+  sources_.clear();
+  stats_ = SolveStats{};
   set_unit_speed();
 }
 

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+
+#include "gather_core/error.hpp"
 
 namespace gather {
 namespace mission {
@@ -22,10 +25,18 @@ void spread_line(const uint8_t* in, uint8_t* out, int n, std::size_t stride, int
   }
 }
 
-// The window's grid: the bounding box of `cells` plus `margin` cells, free
-// where the map is free and within `margin` cells (Chebyshev) of `cells`:
-// one pass along rows, then one along columns.
-OccupancyGrid window_grid(const OccupancyGrid& grid, const std::vector<Cell>& cells, int margin, Cell& origin) {
+}  // namespace
+
+SegmentWindow::SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, double margin) {
+  bind(grid, cells, margin);
+}
+
+// The window: the bounding box of `cells` plus the margin, free where the map
+// is free and within the margin (Chebyshev, in cells) of `cells`: one pass
+// along rows, then one along columns.
+void SegmentWindow::bind(const OccupancyGrid& grid, const std::vector<Cell>& cells, double margin_m) {
+  if (cells.empty()) throw Error("segment window", "a window of no cells");
+  const int margin = static_cast<int>(std::ceil(margin_m / grid.resolution()));
   int r0 = grid.height(), r1 = -1, c0 = grid.width(), c1 = -1;
   for (Cell c : cells)
     r0 = std::min(r0, c.row), r1 = std::max(r1, c.row), c0 = std::min(c0, c.col), c1 = std::max(c1, c.col);
@@ -35,28 +46,22 @@ OccupancyGrid window_grid(const OccupancyGrid& grid, const std::vector<Cell>& ce
   auto at = [ww](int r, int c) {
     return static_cast<std::size_t>(r) * static_cast<std::size_t>(ww) + static_cast<std::size_t>(c);
   };
-  std::vector<int8_t> vals(static_cast<std::size_t>(ww) * static_cast<std::size_t>(wh));
-  std::vector<uint8_t> fr(vals.size());
-  for (int r = 0; r < wh; ++r)
-    for (int c = 0; c < ww; ++c) {
-      const std::size_t src = grid.index(Cell{r0 + r, c0 + c});
-      vals[at(r, c)] = grid.values()[src], fr[at(r, c)] = grid.free_mask()[src];
-    }
-  origin = Cell{r0, c0};
+  const std::size_t n = static_cast<std::size_t>(ww) * static_cast<std::size_t>(wh);
+  near_.assign(n, 0), rows_.assign(n, 0), free_.resize(n);
+  for (Cell c : cells) near_[at(c.row - r0, c.col - c0)] = 1;
+  for (int r = 0; r < wh; ++r) spread_line(&near_[at(r, 0)], &rows_[at(r, 0)], ww, 1, margin);
+  std::fill(near_.begin(), near_.end(), 0);
+  for (int c = 0; c < ww; ++c)
+    spread_line(&rows_[at(0, c)], &near_[at(0, c)], wh, static_cast<std::size_t>(ww), margin);
+  const uint8_t* map_free = grid.free_mask().data();
+  for (int r = 0; r < wh; ++r) {
+    const uint8_t* in = map_free + grid.index(Cell{r0 + r, c0});
+    for (int c = 0; c < ww; ++c) free_[at(r, c)] = in[c] && near_[at(r, c)] ? 1 : 0;
+  }
+  origin_ = Cell{r0, c0};
   const Point2 o{grid.origin().x + c0 * grid.resolution(), grid.origin().y + r0 * grid.resolution()};
-  std::vector<uint8_t> near(vals.size(), 0), rows(vals.size(), 0);
-  for (Cell c : cells) near[at(c.row - r0, c.col - c0)] = 1;
-  for (int r = 0; r < wh; ++r) spread_line(&near[at(r, 0)], &rows[at(r, 0)], ww, 1, margin);
-  std::fill(near.begin(), near.end(), 0);
-  for (int c = 0; c < ww; ++c) spread_line(&rows[at(0, c)], &near[at(0, c)], wh, static_cast<std::size_t>(ww), margin);
-  for (std::size_t i = 0; i < fr.size(); ++i) fr[i] = fr[i] && near[i];
-  return OccupancyGrid(ww, wh, grid.resolution(), o, vals, fr);
-}
-
-}  // namespace
-
-SegmentWindow::SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, double margin)
-    : fm_(window_grid(grid, cells, static_cast<int>(std::ceil(margin / grid.resolution())), origin_)), source_(1) {
+  fm_.bind(GridFrame{ww, wh, grid.resolution(), o}, free_);
+  source_.resize(1);
   options_.labels = false;
 }
 
@@ -71,9 +76,16 @@ bool SegmentWindow::march(Cell from, const std::vector<Cell>& targets, double* o
   source_[0] = fmm::Source::at_cell(local(from));
   options_.targets.assign(shifted_.begin(), shifted_.end());
   fm_.solve(source_, options_);
+  // The times read in place (every target is in the window): an obstacle's
+  // and an unreached cell's are +inf.
+  const float* t = fm_.padded_times();
   bool all = true;
-  for (std::size_t i = 0; i < shifted_.size(); ++i)
-    out[i] = fm_.time(shifted_[i]), all = all && fm_.reached(shifted_[i]);
+  for (std::size_t i = 0; i < shifted_.size(); ++i) {
+    const float v = t[fm_.padded(shifted_[i])];
+    const bool reached = v < std::numeric_limits<float>::infinity();
+    out[i] = reached ? static_cast<double>(v) : fmm::kUnreached;
+    all = all && reached;
+  }
   return all;
 }
 

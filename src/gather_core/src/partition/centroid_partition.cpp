@@ -154,17 +154,42 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
   std::vector<float> dist(cn, std::numeric_limits<float>::infinity());
   std::vector<uint8_t> is_seed(cn, 0);
   is_seed[seeds[0]] = 1;
+  // A cell's score: its distance to the seeds placed times its clearance
+  // weight; -inf weight (so -inf or NaN, never the best) off the region and
+  // at the seeds.
+  std::vector<double> weight(cn, -std::numeric_limits<double>::infinity());
+  for (std::size_t b = 0; b < cn; ++b)
+    if (c.region[b] && !is_seed[b]) weight[b] = 1e-3 + std::min(c.clearance[b], clr_cap);
+  // The next seed is the cell of highest score, the first in row-major order
+  // among equal ones. The cells are taken in blocks of kBlock, each with its
+  // best (score, cell): a new seed lowers the distances of the cells nearer
+  // to it than to the seeds before, and only their blocks are looked at
+  // again. The same seed as a scan of every cell each time.
+  constexpr std::size_t kBlock = 64;
+  const std::size_t blocks = (cn + kBlock - 1) / kBlock;
+  std::vector<double> block_best(blocks);
+  std::vector<std::size_t> block_cell(blocks);
+  std::vector<uint8_t> stale(blocks, 1);
+  std::vector<uint32_t> lowered;
   while (seeds.size() < nw) {
-    coarse.lower(seeds.back(), dist);
+    coarse.lower(seeds.back(), dist, &lowered);
+    for (uint32_t b : lowered) stale[b / kBlock] = 1;
+    stale[seeds.back() / kBlock] = 1;
     std::size_t best = cn;
     double best_score = -1.0;
-    for (std::size_t b = 0; b < cn; ++b) {
-      if (!c.region[b] || is_seed[b]) continue;
-      const double score = static_cast<double>(dist[b]) * (1e-3 + std::min(c.clearance[b], clr_cap));
-      if (score > best_score) best_score = score, best = b;
+    for (std::size_t k = 0; k < blocks; ++k) {
+      if (stale[k]) {
+        stale[k] = 0;
+        block_best[k] = -1.0, block_cell[k] = cn;
+        for (std::size_t b = k * kBlock, end = std::min(cn, b + kBlock); b < end; ++b) {
+          const double score = static_cast<double>(dist[b]) * weight[b];
+          if (score > block_best[k]) block_best[k] = score, block_cell[k] = b;
+        }
+      }
+      if (block_best[k] > best_score) best_score = block_best[k], best = block_cell[k];
     }
     seeds.push_back(best);
-    is_seed[best] = 1;
+    if (best < cn) is_seed[best] = 1, weight[best] = -std::numeric_limits<double>::infinity();
   }
   out.initial_seeds.clear();
   for (std::size_t s : seeds) out.initial_seeds.push_back(g.cell(c.fine_cell[s]));
@@ -181,27 +206,28 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
     std::fill(sy.begin(), sy.end(), 0.0);
     std::fill(sw.begin(), sw.end(), 0.0);
     std::fill(cnt.begin(), cnt.end(), 0.0);
-    for (std::size_t b = 0; b < cn; ++b) {
-      if (labels[b] <= 0) continue;
-      const std::size_t k = static_cast<std::size_t>(labels[b] - 1);
-      const double w = rooms ? std::max(1e-3, static_cast<double>(c.clearance[b])) : 1.0;
-      const std::size_t col = b % c.width, row = b / c.width;
-      sx[k] += w * static_cast<double>(col);
-      sy[k] += w * static_cast<double>(row);
-      sw[k] += w;
-      cnt[k] += 1.0;
-    }
+    // Row-major, the row and column counted (not divided out of the index).
+    for (std::size_t b = 0, row = 0; row < static_cast<std::size_t>(c.height); ++row)
+      for (std::size_t col = 0; col < static_cast<std::size_t>(c.width); ++col, ++b) {
+        if (labels[b] <= 0) continue;
+        const std::size_t k = static_cast<std::size_t>(labels[b] - 1);
+        const double w = rooms ? std::max(1e-3, static_cast<double>(c.clearance[b])) : 1.0;
+        sx[k] += w * static_cast<double>(col);
+        sy[k] += w * static_cast<double>(row);
+        sw[k] += w;
+        cnt[k] += 1.0;
+      }
     std::fill(best_d.begin(), best_d.end(), std::numeric_limits<double>::infinity());
     std::vector<std::size_t> moved = seeds;
-    for (std::size_t b = 0; b < cn; ++b) {
-      if (labels[b] <= 0) continue;
-      const std::size_t k = static_cast<std::size_t>(labels[b] - 1);
-      const std::size_t col = b % c.width, row = b / c.width;
-      const double dx = static_cast<double>(col) - sx[k] / sw[k];
-      const double dy = static_cast<double>(row) - sy[k] / sw[k];
-      const double d = dx * dx + dy * dy;
-      if (d < best_d[k]) best_d[k] = d, moved[k] = b;
-    }
+    for (std::size_t b = 0, row = 0; row < static_cast<std::size_t>(c.height); ++row)
+      for (std::size_t col = 0; col < static_cast<std::size_t>(c.width); ++col, ++b) {
+        if (labels[b] <= 0) continue;
+        const std::size_t k = static_cast<std::size_t>(labels[b] - 1);
+        const double dx = static_cast<double>(col) - sx[k] / sw[k];
+        const double dy = static_cast<double>(row) - sy[k] / sw[k];
+        const double d = dx * dx + dy * dy;
+        if (d < best_d[k]) best_d[k] = d, moved[k] = b;
+      }
     // RAP has no delays: unmoved centroids are a fixed point of the iteration.
     if (rooms && moved == seeds) break;
     seeds = moved;

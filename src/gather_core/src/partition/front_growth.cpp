@@ -211,10 +211,11 @@ void FrontGrowth::grow(const std::vector<Front>& fronts, std::vector<int32_t>& l
   }
 }
 
-void FrontGrowth::lower(std::size_t cell, std::vector<float>& dist) {
+void FrontGrowth::lower(std::size_t cell, std::vector<float>& dist, std::vector<uint32_t>* lowered) {
   const std::size_t n = static_cast<std::size_t>(width_) * height_;
   if (cell >= n || !region_[pad(cell)] || dist.size() != n) throw Error("partition", "front growth: bad lower() call");
   reset_touched();
+  if (lowered) lowered->clear();
   const std::size_t s = pad(cell);
   label_[s] = -1;
   time_[s] = 0.0f;
@@ -229,9 +230,11 @@ void FrontGrowth::lower(std::size_t cell, std::vector<float>& dist) {
     heap_.pop_back();
     if (state_[e.p] == kAccepted || e.t > time_[e.p]) continue;
     state_[e.p] = kAccepted;
-    float& d = dist[unpad(e.p)];
+    const std::size_t cell_at = unpad(e.p);
+    float& d = dist[cell_at];
     if (e.t >= d) continue;  // already as close to an earlier source: stop here
     d = e.t;
+    if (lowered) lowered->push_back(static_cast<uint32_t>(cell_at));
     for (std::ptrdiff_t o : nb) {
       const std::size_t q = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(e.p) + o);
       if (!region_[q] || state_[q] == kAccepted) continue;

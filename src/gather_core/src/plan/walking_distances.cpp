@@ -177,10 +177,12 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
   const OccupancyGrid& grid = ctx.scenario.grid;
   require_same_size(labels, grid.frame(), "walking distances", "the label image");
   PerSegment<std::vector<Cell>> cells(graph.segments.count());
-  for (std::size_t i = 0; i < labels.size(); ++i) {
-    const SegmentId k(labels[i]);
-    if (k.within(cells.count()) && ctx.reachable[i]) cells[k].push_back(grid.cell(i));
-  }
+  std::size_t at = 0;  // row-major, without a division per cell
+  for (int r = 0; r < grid.height(); ++r)
+    for (int c = 0; c < grid.width(); ++c, ++at) {
+      const SegmentId k(labels[at]);
+      if (k.within(cells.count()) && ctx.reachable[at]) cells[k].push_back(Cell{r, c});
+    }
   Field rank(labels.frame(), -1.0f);
   std::vector<uint64_t> order, keys, spare;
   std::vector<double> sorted;     // distances of one segment's cells, ascending
@@ -195,6 +197,7 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     return q;
   };
   fmm::FastMarching walk = ctx.coverage_field;  // unit speed on the reachable space
+  mission::SegmentWindow segment_window;        // bound to each segment in turn
   fmm::SolveOptions so;
   so.labels = false;
   // Adds the reached distances of `out` to `sum`, counted in `n`.
@@ -258,11 +261,11 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     }
     // Between its cells, in its window as the worker walks between goals
     // (on the whole map when the window does not connect them).
-    mission::SegmentWindow window(grid, cells[k], opt.protocol.window_margin_m);
+    segment_window.bind(grid, cells[k], opt.protocol.window_margin_m);
     sum = 0.0, n = 0;
     const std::size_t sources = std::min(pair_sources, cells[k].size());
     for (std::size_t j = 0; j < sources; ++j)
-      distances(cells[k][(2 * j + 1) * cells[k].size() / (2 * sources)], cells[k], window, pair, sum, n);
+      distances(cells[k][(2 * j + 1) * cells[k].size() / (2 * sources)], cells[k], segment_window, pair, sum, n);
     if (n > 0) seg.mean_pair_distance = sum / static_cast<double>(n);
   }
   return rank;

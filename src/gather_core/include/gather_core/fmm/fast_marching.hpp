@@ -94,6 +94,12 @@ class FastMarching {
   // Binds the workspace to the grid's size, resolution, origin and free mask
   // (copied; the grid need not outlive the workspace). Unit speed (1 m/s).
   explicit FastMarching(const OccupancyGrid& grid);
+  // Binds the workspace to another grid: `frame` and its free mask
+  // (row-major, 1 = free, frame.size() values), keeping the memory of the
+  // arrays it already holds (for a caller that marches on many small grids
+  // in turn, as the planner on each segment's window). Unit speed; the
+  // last solve's results are gone. Throws gather::Error on a grid too large.
+  void bind(const GridFrame& frame, const std::vector<uint8_t>& free);
 
   // Speed map [m/s], a value per cell of the grid (row 0 = bottom); 0 =
   // obstacle. Cells that are not free in the grid stay obstacles whatever

@@ -20,9 +20,14 @@ class SegmentWindow {
   // `cells`: the segment's cells (map indices), not empty; `margin` [m]
   // (ProtocolParams::window_margin_m for a worker's window).
   SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, double margin);
+  // An unbound window: bind() it before marching.
+  SegmentWindow() = default;
+  // The window of another segment, keeping the memory already held (the
+  // planner binds one window to each segment in turn).
+  void bind(const OccupancyGrid& grid, const std::vector<Cell>& cells, double margin);
 
-  // Distances [m] from `from` to `targets` (map cells), marched in the window.
-  // False when `from` or a target lies outside the window or is not reached
+  // Distances [m] from `from` to `targets` (map cells), marched in the window
+  // (+inf where not reached). False when `from` or a target lies outside the window or is not reached
   // in it (the caller then marches on the whole map); `out` is then partial.
   bool march(Cell from, const std::vector<Cell>& targets, double* out);
 
@@ -36,6 +41,7 @@ class SegmentWindow {
   std::vector<Cell> shifted_;
   std::vector<fmm::Source> source_;
   fmm::SolveOptions options_;
+  std::vector<uint8_t> free_, near_, rows_;  // bind()'s scratch
 };
 
 }  // namespace mission

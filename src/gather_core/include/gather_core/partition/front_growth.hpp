@@ -46,8 +46,9 @@ class FrontGrowth {
             const std::vector<int32_t>* confine = nullptr);
 
   // Lowers dist[cell] (row-major [s], +inf = far) to the arrival time of one
-  // front from `cell`, marching only where it improves dist.
-  void lower(std::size_t cell, std::vector<float>& dist);
+  // front from `cell`, marching only where it improves dist. `lowered`
+  // (optional) gets the cells whose dist it lowered (row-major indices).
+  void lower(std::size_t cell, std::vector<float>& dist, std::vector<uint32_t>* lowered = nullptr);
 
   // --- quota growth (BAP) ------------------------------------------------
   // Weight of each cell in quotas and counts (row-major; e.g. the fine cells
