@@ -87,7 +87,7 @@ TEST(FrontGrowthTest, LowerListsTheCellsItLowered) {
     EXPECT_FALSE(lowered.empty());
     total += lowered.size();
   }
-  EXPECT_GT(total, region.size() - 15);  // the first front reached every cell of the region
+  EXPECT_GT(total, region.size() - 15);      // the first front reached every cell of the region
   fronts.lower(2 * 30 + 2, dist, &lowered);  // a source again: nothing comes nearer
   EXPECT_TRUE(lowered.empty());
 }
