@@ -66,5 +66,32 @@ TEST(Clearance, FreeDistanceIsALowerBoundOfTheDistanceToBlockedSquares) {
   }
 }
 
+TEST(Clearance, DiscFreeIsFreeDistanceAgainstTheRadius) {
+  // disc_free decides from the cell's clearance where it can: it must say
+  // what free_distance(p) >= radius says, also for radii that fall on the
+  // edges of its shortcuts (a cell's clearance less one and two half
+  // diagonals) and points at cell centres and corners.
+  const OccupancyGrid g = random_grid(40, 30, 0.05, 11);
+  const ClearanceMap cm(g);
+  const double half = 0.5 * std::sqrt(2.0) * g.resolution();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<> ux(0.9, 5.1), uy(-1.1, 2.1), ur(0.0, 0.6);
+  std::size_t agreed = 0, free_discs = 0;
+  for (int t = 0; t < 20000; ++t) {
+    Point2 p{ux(rng), uy(rng)};
+    if (t % 3 == 1) p = g.cell_center(g.world_to_cell(p));
+    const Cell c = g.world_to_cell(p);
+    const double clr = cm.at(c);
+    for (const double r : {ur(rng), clr - half, clr - 2.0 * half, cm.free_distance(p), 0.0}) {
+      ASSERT_EQ(cm.disc_free(p, r), cm.free_distance(p) >= r) << p.x << ", " << p.y << " radius " << r;
+      ++agreed;
+      free_discs += cm.disc_free(p, r) ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(agreed, 100000u);
+  EXPECT_GT(free_discs, 20000u);  // both answers are common
+  EXPECT_LT(free_discs, 90000u);
+}
+
 }  // namespace
 }  // namespace gather

@@ -18,7 +18,9 @@ class ClearanceMap {
   // minus |p - that centre| minus half a cell diagonal. <= 0 when p is blocked.
   double free_distance(Point2 p) const;
   // True if a disc of `radius` [m] centred at p surely touches no blocked cell.
-  bool disc_free(Point2 p, double radius) const { return free_distance(p) >= radius; }
+  // The same as free_distance(p) >= radius, which it works out only when
+  // the cell's clearance alone does not decide it.
+  bool disc_free(Point2 p, double radius) const;
 
   const Field& values() const { return meters_; }  // [m], in the grid's frame
   const OccupancyGrid& grid() const { return grid_; }
