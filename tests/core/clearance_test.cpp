@@ -70,7 +70,7 @@ TEST(Clearance, DiscFreeIsFreeDistanceAgainstTheRadius) {
   // disc_free decides from the cell's clearance where it can: it must say
   // what free_distance(p) >= radius says, also for radii that fall on the
   // edges of its shortcuts (a cell's clearance less one and two half
-  // diagonals) and points at cell centres and corners.
+  // diagonals) and points at cell centres and at cell corners.
   const OccupancyGrid g = random_grid(40, 30, 0.05, 11);
   const ClearanceMap cm(g);
   const double half = 0.5 * std::sqrt(2.0) * g.resolution();
@@ -80,6 +80,10 @@ TEST(Clearance, DiscFreeIsFreeDistanceAgainstTheRadius) {
   for (int t = 0; t < 20000; ++t) {
     Point2 p{ux(rng), uy(rng)};
     if (t % 3 == 1) p = g.cell_center(g.world_to_cell(p));
+    if (t % 3 == 2) {  // a cell's corner (as far from its centre as a point of it gets)
+      const Point2 q = g.cell_center(g.world_to_cell(p));
+      p = Point2{q.x - 0.5 * g.resolution(), q.y - 0.5 * g.resolution()};
+    }
     const Cell c = g.world_to_cell(p);
     const double clr = cm.at(c);
     for (const double r : {ur(rng), clr - half, clr - 2.0 * half, cm.free_distance(p), 0.0}) {

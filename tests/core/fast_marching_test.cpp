@@ -407,8 +407,25 @@ TEST(FastMarching, BindingAnotherGridGivesAFreshWorkspacesResult) {
   again.solve({Source::at_cell({30, 30}), Source::at_cell({200, 250})}, labelled);
   EXPECT_EQ(fm.times(), again.times());
   EXPECT_EQ(fm.labels(), again.labels());
-  // A mask that is not the frame's size is refused.
+  // Bound to a grid of the same size (so its arrays keep their layout and
+  // the next solve resets only what the last one touched): nothing of the
+  // last solve is left, and a march there is a fresh workspace's.
+  const OccupancyGrid walls = office_grid(300, 50, 4, 9);
+  SolveOptions stop = plain;
+  stop.max_time = 8.0;  // an early stop touches few cells: the sparse reset
+  fm.solve({Source::at_cell({30, 30})}, stop);
+  ASSERT_TRUE(fm.reached(Cell{32, 33}));
+  fm.bind(walls.frame(), walls.free_mask());
+  EXPECT_FALSE(fm.reached(Cell{32, 33}));
+  fm.solve({Source::at_cell({120, 140})}, stop);
+  FastMarching other(walls);
+  other.solve({Source::at_cell({120, 140})}, stop);
+  EXPECT_EQ(fm.times(), other.times());
+  EXPECT_FALSE(fm.reached(Cell{32, 33}));
+  // A mask that is not the frame's size, or an empty frame, is refused.
   EXPECT_THROW(fm.bind(small.frame(), big.free_mask()), Error);
+  EXPECT_THROW(fm.bind(GridFrame{0, 5, 0.1, Point2{}}, {}), Error);
+  EXPECT_THROW(fm.bind(GridFrame{4, 4, 0.0, Point2{}}, std::vector<uint8_t>(16, 1)), Error);
 }
 
 TEST(FastMarching, EarlyStopAtTargetsAndMaxTime) {

@@ -4,6 +4,7 @@
 // they cannot answer.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "gather_core/error.hpp"
@@ -119,6 +120,22 @@ TEST(SegmentWindowTest, AWindowBoundToAnotherSegmentMarchesAsANewOne) {
   EXPECT_EQ(again, fresh);
   // The wide segment's cells are off the small one's window now.
   EXPECT_FALSE(window.march(Cell{40, 10}, wide, out.data()));
+  // An L (margin 0.3 m) bound after the wide window: its box holds cells
+  // beyond its margin that the wide window let through; were they left
+  // open, the way from the end of one arm to the end of the other would cut
+  // across the box instead of going round the inner corner.
+  const std::vector<Cell> arm = block(20, 22, 35, 75);
+  std::vector<Cell> ell = arm;
+  for (Cell c : block(23, 58, 35, 37)) ell.push_back(c);
+  window.bind(grid, wide, 1.0);
+  ASSERT_TRUE(window.march(Cell{40, 10}, wide, out.data()));
+  window.bind(grid, ell, 0.3);
+  std::vector<double> round(ell.size()), fresh_ell(ell.size());
+  ASSERT_TRUE(window.march(Cell{58, 36}, ell, round.data()));
+  ASSERT_TRUE(mission::SegmentWindow(grid, ell, 0.3).march(Cell{58, 36}, ell, fresh_ell.data()));
+  EXPECT_EQ(round, fresh_ell);
+  // To (22, 75): round the corner (25, 40) about 6.8 m, straight 5.3 m.
+  EXPECT_GT(round[arm.size() - 1], 6.5);
   EXPECT_THROW(window.bind(grid, {}, 1.0), Error);
 }
 

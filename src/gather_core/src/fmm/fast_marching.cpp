@@ -26,6 +26,9 @@ std::string cell_text(Cell c) { return "(" + std::to_string(c.row) + ", " + std:
 FastMarching::FastMarching(const OccupancyGrid& grid) { bind(grid.frame(), grid.free_mask()); }
 
 void FastMarching::bind(const GridFrame& frame, const std::vector<uint8_t>& free) {
+  if (frame.width <= 0 || frame.height <= 0 || !(frame.resolution > 0.0))
+    throw Error("fmm", "a grid of " + std::to_string(frame.width) + " x " + std::to_string(frame.height) +
+                           " cells at " + std::to_string(frame.resolution) + " m (needs cells and a resolution > 0)");
   if (free.size() != frame.size())
     throw Error("fmm",
                 "free mask of " + std::to_string(free.size()) + " cells for a grid of " + std::to_string(frame.size()));

@@ -29,6 +29,8 @@ void spread_line(const uint8_t* in, uint8_t* out, int n, std::size_t stride, int
 
 SegmentWindow::SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, double margin) {
   bind(grid, cells, margin);
+  // A window made for one segment (a worker's) keeps no scratch.
+  free_ = {}, near_ = {}, rows_ = {};
 }
 
 // The window: the bounding box of `cells` plus the margin, free where the map

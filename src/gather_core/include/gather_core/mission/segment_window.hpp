@@ -36,12 +36,12 @@ class SegmentWindow {
   void reserve(std::size_t targets);
 
  private:
-  Cell origin_;  // of the window on the map (set while fm_ is built: declared first)
+  Cell origin_;  // of the window on the map
   fmm::FastMarching fm_;
   std::vector<Cell> shifted_;
   std::vector<fmm::Source> source_;
   fmm::SolveOptions options_;
-  std::vector<uint8_t> free_, near_, rows_;  // bind()'s scratch
+  std::vector<uint8_t> free_, near_, rows_;  // bind()'s scratch, kept between binds (not by the constructor)
 };
 
 }  // namespace mission
