@@ -4,7 +4,6 @@
 // they cannot answer.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <vector>
 
 #include "gather_core/error.hpp"
@@ -101,6 +100,18 @@ TEST(SegmentWindowTest, TheMarginDecidesWhichWaysTheWindowSees) {
   for (std::size_t i = 0; i < seg.size(); ++i) EXPECT_NEAR(out[i], ref[i], 1e-5) << i;
 }
 
+// Binds `window` to `seg` and marches from `from` there; expects what a
+// window made for `seg` marches. Returns the distances.
+std::vector<double> bound_march(const OccupancyGrid& grid, mission::SegmentWindow& window, const std::vector<Cell>& seg,
+                                double margin, Cell from) {
+  window.bind(grid, seg, margin);
+  std::vector<double> again(seg.size()), fresh(seg.size());
+  EXPECT_TRUE(window.march(from, seg, again.data()));
+  EXPECT_TRUE(mission::SegmentWindow(grid, seg, margin).march(from, seg, fresh.data()));
+  EXPECT_EQ(again, fresh);
+  return again;
+}
+
 TEST(SegmentWindowTest, AWindowBoundToAnotherSegmentMarchesAsANewOne) {
   // The planner binds one window to each segment in turn: what it marches
   // there is what a window made for that segment marches.
@@ -113,11 +124,7 @@ TEST(SegmentWindowTest, AWindowBoundToAnotherSegmentMarchesAsANewOne) {
   mission::SegmentWindow window(grid, wide, 1.0);
   std::vector<double> out(wide.size());
   ASSERT_TRUE(window.march(Cell{40, 10}, wide, out.data()));
-  window.bind(grid, small, 1.0);
-  std::vector<double> again(small.size()), fresh(small.size());
-  ASSERT_TRUE(window.march(Cell{22, 42}, small, again.data()));
-  ASSERT_TRUE(mission::SegmentWindow(grid, small, 1.0).march(Cell{22, 42}, small, fresh.data()));
-  EXPECT_EQ(again, fresh);
+  bound_march(grid, window, small, 1.0, Cell{22, 42});
   // The wide segment's cells are off the small one's window now.
   EXPECT_FALSE(window.march(Cell{40, 10}, wide, out.data()));
   // An L (margin 0.3 m) bound after the wide window: its box holds cells
@@ -129,11 +136,7 @@ TEST(SegmentWindowTest, AWindowBoundToAnotherSegmentMarchesAsANewOne) {
   for (Cell c : block(23, 58, 35, 37)) ell.push_back(c);
   window.bind(grid, wide, 1.0);
   ASSERT_TRUE(window.march(Cell{40, 10}, wide, out.data()));
-  window.bind(grid, ell, 0.3);
-  std::vector<double> round(ell.size()), fresh_ell(ell.size());
-  ASSERT_TRUE(window.march(Cell{58, 36}, ell, round.data()));
-  ASSERT_TRUE(mission::SegmentWindow(grid, ell, 0.3).march(Cell{58, 36}, ell, fresh_ell.data()));
-  EXPECT_EQ(round, fresh_ell);
+  const std::vector<double> round = bound_march(grid, window, ell, 0.3, Cell{58, 36});
   // To (22, 75): round the corner (25, 40) about 6.8 m, straight 5.3 m.
   EXPECT_GT(round[arm.size() - 1], 6.5);
   EXPECT_THROW(window.bind(grid, {}, 1.0), Error);

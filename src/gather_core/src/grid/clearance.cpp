@@ -84,15 +84,19 @@ ClearanceMap::ClearanceMap(const OccupancyGrid& grid) : grid_(grid) {
 
 double ClearanceMap::at(Cell c) const { return grid_.contains(c) ? meters_[grid_.index(c)] : 0.0; }
 
+double ClearanceMap::free_distance_floor(Point2 p) const {
+  const Cell c = grid_.world_to_cell(p);
+  if (!grid_.is_free(c)) return 0.0;
+  // free_distance(p) = at(c) - |p - centre| - half a diagonal, and p lies
+  // within half a diagonal of its cell's centre.
+  return at(c) - std::sqrt(2.0) * grid_.resolution() - 1e-9;
+}
+
 bool ClearanceMap::disc_free(Point2 p, double radius) const {
   const Cell c = grid_.world_to_cell(p);
   if (!grid_.is_free(c)) return 0.0 >= radius;
-  // free_distance(p) = at(c) - |p - centre| - half a diagonal, and p lies
-  // within half a diagonal of its cell's centre (1 nm to spare for rounding).
-  const double half_diagonal = 0.5 * std::sqrt(2.0) * grid_.resolution();
-  const double clearance = at(c);
-  if (clearance - half_diagonal < radius) return false;
-  if (clearance - 2.0 * half_diagonal - 1e-9 >= radius) return true;
+  if (at(c) - 0.5 * std::sqrt(2.0) * grid_.resolution() < radius) return false;  // even at the centre
+  if (free_distance_floor(p) >= radius) return true;
   return free_distance(p) >= radius;
 }
 

@@ -20,19 +20,14 @@ namespace og = ompl::geometric;
 
 // Smallest free_distance along segment a-b, sampled every `step` [m].
 double segment_clearance(const ClearanceMap& cm, Point2 a, Point2 b, double step) {
-  const OccupancyGrid& g = cm.grid();
   const double len = std::hypot(b.x - a.x, b.y - a.y);
   const int n = std::max(1, static_cast<int>(std::ceil(len / step)));
-  // A point's free_distance is its cell's clearance minus at most a whole
-  // cell diagonal (ClearanceMap::free_distance): a sample whose cell cannot
-  // go below the worst so far is not worked out (the same minimum).
-  const double diagonal = std::sqrt(2.0) * g.resolution() + 1e-9;
   double worst = cm.free_distance(a);
   for (int i = 1; i <= n; ++i) {
     const double t = static_cast<double>(i) / n;
     const Point2 p{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
-    const Cell c = g.world_to_cell(p);
-    if (g.is_free(c) && cm.at(c) - diagonal >= worst) continue;
+    // A sample that cannot go below the worst so far is not worked out (the same minimum).
+    if (cm.free_distance_floor(p) >= worst) continue;
     worst = std::min(worst, cm.free_distance(p));
   }
   return worst;

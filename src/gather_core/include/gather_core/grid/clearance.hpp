@@ -18,6 +18,10 @@ class ClearanceMap {
   // minus |p - that centre| minus half a cell diagonal. <= 0 when p is blocked.
   double free_distance(Point2 p) const;
   // True if a disc of `radius` [m] centred at p surely touches no blocked cell.
+  // A lower bound [m] on free_distance(p) from p's cell alone (its
+  // clearance less a whole cell diagonal, and 1 nm for rounding; 0 where p
+  // is blocked): no distance from p to its cell's centre is worked out.
+  double free_distance_floor(Point2 p) const;
   // The same as free_distance(p) >= radius, which it works out only when
   // the cell's clearance alone does not decide it.
   bool disc_free(Point2 p, double radius) const;
