@@ -12,6 +12,7 @@
 
 #include "gather_core/error.hpp"
 #include "gather_core/figures/partition_figure.hpp"
+#include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/grid/reachability.hpp"
 #include "gather_core/partition/front_growth.hpp"
 #include "gather_core/partition/metrics.hpp"
@@ -162,6 +163,31 @@ TEST(Partition, PreparedAreaGivesTheSameResult) {
     EXPECT_EQ(a.clearance, b.clearance) << method_name(m);
   }
   EXPECT_THROW(partition_area(sc.grid, area, Method::kBap, 0), Error);
+  // With the march from the OC given (the planner's, once per sweep), BAP
+  // orders its fronts by it: the same partitions as marching it.
+  PreparedArea with_march = area;
+  fmm::FastMarching fm(sc.grid);
+  fmm::SolveOptions so;
+  so.labels = false;
+  fm.solve({fmm::Source::at_cell(oc)}, so);
+  with_march.oc_distance = fm.times();
+  for (int workers : {3, 12, 40})
+    EXPECT_EQ(partition_area(sc.grid, with_march, Method::kBap, workers, 5).labels,
+              partition_area(sc.grid, area, Method::kBap, workers, 5).labels)
+        << workers;
+  // A given march is what BAP orders by: one from the cell farthest from
+  // the OC gives other segments.
+  std::size_t far = sc.grid.index(oc);
+  for (std::size_t i = 0; i < with_march.oc_distance.size(); ++i)
+    if (std::isfinite(with_march.oc_distance[i]) && with_march.oc_distance[i] > with_march.oc_distance[far]) far = i;
+  fm.solve({fmm::Source::at_cell(sc.grid.cell(far))}, so);
+  PreparedArea elsewhere = area;
+  elsewhere.oc_distance = fm.times();
+  EXPECT_NE(partition_area(sc.grid, elsewhere, Method::kBap, 12, 5).labels,
+            partition_area(sc.grid, area, Method::kBap, 12, 5).labels);
+  // One on another frame is refused.
+  elsewhere.oc_distance = Raster<double>(GridFrame{3, 3, sc.grid.resolution(), sc.grid.origin()}, 0.0);
+  EXPECT_THROW(partition_area(sc.grid, elsewhere, Method::kBap, 12, 5), Error);
 }
 
 // Two 4 m x 3 m rooms joined by a 1 m door at 0.05 m/cell.

@@ -256,12 +256,17 @@ void run_bap(const MethodInput& in, PartitionResult& out) {
   const OccupancyGrid& grid = in.grid;
   const std::size_t nw = static_cast<std::size_t>(in.workers);
 
-  // Geodesic distance from the OC orders the wavefront starts.
-  fmm::FastMarching fm(grid);
-  fmm::SolveOptions opt;
-  opt.labels = false;
-  fm.solve({fmm::Source::at_cell(in.oc)}, opt);
-  const Raster<double> dist = fm.times();
+  // Geodesic distance from the OC orders the wavefront starts (the sweep's,
+  // when it has one: the same march).
+  Raster<double> marched;
+  if (!in.oc_distance) {
+    fmm::FastMarching fm(grid);
+    fmm::SolveOptions opt;
+    opt.labels = false;
+    fm.solve({fmm::Source::at_cell(in.oc)}, opt);
+    marched = fm.times();
+  }
+  const Raster<double>& dist = in.oc_distance ? *in.oc_distance : marched;
 
   int f = 1;
   while (in.reachable_cells / static_cast<std::size_t>(f * f) > in.params.bap_coarse_cells) ++f;

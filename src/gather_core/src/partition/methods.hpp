@@ -21,6 +21,7 @@ struct MethodInput {
   int workers;
   unsigned seed;
   const PartitionParams& params;
+  const Raster<double>* oc_distance = nullptr;  // PreparedArea::oc_distance, or none (BAP marches it)
 };
 
 void run_bap(const MethodInput& in, PartitionResult& out);

@@ -71,14 +71,15 @@ void check_workers(int workers, std::size_t count) {
 }
 
 PartitionResult run(const OccupancyGrid& grid, Cell oc, const Mask& reachable, std::size_t count, Field clearance,
-                    Method method, int workers, unsigned seed, const PartitionParams& params) {
+                    Method method, int workers, unsigned seed, const PartitionParams& params,
+                    const Raster<double>* oc_distance = nullptr) {
   check_params(params);
   PartitionResult out;
   out.method = method;
   out.workers = workers;
   out.labels = LabelImage(grid.frame());
   out.clearance = std::move(clearance);
-  const MethodInput in{grid, oc, reachable, count, out.clearance, workers, seed, params};
+  const MethodInput in{grid, oc, reachable, count, out.clearance, workers, seed, params, oc_distance};
   entry(method).run(in, out);
   return out;
 }
@@ -112,14 +113,14 @@ PartitionResult partition_area(const OccupancyGrid& grid, const PreparedArea& ar
                                unsigned seed, const PartitionParams& params) {
   const auto t0 = std::chrono::steady_clock::now();
   if (area.reachable.frame() != grid.frame() || area.clearance.frame() != grid.frame() || !area.reachable.filled() ||
-      !area.clearance.filled())
+      !area.clearance.filled() || (!area.oc_distance.empty() && area.oc_distance.frame() != grid.frame()))
     throw Error("partition", "the prepared area (" + area.reachable.frame().size_text() +
                                  ") is not on the map's frame (" + grid.frame().size_text() + ")");
   check_oc(grid, area.oc);
   if (workers < 1) throw Error("--workers", "N_w must be >= 1, got " + std::to_string(workers));
   check_workers(workers, area.reachable_cells);
-  PartitionResult out =
-      run(grid, area.oc, area.reachable, area.reachable_cells, area.clearance, method, workers, seed, params);
+  PartitionResult out = run(grid, area.oc, area.reachable, area.reachable_cells, area.clearance, method, workers, seed,
+                            params, area.oc_distance.empty() ? nullptr : &area.oc_distance);
   out.runtime_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

@@ -83,6 +83,10 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
   coverage_distance = coverage_field.times();
   // The simulator's own table of distances from the OC's cell.
   oc_walk = mission::SharedDistances(*this).from_oc;
+  // BAP's order of wavefronts: the same march from the OC's cell (its float
+  // times, exactly), once instead of once per BAP configuration.
+  prepared.oc_distance = Raster<double>(grid.frame(), 0.0);
+  for (std::size_t i = 0; i < grid.size(); ++i) prepared.oc_distance[i] = static_cast<double>(oc_walk[i]);
   home_walks = std::make_shared<HomeWalks>(kHomeWalkBytes);
   leg_landmarks = std::make_shared<LegLandmarks>();
   use_leg_landmarks = s.team.agents >= options.leg_landmarks_team;

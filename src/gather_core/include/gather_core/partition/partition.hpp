@@ -104,6 +104,10 @@ struct PreparedArea {
   Mask reachable;  // in the grid's frame: 1 = free and 4-connected to the OC
   std::size_t reachable_cells = 0;
   Field clearance;  // [m] clearance_map(grid)
+  // [m] optional (empty: BAP marches it for each partition): the unit-speed
+  // march from the OC's cell on the grid, FastMarching(grid).times() (BAP
+  // orders its wavefronts by it). A sweep that has it computes it once.
+  Raster<double> oc_distance;
 };
 // Throws gather::Error when the OC is off the map or not free.
 PreparedArea prepare_area(const OccupancyGrid& grid, Cell oc);
