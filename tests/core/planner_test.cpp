@@ -115,6 +115,14 @@ TEST_F(PlannerTest, OptionsOutsideTheirRangeNameTheField) {
     EXPECT_NE(std::string(e.what()).find("pair_sources = 0 must be in [1, 64]"), std::string::npos) << e.what();
   }
   opt = plan::PlannerOptions{};
+  opt.pair_grid_factor = 5;
+  try {
+    plan::check_options(opt);
+    FAIL() << "pair_grid_factor = 5 was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("pair_grid_factor = 5 must be in [1, 4]"), std::string::npos) << e.what();
+  }
+  opt = plan::PlannerOptions{};
   opt.tsp_constant = std::nan("");
   EXPECT_THROW(plan::check_options(opt), Error);
   EXPECT_NO_THROW(plan::check_options(plan::PlannerOptions{}));

@@ -151,6 +151,103 @@ TEST(HomeWalksTest, ASegmentsHomeWalkIsMarchedOnTheWholeMap) {
   EXPECT_GE(ctx.home_walks->kept(), 1u);
 }
 
+// Four segments: the quadrants of the map (of its free cells).
+WorkerGraph quadrants(const Scenario& scenario, const PlanContext& ctx, const PlannerOptions& opt) {
+  const OccupancyGrid& g = scenario.grid;
+  LabelImage labels(g.frame());
+  for (int r = 0; r < g.height(); ++r)
+    for (int c = 0; c < g.width(); ++c)
+      if (g.is_free(Cell{r, c}))
+        labels.at(Cell{r, c}) = 1 + (r >= g.height() / 2 ? 2 : 0) + (c >= g.width() / 2 ? 1 : 0);
+  WorkerGraph graph = build_worker_graph(g, labels, 4, ctx.coverage, ctx.coverage_distance, &ctx.roomy);
+  segment_distances(ctx, labels, graph, opt);
+  return graph;
+}
+
+TEST(PairGridTest, AnOpenFloorsPairsAreMarchedOnBlocksAndScaledToThePlanningGrid) {
+  Scenario scenario = testing_support::open_strip("floor", 80, 60, Point2{0.25, 0.25});
+  scenario.team.agents = 4;  // the scale is measured over about a segment's size: these quadrants'
+  PlannerOptions exact;
+  exact.pair_grid_factor = 1;
+  const PlanContext ctx{scenario}, fine_ctx{scenario, exact};
+  const PairGrid& pg = *ctx.pair_grid;
+  ASSERT_EQ(pg.factor, 2);
+  EXPECT_EQ(pg.grid.width(), 40);
+  EXPECT_EQ(pg.grid.height(), 30);
+  EXPECT_DOUBLE_EQ(pg.grid.resolution(), 0.2);
+  EXPECT_EQ(pg.block_of[scenario.grid.index(Cell{5, 7})], static_cast<int32_t>(pg.grid.index(Cell{2, 3})));
+  // A first-order march on cells twice as large runs longer: the scale is
+  // under 1, by a few percent.
+  EXPECT_LT(pg.scale, 1.0) << pg.scale;
+  EXPECT_GT(pg.scale, 0.95);
+  EXPECT_EQ(fine_ctx.pair_grid->factor, 1);
+  const WorkerGraph coarse = quadrants(scenario, ctx, PlannerOptions{});
+  const WorkerGraph fine = quadrants(scenario, fine_ctx, exact);
+  for (SegmentId k : segment_ids(4)) {
+    const double a = coarse.segment(k).mean_pair_distance, b = fine.segment(k).mean_pair_distance;
+    EXPECT_NE(a, b) << "segment " << k.label() << " was marched on the planning grid";
+    EXPECT_NEAR(a / b, 1.0, 0.01) << "segment " << k.label() << " scale " << pg.scale;
+    // Everything else is marched on the planning grid either way.
+    EXPECT_EQ(coarse.segment(k).mean_home_distance, fine.segment(k).mean_home_distance);
+    EXPECT_EQ(coarse.segment(k).mean_oc_distance, fine.segment(k).mean_oc_distance);
+  }
+}
+
+TEST(PairGridTest, ACellOfABlockThatIsNotFreeStandsOnTheNearestReachableBlock) {
+  const Scenario scenario = walled();  // a one-cell wall in column 30
+  const PlanContext ctx{scenario};
+  const PairGrid& pg = *ctx.pair_grid;
+  ASSERT_EQ(pg.factor, 2);
+  auto block_of = [&](Cell c) {
+    const int32_t b = pg.block_of[scenario.grid.index(c)];
+    return b < 0 ? Cell{-1, -1} : pg.grid.cell(static_cast<std::size_t>(b));
+  };
+  EXPECT_EQ(block_of(Cell{10, 29}), (Cell{5, 14}));  // its own block
+  // Column 31's blocks hold the wall: the cell stands on the block east of
+  // it (its centre 1.5 cells away, not the west one's 2.5), its own side.
+  EXPECT_EQ(block_of(Cell{10, 31}), (Cell{5, 16}));
+  EXPECT_EQ(pg.block_of[scenario.grid.index(Cell{10, 30})], -1);  // the wall
+}
+
+TEST(PairGridTest, ASegmentAlongAWallStartsFromTheBlocksStandingForItsCells) {
+  // Segment 2: column 31 along `walled`'s wall, rows 5-39, whose blocks hold
+  // the wall: its pair sources start from the blocks east of them (one
+  // wide column of them); segment 1: the rest.
+  const Scenario scenario = walled();
+  PlannerOptions exact;
+  exact.pair_grid_factor = 1;
+  const PlanContext ctx{scenario}, fine_ctx{scenario, exact};
+  ASSERT_EQ(ctx.pair_grid->factor, 2);
+  LabelImage labels(scenario.grid.frame());
+  for (int r = 0; r < 40; ++r)
+    for (int c = 0; c < 60; ++c)
+      if (scenario.grid.is_free(Cell{r, c})) labels.at(Cell{r, c}) = c == 31 && r >= 5 ? 2 : 1;
+  WorkerGraph coarse = build_worker_graph(scenario.grid, labels, 2, ctx.coverage, ctx.coverage_distance, &ctx.roomy);
+  WorkerGraph fine = coarse;
+  segment_distances(ctx, labels, coarse, PlannerOptions{});
+  segment_distances(fine_ctx, labels, fine, exact);
+  for (SegmentId k : segment_ids(2)) {
+    const double a = coarse.segment(k).mean_pair_distance, b = fine.segment(k).mean_pair_distance;
+    EXPECT_NE(a, b) << "segment " << k.label() << " was marched on the planning grid";
+    EXPECT_NEAR(a / b, 1.0, 0.05) << "segment " << k.label();
+  }
+}
+
+TEST(PairGridTest, AGridThatWouldCloseADoorIsNotUsed) {
+  // Two rooms of 4 m x 4 m, a wall two cells thick between them and a door
+  // one cell wide: on blocks of 2 x 2 cells the east room is cut off.
+  Scenario scenario = testing_support::open_strip("rooms", 82, 40, Point2{0.25, 0.25});
+  std::vector<int8_t> v(82 * 40, 0);
+  std::vector<uint8_t> f(82 * 40, 1);
+  for (int r = 0; r < 40; ++r)
+    for (int c = 40; c < 42; ++c)
+      if (r != 21) v[static_cast<std::size_t>(r) * 82 + c] = 100, f[static_cast<std::size_t>(r) * 82 + c] = 0;
+  scenario.grid = OccupancyGrid(82, 40, 0.1, Point2{0, 0}, v, f);
+  const PlanContext ctx{scenario};
+  EXPECT_EQ(ctx.pair_grid->factor, 1);
+  EXPECT_TRUE(ctx.pair_grid->block_of.empty());
+}
+
 }  // namespace
 }  // namespace plan
 }  // namespace gather

@@ -80,6 +80,11 @@ int plan(int argc, char** argv) {
       "coverage: %.1f%% of the reachable space; farthest reachable cell %.1f m from it; request period %.1f s%s\n",
       ctx.reachable_cells > 0 ? 100.0 * static_cast<double>(covered) / static_cast<double>(ctx.reachable_cells) : 0.0,
       ctx.farthest, ctx.cycle_period, s.mission.period > 0 ? " (mission.period)" : " (farthest / speed)");
+  if (ctx.pair_grid->factor > 1)
+    std::printf("pair distances: marched on the planning grid coarsened %dx (%.2f m), scaled by %.3f\n",
+                ctx.pair_grid->factor, ctx.pair_grid->grid.resolution(), ctx.pair_grid->scale);
+  else
+    std::printf("pair distances: marched on the planning grid\n");
 
   plan::SweepResult sweep;
   if (args.has("--config")) {

@@ -68,14 +68,23 @@ void SegmentWindow::bind(const OccupancyGrid& grid, const std::vector<Cell>& cel
 }
 
 bool SegmentWindow::march(Cell from, const std::vector<Cell>& targets, double* out) {
-  auto local = [&](Cell c) { return Cell{c.row - origin_.row, c.col - origin_.col}; };
-  if (!fm_.traversable(local(from))) return false;  // off the window, or outside the segment's margin
+  const Cell local{from.row - origin_.row, from.col - origin_.col};
+  if (!fm_.traversable(local)) return false;  // off the window, or outside the segment's margin
+  return march_from(fmm::Source::at_cell(local), targets, out);
+}
+
+bool SegmentWindow::march(Point2 from, const std::vector<Cell>& targets, double* out) {
+  if (!fm_.traversable(fm_.frame().world_to_cell(from))) return false;  // as above
+  return march_from(fmm::Source::at_point(from), targets, out);
+}
+
+bool SegmentWindow::march_from(const fmm::Source& source, const std::vector<Cell>& targets, double* out) {
   shifted_.clear();
   for (Cell c : targets) {
-    shifted_.push_back(local(c));
+    shifted_.push_back(Cell{c.row - origin_.row, c.col - origin_.col});
     if (!fm_.contains(shifted_.back())) return false;
   }
-  source_[0] = fmm::Source::at_cell(local(from));
+  source_[0] = source;
   options_.targets.assign(shifted_.begin(), shifted_.end());
   fm_.solve(source_, options_);
   // The times read in place (every target is in the window): an obstacle's

@@ -124,6 +124,8 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
   // (check_plan refuses it).
   area_tile = std::max(std::sqrt(std::max(reachable_area, grid.cell_area()) / std::max(1, s.team.agents)),
                        static_cast<double>(grid.resolution()));
+  pair_grid = std::make_shared<const PairGrid>(
+      make_pair_grid(grid, s.oc, reachable, coverage_field, area_tile, options.pair_grid_factor));
   areas = mission::area_weights(*this, area_tile);
   for (const auto& [id, m2] : areas.area) tile_ids.push_back(id);
   tile_of_cell = Raster<int32_t>(grid.frame(), -1);
@@ -141,6 +143,7 @@ void check_options(const PlannerOptions& opt) {
   require_in_range(opt.smoothing_passes, 0, 20, where, "smoothing_passes");
   require_in_range(opt.association_trials, 1, 64, where, "association_trials");
   require_in_range(opt.pair_sources, 1, 64, where, "pair_sources");
+  require_in_range(opt.pair_grid_factor, 1, 4, where, "pair_grid_factor");
   require_in_range(opt.pass_radius_m, 0.1, 10, where, "pass_radius_m", " m");
   require_in_range(opt.pass_step_m, 0.05, 5, where, "pass_step_m", " m");
   require_in_range(opt.pass_probe_m, 0.01, 1, where, "pass_probe_m", " m");

@@ -6,6 +6,8 @@
 #include <cstring>
 #include <limits>
 
+#include "gather_core/grid/planning_grid.hpp"
+#include "gather_core/grid/reachability.hpp"
 #include "gather_core/mission/segment_window.hpp"
 #include "gather_core/numeric.hpp"
 #include "gather_core/plan/tour_model.hpp"
@@ -167,6 +169,93 @@ std::size_t HomeWalks::marched() const {
   return marched_;
 }
 
+// The share of the reachable space a pair grid keeps at least (a cell of it
+// is kept when a reachable block stands for it). Less than the planning
+// grid's 98%: a cell of no block only leaves the mean pair distance, which
+// its segment's other cells still sample, and a segment whose blocks the
+// coarse window does not connect is marched on the planning grid.
+constexpr double kPairGridKept = 0.95;
+
+namespace {
+
+// Where a march on the pair grid from planning cell `from` (standing on
+// block `b` >= 0) starts: the cell's centre in its own block, else (its
+// block not free) the centre of the block standing for it.
+Point2 pair_start(const PairGrid& pg, const OccupancyGrid& grid, Cell from, int32_t b) {
+  const Cell block = pg.grid.cell(static_cast<std::size_t>(b));
+  const bool own = block.row == from.row / pg.factor && block.col == from.col / pg.factor;
+  return own ? grid.cell_center(from) : pg.grid.cell_center(block);
+}
+
+}  // namespace
+
+PairGrid make_pair_grid(const OccupancyGrid& grid, Point2 oc, const Mask& reachable, const fmm::FastMarching& walk,
+                        double reach_m, int factor) {
+  PairGrid out;
+  if (factor <= 1) return out;
+  const std::size_t blocks = static_cast<std::size_t>((grid.width() + factor - 1) / factor) *
+                             static_cast<std::size_t>((grid.height() + factor - 1) / factor);
+  // The planning grid's rule: the factor lowered while the coarse grid
+  // keeps under kPairGridKept of the reachable space, or loses the OC's block.
+  out.factor = grid.size() > blocks ? choose_planning_grid(grid, oc, blocks, kPairGridKept).factor : 1;
+  if (out.factor <= 1) return PairGrid{};
+  const int f = out.factor;
+  out.grid = coarsen(grid, f);
+  const Mask coarse_reachable = reachable_from(out.grid, out.grid.world_to_cell(oc));
+  out.block_of.assign(grid.size(), -1);
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    if (!reachable[i]) continue;
+    const Cell c = grid.cell(i);
+    const Cell b{c.row / f, c.col / f};
+    if (coarse_reachable[out.grid.index(b)]) {
+      out.block_of[i] = static_cast<int32_t>(out.grid.index(b));
+      continue;
+    }
+    // [planning cells^2] from the cell's centre to a block's, doubled.
+    double best = std::numeric_limits<double>::infinity();
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) {
+        const Cell n{b.row + dr, b.col + dc};
+        if (!out.grid.contains(n) || !coarse_reachable[out.grid.index(n)]) continue;
+        const double y = 2.0 * c.row + 1.0 - f * (2.0 * n.row + 1.0), x = 2.0 * c.col + 1.0 - f * (2.0 * n.col + 1.0);
+        if (x * x + y * y < best) best = x * x + y * y, out.block_of[i] = static_cast<int32_t>(out.grid.index(n));
+      }
+  }
+  // The scale: both grids marched from the same cells (from the cell's
+  // centre on the coarse grid, as a segment's pair sources), the sums of the
+  // times of the planning cells within reach_m and of their blocks'.
+  std::vector<std::size_t> mapped;
+  for (std::size_t i = 0; i < grid.size(); ++i)
+    if (out.block_of[i] >= 0) mapped.push_back(i);
+  if (mapped.empty()) return out;
+  fmm::FastMarching fine = walk, coarse(out.grid);
+  fmm::SolveOptions so;
+  so.labels = false;
+  double fine_sum = 0.0, coarse_sum = 0.0;
+  const int cells_reach = static_cast<int>(std::ceil(reach_m / grid.resolution())) + 1;
+  for (std::size_t j = 0; j < kPairGridSamples; ++j) {
+    const std::size_t i = mapped[(2 * j + 1) * mapped.size() / (2 * kPairGridSamples)];
+    const Cell from = grid.cell(i);
+    so.max_time = reach_m;
+    fine.solve({fmm::Source::at_cell(from)}, so);
+    so.max_time = 2.0 * reach_m;  // beyond every block of a cell within reach_m
+    coarse.solve({fmm::Source::at_point(pair_start(out, grid, from, out.block_of[i]))}, so);
+    // The times read in place (+inf unreached or not free).
+    const float* tf = fine.padded_times();
+    const float* tc = coarse.padded_times();
+    for (int r = std::max(0, from.row - cells_reach); r <= std::min(grid.height() - 1, from.row + cells_reach); ++r)
+      for (int c = std::max(0, from.col - cells_reach); c <= std::min(grid.width() - 1, from.col + cells_reach); ++c) {
+        const int32_t b = out.block_of[grid.index(Cell{r, c})];
+        const double t = tf[fine.padded(Cell{r, c})];
+        if (b < 0 || !(t <= reach_m)) continue;
+        const double t_block = tc[coarse.padded(out.grid.cell(static_cast<std::size_t>(b)))];
+        if (t_block < kInf) fine_sum += t, coarse_sum += t_block;
+      }
+  }
+  if (fine_sum > 0.0 && coarse_sum > 0.0) out.scale = fine_sum / coarse_sum;
+  return out;
+}
+
 // Each segment's walking distances, marched at unit speed on the reachable
 // space (as the workers walk), each march stopped once the segment's cells
 // are reached:
@@ -177,7 +266,11 @@ std::size_t HomeWalks::marched() const {
 //  - mean_pair_distance: between two of its cells, the mean over the cells
 //    of the distances from opt.pair_sources cells spread over the segment (in
 //    row-major order, so the estimate is deterministic), marched in the
-//    segment's window as the worker marches between its goals.
+//    segment's window as the worker marches between its goals; on the pair
+//    grid (ctx.pair_grid) when it is coarser, between the blocks that stand
+//    for the cells, each counted as many times as it stands for one (on the
+//    planning grid when a block of the segment is not reached in the
+//    coarse window).
 // Returns each cell's rank in its segment by distance from that home, in
 // [0, 1) (row-major; -1 off the segments).
 Field segment_distances(const PlanContext& ctx, const LabelImage& labels, WorkerGraph& graph,
@@ -227,6 +320,50 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     }
     add(out, sum, n);
   };
+  // The pair distances on the coarser pair grid: the blocks standing for
+  // the segment's cells (in the order of their first cell), each weighted
+  // by the cells it stands for; false when a source's or a cell's block is
+  // not reached in the blocks' window (then marched on the planning grid).
+  const PairGrid& pg = *ctx.pair_grid;
+  mission::SegmentWindow block_window;                                // on pg.grid, bound to each segment in turn
+  std::vector<int32_t> slot(pg.factor > 1 ? pg.grid.size() : 0, -1);  // a block's place in `blocks`, -1 none
+  std::vector<Cell> blocks;
+  std::vector<double> weight;
+  std::vector<Point2> source_point;  // the sources' cell centres
+  auto coarse_pairs = [&](const std::vector<Cell>& seg_cells, std::size_t sources, double& sum, std::size_t& n) {
+    blocks.clear(), weight.clear(), source_point.clear();
+    bool ok = true;
+    for (std::size_t i = 0; i < seg_cells.size(); ++i) {
+      const int32_t b = pg.block_of[grid.index(seg_cells[i])];
+      if (b < 0) continue;  // no reachable block next to it: left out of the mean
+      if (slot[static_cast<std::size_t>(b)] < 0) {
+        slot[static_cast<std::size_t>(b)] = static_cast<int32_t>(blocks.size());
+        blocks.push_back(pg.grid.cell(static_cast<std::size_t>(b)));
+        weight.push_back(0.0);
+      }
+      weight[static_cast<std::size_t>(slot[static_cast<std::size_t>(b)])] += 1.0;
+    }
+    // The sources: the centres of the cells the planning grid's marches
+    // start from (a block's centre lies half a cell from each of its cells,
+    // on a segment's edge often inwards of it: a bias of a few percent).
+    for (std::size_t j = 0; j < sources && ok; ++j) {
+      const Cell from = seg_cells[(2 * j + 1) * seg_cells.size() / (2 * sources)];
+      const int32_t b = pg.block_of[grid.index(from)];
+      ok = b >= 0;
+      if (ok) source_point.push_back(pair_start(pg, grid, from, b));
+    }
+    for (Cell c : blocks) slot[pg.grid.index(c)] = -1;
+    if (!ok || blocks.empty()) return false;
+    block_window.bind(pg.grid, blocks, opt.protocol.window_margin_m);
+    double s = 0.0, w = 0.0;
+    for (Point2 from : source_point) {
+      pair.resize(blocks.size());
+      if (!block_window.march(from, blocks, pair.data())) return false;
+      for (std::size_t i = 0; i < blocks.size(); ++i) s += weight[i] * pair[i], w += weight[i];
+    }
+    sum = s * pg.scale, n = static_cast<std::size_t>(w);
+    return true;
+  };
   for (SegmentId k : segment_ids(cells.count())) {
     WorkerSegment& seg = graph.segments[k];
     seg.mean_home_distance = seg.mean_coverage_distance;
@@ -271,11 +408,14 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     }
     // Between its cells, in its window as the worker walks between goals
     // (on the whole map when the window does not connect them).
-    segment_window.bind(grid, cells[k], opt.protocol.window_margin_m);
     sum = 0.0, n = 0;
     const std::size_t sources = std::min(pair_sources, cells[k].size());
-    for (std::size_t j = 0; j < sources; ++j)
-      distances(cells[k][(2 * j + 1) * cells[k].size() / (2 * sources)], cells[k], segment_window, pair, sum, n);
+    if (pg.factor <= 1 || !coarse_pairs(cells[k], sources, sum, n)) {
+      sum = 0.0, n = 0;
+      segment_window.bind(grid, cells[k], opt.protocol.window_margin_m);
+      for (std::size_t j = 0; j < sources; ++j)
+        distances(cells[k][(2 * j + 1) * cells[k].size() / (2 * sources)], cells[k], segment_window, pair, sum, n);
+    }
     if (n > 0) seg.mean_pair_distance = sum / static_cast<double>(n);
   }
   return rank;

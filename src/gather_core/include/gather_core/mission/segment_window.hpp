@@ -30,12 +30,17 @@ class SegmentWindow {
   // (+inf where not reached). False when `from` or a target lies outside the window or is not reached
   // in it (the caller then marches on the whole map); `out` is then partial.
   bool march(Cell from, const std::vector<Cell>& targets, double* out);
+  // The same from a point [m] of the map frame (fmm::Source::at_point: its
+  // cell and that cell's neighbours start at their straight-line times).
+  bool march(Point2 from, const std::vector<Cell>& targets, double* out);
 
   // Reserves room for marches to up to `targets` cells, so that march() does
   // not allocate (for control loops that must not).
   void reserve(std::size_t targets);
 
  private:
+  bool march_from(const fmm::Source& source, const std::vector<Cell>& targets, double* out);
+
   Cell origin_;  // of the window on the map
   fmm::FastMarching fm_;
   std::vector<Cell> shifted_;

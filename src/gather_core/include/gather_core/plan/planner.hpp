@@ -27,6 +27,7 @@ namespace plan {
 
 class HomeWalks;
 struct LegLandmarks;
+struct PairGrid;
 
 // The sweep's options. The fields from tsp_constant on change results; the
 // defaults are the ones the reports (docs/scenarios.md, docs/regimes.md) were
@@ -57,6 +58,11 @@ struct PlannerOptions {
   // Walking distances: a segment's mean pair distance is the mean of the
   // marches from this many of its cells, range [1, 64].
   int pair_sources = 3;
+  // Walking distances: the pair distances are marched on the planning grid
+  // coarsened by this factor (walking_distances.hpp, PairGrid; lowered, to
+  // 1 if need be, until that grid keeps 98% of the reachable space), range
+  // [1, 4]; 1: on the planning grid itself. The context is built with it.
+  int pair_grid_factor = 2;
   // Routes: a stretch of a collector's route within this distance [m] of a
   // served segment's cells is a pass, where its worker hands data over on
   // the move, range [0.1, 10].
@@ -140,7 +146,8 @@ struct PlanContext : mission::World {
   // Throws gather::Error naming the field when `options` are out of range
   // (check_options), or when one configuration of the scenario would not
   // plan within kMemoryBudget (before anything is allocated for it); of
-  // the options, only tight_speed and leg_landmarks_team shape the context.
+  // the options, only tight_speed, leg_landmarks_team and pair_grid_factor
+  // shape the context.
   explicit PlanContext(const Scenario& scenario, const PlannerOptions& options = {});
   Raster<double> coverage_distance;  // [m] geodesic distance to the coverage, +inf unreachable
   double farthest = 0.0;             // [m] largest coverage_distance over reachable cells
@@ -167,6 +174,8 @@ struct PlanContext : mission::World {
   // The walks from the OC workers' homes, kept for the configurations
   // (walking_distances.hpp; kHomeWalkBytes at most).
   std::shared_ptr<HomeWalks> home_walks;
+  // The grid of the segments' pair distances (PlannerOptions::pair_grid_factor).
+  std::shared_ptr<const PairGrid> pair_grid;
   // The landmarks of the A* between meeting areas (route_builder.hpp),
   // searched on the first leg's need.
   std::shared_ptr<LegLandmarks> leg_landmarks;

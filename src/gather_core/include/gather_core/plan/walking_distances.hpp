@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "gather_core/grid/occupancy_grid.hpp"
 #include "gather_core/plan/planner.hpp"
 
 namespace gather {
@@ -58,12 +59,43 @@ class HomeWalks {
 // near its home keeps less).
 constexpr std::size_t kHomeWalkBytes = std::size_t{32} << 20;
 
+// The grid a segment's pair distances are marched on: the planning grid,
+// or (PlannerOptions::pair_grid_factor f > 1) that grid coarsened by f
+// (grid/planning_grid.hpp: a block is free only when all its cells are),
+// f lowered until the coarse grid keeps 98% of the reachable space, as the
+// planning grid itself is chosen. A pair march there costs about 1 / f^2 of
+// one on the planning grid; its distances are those between the blocks'
+// centres (docs/planner.md, "Estimate model").
+struct PairGrid {
+  int factor = 1;
+  OccupancyGrid grid;  // the planning grid coarsened by `factor` (unset at 1)
+  // Per planning cell (at factor > 1): the coarse cell that stands for it,
+  // its own block when that is reachable from the OC's block, else the
+  // reachable one of the 8 blocks around it whose centre is nearest (the
+  // first in row-major order of equal ones); -1 when none is, or off the
+  // reachable space.
+  std::vector<int32_t> block_of;
+  // The planning grid's distances over the coarse grid's: a first-order
+  // march overestimates a straight distance by a share that grows with the
+  // cell size (1-3% more at twice the cell), so the coarse distances are
+  // scaled by the ratio of the two grids' marches from kPairGridSamples
+  // cells spread over the map, over the cells within `reach_m` of them.
+  double scale = 1.0;
+};
+constexpr std::size_t kPairGridSamples = 8;
+// `reachable`: the planning grid's reachable space (4-connected to `oc`);
+// `walk`: unit speed on it (PlanContext::coverage_field); `reach_m` [m]:
+// about a segment's size (PlanContext::area_tile).
+PairGrid make_pair_grid(const OccupancyGrid& grid, Point2 oc, const Mask& reachable, const fmm::FastMarching& walk,
+                        double reach_m, int factor);
+
 // Fills graph.segments' mean_home_distance, home_quantiles,
 // mean_oc_distance, oc_quantiles and mean_pair_distance (see
 // walking_distances.cpp); returns each cell's rank in its segment by
 // walking distance from that home, in [0, 1) (-1 off the segments), in the
 // labels' frame.
-// `opt`: pair_sources. The homes' walks come from ctx.home_walks.
+// `opt`: pair_sources. The homes' walks come from ctx.home_walks, the pair
+// distances' grid from ctx.pair_grid.
 Field segment_distances(const PlanContext& ctx, const LabelImage& labels, WorkerGraph& graph,
                         const PlannerOptions& opt);
 
