@@ -129,7 +129,7 @@ void FrontGrowth::reset_touched() {
   heap_.clear();
 }
 
-float FrontGrowth::update(std::size_t p, int32_t label) const {
+inline float FrontGrowth::update(std::size_t p, int32_t label) const {
   auto val = [&](std::size_t q) { return state_[q] == kAccepted && label_[q] == label ? time_[q] : kInf; };
   float a = std::min(val(p - 1), val(p + 1));
   float b = std::min(val(p - stride_), val(p + stride_));

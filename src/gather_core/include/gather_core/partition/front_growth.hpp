@@ -81,7 +81,7 @@ class FrontGrowth {
   std::size_t cell_weight(std::size_t p) const { return weight_.empty() ? 1 : weight_[p]; }
   float cost(std::size_t p) const { return slowness_.empty() ? res_ : res_ * slowness_[p]; }
   // First-order Eikonal update of p from accepted neighbours with label L.
-  float update(std::size_t p, int32_t label) const;
+  inline float update(std::size_t p, int32_t label) const;  // defined (and used) in front_growth.cpp
   void push(float t, uint32_t p);
   void reset_touched();
 
