@@ -127,7 +127,9 @@ TEST(HomeWalksTest, KeptOrMarchedAloneAWalkIsTheWholeMapsMarch) {
 
 TEST(HomeWalksTest, ASegmentsHomeWalkIsMarchedOnTheWholeMap) {
   const Scenario scenario = walled();
-  const PlanContext ctx{scenario};
+  PlannerOptions exact;  // on the planning grid (the pair grid's walks: below)
+  exact.pair_grid_factor = 1;
+  const PlanContext ctx{scenario, exact}, coarse_ctx{scenario};
   // Segment 1: the west half; segment 2: the east half.
   LabelImage labels(scenario.grid.frame());
   std::vector<Cell> east;
@@ -138,7 +140,9 @@ TEST(HomeWalksTest, ASegmentsHomeWalkIsMarchedOnTheWholeMap) {
         if (c >= 30) east.push_back(Cell{r, c});
       }
   WorkerGraph graph = build_worker_graph(scenario.grid, labels, 2, ctx.coverage, ctx.coverage_distance, &ctx.roomy);
-  segment_distances(ctx, labels, graph, PlannerOptions{});
+  WorkerGraph coarse = graph;
+  segment_distances(ctx, labels, graph, exact);
+  segment_distances(coarse_ctx, labels, coarse, PlannerOptions{});
   const Cell home = ctx.oc_worker_home(east);
   ASSERT_GE(home.row, 0);
   fmm::FastMarching whole = ctx.coverage_field;
@@ -149,6 +153,14 @@ TEST(HomeWalksTest, ASegmentsHomeWalkIsMarchedOnTheWholeMap) {
   for (Cell c : east) sum += whole.time(c);
   EXPECT_NEAR(graph.segment(SegmentId(2)).mean_home_distance, sum / static_cast<double>(east.size()), 1e-9);
   EXPECT_GE(ctx.home_walks->kept(), 1u);
+  // On the pair grid the walk goes round the wall's end too (on blocks of
+  // 2 x 2 cells, scaled): within 5% of the planning grid's (the blocks turn
+  // the corner farther from it: the gap, 5 cells, is 2 blocks).
+  ASSERT_EQ(coarse_ctx.pair_grid->factor, 2);
+  EXPECT_EQ(coarse_ctx.home_walks->marched(), 0u);
+  EXPECT_GE(coarse_ctx.pair_home_walks->marched(), 1u);
+  EXPECT_NEAR(coarse.segment(SegmentId(2)).mean_home_distance / graph.segment(SegmentId(2)).mean_home_distance, 1.0,
+              0.05);
 }
 
 // Four segments: the quadrants of the map (of its free cells).
@@ -180,6 +192,10 @@ TEST(PairGridTest, AnOpenFloorsPairsAreMarchedOnBlocksAndScaledToThePlanningGrid
   // under 1, by a few percent.
   EXPECT_LT(pg.scale, 1.0) << pg.scale;
   EXPECT_GT(pg.scale, 0.95);
+  // On the coarse grid the OC's march starts from its block's centre, half
+  // a cell from the OC's cell, here into the floor: its times are a little
+  // shorter, and this scale a little over 1.
+  EXPECT_NEAR(pg.walk_scale, 1.0, 0.05);
   EXPECT_EQ(fine_ctx.pair_grid->factor, 1);
   const WorkerGraph coarse = quadrants(scenario, ctx, PlannerOptions{});
   const WorkerGraph fine = quadrants(scenario, fine_ctx, exact);
@@ -187,8 +203,11 @@ TEST(PairGridTest, AnOpenFloorsPairsAreMarchedOnBlocksAndScaledToThePlanningGrid
     const double a = coarse.segment(k).mean_pair_distance, b = fine.segment(k).mean_pair_distance;
     EXPECT_NE(a, b) << "segment " << k.label() << " was marched on the planning grid";
     EXPECT_NEAR(a / b, 1.0, 0.01) << "segment " << k.label() << " scale " << pg.scale;
-    // Everything else is marched on the planning grid either way.
-    EXPECT_EQ(coarse.segment(k).mean_home_distance, fine.segment(k).mean_home_distance);
+    // The homes' walks too, with their own scale; the walk from the OC's
+    // cell is the context's (on the planning grid) either way.
+    const double h = coarse.segment(k).mean_home_distance, hf = fine.segment(k).mean_home_distance;
+    EXPECT_NE(h, hf) << "segment " << k.label() << "'s home walk was marched on the planning grid";
+    EXPECT_NEAR(h / hf, 1.0, 0.02) << "segment " << k.label() << " walk scale " << pg.walk_scale;
     EXPECT_EQ(coarse.segment(k).mean_oc_distance, fine.segment(k).mean_oc_distance);
   }
 }

@@ -81,10 +81,12 @@ int plan(int argc, char** argv) {
       ctx.reachable_cells > 0 ? 100.0 * static_cast<double>(covered) / static_cast<double>(ctx.reachable_cells) : 0.0,
       ctx.farthest, ctx.cycle_period, s.mission.period > 0 ? " (mission.period)" : " (farthest / speed)");
   if (ctx.pair_grid->factor > 1)
-    std::printf("pair distances: marched on the planning grid coarsened %dx (%.2f m), scaled by %.3f\n",
-                ctx.pair_grid->factor, ctx.pair_grid->grid.resolution(), ctx.pair_grid->scale);
+    std::printf(
+        "pair distances and homes' walks: marched on the planning grid coarsened %dx (%.2f m), scaled by %.3f and "
+        "%.3f\n",
+        ctx.pair_grid->factor, ctx.pair_grid->grid.resolution(), ctx.pair_grid->scale, ctx.pair_grid->walk_scale);
   else
-    std::printf("pair distances: marched on the planning grid\n");
+    std::printf("pair distances and homes' walks: marched on the planning grid\n");
 
   plan::SweepResult sweep;
   if (args.has("--config")) {
@@ -122,10 +124,10 @@ int plan(int argc, char** argv) {
   std::printf(
       "stages [ms, summed over configurations]: context %.0f, partition %.0f, graph %.0f, groups %.0f, "
       "routes %.0f, estimates %.0f, association %.0f; sweep wall %.0f ms on %d threads; homes' walks %zu "
-      "(%zu kept); total %.0f ms\n",
+      "(%zu kept) and %zu on the pair grid (%zu kept); total %.0f ms\n",
       ctx_ms, sum.partition_ms, sum.graph_ms, sum.groups_ms, sum.routes_ms, sum.estimate_ms, sum.associate_ms,
-      sweep.wall_ms, sweep.threads, ctx.home_walks->marched(), ctx.home_walks->kept(),
-      std::chrono::duration<double, std::milli>(Clock::now() - t_start).count());
+      sweep.wall_ms, sweep.threads, ctx.home_walks->marched(), ctx.home_walks->kept(), ctx.pair_home_walks->marched(),
+      ctx.pair_home_walks->kept(), std::chrono::duration<double, std::milli>(Clock::now() - t_start).count());
   std::printf(
       "best by U on the %s refresh: %s with %d collectors and %d workers (U = %.3f, est. latency %.1f s, "
       "interval %.1f s, %.2f goals per cycle of %.1f s) -> %s/plan.yaml\n",

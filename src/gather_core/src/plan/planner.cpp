@@ -125,7 +125,8 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
   area_tile = std::max(std::sqrt(std::max(reachable_area, grid.cell_area()) / std::max(1, s.team.agents)),
                        static_cast<double>(grid.resolution()));
   pair_grid = std::make_shared<const PairGrid>(
-      make_pair_grid(grid, s.oc, reachable, coverage_field, area_tile, options.pair_grid_factor));
+      make_pair_grid(grid, s.oc, reachable, coverage_field, oc_walk, area_tile, options.pair_grid_factor));
+  pair_home_walks = std::make_shared<HomeWalks>(kHomeWalkBytes);
   areas = mission::area_weights(*this, area_tile);
   for (const auto& [id, m2] : areas.area) tile_ids.push_back(id);
   tile_of_cell = Raster<int32_t>(grid.frame(), -1);

@@ -190,7 +190,7 @@ Point2 pair_start(const PairGrid& pg, const OccupancyGrid& grid, Cell from, int3
 }  // namespace
 
 PairGrid make_pair_grid(const OccupancyGrid& grid, Point2 oc, const Mask& reachable, const fmm::FastMarching& walk,
-                        double reach_m, int factor) {
+                        const Field& from_oc, double reach_m, int factor) {
   PairGrid out;
   if (factor <= 1) return out;
   const std::size_t blocks = static_cast<std::size_t>((grid.width() + factor - 1) / factor) *
@@ -253,6 +253,21 @@ PairGrid make_pair_grid(const OccupancyGrid& grid, Point2 oc, const Mask& reacha
       }
   }
   if (fine_sum > 0.0 && coarse_sum > 0.0) out.scale = fine_sum / coarse_sum;
+  // The walk scale: the OC's march on both grids (on the coarse one from the
+  // block standing for the OC's cell, as a home's walk starts), over every
+  // cell standing on a block.
+  const Cell oc_cell = grid.world_to_cell(oc);
+  const int32_t oc_block = grid.contains(oc_cell) ? out.block_of[grid.index(oc_cell)] : -1;
+  if (oc_block < 0) return out;
+  so.max_time = fmm::kUnreached;
+  coarse.solve({fmm::Source::at_cell(out.grid.cell(static_cast<std::size_t>(oc_block)))}, so);
+  const float* tc = coarse.padded_times();
+  fine_sum = 0.0, coarse_sum = 0.0;
+  for (std::size_t i : mapped) {
+    const double t = from_oc[i], t_block = tc[coarse.padded(out.grid.cell(static_cast<std::size_t>(out.block_of[i])))];
+    if (t < kInf && t_block < kInf) fine_sum += t, coarse_sum += t_block;
+  }
+  if (fine_sum > 0.0 && coarse_sum > 0.0) out.walk_scale = fine_sum / coarse_sum;
   return out;
 }
 
@@ -320,40 +335,67 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     }
     add(out, sum, n);
   };
-  // The pair distances on the coarser pair grid: the blocks standing for
-  // the segment's cells (in the order of their first cell), each weighted
-  // by the cells it stands for; false when a source's or a cell's block is
-  // not reached in the blocks' window (then marched on the planning grid).
+  // On the coarser pair grid: the blocks standing for a segment's cells (in
+  // the order of their first cell), each weighted by the cells it stands
+  // for, and each cell's place among them (-1: it stands on none).
   const PairGrid& pg = *ctx.pair_grid;
   mission::SegmentWindow block_window;                                // on pg.grid, bound to each segment in turn
   std::vector<int32_t> slot(pg.factor > 1 ? pg.grid.size() : 0, -1);  // a block's place in `blocks`, -1 none
   std::vector<Cell> blocks;
-  std::vector<double> weight;
+  std::vector<double> weight, block_time;
+  std::vector<int32_t> cell_block;
   std::vector<Point2> source_point;  // the sources' cell centres
-  auto coarse_pairs = [&](const std::vector<Cell>& seg_cells, std::size_t sources, double& sum, std::size_t& n) {
-    blocks.clear(), weight.clear(), source_point.clear();
-    bool ok = true;
+  fmm::FastMarching block_walk;      // unit speed on pg.grid (the homes' walks)
+  if (pg.factor > 1) block_walk = fmm::FastMarching(pg.grid);
+  // Returns the number of the segment's cells that stand on a block.
+  auto segment_blocks = [&](const std::vector<Cell>& seg_cells) {
+    blocks.clear(), weight.clear(), cell_block.assign(seg_cells.size(), -1);
+    std::size_t mapped = 0;
     for (std::size_t i = 0; i < seg_cells.size(); ++i) {
       const int32_t b = pg.block_of[grid.index(seg_cells[i])];
-      if (b < 0) continue;  // no reachable block next to it: left out of the mean
+      if (b < 0) continue;  // no reachable block next to it
       if (slot[static_cast<std::size_t>(b)] < 0) {
         slot[static_cast<std::size_t>(b)] = static_cast<int32_t>(blocks.size());
         blocks.push_back(pg.grid.cell(static_cast<std::size_t>(b)));
         weight.push_back(0.0);
       }
-      weight[static_cast<std::size_t>(slot[static_cast<std::size_t>(b)])] += 1.0;
+      cell_block[i] = slot[static_cast<std::size_t>(b)];
+      weight[static_cast<std::size_t>(cell_block[i])] += 1.0;
+      ++mapped;
     }
+    for (Cell c : blocks) slot[pg.grid.index(c)] = -1;
+    return mapped;
+  };
+  // The walks from the home to the segment's cells on the pair grid, from
+  // the block standing for the home, scaled: false (walk_time then not
+  // set) when a cell or the home stands on no block, or a block is not
+  // reached.
+  auto coarse_home = [&](Cell home, const std::vector<Cell>& seg_cells, std::size_t mapped) {
+    const int32_t h = pg.block_of[grid.index(home)];
+    if (h < 0 || mapped < seg_cells.size()) return false;
+    ctx.pair_home_walks->distances(pg.grid.cell(static_cast<std::size_t>(h)), blocks, block_walk, block_time);
+    for (double t : block_time)
+      if (!(t < kInf)) return false;
+    walk_time.resize(seg_cells.size());
+    for (std::size_t i = 0; i < seg_cells.size(); ++i)
+      walk_time[i] = pg.walk_scale * block_time[static_cast<std::size_t>(cell_block[i])];
+    return true;
+  };
+  // The pair distances between the blocks (cells standing on none are left
+  // out of the mean); false when a source's or a cell's block is not
+  // reached in the blocks' window (then marched on the planning grid).
+  auto coarse_pairs = [&](const std::vector<Cell>& seg_cells, std::size_t sources, double& sum, std::size_t& n) {
+    source_point.clear();
     // The sources: the centres of the cells the planning grid's marches
     // start from (a block's centre lies half a cell from each of its cells,
     // on a segment's edge often inwards of it: a bias of a few percent).
-    for (std::size_t j = 0; j < sources && ok; ++j) {
+    for (std::size_t j = 0; j < sources; ++j) {
       const Cell from = seg_cells[(2 * j + 1) * seg_cells.size() / (2 * sources)];
       const int32_t b = pg.block_of[grid.index(from)];
-      ok = b >= 0;
-      if (ok) source_point.push_back(pair_start(pg, grid, from, b));
+      if (b < 0) return false;
+      source_point.push_back(pair_start(pg, grid, from, b));
     }
-    for (Cell c : blocks) slot[pg.grid.index(c)] = -1;
-    if (!ok || blocks.empty()) return false;
+    if (blocks.empty()) return false;
     block_window.bind(pg.grid, blocks, opt.protocol.window_margin_m);
     double s = 0.0, w = 0.0;
     for (Point2 from : source_point) {
@@ -372,8 +414,13 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     double sum = 0.0;
     std::size_t n = 0;
     const Cell home = ctx.oc_worker_home(cells[k]);
+    const std::size_t mapped = pg.factor > 1 ? segment_blocks(cells[k]) : 0;
     // From the home, on the whole map as its worker walks from there.
-    if (home.row >= 0) ctx.home_walks->distances(home, cells[k], walk, walk_time), add(walk_time, sum, n);
+    if (home.row >= 0) {
+      if (pg.factor <= 1 || !coarse_home(home, cells[k], mapped))
+        ctx.home_walks->distances(home, cells[k], walk, walk_time);
+      add(walk_time, sum, n);
+    }
     if (n > 0) seg.mean_home_distance = sum / static_cast<double>(n);
     // Ascending by distance, ties by row-major order: keys (the distance's
     // float bits, which sort like distances >= 0) << 32 | index in cells[k].

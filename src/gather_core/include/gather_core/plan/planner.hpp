@@ -176,6 +176,8 @@ struct PlanContext : mission::World {
   std::shared_ptr<HomeWalks> home_walks;
   // The grid of the segments' pair distances (PlannerOptions::pair_grid_factor).
   std::shared_ptr<const PairGrid> pair_grid;
+  // The homes' walks on the pair grid, when it is coarser (kept as home_walks).
+  std::shared_ptr<HomeWalks> pair_home_walks;
   // The landmarks of the A* between meeting areas (route_builder.hpp),
   // searched on the first leg's need.
   std::shared_ptr<LegLandmarks> leg_landmarks;

@@ -81,13 +81,17 @@ struct PairGrid {
   // scaled by the ratio of the two grids' marches from kPairGridSamples
   // cells spread over the map, over the cells within `reach_m` of them.
   double scale = 1.0;
+  // The same for the homes' walks, longer: the ratio of the OC's marches on
+  // both grids over the whole map.
+  double walk_scale = 1.0;
 };
 constexpr std::size_t kPairGridSamples = 8;
 // `reachable`: the planning grid's reachable space (4-connected to `oc`);
-// `walk`: unit speed on it (PlanContext::coverage_field); `reach_m` [m]:
+// `walk`: unit speed on it (PlanContext::coverage_field); `from_oc`: its
+// march from the OC's cell (PlanContext::oc_walk); `reach_m` [m]:
 // about a segment's size (PlanContext::area_tile).
 PairGrid make_pair_grid(const OccupancyGrid& grid, Point2 oc, const Mask& reachable, const fmm::FastMarching& walk,
-                        double reach_m, int factor);
+                        const Field& from_oc, double reach_m, int factor);
 
 // Fills graph.segments' mean_home_distance, home_quantiles,
 // mean_oc_distance, oc_quantiles and mean_pair_distance (see
