@@ -40,14 +40,18 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 double plan_memory_bytes(std::size_t cells, int agents, int threads, std::size_t configs) {
   const double n = static_cast<double>(cells), a = static_cast<double>(agents);
   // The home walks kept (HomeWalks): a field of 4 B a cell per home, at
-  // most kHomeWalkBytes; a small team on a small grid keeps less.
+  // most kHomeWalkBytes (shared with those on the pair grid); a small team
+  // on a small grid keeps less.
   const double home_walks = std::min(static_cast<double>(kHomeWalkBytes), 4.0 * n * a);
   // The legs' landmarks (LegLandmarks) of a team that uses them (the
   // default PlannerOptions::leg_landmarks_team): 24 B a cell kept, 16 B
   // more while they are searched.
   const double landmarks = agents >= PlannerOptions{}.leg_landmarks_team ? 40.0 * n : 0.0;
-  return 90e6 + home_walks + landmarks + n * (40.0 + 4.0 * static_cast<double>(configs)) +
-         threads * (50.0 * n + 480.0 * a * a);
+  // Per cell: the context (52 B, of which 12 B the BAP's march from the OC
+  // and the pair grid's block of each cell) and each configuration kept;
+  // per thread: the marches' workspaces (the pair grid's a quarter more).
+  return 90e6 + home_walks + landmarks + n * (52.0 + 4.0 * static_cast<double>(configs)) +
+         threads * (62.0 * n + 480.0 * a * a);
 }
 
 int threads_within_budget(const Scenario& s, int threads, std::size_t configs) {
@@ -87,7 +91,6 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
   // times, exactly), once instead of once per BAP configuration.
   prepared.oc_distance = Raster<double>(grid.frame(), 0.0);
   for (std::size_t i = 0; i < grid.size(); ++i) prepared.oc_distance[i] = static_cast<double>(oc_walk[i]);
-  home_walks = std::make_shared<HomeWalks>(kHomeWalkBytes);
   leg_landmarks = std::make_shared<LegLandmarks>();
   use_leg_landmarks = s.team.agents >= options.leg_landmarks_team;
   for (std::size_t i = 0; i < coverage_distance.size(); ++i) {
@@ -126,7 +129,12 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
                        static_cast<double>(grid.resolution()));
   pair_grid = std::make_shared<const PairGrid>(
       make_pair_grid(grid, s.oc, reachable, coverage_field, oc_walk, area_tile, options.pair_grid_factor));
-  pair_home_walks = std::make_shared<HomeWalks>(kHomeWalkBytes);
+  // One budget for the homes' walks: with a coarser pair grid nearly all of
+  // them walk there (a segment with a cell standing on no block walks on
+  // the planning grid).
+  const std::size_t pair_walk_bytes = pair_grid->factor > 1 ? kHomeWalkBytes / 4 * 3 : 0;
+  home_walks = std::make_shared<HomeWalks>(kHomeWalkBytes - pair_walk_bytes);
+  pair_home_walks = std::make_shared<HomeWalks>(pair_walk_bytes);
   areas = mission::area_weights(*this, area_tile);
   for (const auto& [id, m2] : areas.area) tile_ids.push_back(id);
   tile_of_cell = Raster<int32_t>(grid.frame(), -1);

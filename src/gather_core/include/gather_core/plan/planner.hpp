@@ -131,7 +131,10 @@ inline PlannerOptions grown_groups() {
 // configuration in flight) its cells and a table that grows with the
 // square of the team. Fitted to `gather plan` on maps/office (210k and
 // 840k planning cells; 20, 400 and 1000 agents; 1-27 configurations; 1-2
-// threads) and campus with 200 robots (243 configurations), within 10%.
+// threads) and campus with 200 robots (243 configurations), within 10%;
+// since the pair grid (walking_distances.hpp) and BAP's shared march from
+// the OC, 12 B a cell more in the context and a thread (office: 159 MiB
+// modelled against 149 measured with 20 robots, 279 against 263 with 100).
 double plan_memory_bytes(std::size_t cells, int agents, int threads, std::size_t configs);
 // The threads (at most `threads`) on which `configs` configurations of the
 // scenario (on its planning grid) stay within kMemoryBudget; throws
@@ -176,7 +179,8 @@ struct PlanContext : mission::World {
   std::shared_ptr<HomeWalks> home_walks;
   // The grid of the segments' pair distances (PlannerOptions::pair_grid_factor).
   std::shared_ptr<const PairGrid> pair_grid;
-  // The homes' walks on the pair grid, when it is coarser (kept as home_walks).
+  // The homes' walks on the pair grid, when it is coarser, kept as
+  // home_walks are (three quarters of kHomeWalkBytes, home_walks the rest).
   std::shared_ptr<HomeWalks> pair_home_walks;
   // The landmarks of the A* between meeting areas (route_builder.hpp),
   // searched on the first leg's need.

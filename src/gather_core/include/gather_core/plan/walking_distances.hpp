@@ -56,7 +56,8 @@ class HomeWalks {
 
 // The HomeWalks budget a PlanContext gets: 32 MiB (32 whole marches on a
 // 250,000-cell planning grid, planner.max_cells' default; a march stopped
-// near its home keeps less).
+// near its home keeps less), three quarters of it for the walks on a
+// coarser pair grid when there is one.
 constexpr std::size_t kHomeWalkBytes = std::size_t{32} << 20;
 
 // The grid a segment's pair distances are marched on: the planning grid,
