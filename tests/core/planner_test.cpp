@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gather_core/error.hpp"
+#include "gather_core/fmm/fast_marching.hpp"
 #include "small_office.hpp"
 
 namespace gather {
@@ -105,6 +106,21 @@ TEST(PlanBudget, ThreadsShrinkToTheBudgetAndAGridTooLargeForOneThreadIsRefused) 
   }
 }
 
+// BAP orders its wavefronts by the context's march from the OC: the very
+// times of the march it would run itself, so the same partitions.
+TEST_F(PlannerTest, TheContextsMarchFromTheOcIsBapsOwn) {
+  const OccupancyGrid& grid = scenario_->grid;
+  fmm::FastMarching fm(grid);
+  fmm::SolveOptions so;
+  so.labels = false;
+  fm.solve({fmm::Source::at_cell(ctx_->oc_cell)}, so);
+  EXPECT_EQ(ctx_->prepared.oc_distance, fm.times());
+  partition::PreparedArea alone = ctx_->prepared;
+  alone.oc_distance = Raster<double>();
+  EXPECT_EQ(partition::partition_area(grid, ctx_->prepared, partition::Method::kBap, 7).labels,
+            partition::partition_area(grid, alone, partition::Method::kBap, 7).labels);
+}
+
 TEST_F(PlannerTest, OptionsOutsideTheirRangeNameTheField) {
   plan::PlannerOptions opt;
   opt.pair_sources = 0;
@@ -121,6 +137,17 @@ TEST_F(PlannerTest, OptionsOutsideTheirRangeNameTheField) {
     FAIL() << "pair_grid_factor = 5 was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("pair_grid_factor = 5 must be in [1, 4]"), std::string::npos) << e.what();
+  }
+  // The context is built with the pair grid's factor: another is refused.
+  opt = plan::PlannerOptions{};
+  opt.pair_grid_factor = 1;
+  try {
+    plan::plan_configuration(*ctx_, partition::Method::kBap, 2, opt);
+    FAIL() << "pair_grid_factor = 1 was accepted by a context built with 2";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("pair_grid_factor = 1 is not the one the plan context was built with (2)"),
+              std::string::npos)
+        << e.what();
   }
   opt = plan::PlannerOptions{};
   opt.tsp_constant = std::nan("");

@@ -77,7 +77,11 @@ const Scenario& within_budget(const Scenario& s) {
 }  // namespace
 
 PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
-    : World(within_budget(s)), clearance(s.grid), tight_speed(options.tight_speed), oc_field(s.grid) {
+    : World(within_budget(s)),
+      clearance(s.grid),
+      tight_speed(options.tight_speed),
+      oc_field(s.grid),
+      pair_grid_factor(options.pair_grid_factor) {
   check_options(options);
   const OccupancyGrid& grid = s.grid;
   prepared.oc = oc_cell;
@@ -129,12 +133,10 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
                        static_cast<double>(grid.resolution()));
   pair_grid = std::make_shared<const PairGrid>(
       make_pair_grid(grid, s.oc, reachable, coverage_field, oc_walk, area_tile, options.pair_grid_factor));
-  // One budget for the homes' walks: with a coarser pair grid nearly all of
-  // them walk there (a segment with a cell standing on no block walks on
-  // the planning grid).
-  const std::size_t pair_walk_bytes = pair_grid->factor > 1 ? kHomeWalkBytes / 4 * 3 : 0;
-  home_walks = std::make_shared<HomeWalks>(kHomeWalkBytes - pair_walk_bytes);
-  pair_home_walks = std::make_shared<HomeWalks>(pair_walk_bytes);
+  // One budget for the homes' walks, on the planning grid and on the pair grid.
+  const auto walk_budget = std::make_shared<WalkBudget>(kHomeWalkBytes);
+  home_walks = std::make_shared<HomeWalks>(walk_budget);
+  pair_home_walks = std::make_shared<HomeWalks>(walk_budget);
   areas = mission::area_weights(*this, area_tile);
   for (const auto& [id, m2] : areas.area) tile_ids.push_back(id);
   tile_of_cell = Raster<int32_t>(grid.frame(), -1);
@@ -173,6 +175,10 @@ ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method m
     throw Error("planner options", "tight_speed = " + std::to_string(opt.tight_speed) +
                                        " is not the one the plan context was built with (" +
                                        std::to_string(ctx.tight_speed) + "): PlanContext(scenario, options)");
+  if (opt.pair_grid_factor != ctx.pair_grid_factor)
+    throw Error("planner options", "pair_grid_factor = " + std::to_string(opt.pair_grid_factor) +
+                                       " is not the one the plan context was built with (" +
+                                       std::to_string(ctx.pair_grid_factor) + "): PlanContext(scenario, options)");
   const Scenario& s = ctx.scenario;
   if (collectors < 0 || collectors >= s.team.agents)
     throw Error(s.path, "cannot plan " + std::to_string(collectors) + " collectors for a team of " +

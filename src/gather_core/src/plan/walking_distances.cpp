@@ -127,7 +127,7 @@ void HomeWalks::distances(Cell home, const std::vector<Cell>& cells, fmm::FastMa
     ++marched_;
     const auto it = fields_.find(key);
     if (it != fields_.end() && !now.whole && it->second.reach >= now.reach) return;  // as far kept meanwhile
-    if (it == fields_.end() && kept_bytes_ >= budget_) return;                       // no room for another
+    if (it == fields_.end() && budget_->full()) return;                              // no room for another
   }
   const float* t = walk.padded_times();
   const std::size_t stride = walk.stride();
@@ -151,12 +151,20 @@ void HomeWalks::distances(Cell home, const std::vector<Cell>& cells, fmm::FastMa
   Kept& slot = fields_[key];
   const std::size_t before = slot.times ? slot.times->size() * sizeof(float) : 0;
   if (slot.times && !now.whole && slot.reach >= now.reach) return;  // another thread kept one as far meanwhile
-  if (kept_bytes_ - before + bytes > budget_) {
+  if (!budget_->exchange(before, bytes)) {
     if (!slot.times) fields_.erase(key);
     return;
   }
-  kept_bytes_ = kept_bytes_ - before + bytes;
   slot = std::move(now);
+}
+
+bool WalkBudget::exchange(std::size_t less, std::size_t more) {
+  std::size_t used = used_.load();
+  for (;;) {
+    const std::size_t next = used - less + more;
+    if (more > less && next > cap_) return false;
+    if (used_.compare_exchange_weak(used, next)) return true;
+  }
 }
 
 std::size_t HomeWalks::kept() const {
@@ -185,6 +193,32 @@ Point2 pair_start(const PairGrid& pg, const OccupancyGrid& grid, Cell from, int3
   const Cell block = pg.grid.cell(static_cast<std::size_t>(b));
   const bool own = block.row == from.row / pg.factor && block.col == from.col / pg.factor;
   return own ? grid.cell_center(from) : pg.grid.cell_center(block);
+}
+
+// Whether planning cell `c` (in block `b`, not free) walks into block `n`
+// (reachable) within the box of the two blocks: through reachable cells, so
+// never across a wall.
+bool walks_into(const OccupancyGrid& grid, const Mask& reachable, Cell c, Cell b, Cell n, int f) {
+  const int r0 = std::min(b.row, n.row) * f, c0 = std::min(b.col, n.col) * f;
+  const int rows = (std::abs(b.row - n.row) + 1) * f, cols = (std::abs(b.col - n.col) + 1) * f;
+  std::vector<uint8_t> seen(static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols), 0);
+  std::vector<Cell> stack{c};
+  seen[static_cast<std::size_t>(c.row - r0) * static_cast<std::size_t>(cols) + static_cast<std::size_t>(c.col - c0)] =
+      1;
+  while (!stack.empty()) {
+    const Cell q = stack.back();
+    stack.pop_back();
+    if (q.row / f == n.row && q.col / f == n.col) return true;
+    const Cell next[4] = {{q.row - 1, q.col}, {q.row + 1, q.col}, {q.row, q.col - 1}, {q.row, q.col + 1}};
+    for (Cell m : next) {
+      if (m.row < r0 || m.col < c0 || m.row >= r0 + rows || m.col >= c0 + cols || !grid.contains(m)) continue;
+      uint8_t& v = seen[static_cast<std::size_t>(m.row - r0) * static_cast<std::size_t>(cols) +
+                        static_cast<std::size_t>(m.col - c0)];
+      if (v || !reachable[grid.index(m)]) continue;
+      v = 1, stack.push_back(m);
+    }
+  }
+  return false;
 }
 
 }  // namespace
@@ -218,7 +252,8 @@ PairGrid make_pair_grid(const OccupancyGrid& grid, Point2 oc, const Mask& reacha
         const Cell n{b.row + dr, b.col + dc};
         if (!out.grid.contains(n) || !coarse_reachable[out.grid.index(n)]) continue;
         const double y = 2.0 * c.row + 1.0 - f * (2.0 * n.row + 1.0), x = 2.0 * c.col + 1.0 - f * (2.0 * n.col + 1.0);
-        if (x * x + y * y < best) best = x * x + y * y, out.block_of[i] = static_cast<int32_t>(out.grid.index(n));
+        if (x * x + y * y < best && walks_into(grid, reachable, c, b, n, f))
+          best = x * x + y * y, out.block_of[i] = static_cast<int32_t>(out.grid.index(n));
       }
   }
   // The scale: both grids marched from the same cells (from the cell's
@@ -238,7 +273,7 @@ PairGrid make_pair_grid(const OccupancyGrid& grid, Point2 oc, const Mask& reacha
     const Cell from = grid.cell(i);
     so.max_time = reach_m;
     fine.solve({fmm::Source::at_cell(from)}, so);
-    so.max_time = 2.0 * reach_m;  // beyond every block of a cell within reach_m
+    so.max_time = 2.0 * reach_m + 2.0 * f * grid.resolution();  // beyond every block of a cell within reach_m
     coarse.solve({fmm::Source::at_point(pair_start(out, grid, from, out.block_of[i]))}, so);
     // The times read in place (+inf unreached or not free).
     const float* tf = fine.padded_times();
@@ -384,7 +419,8 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
   // The pair distances between the blocks (cells standing on none are left
   // out of the mean); false when a source's or a cell's block is not
   // reached in the blocks' window (then marched on the planning grid).
-  auto coarse_pairs = [&](const std::vector<Cell>& seg_cells, std::size_t sources, double& sum, std::size_t& n) {
+  auto coarse_pairs = [&](const std::vector<Cell>& seg_cells, std::size_t mapped, std::size_t sources, double& sum,
+                          std::size_t& n) {
     source_point.clear();
     // The sources: the centres of the cells the planning grid's marches
     // start from (a block's centre lies half a cell from each of its cells,
@@ -395,7 +431,10 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
       if (b < 0) return false;
       source_point.push_back(pair_start(pg, grid, from, b));
     }
-    if (blocks.empty()) return false;
+    // Most of the segment is to stand on blocks (as of the map), else its
+    // narrow parts would be left out of the mean.
+    if (blocks.empty() || static_cast<double>(mapped) < kPairGridKept * static_cast<double>(seg_cells.size()))
+      return false;
     block_window.bind(pg.grid, blocks, opt.protocol.window_margin_m);
     double s = 0.0, w = 0.0;
     for (Point2 from : source_point) {
@@ -457,7 +496,7 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     // (on the whole map when the window does not connect them).
     sum = 0.0, n = 0;
     const std::size_t sources = std::min(pair_sources, cells[k].size());
-    if (pg.factor <= 1 || !coarse_pairs(cells[k], sources, sum, n)) {
+    if (pg.factor <= 1 || !coarse_pairs(cells[k], mapped, sources, sum, n)) {
       sum = 0.0, n = 0;
       segment_window.bind(grid, cells[k], opt.protocol.window_margin_m);
       for (std::size_t j = 0; j < sources; ++j)

@@ -58,10 +58,11 @@ struct PlannerOptions {
   // Walking distances: a segment's mean pair distance is the mean of the
   // marches from this many of its cells, range [1, 64].
   int pair_sources = 3;
-  // Walking distances: the pair distances are marched on the planning grid
-  // coarsened by this factor (walking_distances.hpp, PairGrid; lowered, to
-  // 1 if need be, until that grid keeps 98% of the reachable space), range
-  // [1, 4]; 1: on the planning grid itself. The context is built with it.
+  // Walking distances: the pair distances and the homes' walks are marched
+  // on the planning grid coarsened by this factor (walking_distances.hpp,
+  // PairGrid; lowered, to 1 if need be, until that grid keeps 95% of the
+  // reachable space), range [1, 4]; 1: on the planning grid itself. The
+  // context is built with it.
   int pair_grid_factor = 2;
   // Routes: a stretch of a collector's route within this distance [m] of a
   // served segment's cells is a pass, where its worker hands data over on
@@ -150,7 +151,8 @@ struct PlanContext : mission::World {
   // (check_options), or when one configuration of the scenario would not
   // plan within kMemoryBudget (before anything is allocated for it); of
   // the options, only tight_speed, leg_landmarks_team and pair_grid_factor
-  // shape the context.
+  // shape the context (a configuration planned with another tight_speed or
+  // pair_grid_factor is refused).
   explicit PlanContext(const Scenario& scenario, const PlannerOptions& options = {});
   Raster<double> coverage_distance;  // [m] geodesic distance to the coverage, +inf unreachable
   double farthest = 0.0;             // [m] largest coverage_distance over reachable cells
@@ -177,10 +179,13 @@ struct PlanContext : mission::World {
   // The walks from the OC workers' homes, kept for the configurations
   // (walking_distances.hpp; kHomeWalkBytes at most).
   std::shared_ptr<HomeWalks> home_walks;
-  // The grid of the segments' pair distances (PlannerOptions::pair_grid_factor).
+  // The grid of the segments' pair distances and homes' walks, from
+  // PlannerOptions::pair_grid_factor as asked (the grid's own factor may be
+  // lower: PairGrid::factor).
+  int pair_grid_factor = 2;
   std::shared_ptr<const PairGrid> pair_grid;
   // The homes' walks on the pair grid, when it is coarser, kept as
-  // home_walks are (three quarters of kHomeWalkBytes, home_walks the rest).
+  // home_walks are, within the same kHomeWalkBytes.
   std::shared_ptr<HomeWalks> pair_home_walks;
   // The landmarks of the A* between meeting areas (route_builder.hpp),
   // searched on the first leg's need.
