@@ -186,6 +186,10 @@ constexpr double kPairGridKept = 0.95;
 
 namespace {
 
+// The j-th of `count` items spread over `n` (the middles of `count` equal
+// runs): how pair sources and scale samples are picked, deterministically.
+std::size_t spread(std::size_t j, std::size_t count, std::size_t n) { return (2 * j + 1) * n / (2 * count); }
+
 // Where a march on the pair grid from planning cell `from` (standing on
 // block `b` >= 0) starts: the cell's centre in its own block, else (its
 // block not free) the centre of the block standing for it.
@@ -269,7 +273,7 @@ PairGrid make_pair_grid(const OccupancyGrid& grid, Point2 oc, const Mask& reacha
   double fine_sum = 0.0, coarse_sum = 0.0;
   const int cells_reach = static_cast<int>(std::ceil(reach_m / grid.resolution())) + 1;
   for (std::size_t j = 0; j < kPairGridSamples; ++j) {
-    const std::size_t i = mapped[(2 * j + 1) * mapped.size() / (2 * kPairGridSamples)];
+    const std::size_t i = mapped[spread(j, kPairGridSamples, mapped.size())];
     const Cell from = grid.cell(i);
     so.max_time = reach_m;
     fine.solve({fmm::Source::at_cell(from)}, so);
@@ -426,7 +430,7 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     // start from (a block's centre lies half a cell from each of its cells,
     // on a segment's edge often inwards of it: a bias of a few percent).
     for (std::size_t j = 0; j < sources; ++j) {
-      const Cell from = seg_cells[(2 * j + 1) * seg_cells.size() / (2 * sources)];
+      const Cell from = seg_cells[spread(j, sources, seg_cells.size())];
       const int32_t b = pg.block_of[grid.index(from)];
       if (b < 0) return false;
       source_point.push_back(pair_start(pg, grid, from, b));
@@ -500,7 +504,7 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
       sum = 0.0, n = 0;
       segment_window.bind(grid, cells[k], opt.protocol.window_margin_m);
       for (std::size_t j = 0; j < sources; ++j)
-        distances(cells[k][(2 * j + 1) * cells[k].size() / (2 * sources)], cells[k], segment_window, pair, sum, n);
+        distances(cells[k][spread(j, sources, cells[k].size())], cells[k], segment_window, pair, sum, n);
     }
     if (n > 0) seg.mean_pair_distance = sum / static_cast<double>(n);
   }
