@@ -229,25 +229,39 @@ TEST(PairGridTest, ACellOfABlockThatIsNotFreeStandsOnTheNearestReachableBlock) {
   EXPECT_EQ(pg.block_of[scenario.grid.index(Cell{10, 30})], -1);  // the wall
 }
 
+// Two segments of `scenario` (label_of(cell), 1 or 2, on its free cells):
+// their walking distances on the pair grid (the default options) and on
+// the planning grid (pair_grid_factor 1).
+struct TwoWays {
+  int factor = 0;  // the pair grid's
+  WorkerGraph coarse, fine;
+};
+template <class LabelOf>
+TwoWays two_ways(const Scenario& scenario, LabelOf label_of) {
+  PlannerOptions exact;
+  exact.pair_grid_factor = 1;
+  const PlanContext ctx{scenario}, fine_ctx{scenario, exact};
+  LabelImage labels(scenario.grid.frame());
+  for (int r = 0; r < scenario.grid.height(); ++r)
+    for (int c = 0; c < scenario.grid.width(); ++c)
+      if (scenario.grid.is_free(Cell{r, c})) labels.at(Cell{r, c}) = label_of(Cell{r, c});
+  TwoWays out;
+  out.factor = ctx.pair_grid->factor;
+  out.coarse = build_worker_graph(scenario.grid, labels, 2, ctx.coverage, ctx.coverage_distance, &ctx.roomy);
+  out.fine = out.coarse;
+  segment_distances(ctx, labels, out.coarse, PlannerOptions{});
+  segment_distances(fine_ctx, labels, out.fine, exact);
+  return out;
+}
+
 TEST(PairGridTest, ASegmentAlongAWallStartsFromTheBlocksStandingForItsCells) {
   // Segment 2: column 31 along `walled`'s wall, rows 5-39, whose blocks hold
   // the wall: its pair sources start from the blocks east of them (one
   // wide column of them); segment 1: the rest.
-  const Scenario scenario = walled();
-  PlannerOptions exact;
-  exact.pair_grid_factor = 1;
-  const PlanContext ctx{scenario}, fine_ctx{scenario, exact};
-  ASSERT_EQ(ctx.pair_grid->factor, 2);
-  LabelImage labels(scenario.grid.frame());
-  for (int r = 0; r < 40; ++r)
-    for (int c = 0; c < 60; ++c)
-      if (scenario.grid.is_free(Cell{r, c})) labels.at(Cell{r, c}) = c == 31 && r >= 5 ? 2 : 1;
-  WorkerGraph coarse = build_worker_graph(scenario.grid, labels, 2, ctx.coverage, ctx.coverage_distance, &ctx.roomy);
-  WorkerGraph fine = coarse;
-  segment_distances(ctx, labels, coarse, PlannerOptions{});
-  segment_distances(fine_ctx, labels, fine, exact);
+  const TwoWays w = two_ways(walled(), [](Cell c) { return c.col == 31 && c.row >= 5 ? 2 : 1; });
+  ASSERT_EQ(w.factor, 2);
   for (SegmentId k : segment_ids(2)) {
-    const double a = coarse.segment(k).mean_pair_distance, b = fine.segment(k).mean_pair_distance;
+    const double a = w.coarse.segment(k).mean_pair_distance, b = w.fine.segment(k).mean_pair_distance;
     EXPECT_NE(a, b) << "segment " << k.label() << " was marched on the planning grid";
     EXPECT_NEAR(a / b, 1.0, 0.05) << "segment " << k.label();
   }
@@ -287,25 +301,14 @@ TEST(PairGridTest, ASegmentOfCellsOnNoBlockIsMarchedOnThePlanningGrid) {
   // Segment 2: the corridor (its cells but the open end stand on no block):
   // its home walk and pair distances on the planning grid, exactly; segment
   // 1, the room, on the pair grid.
-  const Scenario scenario = corridor_over_a_room();
-  PlannerOptions exact;
-  exact.pair_grid_factor = 1;
-  const PlanContext ctx{scenario}, fine_ctx{scenario, exact};
-  ASSERT_EQ(ctx.pair_grid->factor, 2);
-  LabelImage labels(scenario.grid.frame());
-  for (int r = 0; r < 60; ++r)
-    for (int c = 0; c < 40; ++c)
-      if (scenario.grid.is_free(Cell{r, c})) labels.at(Cell{r, c}) = r <= 11 ? 2 : 1;
-  WorkerGraph coarse = build_worker_graph(scenario.grid, labels, 2, ctx.coverage, ctx.coverage_distance, &ctx.roomy);
-  WorkerGraph fine = coarse;
-  segment_distances(ctx, labels, coarse, PlannerOptions{});
-  segment_distances(fine_ctx, labels, fine, exact);
-  const WorkerSegment& corridor = coarse.segment(SegmentId(2));
-  ASSERT_GE(ctx.oc_worker_home(std::vector<Cell>{Cell{10, 5}}).row, 0);
-  EXPECT_EQ(corridor.mean_home_distance, fine.segment(SegmentId(2)).mean_home_distance);
-  EXPECT_EQ(corridor.home_quantiles, fine.segment(SegmentId(2)).home_quantiles);
-  EXPECT_EQ(corridor.mean_pair_distance, fine.segment(SegmentId(2)).mean_pair_distance);
-  EXPECT_NE(coarse.segment(SegmentId(1)).mean_pair_distance, fine.segment(SegmentId(1)).mean_pair_distance);
+  const TwoWays w = two_ways(corridor_over_a_room(), [](Cell c) { return c.row <= 11 ? 2 : 1; });
+  ASSERT_EQ(w.factor, 2);
+  const WorkerSegment& corridor = w.coarse.segment(SegmentId(2));
+  ASSERT_EQ(corridor.home_quantiles.size(), 17u) << "the corridor's worker walks from a home";
+  EXPECT_EQ(corridor.mean_home_distance, w.fine.segment(SegmentId(2)).mean_home_distance);
+  EXPECT_EQ(corridor.home_quantiles, w.fine.segment(SegmentId(2)).home_quantiles);
+  EXPECT_EQ(corridor.mean_pair_distance, w.fine.segment(SegmentId(2)).mean_pair_distance);
+  EXPECT_NE(w.coarse.segment(SegmentId(1)).mean_pair_distance, w.fine.segment(SegmentId(1)).mean_pair_distance);
 }
 
 TEST(PairGridTest, AGridThatWouldCloseADoorIsNotUsed) {
