@@ -63,6 +63,30 @@ double kept_share(const OccupancyGrid& grid, const Mask& reachable, std::size_t 
 
 }  // namespace
 
+CoarseGrid coarsest_kept(const OccupancyGrid& grid, Point2 oc, const Mask& reachable, int factor, double min_kept) {
+  const Cell oc_cell = grid.world_to_cell(oc);
+  const std::size_t reachable_cells = static_cast<std::size_t>(std::count(reachable.begin(), reachable.end(), 1));
+  auto oc_block_free = [&](int k) {  // without coarsening the whole map
+    const Cell b{oc_cell.row / k * k, oc_cell.col / k * k};
+    for (int dr = 0; dr < k; ++dr)
+      for (int dc = 0; dc < k; ++dc)
+        if (!grid.is_free(Cell{b.row + dr, b.col + dc})) return false;
+    return true;
+  };
+  for (int f = factor; f >= 2; --f) {
+    if (!oc_block_free(f)) continue;
+    CoarseGrid out;
+    out.grid = coarsen(grid, f);
+    out.reachable = reachable_from(out.grid, out.grid.world_to_cell(oc));
+    out.kept = kept_share(grid, reachable, reachable_cells, out.grid, out.reachable, f);
+    if (out.kept >= min_kept) {
+      out.factor = f;
+      return out;
+    }
+  }
+  return CoarseGrid{};
+}
+
 PlanningGrid choose_planning_grid(const OccupancyGrid& grid, Point2 oc, std::size_t max_cells, double min_kept) {
   PlanningGrid best;
   if (max_cells == 0 || grid.size() <= max_cells) return best;
@@ -72,26 +96,8 @@ PlanningGrid choose_planning_grid(const OccupancyGrid& grid, Point2 oc, std::siz
     return static_cast<std::size_t>((grid.width() + k - 1) / k) * static_cast<std::size_t>((grid.height() + k - 1) / k);
   };
   while (blocks(f) > max_cells) ++f;
-  const Cell oc_cell = grid.world_to_cell(oc);
-  const Mask reachable = reachable_from(grid, oc_cell);
-  const std::size_t reachable_cells = static_cast<std::size_t>(std::count(reachable.begin(), reachable.end(), 1));
-  auto oc_block_free = [&](int k) {  // without coarsening the whole map
-    const Cell b{oc_cell.row / k * k, oc_cell.col / k * k};
-    for (int dr = 0; dr < k; ++dr)
-      for (int dc = 0; dc < k; ++dc)
-        if (!grid.is_free(Cell{b.row + dr, b.col + dc})) return false;
-    return true;
-  };
-  for (; f >= 2; --f) {
-    if (!oc_block_free(f)) continue;
-    const OccupancyGrid coarse = coarsen(grid, f);
-    const Cell oc_block = coarse.world_to_cell(oc);
-    const double kept = kept_share(grid, reachable, reachable_cells, coarse, reachable_from(coarse, oc_block), f);
-    if (kept >= min_kept) {
-      best.factor = f, best.kept = kept;
-      return best;
-    }
-  }
+  const CoarseGrid c = coarsest_kept(grid, oc, reachable_from(grid, grid.world_to_cell(oc)), f, min_kept);
+  if (c.factor > 1) best.factor = c.factor, best.kept = c.kept;
   return best;
 }
 

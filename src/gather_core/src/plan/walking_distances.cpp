@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <utility>
 
 #include "gather_core/grid/planning_grid.hpp"
 #include "gather_core/grid/reachability.hpp"
@@ -231,15 +232,13 @@ PairGrid make_pair_grid(const OccupancyGrid& grid, Point2 oc, const Mask& reacha
                         const Field& from_oc, double reach_m, int factor) {
   PairGrid out;
   if (factor <= 1) return out;
-  const std::size_t blocks = static_cast<std::size_t>((grid.width() + factor - 1) / factor) *
-                             static_cast<std::size_t>((grid.height() + factor - 1) / factor);
   // The planning grid's rule: the factor lowered while the coarse grid
   // keeps under kPairGridKept of the reachable space, or loses the OC's block.
-  out.factor = grid.size() > blocks ? choose_planning_grid(grid, oc, blocks, kPairGridKept).factor : 1;
-  if (out.factor <= 1) return PairGrid{};
-  const int f = out.factor;
-  out.grid = coarsen(grid, f);
-  const Mask coarse_reachable = reachable_from(out.grid, out.grid.world_to_cell(oc));
+  CoarseGrid coarse_grid = coarsest_kept(grid, oc, reachable, factor, kPairGridKept);
+  if (coarse_grid.factor <= 1) return out;
+  const int f = out.factor = coarse_grid.factor;
+  out.grid = std::move(coarse_grid.grid);
+  const Mask& coarse_reachable = coarse_grid.reachable;
   out.block_of.assign(grid.size(), -1);
   for (std::size_t i = 0; i < grid.size(); ++i) {
     if (!reachable[i]) continue;

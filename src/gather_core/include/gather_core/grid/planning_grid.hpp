@@ -30,6 +30,19 @@ struct PlanningGrid {
 // limit), lowered until the coarse grid keeps `min_kept` (a fraction in (0, 1]) of the reachable
 // space (a map cell counts as kept when its block or a neighbouring block is
 // reachable from the OC's block) and the OC's block is free.
+// The rule of choose_planning_grid from a factor on, for a caller that
+// knows the map's reachable space (4-connected to the OC's cell) and wants
+// the coarse grid itself: the largest f <= `factor` (and >= 2) whose coarse
+// grid keeps `min_kept` and has the OC's block free, with that grid and its
+// space reachable from the OC's block; factor 1 (and no grid) when none.
+struct CoarseGrid {
+  int factor = 1;
+  double kept = 1.0;
+  OccupancyGrid grid;
+  Mask reachable;
+};
+CoarseGrid coarsest_kept(const OccupancyGrid& grid, Point2 oc, const Mask& reachable, int factor, double min_kept);
+
 PlanningGrid choose_planning_grid(const OccupancyGrid& grid, Point2 oc, std::size_t max_cells, double min_kept = 0.98);
 
 }  // namespace gather
