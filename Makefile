@@ -13,7 +13,7 @@ CYCLES ?= 0
 RESULTS ?= results/mission
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps pylcm build run readme-figures test format format-check tidy bench-fmm-ab test-ros plain-build test-plain plain-unit-bg test-plain-rest test-cli test-e2e bench-fmm bench-runtime bench-faults bench-robots bench-signing identity-check bench-planner partition-report scenario-report regime-report runtime-report clean help
+.PHONY: all deps pylcm build run readme-figures test format format-check tidy bench-fmm-ab test-ros plain-build test-plain plain-unit-bg test-plain-rest test-cli test-e2e bench-fmm bench-runtime bench-faults bench-robots bench-signing identity-check bench-planner bench-planner-scenarios partition-report scenario-report regime-report runtime-report clean help
 
 all: build
 
@@ -234,20 +234,29 @@ bench-robots: build
 bench-signing: build
 	tools/netns-run bench/signing_bench.sh $(G)
 
-# A refactor changes no result: plan.yaml, report.csv (timings aside) and
-# goals.csv of office and office_a (their best plans, and two plans with
-# collectors at work) from REF's gather and from this tree's.
 # The planner at scale: gather plan's sweep for teams of 20, 50, 100 and 200
 # on maps/office and maps/campus, beside a static build of PLANNER_REF (the
 # commit before the planner's speed-ups) -> docs/planner_bench.md and .png.
-# Long (the reference takes minutes at 100 robots, more at 200): TEAMS=20,50,100 shortens it.
+# The reference runs at REF_TEAMS only (minutes a sweep at 100 robots, 11-18 at
+# 200). About 20 min; TEAMS=20,50,100 shortens it.
 PLANNER_REF ?= 0e97da5
 TEAMS ?= 20,50,100,200
+REF_TEAMS ?= 20,50,100
 bench-planner: build
 	tools/build-ref $(PLANNER_REF) build/planner_ref $(JOBS)
 	$(PYTHON) tools/planner_bench.py --ref build/planner_ref/build/gather_core/gather --ref-name $(PLANNER_REF) \
-	  --new $(G) --teams $(TEAMS) --runs $(or $(RUNS),3)
+	  --new $(G) --teams $(TEAMS) --ref-teams $(REF_TEAMS) --runs $(or $(RUNS),3)
 
+# The shipped scenarios' sweeps beside the reference's, and the simulated
+# quality of the plan each chooses -> docs/planner_scenarios.md (~5 min).
+bench-planner-scenarios: build
+	tools/build-ref $(PLANNER_REF) build/planner_ref $(JOBS)
+	$(PYTHON) tools/planner_scenarios.py --ref build/planner_ref/build/gather_core/gather --ref-name $(PLANNER_REF) \
+	  --new $(G) --runs $(or $(RUNS),3)
+
+# A refactor changes no result: plan.yaml, report.csv (timings aside) and
+# goals.csv of office and office_a (their best plans, and two plans with
+# collectors at work) from REF's gather and from this tree's.
 identity-check: build
 	@test -n "$(REF)" || { echo "usage: make identity-check REF=<commit>" >&2; exit 2; }
 	tools/build-ref $(REF) build/identity_ref $(JOBS)

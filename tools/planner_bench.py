@@ -12,7 +12,10 @@ routes, estimate, association), and whether both builds chose the same plan
 docs/planner_bench.png (sweep wall time against team size, log-log).
 
   tools/planner_bench.py --ref build/planner_ref/build/gather_core/gather --new G
-                         [--teams 20,50,100,200] [--maps office,campus] [--runs 3]
+                         [--teams 20,50,100,200] [--ref-teams 20,50,100] [--maps office,campus] [--runs 3]
+
+The reference runs only at the --ref-teams sizes (it takes 11-18 minutes a
+sweep at 200 robots); at the others this build runs alone.
 """
 import argparse
 import csv
@@ -147,6 +150,8 @@ def main():
     p.add_argument("--ref-name", default="", help="what the reference is (its commit), for the table")
     p.add_argument("--new", required=True, help="this build's gather")
     p.add_argument("--teams", default="20,50,100,200")
+    p.add_argument("--ref-teams", default="20,50,100",
+                   help="the team sizes at which the reference runs too ('all' for every one)")
     p.add_argument("--maps", default="office,campus")
     p.add_argument("--runs", type=int, default=3, help="runs of each build per size (the median is shown)")
     p.add_argument("--out", default=os.path.join(REPO, "results", "planner_bench"))
@@ -154,8 +159,9 @@ def main():
     a = p.parse_args()
     try:
         teams = [int(t) for t in a.teams.split(",")]
+        ref_teams = set(teams) if a.ref_teams == "all" else {int(t) for t in a.ref_teams.split(",") if t}
     except ValueError:
-        sys.exit("planner_bench: --teams must be numbers, e.g. 20,50,100")
+        sys.exit("planner_bench: --teams and --ref-teams must be numbers, e.g. 20,50,100 (--ref-teams: or all)")
     if any(t < 2 or t > 1000 for t in teams) or not 1 <= a.runs <= 20:
         sys.exit("planner_bench: teams in 2..1000, --runs in 1..20")
     maps = a.maps.split(",")
@@ -166,44 +172,56 @@ def main():
         if not os.access(g, os.X_OK):
             sys.exit("planner_bench: %s is not an executable (make bench-planner builds both)" % g)
     os.makedirs(a.out, exist_ok=True)
+    load = open("/proc/loadavg").read().split()[0]
     rows = []
     for name in maps:
         for team in teams:
             scenario = scenario_for(MAPS[name], team, a.out)
+            builds = (("ref", a.ref), ("new", a.new)) if team in ref_teams else (("new", a.new),)
             got = {"ref": [], "new": []}
             for k in range(a.runs):
-                for build, g in (("ref", a.ref), ("new", a.new)):  # in turn
+                for build, g in builds:  # in turn
                     got[build].append(plan_once(g, scenario, os.path.join(a.out, "%s_%d_%s" % (name, team, build))))
-            same = same_plan(os.path.join(a.out, "%s_%d_ref" % (name, team), "plan.yaml"),
-                             os.path.join(a.out, "%s_%d_new" % (name, team), "plan.yaml"))
-            row = {"map": name, "team": team, "same": same}
+            row = {"map": name, "team": team, "same": "-"}
+            if got["ref"]:
+                row["same"] = same_plan(os.path.join(a.out, "%s_%d_ref" % (name, team), "plan.yaml"),
+                                        os.path.join(a.out, "%s_%d_new" % (name, team), "plan.yaml"))
             for build in ("ref", "new"):
-                row[build + "_wall"] = statistics.median(r[0] for r in got[build])
-                row[build + "_mib"] = max(r[1] for r in got[build])
-                row[build + "_stages"] = {s: statistics.median(r[2][s] for r in got[build]) for s in STAGES}
+                row[build + "_wall"] = statistics.median(r[0] for r in got[build]) if got[build] else 0.0
+                row[build + "_mib"] = max(r[1] for r in got[build]) if got[build] else 0.0
+                row[build + "_stages"] = {s: statistics.median(r[2][s] for r in got[build]) if got[build] else None
+                                          for s in STAGES}
             rows.append(row)
-            print("%s %d robots: sweep wall %.2f s (reference %.2f s), peak %.0f MiB (%.0f), same plan: %s"
-                  % (name, team, row["new_wall"], row["ref_wall"], row["new_mib"], row["ref_mib"],
-                     same), flush=True)
+            print("%s %d robots: sweep wall %.2f s (reference %s), peak %.0f MiB (%s), same plan: %s"
+                  % (name, team, row["new_wall"], "%.2f s" % row["ref_wall"] if got["ref"] else "not run",
+                     row["new_mib"], "%.0f" % row["ref_mib"] if got["ref"] else "-", row["same"]), flush=True)
     table = ["| map | robots | configurations | sweep wall, this build [s] | reference [s] | speed-up | "
              "peak MiB (ref) | partition | graph | routes | estimate | association | same plan |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        st, rs = r["new_stages"], r["ref_stages"]
-        table.append("| %s | %d | %d | **%.2f** | %.2f | %.1fx | %.0f (%.0f) | %s | %s | %s | %s | %s | %s |" % (
-            r["map"], r["team"], 3 * (r["team"] * 2 // 5 + 1), r["new_wall"], r["ref_wall"],
-            r["ref_wall"] / max(1e-9, r["new_wall"]), r["new_mib"], r["ref_mib"],
-            *("%.1f (%.1f)" % (st[s], rs[s]) for s in STAGES), r["same"] if r["same"] != "no" else "**no**"))
+        st, rs, ran = r["new_stages"], r["ref_stages"], r["ref_wall"] > 0
+        table.append("| %s | %d | %d | **%.2f** | %s | %s | %.0f (%s) | %s | %s | %s | %s | %s | %s |" % (
+            r["map"], r["team"], 3 * (r["team"] * 2 // 5 + 1), r["new_wall"],
+            "%.2f" % r["ref_wall"] if ran else "not run", "%.1fx" % (r["ref_wall"] / max(1e-9, r["new_wall"]))
+            if ran else "-", r["new_mib"], "%.0f" % r["ref_mib"] if ran else "-",
+            *("%.1f (%s)" % (st[s], "%.1f" % rs[s] if ran else "-") for s in STAGES),
+            r["same"] if r["same"] != "no" else "**no**"))
     png = os.path.splitext(a.doc)[0] + ".png"
     figure(rows, png)
     doc = ["# The planner at scale", "",
            "Made by `%s` on %s, this machine (2 cores): `gather plan`'s whole sweep (every method, N_c from 0 "
            "to 40%% of the team, 2 threads) on maps/office and maps/campus with the team sizes below, this build "
-           "beside the reference build%s, run in turn, %d run(s) each (median). Stages: CPU [s] summed over the "
+           "beside the reference build%s, run in turn, %d run(s) each (median)%s. Stages: CPU [s] summed over the "
            "configurations (report.csv), this build (reference). `same plan`: both builds wrote the same "
            "plan.yaml (`yes, but U`: all but the chosen plan's utility, which is normalised over the sweep's "
-           "configurations and so moves when another configuration's estimate does)." % (" ".join(["tools/planner_bench.py"] + [x for x in sys.argv[1:]]),
-                           time.strftime("%Y-%m-%d"), " (" + a.ref_name + ")" if a.ref_name else "", a.runs),
+           "configurations and so moves when another configuration's estimate does). The load average was %s "
+           "when it started." % (" ".join(["tools/planner_bench.py"] + [x for x in sys.argv[1:]]),
+                                time.strftime("%Y-%m-%d"), " (" + a.ref_name + ")" if a.ref_name else "", a.runs,
+                                "" if all(r["ref_wall"] > 0 for r in rows) else
+                                "; the reference not run at %s robots (`--ref-teams`: it takes 11-18 minutes a "
+                                "sweep at 200)" % ", ".join(sorted({str(r["team"]) for r in rows
+                                                                     if r["ref_wall"] <= 0}, key=int)),
+                                load),
            "", "![sweep wall time against team size](%s)" % os.path.basename(png), ""] + table
     with open(a.doc, "w") as f:
         f.write("\n".join(doc) + "\n")
