@@ -247,8 +247,10 @@ bench-planner: build
 	$(PYTHON) tools/planner_bench.py --ref build/planner_ref/build/gather_core/gather --ref-name $(PLANNER_REF) \
 	  --new $(G) --teams $(TEAMS) --ref-teams $(REF_TEAMS) --runs $(or $(RUNS),3)
 
-# The shipped scenarios' sweeps beside the reference's, and the simulated
-# quality of the plan each chooses -> docs/planner_scenarios.md (~5 min).
+# The shipped scenarios' sweeps beside the reference's (the same build of
+# PLANNER_REF as bench-planner's: do not run both at once), and the simulated
+# quality of the plan each chooses -> docs/planner_scenarios.md (~4 min, and
+# about 1 min to build the reference the first time).
 bench-planner-scenarios: build
 	tools/build-ref $(PLANNER_REF) build/planner_ref $(JOBS)
 	$(PYTHON) tools/planner_scenarios.py --ref build/planner_ref/build/gather_core/gather --ref-name $(PLANNER_REF) \

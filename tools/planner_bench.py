@@ -46,35 +46,49 @@ def scenario_for(base, team, out):
 
 
 def same_plan(a, b):
-    """'yes' when the two plan.yaml are byte-identical; 'yes, but U' when they
-    differ only in the chosen plan's utility (normalised over the sweep's
-    configurations, so it moves when another configuration's estimate does);
-    else 'no'."""
-    ta, tb = open(a).read(), open(b).read()
+    """How the plans in directories a and b compare: 'yes' when plan.yaml is
+    byte-identical; 'yes, but U' when it differs only in the chosen plan's
+    utility (normalised over the sweep's configurations, so it moves when
+    another configuration's estimate does); 'estimates' digits' when only
+    numbers with a decimal point differ (the estimates; the roles, the
+    collectors' segments and the routes' stops are the same) and the
+    partitions (labels.png) are too; else 'no'."""
+    ta, tb = (open(os.path.join(d, "plan.yaml")).read() for d in (a, b))
     if ta == tb:
         return "yes"
     mask = lambda t: re.sub(r"utility: [0-9.eE+-]+", "utility: U", t)
-    return "yes, but U" if mask(ta) == mask(tb) else "no"
+    if mask(ta) == mask(tb):
+        return "yes, but U"
+    digits = lambda t: re.sub(r"-?\d+\.\d*(?:[eE][-+]?\d+)?", "X", t)
+    if digits(ta) != digits(tb):
+        return "no"
+    from PIL import Image
+    la, lb = (Image.open(os.path.join(d, "labels.png")) for d in (a, b))
+    return "estimates' digits" if la.size == lb.size and la.tobytes() == lb.tobytes() else "no"
 
 
 def plan_once(gather, scenario, out):
-    """(sweep wall [s], peak memory [MiB], stage CPU sums [s]) of one `gather plan`."""
+    """(sweep wall [s], peak memory [MiB], stage CPU sums [s], context [s]) of one
+    `gather plan`: the sweep's wall time and, before it, the planning
+    context's (what every configuration shares), as gather prints them."""
     os.makedirs(out, exist_ok=True)
     mem = os.path.join(out, "peak_kib.txt")
     p = subprocess.run(["/usr/bin/time", "-f", "%M", "-o", mem, gather, "plan", scenario, "--out", out],
                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if p.returncode != 0:
-        sys.exit("planner_bench: %s plan %s failed (%d): %s" % (gather, scenario, p.returncode, p.stderr[-500:]))
+        sys.exit("%s: %s plan %s failed (%d): %s" % (os.path.basename(sys.argv[0]), gather, scenario, p.returncode,
+                                                    p.stderr[-500:]))
     peak = float(open(mem).read().split()[-1])
     m = re.search(r"sweep wall (\d+) ms", p.stdout + p.stderr)
-    if not m:
-        sys.exit("planner_bench: %s printed no 'sweep wall' line" % gather)
+    c = re.search(r"stages \[ms, summed over configurations\]: context (\d+)", p.stdout + p.stderr)
+    if not m or not c:
+        sys.exit("%s: %s printed no 'context' or no 'sweep wall' figure" % (os.path.basename(sys.argv[0]), gather))
     stages = dict.fromkeys(STAGES, 0.0)
     with open(os.path.join(out, "report.csv")) as f:
         for row in csv.DictReader(f):
             for s in STAGES:
                 stages[s] += float(row[s]) / 1000.0
-    return float(m.group(1)) / 1000.0, peak / 1024.0, stages
+    return float(m.group(1)) / 1000.0, peak / 1024.0, stages, float(c.group(1)) / 1000.0
 
 
 def figure(rows, path):
@@ -132,6 +146,8 @@ def figure(rows, path):
         for build, dash in (("new", False), ("ref", True)):
             pts = sorted((px(r["team"]), py(r[build + "_wall"])) for r in rows
                          if r["map"] == name and r[build + "_wall"] > 0)
+            if not pts:  # the reference not run on this map: no legend entry either
+                continue
             for a, b in zip(pts, pts[1:]):
                 line(a, b, colours[name], dash)
             for x, y in pts:
@@ -164,6 +180,9 @@ def main():
         sys.exit("planner_bench: --teams and --ref-teams must be numbers, e.g. 20,50,100 (--ref-teams: or all)")
     if any(t < 2 or t > 1000 for t in teams) or not 1 <= a.runs <= 20:
         sys.exit("planner_bench: teams in 2..1000, --runs in 1..20")
+    if ref_teams - set(teams):
+        print("planner_bench: --ref-teams %s not in --teams: ignored" % ",".join(map(str, sorted(ref_teams - set(teams)))),
+              file=sys.stderr)
     maps = a.maps.split(",")
     for m in maps:
         if m not in MAPS:
@@ -182,12 +201,13 @@ def main():
             for k in range(a.runs):
                 for build, g in builds:  # in turn
                     got[build].append(plan_once(g, scenario, os.path.join(a.out, "%s_%d_%s" % (name, team, build))))
-            row = {"map": name, "team": team, "same": "-"}
+            row = {"map": name, "team": team, "same": "-", "ref_ran": bool(got["ref"])}
             if got["ref"]:
-                row["same"] = same_plan(os.path.join(a.out, "%s_%d_ref" % (name, team), "plan.yaml"),
-                                        os.path.join(a.out, "%s_%d_new" % (name, team), "plan.yaml"))
+                row["same"] = same_plan(os.path.join(a.out, "%s_%d_ref" % (name, team)),
+                                        os.path.join(a.out, "%s_%d_new" % (name, team)))
             for build in ("ref", "new"):
                 row[build + "_wall"] = statistics.median(r[0] for r in got[build]) if got[build] else 0.0
+                row[build + "_context"] = statistics.median(r[3] for r in got[build]) if got[build] else 0.0
                 row[build + "_mib"] = max(r[1] for r in got[build]) if got[build] else 0.0
                 row[build + "_stages"] = {s: statistics.median(r[2][s] for r in got[build]) if got[build] else None
                                           for s in STAGES}
@@ -196,14 +216,15 @@ def main():
                   % (name, team, row["new_wall"], "%.2f s" % row["ref_wall"] if got["ref"] else "not run",
                      row["new_mib"], "%.0f" % row["ref_mib"] if got["ref"] else "-", row["same"]), flush=True)
     table = ["| map | robots | configurations | sweep wall, this build [s] | reference [s] | speed-up | "
-             "peak MiB (ref) | partition | graph | routes | estimate | association | same plan |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "context [s] (ref) | peak MiB (ref) | partition | graph | routes | estimate | association | same plan |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        st, rs, ran = r["new_stages"], r["ref_stages"], r["ref_wall"] > 0
-        table.append("| %s | %d | %d | **%.2f** | %s | %s | %.0f (%s) | %s | %s | %s | %s | %s | %s |" % (
+        st, rs, ran = r["new_stages"], r["ref_stages"], r["ref_ran"]
+        table.append("| %s | %d | %d | **%.2f** | %s | %s | %.2f (%s) | %.0f (%s) | %s | %s | %s | %s | %s | %s |" % (
             r["map"], r["team"], 3 * (r["team"] * 2 // 5 + 1), r["new_wall"],
             "%.2f" % r["ref_wall"] if ran else "not run", "%.1fx" % (r["ref_wall"] / max(1e-9, r["new_wall"]))
-            if ran else "-", r["new_mib"], "%.0f" % r["ref_mib"] if ran else "-",
+            if ran else "-", r["new_context"], "%.2f" % r["ref_context"] if ran else "-", r["new_mib"],
+            "%.0f" % r["ref_mib"] if ran else "-",
             *("%.1f (%s)" % (st[s], "%.1f" % rs[s] if ran else "-") for s in STAGES),
             r["same"] if r["same"] != "no" else "**no**"))
     png = os.path.splitext(a.doc)[0] + ".png"
@@ -212,16 +233,18 @@ def main():
            "Made by `%s` on %s, this machine (2 cores): `gather plan`'s whole sweep (every method, N_c from 0 "
            "to 40%% of the team, 2 threads) on maps/office and maps/campus with the team sizes below, this build "
            "beside the reference build%s, run in turn, %d run(s) each (median)%s. Stages: CPU [s] summed over the "
-           "configurations (report.csv), this build (reference). `same plan`: both builds wrote the same "
-           "plan.yaml (`yes, but U`: all but the chosen plan's utility, which is normalised over the sweep's "
-           "configurations and so moves when another configuration's estimate does). The load average was %s "
-           "when it started." % (" ".join(["tools/planner_bench.py"] + [x for x in sys.argv[1:]]),
-                                time.strftime("%Y-%m-%d"), " (" + a.ref_name + ")" if a.ref_name else "", a.runs,
-                                "" if all(r["ref_wall"] > 0 for r in rows) else
-                                "; the reference not run at %s robots (`--ref-teams`: it takes 11-18 minutes a "
-                                "sweep at 200)" % ", ".join(sorted({str(r["team"]) for r in rows
-                                                                     if r["ref_wall"] <= 0}, key=int)),
-                                load),
+           "configurations (report.csv), this build (reference). Context: the planning context every "
+           "configuration shares (the coverage, the marches from the OC, the pair grid), made before the sweep "
+           "and not in its wall time (median, wall). `same plan`: both builds wrote the same plan.yaml (`yes, but "
+           "U`: all but the chosen plan's utility, which is normalised over the sweep's configurations and so "
+           "moves when another configuration's estimate does; `estimates' digits`: only the estimates' numbers "
+           "differ, the roles, routes' stops and partitions are the same). The load average was %s when it "
+           "started." % (" ".join(["tools/planner_bench.py"] + [x for x in sys.argv[1:]]),
+                         time.strftime("%Y-%m-%d"), " (" + a.ref_name + ")" if a.ref_name else "", a.runs,
+                         "" if all(r["ref_ran"] for r in rows) else
+                         "; the reference not run at %s robots (`--ref-teams`; it takes 11-18 minutes a sweep at "
+                         "200)" % ", ".join(sorted({str(r["team"]) for r in rows if not r["ref_ran"]}, key=int)),
+                         load),
            "", "![sweep wall time against team size](%s)" % os.path.basename(png), ""] + table
     with open(a.doc, "w") as f:
         f.write("\n".join(doc) + "\n")
