@@ -99,8 +99,7 @@ def main():
                 walls[build].append(wall)
                 plans[build].append(context + wall)
                 peak[build] = max(peak[build], mib)
-        row = {"name": name, "same": same_plan(os.path.join(a.out, name, "ref", "plan.yaml"),
-                                               os.path.join(a.out, name, "new", "plan.yaml"))}
+        row = {"name": name, "same": same_plan(os.path.join(a.out, name, "ref"), os.path.join(a.out, name, "new"))}
         for build in ("ref", "new"):
             row[build + "_wall"] = statistics.median(walls[build])
             row[build + "_plan"] = statistics.median(plans[build])
