@@ -213,6 +213,44 @@ TEST(PairGridTest, AnOpenFloorsPairsAreMarchedOnBlocksAndScaledToThePlanningGrid
   }
 }
 
+// pair_grid_factor 3 and 4 (the range's top): blocks of 3 x 3 and 4 x 4
+// cells, measured on the quadrants of an open floor against the planning
+// grid: the pairs within 1% once scaled, the homes' walks within 10%.
+TEST(PairGridTest, FactorsThreeAndFourMarchOnLargerBlocks) {
+  Scenario scenario = testing_support::open_strip("floor", 84, 60, Point2{0.25, 0.25});
+  scenario.team.agents = 4;
+  PlannerOptions exact;
+  exact.pair_grid_factor = 1;
+  const PlanContext fine_ctx{scenario, exact};
+  const WorkerGraph fine = quadrants(scenario, fine_ctx, exact);
+  for (const int f : {3, 4}) {
+    PlannerOptions opt;
+    opt.pair_grid_factor = f;
+    const PlanContext ctx{scenario, opt};
+    const PairGrid& pg = *ctx.pair_grid;
+    ASSERT_EQ(pg.factor, f);
+    EXPECT_EQ(pg.grid.width(), 84 / f);
+    EXPECT_EQ(pg.grid.height(), 60 / f);
+    EXPECT_DOUBLE_EQ(pg.grid.resolution(), 0.1 * f);
+    EXPECT_EQ(pg.block_of[scenario.grid.index(Cell{13, 22})],
+              static_cast<int32_t>(pg.grid.index(Cell{13 / f, 22 / f})));
+    EXPECT_LT(pg.scale, 1.0) << "factor " << f;
+    EXPECT_GT(pg.scale, 0.9) << "factor " << f;
+    const WorkerGraph coarse = quadrants(scenario, ctx, opt);
+    for (SegmentId k : segment_ids(4)) {
+      const double a = coarse.segment(k).mean_pair_distance, b = fine.segment(k).mean_pair_distance;
+      const double h = coarse.segment(k).mean_home_distance, hf = fine.segment(k).mean_home_distance;
+      EXPECT_NE(a, b) << "factor " << f << ", segment " << k.label() << " was marched on the planning grid";
+      EXPECT_NE(h, hf) << "factor " << f << ", segment " << k.label() << "'s home walk on the planning grid";
+      // Pairs 0.993-0.999 of the planning grid's (unscaled they would be
+      // 1.3-1.7% over it); homes 0.92-1.02: the OC's own quadrant, whose
+      // walks are short, farthest (blocks of 0.3-0.4 m round the home).
+      EXPECT_NEAR(a / b, 1.0, 0.01) << "factor " << f << ", segment " << k.label() << ", scale " << pg.scale;
+      EXPECT_NEAR(h / hf, 1.0, 0.1) << "factor " << f << ", segment " << k.label() << ", walk scale " << pg.walk_scale;
+    }
+  }
+}
+
 TEST(PairGridTest, ACellOfABlockThatIsNotFreeStandsOnTheNearestReachableBlock) {
   const Scenario scenario = walled();  // a one-cell wall in column 30
   const PlanContext ctx{scenario};

@@ -216,7 +216,10 @@ struct ConfigurationPlan {
   PerSegment<CollectorId> collector_of_segment;        // collector 0..N_c-1 of the segment, none = the OC
   PerSegment<std::vector<AreaDeliveries>> area_parts;  // the tiles of each segment (no deliveries)
   int moved_to_oc = 0;                                 // segments the association step gave back to the OC
-  int moves_scored = 0;  // moves the association scored (each re-estimates its collector's workers)
+  // Moves the association estimated and scored, each re-estimating its
+  // collector's workers: every trial (undone after), and every move it made,
+  // an unscored balance move too (its J is computed once it is made).
+  int moves_scored = 0;
   // Balance steps whose trial routes were all longer than the period: the
   // shortest went, unscored (associate()).
   int moves_unscored = 0;
