@@ -125,6 +125,8 @@ plain-build: deps
 	cmake -S src/gather_agent -B $(PLAIN) -DCMAKE_BUILD_TYPE=Release -DGATHER_SANITIZE=ON > /dev/null
 	cmake --build $(PLAIN) -j$(JOBS)
 	@test -x $(PLAIN)/gather_agent && if ldd $(PLAIN)/gather_agent | grep -q libopencv; then echo "gather_agent must not link OpenCV (figures live in gather_figures)" >&2; exit 1; fi
+	@if ldd $(PLAIN)/gather_core/gather | grep -qE 'libopencv_(videoio|imgcodecs)'; then echo "gather must not link OpenCV's videoio or imgcodecs (the video encoder is the module gather_video; PNGs go through libpng)" >&2; exit 1; fi
+	@test -f $(PLAIN)/gather_core/libgather_video.so || { echo "plain-build: the video module libgather_video.so was not built" >&2; exit 1; }
 	@echo "plain-build: gather_core and gather_agent built with the sanitizers ($(PLAIN))"
 PLAIN_CTEST = ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir $(PLAIN) --output-on-failure -j$(JOBS) --timeout 600

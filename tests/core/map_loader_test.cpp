@@ -260,5 +260,35 @@ TEST(Gray16Png, BadSizeOrPathNamesTheFile) {
   EXPECT_THROW(write_gray16_png(t.path() + "/no/such/dir/labels.png", img), Error);
 }
 
+// --- 8-bit RGB figures ---------------------------------------------------------
+
+TEST(Rgb8Png, WriteThenReadIsTheSameImage) {
+  TempDir t;
+  // 3 x 2 pixels in rows of 10 bytes (one byte of padding after each row).
+  const std::vector<uint8_t> rgb = {255, 0,  0,  0,  255, 0,  0,  0,  255, 99,  //
+                                    10,  20, 30, 40, 50,  60, 70, 80, 90,  99};
+  const std::string path = t.path() + "/fig.png";
+  write_rgb8_png(path, 3, 2, rgb.data(), 10);
+  const MapImage back = read_map_image(path);
+  EXPECT_EQ(back.width, 3);
+  EXPECT_EQ(back.height, 2);
+  EXPECT_EQ(back.channels, 3);
+  EXPECT_FALSE(back.has_alpha);
+  EXPECT_EQ(back.pixels, (std::vector<uint8_t>{255, 0, 0, 0, 255, 0, 0, 0, 255, 10, 20, 30, 40, 50, 60, 70, 80, 90}));
+}
+
+TEST(Rgb8Png, BadSizeOrPathNamesTheFile) {
+  TempDir t;
+  const std::vector<uint8_t> rgb(12, 0);
+  try {
+    write_rgb8_png(t.path() + "/narrow.png", 2, 2, rgb.data(), 5);  // rows of 6 bytes at least
+    FAIL() << "rows of 5 bytes were taken for 2 RGB pixels";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("narrow.png"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(write_rgb8_png(t.path() + "/empty.png", 0, 2, rgb.data(), 6), Error);
+  EXPECT_THROW(write_rgb8_png(t.path() + "/no/such/dir/fig.png", 2, 2, rgb.data(), 6), Error);
+}
+
 }  // namespace
 }  // namespace gather

@@ -2,14 +2,16 @@
 
 #include "gather_core/figures/palette.hpp"
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <vector>
 
 #include "gather_core/error.hpp"
+#include "gather_core/grid/map_image.hpp"
 
 namespace gather {
 namespace figures {
@@ -33,13 +35,16 @@ const std::vector<cv::Scalar>& line_palette() {
 }
 
 void write_png(const std::string& path, const cv::Mat& img) {
-  bool ok = false;
-  try {
-    ok = cv::imwrite(path, img);
-  } catch (const cv::Exception& e) {
-    throw Error(path, std::string("cannot write PNG: ") + e.what());
+  // libpng through gather_core, not OpenCV's imgcodecs: loading that (and
+  // the many libraries behind it) took most of a gather command's start.
+  if (img.type() != CV_8UC3 || img.empty()) throw Error(path, "cannot write PNG: the figure is not an 8-bit BGR image");
+  std::vector<uint8_t> rgb(img.total() * 3);
+  for (int r = 0; r < img.rows; ++r) {
+    const auto* in = img.ptr<cv::Vec3b>(r);
+    uint8_t* out = rgb.data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(img.cols) * 3;
+    for (int c = 0; c < img.cols; ++c, out += 3) out[0] = in[c][2], out[1] = in[c][1], out[2] = in[c][0];
   }
-  if (!ok) throw Error(path, "cannot write PNG");
+  write_rgb8_png(path, img.cols, img.rows, rgb.data(), static_cast<std::size_t>(img.cols) * 3);
 }
 
 MapCanvas::MapCanvas(const OccupancyGrid& g, const cv::Vec3b& free_colour) : grid_(g) {

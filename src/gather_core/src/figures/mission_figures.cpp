@@ -1,7 +1,6 @@
 #include "gather_core/figures/mission_figures.hpp"
 
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -9,11 +8,13 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <memory>
 
 #include "gather_core/error.hpp"
 #include "gather_core/fmm/path.hpp"
 #include "map_canvas.hpp"
 #include "plot.hpp"
+#include "video_sink.hpp"
 
 namespace gather {
 namespace figures {
@@ -327,11 +328,11 @@ void write_mission_video(const std::string& path, const plan::PlanContext& ctx, 
                          const mission::MissionResult& result, double fps, int frames) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  int fourcc = 0;
+  std::string codec;
   if (ext == ".mp4")
-    fourcc = cv::VideoWriter::fourcc('m', 'p', '4', 'v');
+    codec = "mp4v";
   else if (ext == ".avi")
-    fourcc = cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
+    codec = "MJPG";
   else
     throw Error(path, "video must be .mp4 or .avi, got '" + ext + "'");
   if (!(fps > 0) || frames < 2) throw Error(path, "video needs fps > 0 and at least 2 frames");
@@ -340,21 +341,20 @@ void write_mission_video(const std::string& path, const plan::PlanContext& ctx, 
   std::error_code ec;
   if (std::filesystem::path(path).has_parent_path())
     std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
-  cv::VideoWriter writer;
+  const std::unique_ptr<VideoSink> writer = load_video_sink(path);
   cv::Size size;
   for (int i = 0; i < frames; ++i) {
     cv::Mat img = renderer.frame(end * i / (frames - 1));
     if (i == 0) {
       size = cv::Size(img.cols + img.cols % 2, img.rows + img.rows % 2);  // even sizes for the encoders
-      if (!writer.open(path, cv::CAP_FFMPEG, fourcc, fps, size))
-        throw Error(path, "cannot write video (OpenCV/FFmpeg)");
+      if (!writer->open(path, codec, fps, size)) throw Error(path, "cannot write video (OpenCV/FFmpeg)");
     }
     cv::Mat even(size, img.type(), cv::Scalar(255, 255, 255));
     img(cv::Rect(0, 0, std::min(img.cols, size.width), std::min(img.rows, size.height)))
         .copyTo(even(cv::Rect(0, 0, std::min(img.cols, size.width), std::min(img.rows, size.height))));
-    writer.write(even);
+    writer->write(even);
   }
-  writer.release();
+  writer->release();
   if (!std::filesystem::exists(path) || std::filesystem::file_size(path) == 0) throw Error(path, "cannot write video");
 }
 

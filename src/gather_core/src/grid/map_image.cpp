@@ -1,6 +1,7 @@
 #include "gather_core/grid/map_image.hpp"
 
 #include <png.h>
+#include <zlib.h>
 
 #include <cctype>
 #include <cstdio>
@@ -308,20 +309,12 @@ void png_write_to_vector(png_structp png, png_bytep in, png_size_t len) {
 }
 void png_flush_nothing(png_structp) {}
 
-}  // namespace
-
-void write_gray16_png(const std::string& path, const Gray16Image& img) {
-  if (img.width <= 0 || img.height <= 0 || img.pixels.size() != static_cast<std::size_t>(img.width) * img.height)
-    throw Error(path, "label image of " + std::to_string(img.width) + "x" + std::to_string(img.height) + " has " +
-                          std::to_string(img.pixels.size()) + " pixels");
-  // PNG stores 16-bit samples big-endian.
-  std::vector<uint8_t> be(img.pixels.size() * 2);
-  for (std::size_t i = 0; i < img.pixels.size(); ++i) {
-    be[2 * i] = static_cast<uint8_t>(img.pixels[i] >> 8);
-    be[2 * i + 1] = static_cast<uint8_t>(img.pixels[i] & 0xff);
-  }
-  std::vector<png_bytep> rows(static_cast<std::size_t>(img.height));
-  for (int r = 0; r < img.height; ++r) rows[r] = be.data() + static_cast<std::size_t>(img.width) * 2 * r;
+// Encodes `rows` (height rows of width pixels: bit_depth-bit samples,
+// color_type's channels) as a PNG and writes it to `path`. `fast`: the
+// quick settings OpenCV's writer uses by default for its figures (sub
+// filter, zlib level 1, run-length strategy); else libpng's defaults.
+void write_png_file(const std::string& path, int width, int height, int bit_depth, int color_type,
+                    std::vector<png_bytep>& rows, bool fast) {
   std::string err;
   std::vector<uint8_t> encoded;
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &err, png_on_error, png_on_warning);
@@ -338,8 +331,13 @@ void write_gray16_png(const std::string& path, const Gray16Image& img) {
     throw Error(path, "cannot encode the PNG: " + (err.empty() ? std::string("libpng error") : err));
   }
   png_set_write_fn(png, &encoded, png_write_to_vector, png_flush_nothing);
-  png_set_IHDR(png, info, static_cast<png_uint_32>(img.width), static_cast<png_uint_32>(img.height), 16,
-               PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  if (fast) {
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
+    png_set_compression_level(png, Z_BEST_SPEED);
+    png_set_compression_strategy(png, Z_RLE);
+  }
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), bit_depth, color_type,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
   png_write_image(png, rows.data());
   png_write_end(png, nullptr);
@@ -348,6 +346,33 @@ void write_gray16_png(const std::string& path, const Gray16Image& img) {
   out.write(reinterpret_cast<const char*>(encoded.data()), static_cast<std::streamsize>(encoded.size()));
   out.close();
   if (!out) throw Error(path, "cannot write the PNG");
+}
+
+}  // namespace
+
+void write_gray16_png(const std::string& path, const Gray16Image& img) {
+  if (img.width <= 0 || img.height <= 0 || img.pixels.size() != static_cast<std::size_t>(img.width) * img.height)
+    throw Error(path, "label image of " + std::to_string(img.width) + "x" + std::to_string(img.height) + " has " +
+                          std::to_string(img.pixels.size()) + " pixels");
+  // PNG stores 16-bit samples big-endian.
+  std::vector<uint8_t> be(img.pixels.size() * 2);
+  for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+    be[2 * i] = static_cast<uint8_t>(img.pixels[i] >> 8);
+    be[2 * i + 1] = static_cast<uint8_t>(img.pixels[i] & 0xff);
+  }
+  std::vector<png_bytep> rows(static_cast<std::size_t>(img.height));
+  for (int r = 0; r < img.height; ++r) rows[r] = be.data() + static_cast<std::size_t>(img.width) * 2 * r;
+  write_png_file(path, img.width, img.height, 16, PNG_COLOR_TYPE_GRAY, rows, false);
+}
+
+void write_rgb8_png(const std::string& path, int width, int height, const uint8_t* rgb, std::size_t stride) {
+  if (width <= 0 || height <= 0 || rgb == nullptr || stride < static_cast<std::size_t>(width) * 3)
+    throw Error(path, "RGB image of " + std::to_string(width) + "x" + std::to_string(height) + " with rows of " +
+                          std::to_string(stride) + " bytes");
+  check_pixels(path, static_cast<uint64_t>(width), static_cast<uint64_t>(height));
+  std::vector<png_bytep> rows(static_cast<std::size_t>(height));
+  for (int r = 0; r < height; ++r) rows[r] = const_cast<png_bytep>(rgb + stride * static_cast<std::size_t>(r));
+  write_png_file(path, width, height, 8, PNG_COLOR_TYPE_RGB, rows, true);
 }
 
 }  // namespace gather

@@ -1,6 +1,7 @@
 #pragma once
 // Decoding of map images the way ROS 1 map_server sees them (it loads images
 // with SDL_image): the pixel layout map_server's thresholding loop works on.
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -36,5 +37,10 @@ Gray16Image read_gray16_png(const std::string& path);
 // Writes `img` as a 16-bit gray PNG (what read_gray16_png reads back).
 // Throws gather::Error("<path>: ...") when it cannot be written.
 void write_gray16_png(const std::string& path, const Gray16Image& img);
+// Writes an 8-bit RGB PNG: `height` rows of `width` pixels (R, G, B bytes),
+// row r at rgb + r * stride, row 0 the image's top (the figures; quickly
+// encoded, as OpenCV encodes by default). Throws gather::Error("<path>: ...")
+// on a bad size or when it cannot be written.
+void write_rgb8_png(const std::string& path, int width, int height, const uint8_t* rgb, std::size_t stride);
 
 }  // namespace gather
