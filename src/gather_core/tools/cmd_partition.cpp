@@ -90,12 +90,12 @@ void write_text(const std::string& path, const std::string& text) {
   if (!out) throw Error(path, "write failed");
 }
 
-// gather partition works on the map's own grid: about 80 MB + 36 B a cell
+// gather partition works on the map's own grid: about 20 MB + 36 B a cell
 // (an 8000 x 8000 map, the largest image read: 2.2 GB and 46 s), so a map
 // over the memory budget of a command (docs/input_limits.md) is refused
 // before it is partitioned.
 void check_partition_budget(const Scenario& sc) {
-  constexpr double kBase = 80e6, kPerCell = 36.0;
+  constexpr double kBase = 20e6, kPerCell = 36.0;
   const double cells = static_cast<double>(sc.grid.size());
   if (kBase + kPerCell * cells <= kMemoryBudget) return;
   char line[300];

@@ -49,9 +49,10 @@ double plan_memory_bytes(std::size_t cells, int agents, int threads, std::size_t
   const double landmarks = agents >= PlannerOptions{}.leg_landmarks_team ? 40.0 * n : 0.0;
   // Per cell: the context (52 B, of which 12 B the BAP's march from the OC
   // and the pair grid's block of each cell) and each configuration kept;
+  // per configuration kept, 1.5 kB a worker (its estimate, its route);
   // per thread: the marches' workspaces (the pair grid's a quarter more).
-  return 90e6 + home_walks + landmarks + n * (52.0 + 4.0 * static_cast<double>(configs)) +
-         threads * (62.0 * n + 480.0 * a * a);
+  const double c = static_cast<double>(configs);
+  return 25e6 + home_walks + landmarks + n * (52.0 + 4.0 * c) + 1500.0 * c * a + threads * (62.0 * n + 480.0 * a * a);
 }
 
 int threads_within_budget(const Scenario& s, int threads, std::size_t configs) {
