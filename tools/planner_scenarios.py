@@ -155,7 +155,8 @@ def main():
            "chose, both simulated by this build (the same simulator judges both plans; means over the seeds). "
            "Issue 29 asks for a sweep within %g s (judged here with the context in) and a chosen plan no worse than the reference's: simulated "
            "goals >= %.0f%% and interval <= %.0f%% of its. `same plan.yaml`: both builds wrote the same file "
-           "(`yes, but U`: all but the chosen plan's utility; `no`: the estimates' digits differ, or the plan). "
+           "(`yes, but U`: all but the chosen plan's utility; `estimates' digits`: only the estimates' numbers "
+           "differ, the roles, the routes' stops and labels.png are the same; `no`: the plan changed). "
            "The wall times are this machine's: the reference column shows how fast it ran that day." % (
                " ".join(["tools/planner_scenarios.py"] + [os.path.relpath(x, REPO) if os.path.exists(x) else x
                                                           for x in sys.argv[1:]]),
