@@ -159,6 +159,7 @@ test-cli: build
 	tests/cli/bad_plan.sh $(G) "$(WS)/devel/lib/gather_agent/gather_agent --id 0 --lcm-url memq:// --silence 5 --key-file $(TEST_KEY) --plan"
 	tests/cli/bad_plan.sh $(G) "$(WS)/devel/lib/gather_oc/oc_node $(abspath maps/office.scenario.yaml)"
 	tests/cli/world_pace.sh $(WS)/devel/lib/gather_world/gather_world_pace
+	tests/cli/video.sh $(G)
 	tests/cli/bad_flags.sh $(G)
 	tests/cli/agent_silence.sh $(G) $(WS)/devel/lib/gather_agent/gather_agent
 	tools/netns-run $(PYTHON) tests/cli/range_ends.py --gather $(G) --agent $(WS)/devel/lib/gather_agent/gather_agent \

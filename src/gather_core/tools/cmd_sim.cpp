@@ -117,6 +117,7 @@ int sim(int argc, char** argv) {
     for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
     if (ext != ".mp4" && ext != ".avi")
       throw cli::UsageError("--video must name a .mp4 or .avi file, got '" + args.get("--video") + "'");
+    figures::check_video_encoder(args.get("--video"));  // before the run, not after it
   }
   const std::string out = args.get("--out");
   std::filesystem::create_directories(out);

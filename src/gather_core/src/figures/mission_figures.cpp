@@ -324,6 +324,8 @@ void write_fig4_snapshot(const std::string& path, const plan::PlanContext& ctx, 
   write_png(path, renderer.frame(t));
 }
 
+void check_video_encoder(const std::string& path) { load_video_sink(path); }
+
 void write_mission_video(const std::string& path, const plan::PlanContext& ctx, const mission::MissionSimulator& sim,
                          const mission::MissionResult& result, double fps, int frames) {
   std::string ext = std::filesystem::path(path).extension().string();

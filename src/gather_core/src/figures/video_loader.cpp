@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <mutex>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "gather_core/error.hpp"
@@ -15,6 +16,9 @@
 #endif
 #ifndef GATHER_VIDEO_MODULE_BUILT
 #define GATHER_VIDEO_MODULE_BUILT ""
+#endif
+#ifndef GATHER_VIDEO_LIBDIR_NAME
+#define GATHER_VIDEO_LIBDIR_NAME "lib"
 #endif
 
 namespace gather {
@@ -30,31 +34,55 @@ struct LoadedVideoModule {
   std::string error;
 };
 
+// The directory holding `file` (a path), or "" when it names no directory.
+std::string directory_of(const std::string& file) {
+  const std::filesystem::path p(file);
+  return p.has_parent_path() ? p.parent_path().string() : std::string();
+}
+
 LoadedVideoModule load_video_module() {
   std::vector<std::string> places;
+  auto add = [&](const std::string& place) {
+    if (!place.empty() && std::find(places.begin(), places.end(), place) == places.end()) places.push_back(place);
+  };
+  auto add_in = [&](const std::string& dir) {
+    if (!dir.empty()) add((std::filesystem::path(dir) / kVideoModule).string());
+  };
+  // Beside the library holding this code (for a static build, dladdr names
+  // the program as it was started, which may hold no directory).
   Dl_info self{};
   if (dladdr(reinterpret_cast<void*>(&load_video_sink), &self) != 0 && self.dli_fname != nullptr)
-    places.push_back((std::filesystem::path(self.dli_fname).parent_path() / kVideoModule).string());
-  for (const char* p : {GATHER_VIDEO_MODULE_INSTALLED, GATHER_VIDEO_MODULE_BUILT})
-    if (*p != '\0' && std::find(places.begin(), places.end(), p) == places.end()) places.emplace_back(p);
+    add_in(directory_of(self.dli_fname));
+  // Beside the running program, and in its ../lib (a moved installation).
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec && exe.has_parent_path()) {
+    add_in(exe.parent_path().string());
+    add_in((exe.parent_path().parent_path() / GATHER_VIDEO_LIBDIR_NAME).string());
+  }
+  add(GATHER_VIDEO_MODULE_BUILT);
+  add(GATHER_VIDEO_MODULE_INSTALLED);
+  const std::size_t named = places.size();
   places.emplace_back(kVideoModule);  // the dynamic linker's search
   LoadedVideoModule out;
-  for (const std::string& place : places) {
-    const bool by_name = place == kVideoModule;
-    if (!by_name && !std::filesystem::exists(place)) {
-      out.error += (out.error.empty() ? "" : "; ") + place + " does not exist";
+  auto fail = [&](const std::string& why) { out.error += (out.error.empty() ? "" : "; ") + why; };
+  for (std::size_t i = 0; i < places.size(); ++i) {
+    const std::string& place = places[i];
+    if (i < named && !std::filesystem::exists(place, ec)) {
+      fail(place + " does not exist");
       continue;
     }
     void* handle = dlopen(place.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (handle == nullptr) {
       const char* why = dlerror();
-      out.error += (out.error.empty() ? "" : "; ") + std::string(why != nullptr ? why : place + ": cannot load");
+      fail(why != nullptr ? std::string(why) : place + ": cannot load");
       continue;
     }
+    void* abi = dlsym(handle, kVideoSinkAbiName);
     void* entry = dlsym(handle, kMakeVideoSink);
-    if (entry == nullptr) {
-      out.error += (out.error.empty() ? "" : "; ") + place + " has no " + kMakeVideoSink;
-      continue;
+    if (abi == nullptr || entry == nullptr || reinterpret_cast<VideoSinkAbi>(abi)() != kVideoSinkAbi) {
+      fail(place + " is of another build (its " + kVideoSinkAbiName + " is not " + std::to_string(kVideoSinkAbi) + ")");
+      continue;  // left loaded: unloading a library that may hold static state is no safer
     }
     out.make = reinterpret_cast<MakeVideoSink>(entry);
     out.error.clear();

@@ -29,3 +29,5 @@ class OpenCvVideoSink : public VideoSink {
 extern "C" __attribute__((visibility("default"))) gather::figures::VideoSink* gather_make_video_sink() {
   return new gather::figures::OpenCvVideoSink();
 }
+
+extern "C" __attribute__((visibility("default"))) int gather_video_sink_abi() { return gather::figures::kVideoSinkAbi; }

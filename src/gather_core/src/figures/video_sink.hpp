@@ -21,13 +21,19 @@ class VideoSink {
   virtual void release() = 0;
 };
 
-// The module's entry point: a new sink, owned by the caller.
+// The module's entry points: a new sink, owned by the caller; and the
+// version of this interface it was built with (kVideoSinkAbi: raise it when
+// VideoSink changes), so that a module left from another build is skipped.
 using MakeVideoSink = VideoSink* (*)();
+using VideoSinkAbi = int (*)();
 constexpr const char* kMakeVideoSink = "gather_make_video_sink";
+constexpr const char* kVideoSinkAbiName = "gather_video_sink_abi";
+constexpr int kVideoSinkAbi = 1;
 
 // Loads libgather_video.so (kept loaded) and makes a sink. It is looked for
-// beside the library or program this code is linked into, then where it is
-// installed, then where it was built, then by the dynamic linker's search.
+// beside the library this code is linked into, beside the running program
+// and in its ../lib, where it was built, where it is installed, then by the
+// dynamic linker's search; a module of another kVideoSinkAbi is skipped.
 // Throws gather::Error("<what>: ...") naming the places tried when none loads.
 std::unique_ptr<VideoSink> load_video_sink(const std::string& what);
 

@@ -53,6 +53,11 @@ void write_fig4_snapshot(const std::string& path, const plan::PlanContext& ctx, 
 // `fps` frames per second; .mp4 (MPEG-4 Part 2) or .avi (Motion JPEG) by
 // OpenCV's FFmpeg backend. Throws gather::Error naming the file for another
 // extension or when it cannot be written.
+// Loads the video's encoder (the module libgather_video.so) now, so that a
+// run that is to end in a video fails before it starts when it cannot be
+// written: throws gather::Error("<path>: ...") naming where it looked.
+void check_video_encoder(const std::string& path);
+
 void write_mission_video(const std::string& path, const plan::PlanContext& ctx, const mission::MissionSimulator& sim,
                          const mission::MissionResult& result, double fps = 10.0, int frames = 300);
 
