@@ -169,17 +169,20 @@ void check_options(const PlannerOptions& opt) {
   mission::check_params(opt.protocol);
 }
 
+// An option the plan context was built with must be the configuration's.
+template <class T>
+void require_context_option(const char* name, T asked, T built) {
+  if (asked != built)
+    throw Error("planner options", std::string(name) + " = " + std::to_string(asked) +
+                                       " is not the one the plan context was built with (" + std::to_string(built) +
+                                       "): PlanContext(scenario, options)");
+}
+
 ConfigurationPlan plan_configuration(const PlanContext& ctx, partition::Method method, int collectors,
                                      const PlannerOptions& opt) {
   check_options(opt);
-  if (opt.tight_speed != ctx.tight_speed)
-    throw Error("planner options", "tight_speed = " + std::to_string(opt.tight_speed) +
-                                       " is not the one the plan context was built with (" +
-                                       std::to_string(ctx.tight_speed) + "): PlanContext(scenario, options)");
-  if (opt.pair_grid_factor != ctx.pair_grid_factor)
-    throw Error("planner options", "pair_grid_factor = " + std::to_string(opt.pair_grid_factor) +
-                                       " is not the one the plan context was built with (" +
-                                       std::to_string(ctx.pair_grid_factor) + "): PlanContext(scenario, options)");
+  require_context_option("tight_speed", opt.tight_speed, ctx.tight_speed);
+  require_context_option("pair_grid_factor", opt.pair_grid_factor, ctx.pair_grid_factor);
   const Scenario& s = ctx.scenario;
   if (collectors < 0 || collectors >= s.team.agents)
     throw Error(s.path, "cannot plan " + std::to_string(collectors) + " collectors for a team of " +

@@ -7,6 +7,7 @@
 #include <limits>
 #include <utility>
 
+#include "gather_core/error.hpp"
 #include "gather_core/grid/planning_grid.hpp"
 #include "gather_core/grid/reachability.hpp"
 #include "gather_core/mission/segment_window.hpp"
@@ -201,26 +202,31 @@ Point2 pair_start(const PairGrid& pg, const OccupancyGrid& grid, Cell from, int3
 }
 
 // Whether planning cell `c` (in block `b`, not free) walks into block `n`
-// (reachable) within the box of the two blocks: through reachable cells, so
-// never across a wall.
+// (reachable, one of the 8 around b) within the box of the two blocks:
+// through reachable cells, so never across a wall. The box holds at most
+// 2f x 2f cells (f <= kMaxPairGridFactor): fixed arrays, nothing allocated
+// for each of the many cells this is asked for.
+constexpr int kMaxPairGridFactor = 4;  // PlannerOptions::pair_grid_factor's range
 bool walks_into(const OccupancyGrid& grid, const Mask& reachable, Cell c, Cell b, Cell n, int f) {
+  constexpr std::size_t kBox = 4 * kMaxPairGridFactor * kMaxPairGridFactor;
   const int r0 = std::min(b.row, n.row) * f, c0 = std::min(b.col, n.col) * f;
   const int rows = (std::abs(b.row - n.row) + 1) * f, cols = (std::abs(b.col - n.col) + 1) * f;
-  std::vector<uint8_t> seen(static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols), 0);
-  std::vector<Cell> stack{c};
-  seen[static_cast<std::size_t>(c.row - r0) * static_cast<std::size_t>(cols) + static_cast<std::size_t>(c.col - c0)] =
-      1;
-  while (!stack.empty()) {
-    const Cell q = stack.back();
-    stack.pop_back();
+  if (f > kMaxPairGridFactor) throw Error("pair grid", "factor " + std::to_string(f) + " over 4");
+  std::array<uint8_t, kBox> seen{};
+  std::array<Cell, kBox> stack;  // each cell is pushed once: when first seen
+  std::size_t top = 0;
+  auto at = [&](Cell q) {
+    return static_cast<std::size_t>(q.row - r0) * static_cast<std::size_t>(cols) + static_cast<std::size_t>(q.col - c0);
+  };
+  seen[at(c)] = 1, stack[top++] = c;
+  while (top > 0) {
+    const Cell q = stack[--top];
     if (q.row / f == n.row && q.col / f == n.col) return true;
     const Cell next[4] = {{q.row - 1, q.col}, {q.row + 1, q.col}, {q.row, q.col - 1}, {q.row, q.col + 1}};
     for (Cell m : next) {
       if (m.row < r0 || m.col < c0 || m.row >= r0 + rows || m.col >= c0 + cols || !grid.contains(m)) continue;
-      uint8_t& v = seen[static_cast<std::size_t>(m.row - r0) * static_cast<std::size_t>(cols) +
-                        static_cast<std::size_t>(m.col - c0)];
-      if (v || !reachable[grid.index(m)]) continue;
-      v = 1, stack.push_back(m);
+      if (seen[at(m)] || !reachable[grid.index(m)]) continue;
+      seen[at(m)] = 1, stack[top++] = m;
     }
   }
   return false;
