@@ -4,8 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <fstream>
 #include <stdexcept>
 #include <vector>
+
+#include <unistd.h>
 
 #include "predicate_grid.hpp"
 
@@ -94,6 +97,34 @@ TEST(GridAStarTest, AWorkspaceReusedPastItsGenerationCounterGivesTheSameAnswers)
   ASSERT_TRUE(astar.find(Cell{0, 0}, Cell{5, 5}, path));
   EXPECT_EQ(path.size(), first.size());
   expect_valid(path, g, free);
+}
+
+// The process's resident memory [bytes], from /proc/self/statm.
+double resident_bytes() {
+  std::ifstream statm("/proc/self/statm");
+  double pages_total = 0, pages_resident = 0;
+  statm >> pages_total >> pages_resident;
+  return pages_resident * static_cast<double>(sysconf(_SC_PAGESIZE));
+}
+
+TEST(GridAStarTest, ASearchMakesResidentOnlyThePagesOfTheCellsItReaches) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer keeps shadow memory for every allocation";
+#else
+  // A robot's agent holds one workspace for the whole map and searches a
+  // small part of it: 7 B a cell (63 MB here) must not all become resident.
+  const OccupancyGrid g = open_grid(3000, 3000);
+  const Mask free(g.frame(), 1);
+  const double before = resident_bytes();
+  GridAStar astar(g, free);
+  std::vector<Cell> path;
+  ASSERT_TRUE(astar.find(Cell{0, 0}, Cell{0, 40}, path));
+  EXPECT_EQ(path.size(), 41u);
+  EXPECT_LT(resident_bytes() - before, 8e6) << "a 41-cell search on a 9M-cell grid";
+  ASSERT_TRUE(astar.find(Cell{2999, 2999}, Cell{2990, 2960}, path));  // the far corner: its own pages
+  expect_valid(path, g, free);
+  EXPECT_LT(resident_bytes() - before, 8e6);
+#endif
 }
 
 TEST(GridAStarTest, AMaskOfAnotherSizeIsRefused) {

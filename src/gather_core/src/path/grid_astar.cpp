@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <new>
 #include <stdexcept>
 
 namespace gather {
@@ -14,14 +15,22 @@ constexpr float kDiag = 1.41421356f;
 
 }  // namespace
 
+template <class T>
+GridAStar::Zeroed<T> GridAStar::zeroed(std::size_t n) {
+  Zeroed<T> p(static_cast<T*>(std::calloc(std::max<std::size_t>(n, 1), sizeof(T))));
+  if (!p) throw std::bad_alloc();
+  return p;
+}
+
 GridAStar::GridAStar(const OccupancyGrid& grid, const Mask& traversable, const fmm::FastMarching* landmark)
     : grid_(grid),
       free_(traversable.values()),
       landmark_(landmark),
       inv_res_(static_cast<float>(1.0 / grid.resolution())),
-      g_(grid.size(), 0.0f),
-      stamp_(grid.size(), 0),
-      dir_(grid.size(), 0) {
+      cells_(grid.size()),
+      g_(zeroed<float>(cells_)),
+      stamp_(zeroed<uint16_t>(cells_)),
+      dir_(zeroed<uint8_t>(cells_)) {
   if (!traversable.frame().same_size(grid.frame()) || !traversable.filled())
     throw std::invalid_argument("A* traversable mask is " + traversable.frame().size_text() + ", the grid " +
                                 grid.frame().size_text());
@@ -32,7 +41,7 @@ bool GridAStar::find(Cell from, Cell to, std::vector<Cell>& out) {
   out.clear();
   if (!traversable(from) || !traversable(to)) return false;
   if (++generation_ >= 32768) {  // wrapped: stamps are stale everywhere
-    std::fill(stamp_.begin(), stamp_.end(), 0);
+    std::fill(stamp_.get(), stamp_.get() + cells_, uint16_t{0});
     generation_ = 1;
   }
   const uint16_t seen = static_cast<uint16_t>(2 * generation_), closed = static_cast<uint16_t>(seen + 1);
