@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "gather_core/error.hpp"
@@ -115,9 +116,39 @@ void FrontGrowth::set_weights(const std::vector<uint32_t>& weights) {
   for (std::size_t i = 0; i < weights.size(); ++i) weight_[pad(i)] = weights[i];
 }
 
-void FrontGrowth::push(float t, uint32_t p) {
-  heap_.push_back(Entry{t, p});
-  std::push_heap(heap_.begin(), heap_.end(), [](const Entry& a, const Entry& b) { return later(a, b); });
+// Bucket 0 holds the keys equal to the last one taken (and, never in exact
+// arithmetic, one below it that rounding made: it is taken next, as a
+// binary heap would); bucket i the keys whose highest bit that differs
+// from it is bit i - 1.
+std::size_t FrontGrowth::RadixQueue::bucket(uint64_t key, uint64_t last) {
+  return key <= last ? 0 : 64 - static_cast<std::size_t>(__builtin_clzll(key ^ last));
+}
+
+void FrontGrowth::RadixQueue::clear() {
+  for (auto& b : buckets_) b.clear();
+  last_ = 0, size_ = 0;
+}
+
+void FrontGrowth::RadixQueue::push(uint64_t key) {
+  buckets_[bucket(key, last_)].push_back(key);
+  ++size_;
+}
+
+uint64_t FrontGrowth::RadixQueue::pop() {
+  if (buckets_[0].empty()) {
+    // The first non-empty bucket: its smallest key is the next one, and
+    // every key of it lands in a lower bucket relative to that key.
+    std::size_t i = 1;
+    while (buckets_[i].empty()) ++i;
+    std::vector<uint64_t>& from = buckets_[i];
+    last_ = *std::min_element(from.begin(), from.end());
+    for (uint64_t k : from) buckets_[bucket(k, last_)].push_back(k);
+    from.clear();
+  }
+  --size_;
+  const uint64_t key = buckets_[0].back();
+  buckets_[0].pop_back();
+  return key;
 }
 
 void FrontGrowth::reset_touched() {
@@ -126,7 +157,7 @@ void FrontGrowth::reset_touched() {
     state_[p] = kFar;
   }
   touched_.clear();
-  heap_.clear();
+  queue_.clear();
 }
 
 inline float FrontGrowth::update(std::size_t p, int32_t label) const {
@@ -221,13 +252,20 @@ void FrontGrowth::lower(std::size_t cell, std::vector<float>& dist, std::vector<
   time_[s] = 0.0f;
   state_[s] = kBand;
   touched_.push_back(static_cast<uint32_t>(s));
-  push(0.0f, static_cast<uint32_t>(s));
-  const auto cmp = [](const Entry& a, const Entry& b) { return later(a, b); };
+  // Keys: a time's bits (>= 0, so ordered as the times) << 32 | its cell.
+  auto key = [](float t, uint32_t p) {
+    uint32_t bits;
+    std::memcpy(&bits, &t, sizeof bits);
+    return static_cast<uint64_t>(bits) << 32 | p;
+  };
+  queue_.clear();
+  queue_.push(key(0.0f, static_cast<uint32_t>(s)));
   const std::ptrdiff_t nb[4] = {-1, 1, -static_cast<std::ptrdiff_t>(stride_), static_cast<std::ptrdiff_t>(stride_)};
-  while (!heap_.empty()) {
-    std::pop_heap(heap_.begin(), heap_.end(), cmp);
-    const Entry e = heap_.back();
-    heap_.pop_back();
+  while (!queue_.empty()) {
+    const uint64_t k = queue_.pop();
+    const uint32_t bits = static_cast<uint32_t>(k >> 32);
+    Entry e{0.0f, static_cast<uint32_t>(k)};
+    std::memcpy(&e.t, &bits, sizeof bits);
     if (state_[e.p] == kAccepted || e.t > time_[e.p]) continue;
     state_[e.p] = kAccepted;
     const std::size_t cell_at = unpad(e.p);
@@ -244,7 +282,7 @@ void FrontGrowth::lower(std::size_t cell, std::vector<float>& dist, std::vector<
         state_[q] = kBand;
         time_[q] = t;
         label_[q] = -1;
-        push(t, static_cast<uint32_t>(q));
+        queue_.push(key(t, static_cast<uint32_t>(q)));
       }
     }
   }

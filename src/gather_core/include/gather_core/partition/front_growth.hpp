@@ -13,6 +13,7 @@
 //
 // Layout: padded flat arrays (1-cell border of obstacles); no allocation per
 // march once the queue has grown; arrays are reset through a touched list.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -82,7 +83,6 @@ class FrontGrowth {
   float cost(std::size_t p) const { return slowness_.empty() ? res_ : res_ * slowness_[p]; }
   // First-order Eikonal update of p from accepted neighbours with label L.
   inline float update(std::size_t p, int32_t label) const;  // defined (and used) in front_growth.cpp
-  void push(float t, uint32_t p);
   void reset_touched();
 
   int width_, height_;
@@ -100,7 +100,25 @@ class FrontGrowth {
     float t;
     uint32_t p;
   };
-  std::vector<Entry> heap_;
+  // lower()'s queue, in exact (time, cell) order: a radix heap of keys
+  // (time's bits << 32 | cell), valid because a march only queues times
+  // above the one it takes (a crossing costs > 0), and times >= 0 order
+  // like their bits. The same order as a binary heap of (time, cell), at
+  // a fraction of the cost per cell.
+  class RadixQueue {
+   public:
+    bool empty() const { return size_ == 0; }
+    void clear();
+    void push(uint64_t key);
+    uint64_t pop();  // the smallest key
+
+   private:
+    static std::size_t bucket(uint64_t key, uint64_t last);
+    std::array<std::vector<uint64_t>, 65> buckets_;
+    uint64_t last_ = 0;
+    std::size_t size_ = 0;
+  };
+  RadixQueue queue_;
   std::vector<Entry> sources_;
   std::vector<std::vector<uint32_t>> buckets_;
   float min_slowness_ = 1.0f, max_slowness_ = 1.0f;
