@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include <filesystem>
 #include <limits>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "gather_core/error.hpp"
@@ -188,6 +190,48 @@ TEST(Partition, PreparedAreaGivesTheSameResult) {
   // One on another frame is refused.
   elsewhere.oc_distance = Raster<double>(GridFrame{3, 3, sc.grid.resolution(), sc.grid.origin()}, 0.0);
   EXPECT_THROW(partition_area(sc.grid, elsewhere, Method::kBap, 12, 5), Error);
+}
+
+TEST(Partition, KeptCentroidStartsGiveTheSamePartitions) {
+  // A prepared area keeps what PAP and RAP start from (the coarse grid, the
+  // first centroid and its distances) for the partitions after the first:
+  // asked by two threads at once, for team sizes in any order, other seeds
+  // and other RAP speeds, every partition is the one made without it.
+  const Scenario sc = load_scenario(repo("../shared/maps/ipa/lab_ipa.scenario.yaml"));
+  const Cell oc = sc.grid.world_to_cell(sc.oc);
+  const PreparedArea area = prepare_area(sc.grid, oc);
+  PartitionParams slow_rooms;
+  slow_rooms.rap_exponent = 3.0;
+  slow_rooms.rap_room_clearance = 0.8;
+  struct Ask {
+    Method method;
+    int workers;
+    unsigned seed;
+    const PartitionParams* params;
+  };
+  const PartitionParams defaults;
+  std::vector<Ask> asks;
+  for (int workers : {12, 3, 20, 7})
+    for (Method m : {Method::kPap, Method::kRap})
+      for (unsigned seed : {5u, 9u}) asks.push_back(Ask{m, workers, seed, &defaults});
+  for (int workers : {12, 5}) asks.push_back(Ask{Method::kRap, workers, 5, &slow_rooms});
+  std::vector<PartitionResult> kept(asks.size());
+  std::atomic<std::size_t> next{0};
+  auto work = [&] {
+    for (std::size_t i; (i = next.fetch_add(1)) < asks.size();)
+      kept[i] = partition_area(sc.grid, area, asks[i].method, asks[i].workers, asks[i].seed, *asks[i].params);
+  };
+  std::thread other(work);
+  work();
+  other.join();
+  for (std::size_t i = 0; i < asks.size(); ++i) {
+    const Ask& a = asks[i];
+    EXPECT_EQ(kept[i].labels, partition_area(sc.grid, oc, a.method, a.workers, a.seed, *a.params).labels)
+        << method_name(a.method) << " " << a.workers << " workers, seed " << a.seed
+        << (a.params == &slow_rooms ? ", slower rooms" : "");
+  }
+  // The slower rooms are another partition (their speeds are not the kept ones).
+  EXPECT_NE(kept.back().labels, partition_area(sc.grid, area, Method::kRap, 5, 5).labels);
 }
 
 // Two 4 m x 3 m rooms joined by a 1 m door at 0.05 m/cell.

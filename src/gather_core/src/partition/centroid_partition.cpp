@@ -26,8 +26,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <numeric>
 #include <random>
+#include <tuple>
 
 #include "gather_core/partition/front_growth.hpp"
 #include "methods.hpp"
@@ -117,6 +121,94 @@ Coarse make_coarse(const MethodInput& in, int f) {
   return c;
 }
 
+// What every PAP (or RAP) partition of one area starts its centroids from,
+// whatever its number of workers: the coarse grid's slowness (RAP), the
+// first centroid (a cell of the largest clearance, picked by the seed) and
+// the distances from it, the first lower() of the seeding.
+struct CentroidStart {
+  std::vector<float> slowness;  // per coarse cell; empty: unit speed (PAP)
+  std::size_t first = 0;        // coarse cell
+  std::vector<float> dist;      // [s] from `first`, +inf where not reached
+};
+
+CentroidStart make_start(const Coarse& c, bool rooms, unsigned seed, const PartitionParams& p) {
+  CentroidStart st;
+  const std::size_t cn = c.region.size();
+  FrontGrowth coarse(c.region);
+  if (rooms) {
+    st.slowness.assign(cn, 1.0f);
+    for (std::size_t b = 0; b < cn; ++b) st.slowness[b] = rap_slowness(c.clearance[b], p);
+    coarse.set_slowness(st.slowness);
+  }
+  float max_clr = 0.0f;
+  for (std::size_t b = 0; b < cn; ++b)
+    if (c.region[b]) max_clr = std::max(max_clr, c.clearance[b]);
+  std::vector<uint32_t> top;
+  for (std::size_t b = 0; b < cn; ++b)
+    if (c.region[b] && c.clearance[b] >= 0.9f * max_clr) top.push_back(static_cast<uint32_t>(b));
+  std::mt19937 rng(seed);
+  st.first = top[std::uniform_int_distribution<std::size_t>(0, top.size() - 1)(rng)];
+  st.dist.assign(cn, std::numeric_limits<float>::infinity());
+  coarse.lower(st.first, st.dist);
+  return st;
+}
+
+}  // namespace
+
+// Kept per area (PreparedArea::centroid_cache): the coarse grids by factor,
+// the starts by method, factor, seed and RAP's speed parameters, RAP's
+// slowness on the full grid by those parameters. Each is made outside the
+// lock (two threads may both make one: the same one), kept by the first.
+class CentroidCache {
+ public:
+  std::shared_ptr<const Coarse> coarse(const MethodInput& in, int f) {
+    return find_or_make(coarse_, f, [&] { return make_coarse(in, f); });
+  }
+  std::shared_ptr<const CentroidStart> start(const MethodInput& in, const Coarse& c, bool rooms) {
+    const PartitionParams& p = in.params;
+    const StartKey key{rooms,
+                       c.f,
+                       in.seed,
+                       rooms ? p.rap_room_clearance : 0.0,
+                       rooms ? p.rap_exponent : 0.0,
+                       rooms ? p.rap_min_speed : 0.0};
+    return find_or_make(starts_, key, [&] { return make_start(c, rooms, in.seed, p); });
+  }
+  std::shared_ptr<const std::vector<float>> fine_slowness(const MethodInput& in) {
+    const PartitionParams& p = in.params;
+    const SpeedKey key{p.rap_room_clearance, p.rap_exponent, p.rap_min_speed};
+    return find_or_make(fine_slowness_, key, [&] {
+      std::vector<float> slow(in.grid.size(), 1.0f);
+      for (std::size_t i = 0; i < slow.size(); ++i)
+        if (in.reachable[i]) slow[i] = rap_slowness(in.clearance[i], p);
+      return slow;
+    });
+  }
+
+ private:
+  using StartKey = std::tuple<bool, int, unsigned, double, double, double>;
+  using SpeedKey = std::tuple<double, double, double>;
+  template <class Map, class Make>
+  auto find_or_make(Map& map, const typename Map::key_type& key, Make make) -> typename Map::mapped_type {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      const auto it = map.find(key);
+      if (it != map.end()) return it->second;
+    }
+    typename Map::mapped_type made = std::make_shared<typename Map::mapped_type::element_type>(make());
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return map.emplace(key, std::move(made)).first->second;
+  }
+  std::mutex mutex_;
+  std::map<int, std::shared_ptr<const Coarse>> coarse_;
+  std::map<StartKey, std::shared_ptr<const CentroidStart>> starts_;
+  std::map<SpeedKey, std::shared_ptr<const std::vector<float>>> fine_slowness_;
+};
+
+std::shared_ptr<CentroidCache> make_centroid_cache() { return std::make_shared<CentroidCache>(); }
+
+namespace {
+
 void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
   const OccupancyGrid& g = in.grid;
   const PartitionParams& p = in.params;
@@ -126,32 +218,28 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
   int f = 1;
   while (in.reachable_cells / static_cast<std::size_t>(f * f) > p.coarse_cells) ++f;
   while (f > 1 && in.reachable_cells / static_cast<std::size_t>(f * f) < 4 * nw) --f;
-  Coarse c = make_coarse(in, f);
-  while (c.f > 1 && c.cells < 4 * nw) c = make_coarse(in, c.f - 1);
-  if (c.cells < nw) c = make_coarse(in, 1);  // f = 1: the coarse grid is the reachable space itself
+  CentroidCache* cache = in.centroid_cache;
+  auto coarse_of = [&](int k) {
+    return cache ? cache->coarse(in, k) : std::make_shared<const Coarse>(make_coarse(in, k));
+  };
+  std::shared_ptr<const Coarse> made = coarse_of(f);
+  while (made->f > 1 && made->cells < 4 * nw) made = coarse_of(made->f - 1);
+  if (made->cells < nw) made = coarse_of(1);  // f = 1: the coarse grid is the reachable space itself
+  const Coarse& c = *made;
   const std::size_t cn = c.region.size();
 
+  // 1. Centroid initialisation: the first centroid and its distances as
+  // every partition of this area with this method and seed has them.
+  const std::shared_ptr<const CentroidStart> start =
+      cache ? cache->start(in, c, rooms) : std::make_shared<const CentroidStart>(make_start(c, rooms, in.seed, p));
   FrontGrowth coarse(c.region);
-  if (rooms) {
-    std::vector<float> slow(cn, 1.0f);
-    for (std::size_t b = 0; b < cn; ++b) slow[b] = rap_slowness(c.clearance[b], p);
-    coarse.set_slowness(slow);
-  }
-
-  // 1. Centroid initialisation.
+  if (rooms) coarse.set_slowness(start->slowness);
   const double area = static_cast<double>(in.reachable_cells) * g.cell_area();
   const double seg_radius = std::sqrt(area / static_cast<double>(nw) / kPi);  // [m]
   const float clr_cap = static_cast<float>(0.5 * seg_radius);
-  float max_clr = 0.0f;
-  for (std::size_t b = 0; b < cn; ++b)
-    if (c.region[b]) max_clr = std::max(max_clr, c.clearance[b]);
-  std::vector<uint32_t> top;
-  for (std::size_t b = 0; b < cn; ++b)
-    if (c.region[b] && c.clearance[b] >= 0.9f * max_clr) top.push_back(static_cast<uint32_t>(b));
-  std::mt19937 rng(in.seed);
   std::vector<std::size_t> seeds;
-  seeds.push_back(top[std::uniform_int_distribution<std::size_t>(0, top.size() - 1)(rng)]);
-  std::vector<float> dist(cn, std::numeric_limits<float>::infinity());
+  seeds.push_back(start->first);
+  std::vector<float> dist = start->dist;
   std::vector<uint8_t> is_seed(cn, 0);
   is_seed[seeds[0]] = 1;
   // A cell's score: its distance to the seeds placed times its clearance
@@ -172,8 +260,10 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
   std::vector<uint8_t> stale(blocks, 1);
   std::vector<uint32_t> lowered;
   while (seeds.size() < nw) {
-    coarse.lower(seeds.back(), dist, &lowered);
-    for (uint32_t b : lowered) stale[b / kBlock] = 1;
+    if (seeds.size() > 1) {  // the first one's distances came with the start (every block is stale then)
+      coarse.lower(seeds.back(), dist, &lowered);
+      for (uint32_t b : lowered) stale[b / kBlock] = 1;
+    }
     stale[seeds.back() / kBlock] = 1;
     std::size_t best = cn;
     double best_score = -1.0;
@@ -261,10 +351,14 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
   // 3. Full-resolution labelling from the final centroids.
   FrontGrowth fine(in.reachable);
   if (rooms) {
-    std::vector<float> slow(g.size(), 1.0f);
-    for (std::size_t i = 0; i < g.size(); ++i)
-      if (in.reachable[i]) slow[i] = rap_slowness(in.clearance[i], p);
-    fine.set_slowness(slow);
+    if (cache) {
+      fine.set_slowness(*cache->fine_slowness(in));
+    } else {
+      std::vector<float> slow(g.size(), 1.0f);
+      for (std::size_t i = 0; i < g.size(); ++i)
+        if (in.reachable[i]) slow[i] = rap_slowness(in.clearance[i], p);
+      fine.set_slowness(slow);
+    }
   }
   out.seeds.clear();
   for (std::size_t k = 0; k < nw; ++k) {

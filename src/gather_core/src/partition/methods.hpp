@@ -1,6 +1,7 @@
 #pragma once
 // The partition methods behind partition_area() (private to gather_core).
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "gather_core/grid/occupancy_grid.hpp"
@@ -22,7 +23,10 @@ struct MethodInput {
   unsigned seed;
   const PartitionParams& params;
   const Raster<double>* oc_distance = nullptr;  // PreparedArea::oc_distance, or none (BAP marches it)
+  CentroidCache* centroid_cache = nullptr;      // PreparedArea::centroid_cache, or none (PAP and RAP compute it)
 };
+
+std::shared_ptr<CentroidCache> make_centroid_cache();
 
 void run_bap(const MethodInput& in, PartitionResult& out);
 void run_pap(const MethodInput& in, PartitionResult& out);

@@ -72,14 +72,14 @@ void check_workers(int workers, std::size_t count) {
 
 PartitionResult run(const OccupancyGrid& grid, Cell oc, const Mask& reachable, std::size_t count, Field clearance,
                     Method method, int workers, unsigned seed, const PartitionParams& params,
-                    const Raster<double>* oc_distance = nullptr) {
+                    const Raster<double>* oc_distance = nullptr, CentroidCache* centroid_cache = nullptr) {
   check_params(params);
   PartitionResult out;
   out.method = method;
   out.workers = workers;
   out.labels = LabelImage(grid.frame());
   out.clearance = std::move(clearance);
-  const MethodInput in{grid, oc, reachable, count, out.clearance, workers, seed, params, oc_distance};
+  const MethodInput in{grid, oc, reachable, count, out.clearance, workers, seed, params, oc_distance, centroid_cache};
   entry(method).run(in, out);
   return out;
 }
@@ -106,6 +106,7 @@ PreparedArea prepare_area(const OccupancyGrid& grid, Cell oc) {
   a.reachable = reachable_from(grid, oc);
   a.reachable_cells = count_reachable(a.reachable.values());
   a.clearance = clearance_map(grid);
+  a.centroid_cache = make_centroid_cache();
   return a;
 }
 
@@ -120,7 +121,7 @@ PartitionResult partition_area(const OccupancyGrid& grid, const PreparedArea& ar
   if (workers < 1) throw Error("--workers", "N_w must be >= 1, got " + std::to_string(workers));
   check_workers(workers, area.reachable_cells);
   PartitionResult out = run(grid, area.oc, area.reachable, area.reachable_cells, area.clearance, method, workers, seed,
-                            params, area.oc_distance.empty() ? nullptr : &area.oc_distance);
+                            params, area.oc_distance.empty() ? nullptr : &area.oc_distance, area.centroid_cache.get());
   out.runtime_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

@@ -15,6 +15,7 @@
 // one label in 1..N_w, every other cell 0; each label's region is 4-connected
 // and non-empty; the same inputs and seed give the same labels.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -99,6 +100,7 @@ PartitionResult partition_area(const OccupancyGrid& grid, Cell oc, Method method
 // the OC and the clearance. A sweep over methods and N_w on one map (the
 // planner) prepares it once instead of once per partition (about a quarter
 // of a BAP on office_a).
+class CentroidCache;  // partition/centroid_partition.cpp
 struct PreparedArea {
   Cell oc{};
   Mask reachable;  // in the grid's frame: 1 = free and 4-connected to the OC
@@ -108,6 +110,11 @@ struct PreparedArea {
   // march from the OC's cell on the grid, FastMarching(grid).times() (BAP
   // orders its wavefronts by it). A sweep that has it computes it once.
   Raster<double> oc_distance;
+  // What PAP and RAP compute alike for every partition of this area (the
+  // coarse grid, and the distances from the first centroid), kept by the
+  // first partition that needs it; thread-safe. Results are the same
+  // without it (prepare_area() makes one).
+  std::shared_ptr<CentroidCache> centroid_cache;
 };
 // Throws gather::Error when the OC is off the map or not free.
 PreparedArea prepare_area(const OccupancyGrid& grid, Cell oc);
