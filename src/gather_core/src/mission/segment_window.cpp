@@ -12,16 +12,40 @@ namespace mission {
 
 namespace {
 
-// Marks in `out` every cell of a line (n cells, `stride` apart) within
-// `margin` cells of one marked in `in`: a pass each way.
-void spread_line(const uint8_t* in, uint8_t* out, int n, std::size_t stride, int margin) {
+// Marks in `out` every cell of a row (n cells) within `margin` cells of one
+// marked in `in`: a pass each way.
+void spread_row(const uint8_t* in, uint8_t* out, int n, int margin) {
   for (int i = 0, last = -1000000; i < n; ++i) {
-    if (in[static_cast<std::size_t>(i) * stride]) last = i;
-    if (i - last <= margin) out[static_cast<std::size_t>(i) * stride] = 1;
+    if (in[i]) last = i;
+    if (i - last <= margin) out[i] = 1;
   }
   for (int i = n - 1, last = 1000000; i >= 0; --i) {
-    if (in[static_cast<std::size_t>(i) * stride]) last = i;
-    if (last - i <= margin) out[static_cast<std::size_t>(i) * stride] = 1;
+    if (in[i]) last = i;
+    if (last - i <= margin) out[i] = 1;
+  }
+}
+
+// The same along the columns of a w x h image, row by row (the nearest
+// marked row of each column carried in `marked`): a pass each way.
+void spread_columns(const uint8_t* in, uint8_t* out, int w, int h, int margin, std::vector<int>& marked) {
+  const std::size_t ww = static_cast<std::size_t>(w);
+  marked.assign(ww, -1000000);
+  for (int r = 0; r < h; ++r) {
+    const uint8_t* row_in = in + static_cast<std::size_t>(r) * ww;
+    uint8_t* row_out = out + static_cast<std::size_t>(r) * ww;
+    for (std::size_t c = 0; c < ww; ++c) {
+      if (row_in[c]) marked[c] = r;
+      if (r - marked[c] <= margin) row_out[c] = 1;
+    }
+  }
+  marked.assign(ww, 1000000);
+  for (int r = h - 1; r >= 0; --r) {
+    const uint8_t* row_in = in + static_cast<std::size_t>(r) * ww;
+    uint8_t* row_out = out + static_cast<std::size_t>(r) * ww;
+    for (std::size_t c = 0; c < ww; ++c) {
+      if (row_in[c]) marked[c] = r;
+      if (marked[c] - r <= margin) row_out[c] = 1;
+    }
   }
 }
 
@@ -30,7 +54,7 @@ void spread_line(const uint8_t* in, uint8_t* out, int n, std::size_t stride, int
 SegmentWindow::SegmentWindow(const OccupancyGrid& grid, const std::vector<Cell>& cells, double margin) {
   bind(grid, cells, margin);
   // A window made for one segment (a worker's) keeps no scratch.
-  free_ = {}, near_ = {}, rows_ = {};
+  free_ = {}, near_ = {}, rows_ = {}, marked_ = {};
 }
 
 // The window: the bounding box of `cells` plus the margin, free where the map
@@ -51,10 +75,9 @@ void SegmentWindow::bind(const OccupancyGrid& grid, const std::vector<Cell>& cel
   const std::size_t n = static_cast<std::size_t>(ww) * static_cast<std::size_t>(wh);
   near_.assign(n, 0), rows_.assign(n, 0), free_.resize(n);
   for (Cell c : cells) near_[at(c.row - r0, c.col - c0)] = 1;
-  for (int r = 0; r < wh; ++r) spread_line(&near_[at(r, 0)], &rows_[at(r, 0)], ww, 1, margin);
+  for (int r = 0; r < wh; ++r) spread_row(&near_[at(r, 0)], &rows_[at(r, 0)], ww, margin);
   std::fill(near_.begin(), near_.end(), 0);
-  for (int c = 0; c < ww; ++c)
-    spread_line(&rows_[at(0, c)], &near_[at(0, c)], wh, static_cast<std::size_t>(ww), margin);
+  spread_columns(rows_.data(), near_.data(), ww, wh, margin, marked_);
   const uint8_t* map_free = grid.free_mask().data();
   for (int r = 0; r < wh; ++r) {
     const uint8_t* in = map_free + grid.index(Cell{r0 + r, c0});

@@ -47,6 +47,7 @@ class SegmentWindow {
   std::vector<fmm::Source> source_;
   fmm::SolveOptions options_;
   std::vector<uint8_t> free_, near_, rows_;  // bind()'s scratch, kept between binds (not by the constructor)
+  std::vector<int> marked_;                  // bind()'s scratch: per column, the nearest marked row
 };
 
 }  // namespace mission
