@@ -335,27 +335,33 @@ static WorkerRun run_collector_worker(const CollectorRoute& r, const MeetingArea
     // (mission::request_deadline).
     const double fits = std::min(capacity, model.goals_within(v * (std::min(arrival(req + 1), learn + T) - learn),
                                                               static_cast<double>(pmf.size())));
+    // Every k past what fits tours the same n goals: their deliveries are
+    // worked out once (the last n's), and weighted by each P(k).
+    double last_n = -1.0, sum = 0.0, per_sample = 0.0;
     for (std::size_t k = 1; k < pmf.size(); ++k) {
       const double n = std::min(static_cast<double>(k), fits);
       if (n <= 0.0) continue;
-      const double tour = model.length(n) / v, need = n * per_goal;
-      usable_for(need);
-      double sum = 0.0;  // the goals' deliveries at `samples` points of the tour
-      for (int i = 1; i <= samples; ++i) sum += delivered_at(learn + tour * i / samples, need) - req * T;
-      run.add(pmf[k] * n, sum / samples);
-      // Deliveries: the uploads that carry some of the n goals (spread
-      // evenly along the tour; each of goals_n <= goal_samples samples
-      // stands for n / goals_n goals); an upload carrying m goals of the segment carries
-      // one of an area holding share f of it with probability 1 - (1 - f)^m;
-      // weighted by P(k goals).
-      const int goals_n = static_cast<int>(std::min(static_cast<double>(goal_samples), std::ceil(n)));
-      at.clear();
-      for (int i = 1; i <= goals_n; ++i) {
-        const double t = delivered_at(learn + tour * i / goals_n, need);
-        if (std::isfinite(t)) at.push_back(t);
+      if (n != last_n) {
+        last_n = n;
+        const double tour = model.length(n) / v, need = n * per_goal;
+        usable_for(need);
+        sum = 0.0;  // the goals' deliveries at `samples` points of the tour
+        for (int i = 1; i <= samples; ++i) sum += delivered_at(learn + tour * i / samples, need) - req * T;
+        // Deliveries: the uploads that carry some of the n goals (spread
+        // evenly along the tour; each of goals_n <= goal_samples samples
+        // stands for n / goals_n goals); an upload carrying m goals of the segment carries
+        // one of an area holding share f of it with probability 1 - (1 - f)^m;
+        // weighted by P(k goals).
+        const int goals_n = static_cast<int>(std::min(static_cast<double>(goal_samples), std::ceil(n)));
+        at.clear();
+        for (int i = 1; i <= goals_n; ++i) {
+          const double t = delivered_at(learn + tour * i / goals_n, need);
+          if (std::isfinite(t)) at.push_back(t);
+        }
+        std::sort(at.begin(), at.end());
+        per_sample = n / std::max(1, goals_n);
       }
-      std::sort(at.begin(), at.end());
-      const double per_sample = n / std::max(1, goals_n);
+      run.add(pmf[k] * n, sum / samples);
       for (std::size_t i = 0; i < at.size();) {
         std::size_t j = i;
         while (j < at.size() && at[j] - at[i] <= 1e-3) ++j;
