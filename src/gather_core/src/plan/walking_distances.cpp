@@ -339,6 +339,14 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
   const OccupancyGrid& grid = ctx.scenario.grid;
   require_same_size(labels, grid.frame(), "walking distances", "the label image");
   PerSegment<std::vector<Cell>> cells(graph.segments.count());
+  {
+    PerSegment<std::size_t> count(graph.segments.count(), 0);  // each list allocated once
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+      const SegmentId k(labels[i]);
+      if (k.within(count.count()) && ctx.reachable[i]) ++count[k];
+    }
+    for (SegmentId k : segment_ids(cells.count())) cells[k].reserve(count[k]);
+  }
   std::size_t at = 0;  // row-major, without a division per cell
   for (int r = 0; r < grid.height(); ++r)
     for (int c = 0; c < grid.width(); ++c, ++at) {
