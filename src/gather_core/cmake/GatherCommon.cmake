@@ -7,6 +7,11 @@ set(CMAKE_CXX_STANDARD 17)
 set(CMAKE_CXX_STANDARD_REQUIRED ON)
 set(CMAKE_CXX_EXTENSIONS OFF)
 set(CMAKE_POSITION_INDEPENDENT_CODE ON)
+# Nothing interposes gather's own functions: position-independent code may
+# then call a function of its own library directly and inline it, as code
+# built without -fPIC does (GCC otherwise keeps every exported function out
+# of inlining and calls it through the PLT).
+add_compile_options(-fno-semantic-interposition)
 
 # Root of the repository (tests/, maps/ live there).
 get_filename_component(_gather_cmake_dir "${CMAKE_CURRENT_LIST_DIR}" REALPATH)  # through the catkin_ws/src link
