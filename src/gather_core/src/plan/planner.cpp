@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <limits>
 #include <sstream>
 #include <thread>
@@ -90,12 +91,30 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
   prepared.reachable_cells = reachable_cells;
   prepared.clearance = clearance.values();
   coverage_distance = coverage_field.times();
-  // The simulator's own table of distances from the OC's cell.
-  oc_walk = mission::SharedDistances(*this).from_oc;
-  // BAP's order of wavefronts: the same march from the OC's cell (its float
-  // times, exactly), once instead of once per BAP configuration.
-  prepared.oc_distance = Raster<double>(grid.frame(), 0.0);
-  for (std::size_t i = 0; i < grid.size(); ++i) prepared.oc_distance[i] = static_cast<double>(oc_walk[i]);
+  // At least a cell: a smaller tile counts every cell as an area of its own
+  // (check_plan refuses it).
+  area_tile = std::max(std::sqrt(std::max(reachable_area, grid.cell_area()) / std::max(1, s.team.agents)),
+                       static_cast<double>(grid.resolution()));
+  // The walks from the OC's cell and the pair grid (on a second thread when
+  // the options allow two) beside the routes' speed map, its march from
+  // the OC and the areas: neither reads what the other writes.
+  auto walks = [&] {
+    // The simulator's own table of distances from the OC's cell.
+    oc_walk = mission::SharedDistances(*this).from_oc;
+    // BAP's order of wavefronts: the same march from the OC's cell (its float
+    // times, exactly), once instead of once per BAP configuration.
+    prepared.oc_distance = Raster<double>(grid.frame(), 0.0);
+    for (std::size_t i = 0; i < grid.size(); ++i) prepared.oc_distance[i] = static_cast<double>(oc_walk[i]);
+    pair_grid = std::make_shared<const PairGrid>(
+        make_pair_grid(grid, s.oc, reachable, coverage_field, oc_walk, area_tile, options.pair_grid_factor));
+  };
+  // (A future of std::async waits for its task when destroyed: an error
+  // thrown below leaves no task writing into this context.)
+  std::future<void> side;
+  if (options.threads > 1)
+    side = std::async(std::launch::async, walks);
+  else
+    walks();
   leg_landmarks = std::make_shared<LegLandmarks>();
   use_leg_landmarks = s.team.agents >= options.leg_landmarks_team;
   for (std::size_t i = 0; i < coverage_distance.size(); ++i) {
@@ -128,12 +147,6 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
         << " s: raise team.speed or set mission.period";
     throw Error(s.path, why.str());
   }
-  // At least a cell: a smaller tile counts every cell as an area of its own
-  // (check_plan refuses it).
-  area_tile = std::max(std::sqrt(std::max(reachable_area, grid.cell_area()) / std::max(1, s.team.agents)),
-                       static_cast<double>(grid.resolution()));
-  pair_grid = std::make_shared<const PairGrid>(
-      make_pair_grid(grid, s.oc, reachable, coverage_field, oc_walk, area_tile, options.pair_grid_factor));
   // One budget for the homes' walks, on the planning grid and on the pair grid.
   const auto walk_budget = std::make_shared<WalkBudget>(kHomeWalkBytes);
   home_walks = std::make_shared<HomeWalks>(walk_budget);
@@ -146,6 +159,7 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
       const int64_t a = mission::area_of(grid.cell_center(grid.cell(i)), area_tile);
       tile_of_cell[i] = static_cast<int32_t>(std::lower_bound(tile_ids.begin(), tile_ids.end(), a) - tile_ids.begin());
     }
+  if (side.valid()) side.get();  // its error, if any, is thrown here
 }
 
 void check_options(const PlannerOptions& opt) {
