@@ -209,11 +209,17 @@ TEST(Partition, KeptCentroidStartsGiveTheSamePartitions) {
     unsigned seed;
     const PartitionParams* params;
   };
+  // A small coarse grid: 200 workers need a finer one than 12 (the kept
+  // coarse grids and starts are per factor).
+  PartitionParams small_coarse;
+  small_coarse.coarse_cells = 500;
   const PartitionParams defaults;
   std::vector<Ask> asks;
   for (int workers : {12, 3, 20, 7})
     for (Method m : {Method::kPap, Method::kRap})
       for (unsigned seed : {5u, 9u}) asks.push_back(Ask{m, workers, seed, &defaults});
+  for (int workers : {12, 200})
+    for (Method m : {Method::kPap, Method::kRap}) asks.push_back(Ask{m, workers, 5, &small_coarse});
   for (int workers : {12, 5}) asks.push_back(Ask{Method::kRap, workers, 5, &slow_rooms});
   std::vector<PartitionResult> kept(asks.size());
   std::atomic<std::size_t> next{0};
@@ -230,8 +236,10 @@ TEST(Partition, KeptCentroidStartsGiveTheSamePartitions) {
         << method_name(a.method) << " " << a.workers << " workers, seed " << a.seed
         << (a.params == &slow_rooms ? ", slower rooms" : "");
   }
-  // The slower rooms are another partition (their speeds are not the kept ones).
+  // The slower rooms are another partition (their speeds are not the kept
+  // ones), and the seeds start from other first centroids.
   EXPECT_NE(kept.back().labels, partition_area(sc.grid, area, Method::kRap, 5, 5).labels);
+  EXPECT_NE(kept[0].initial_seeds.front(), kept[1].initial_seeds.front()) << "seeds 5 and 9, PAP";
 }
 
 // Two 4 m x 3 m rooms joined by a 1 m door at 0.05 m/cell.

@@ -8,10 +8,13 @@ set(CMAKE_CXX_STANDARD_REQUIRED ON)
 set(CMAKE_CXX_EXTENSIONS OFF)
 set(CMAKE_POSITION_INDEPENDENT_CODE ON)
 # Nothing interposes gather's own functions: position-independent code may
-# then call a function of its own library directly and inline it, as code
-# built without -fPIC does (GCC otherwise keeps every exported function out
-# of inlining and calls it through the PLT).
-add_compile_options(-fno-semantic-interposition)
+# then call a non-inline function of its own library directly and inline
+# it, as code built without -fPIC does (GCC otherwise keeps such exported
+# functions out of inlining and calls them through the PLT). No fused
+# multiply-adds either (GCC's default for C++ where the target has them,
+# e.g. aarch64): what gets inlined, and where, never changes a result, and
+# a robot's agent computes what the OC's planner and simulator compute.
+add_compile_options(-fno-semantic-interposition -ffp-contract=off)
 
 # Root of the repository (tests/, maps/ live there).
 get_filename_component(_gather_cmake_dir "${CMAKE_CURRENT_LIST_DIR}" REALPATH)  # through the catkin_ws/src link

@@ -26,8 +26,6 @@ struct MethodInput {
   CentroidCache* centroid_cache = nullptr;      // PreparedArea::centroid_cache, or none (PAP and RAP compute it)
 };
 
-std::shared_ptr<CentroidCache> make_centroid_cache();
-
 void run_bap(const MethodInput& in, PartitionResult& out);
 void run_pap(const MethodInput& in, PartitionResult& out);
 void run_rap(const MethodInput& in, PartitionResult& out);

@@ -41,6 +41,9 @@ bool GridAStar::find(Cell from, Cell to, std::vector<Cell>& out) {
   out.clear();
   if (!traversable(from) || !traversable(to)) return false;
   if (++generation_ >= 32768) {  // wrapped: stamps are stale everywhere
+    // Zeroed in place, not allocated again: no search allocates (an agent's
+    // control steps allocate nothing after the first cycle), at the price of
+    // the stamps' 2 B a cell resident from the first wrap on.
     std::fill(stamp_.get(), stamp_.get() + cells_, uint16_t{0});
     generation_ = 1;
   }

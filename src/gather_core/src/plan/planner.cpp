@@ -48,12 +48,13 @@ double plan_memory_bytes(std::size_t cells, int agents, int threads, std::size_t
   // default PlannerOptions::leg_landmarks_team): 24 B a cell kept, 16 B
   // more while they are searched.
   const double landmarks = agents >= PlannerOptions{}.leg_landmarks_team ? 40.0 * n : 0.0;
-  // Per cell: the context (52 B, of which 12 B the BAP's march from the OC
-  // and the pair grid's block of each cell) and each configuration kept;
+  // Per cell: the context (56 B, of which 12 B the BAP's march from the OC
+  // and the pair grid's block of each cell, 4 B RAP's slowness kept for
+  // the partitions) and each configuration kept;
   // per configuration kept, 1.5 kB a worker (its estimate, its route);
   // per thread: the marches' workspaces (the pair grid's a quarter more).
   const double c = static_cast<double>(configs);
-  return 25e6 + home_walks + landmarks + n * (52.0 + 4.0 * c) + 1500.0 * c * a + threads * (62.0 * n + 480.0 * a * a);
+  return 25e6 + home_walks + landmarks + n * (56.0 + 4.0 * c) + 1500.0 * c * a + threads * (62.0 * n + 480.0 * a * a);
 }
 
 int threads_within_budget(const Scenario& s, int threads, std::size_t configs) {
@@ -90,6 +91,7 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
   prepared.reachable = reachable;
   prepared.reachable_cells = reachable_cells;
   prepared.clearance = clearance.values();
+  prepared.centroid_cache = partition::make_centroid_cache();
   coverage_distance = coverage_field.times();
   // At least a cell: a smaller tile counts every cell as an area of its own
   // (check_plan refuses it).
@@ -111,7 +113,7 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
   // (A future of std::async waits for its task when destroyed: an error
   // thrown below leaves no task writing into this context.)
   std::future<void> side;
-  if (options.threads > 1)
+  if (options.threads > 1 && threads_within_budget(s, 2, 1) == 2)  // two marches at once
     side = std::async(std::launch::async, walks);
   else
     walks();

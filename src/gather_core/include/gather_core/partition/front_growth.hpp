@@ -101,10 +101,11 @@ class FrontGrowth {
     uint32_t p;
   };
   // lower()'s queue, in exact (time, cell) order: a radix heap of keys
-  // (time's bits << 32 | cell), valid because a march only queues times
-  // above the one it takes (a crossing costs > 0), and times >= 0 order
-  // like their bits. The same order as a binary heap of (time, cell), at
-  // a fraction of the cost per cell.
+  // (time's bits << 32 | cell; times >= 0 order like their bits). A march
+  // queues times above the one it takes (a crossing costs > 0), but for
+  // rounding, which may put one at or just below it: those are kept apart
+  // and taken first, smallest first. The same order as a binary heap of
+  // (time, cell), at a fraction of the cost per cell.
   class RadixQueue {
    public:
     bool empty() const { return size_ == 0; }

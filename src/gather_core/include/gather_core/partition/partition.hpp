@@ -111,11 +111,15 @@ struct PreparedArea {
   // orders its wavefronts by it). A sweep that has it computes it once.
   Raster<double> oc_distance;
   // What PAP and RAP compute alike for every partition of this area (the
-  // coarse grid, and the distances from the first centroid), kept by the
-  // first partition that needs it; thread-safe. Results are the same
-  // without it (prepare_area() makes one).
+  // coarse grids, the first centroid and its distances, RAP's slowness of
+  // the full grid: about 4 B a cell), kept by the first partition that
+  // needs it; thread-safe. Results are the same without it (prepare_area()
+  // makes one; make_centroid_cache() for an area filled in otherwise). It
+  // belongs to this area: a copy whose reachable space, clearance or OC is
+  // changed needs a new one.
   std::shared_ptr<CentroidCache> centroid_cache;
 };
+std::shared_ptr<CentroidCache> make_centroid_cache();
 // Throws gather::Error when the OC is off the map or not free.
 PreparedArea prepare_area(const OccupancyGrid& grid, Cell oc);
 // partition_area() on a prepared map (same result); `area` must come from
