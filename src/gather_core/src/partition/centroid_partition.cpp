@@ -38,6 +38,32 @@
 
 namespace gather {
 namespace partition {
+// The types CentroidCache keeps, in a named namespace: a class of the
+// partition namespace may not hold types of this file's anonymous one
+// (GCC's -Wsubobject-linkage, in the unity build).
+namespace centroid {
+
+// A coarse copy of the reachable space: blocks of f x f cells.
+struct Coarse {
+  int f = 1, width = 0, height = 0;
+  Mask region;                      // coarse cells in the largest coarse component
+  std::vector<float> clearance;     // [m] mean over the block's reachable cells
+  std::vector<uint32_t> fine_cell;  // the block's reachable cell of largest clearance
+  std::size_t cells = 0;
+};
+
+// What every PAP (or RAP) partition of one area starts its centroids from,
+// whatever its number of workers: the coarse grid's slowness (RAP), the
+// first centroid (a cell of the largest clearance, picked by the seed) and
+// the distances from it, the first lower() of the seeding.
+struct CentroidStart {
+  std::vector<float> slowness;  // per coarse cell; empty: unit speed (PAP)
+  std::size_t first = 0;        // coarse cell
+  std::vector<float> dist;      // [s] from `first`, +inf where not reached
+};
+
+}  // namespace centroid
+
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -54,18 +80,9 @@ float rap_slowness(float clearance, const PartitionParams& p) {
   return static_cast<float>(1.0 / v);
 }
 
-// A coarse copy of the reachable space: blocks of f x f cells.
-struct Coarse {
-  int f = 1, width = 0, height = 0;
-  Mask region;                      // coarse cells in the largest coarse component
-  std::vector<float> clearance;     // [m] mean over the block's reachable cells
-  std::vector<uint32_t> fine_cell;  // the block's reachable cell of largest clearance
-  std::size_t cells = 0;
-};
-
-Coarse make_coarse(const MethodInput& in, int f) {
+centroid::Coarse make_coarse(const MethodInput& in, int f) {
   const OccupancyGrid& g = in.grid;
-  Coarse c;
+  centroid::Coarse c;
   c.f = f;
   c.width = (g.width() + f - 1) / f;
   c.height = (g.height() + f - 1) / f;
@@ -121,18 +138,8 @@ Coarse make_coarse(const MethodInput& in, int f) {
   return c;
 }
 
-// What every PAP (or RAP) partition of one area starts its centroids from,
-// whatever its number of workers: the coarse grid's slowness (RAP), the
-// first centroid (a cell of the largest clearance, picked by the seed) and
-// the distances from it, the first lower() of the seeding.
-struct CentroidStart {
-  std::vector<float> slowness;  // per coarse cell; empty: unit speed (PAP)
-  std::size_t first = 0;        // coarse cell
-  std::vector<float> dist;      // [s] from `first`, +inf where not reached
-};
-
-CentroidStart make_start(const Coarse& c, bool rooms, unsigned seed, const PartitionParams& p) {
-  CentroidStart st;
+centroid::CentroidStart make_start(const centroid::Coarse& c, bool rooms, unsigned seed, const PartitionParams& p) {
+  centroid::CentroidStart st;
   const std::size_t cn = c.region.size();
   FrontGrowth coarse(c.region);
   if (rooms) {
@@ -161,10 +168,10 @@ CentroidStart make_start(const Coarse& c, bool rooms, unsigned seed, const Parti
 // lock (two threads may both make one: the same one), kept by the first.
 class CentroidCache {
  public:
-  std::shared_ptr<const Coarse> coarse(const MethodInput& in, int f) {
+  std::shared_ptr<const centroid::Coarse> coarse(const MethodInput& in, int f) {
     return find_or_make(coarse_, f, [&] { return make_coarse(in, f); });
   }
-  std::shared_ptr<const CentroidStart> start(const MethodInput& in, const Coarse& c, bool rooms) {
+  std::shared_ptr<const centroid::CentroidStart> start(const MethodInput& in, const centroid::Coarse& c, bool rooms) {
     const PartitionParams& p = in.params;
     const StartKey key{rooms,
                        c.f,
@@ -200,8 +207,8 @@ class CentroidCache {
     return map.emplace(key, std::move(made)).first->second;
   }
   std::mutex mutex_;
-  std::map<int, std::shared_ptr<const Coarse>> coarse_;
-  std::map<StartKey, std::shared_ptr<const CentroidStart>> starts_;
+  std::map<int, std::shared_ptr<const centroid::Coarse>> coarse_;
+  std::map<StartKey, std::shared_ptr<const centroid::CentroidStart>> starts_;
   std::map<SpeedKey, std::shared_ptr<const std::vector<float>>> fine_slowness_;
 };
 
@@ -220,18 +227,19 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
   while (f > 1 && in.reachable_cells / static_cast<std::size_t>(f * f) < 4 * nw) --f;
   CentroidCache* cache = in.centroid_cache;
   auto coarse_of = [&](int k) {
-    return cache ? cache->coarse(in, k) : std::make_shared<const Coarse>(make_coarse(in, k));
+    return cache ? cache->coarse(in, k) : std::make_shared<const centroid::Coarse>(make_coarse(in, k));
   };
-  std::shared_ptr<const Coarse> made = coarse_of(f);
+  std::shared_ptr<const centroid::Coarse> made = coarse_of(f);
   while (made->f > 1 && made->cells < 4 * nw) made = coarse_of(made->f - 1);
   if (made->cells < nw) made = coarse_of(1);  // f = 1: the coarse grid is the reachable space itself
-  const Coarse& c = *made;
+  const centroid::Coarse& c = *made;
   const std::size_t cn = c.region.size();
 
   // 1. Centroid initialisation: the first centroid and its distances as
   // every partition of this area with this method and seed has them.
-  const std::shared_ptr<const CentroidStart> start =
-      cache ? cache->start(in, c, rooms) : std::make_shared<const CentroidStart>(make_start(c, rooms, in.seed, p));
+  const std::shared_ptr<const centroid::CentroidStart> start =
+      cache ? cache->start(in, c, rooms)
+            : std::make_shared<const centroid::CentroidStart>(make_start(c, rooms, in.seed, p));
   FrontGrowth coarse(c.region);
   if (rooms) coarse.set_slowness(start->slowness);
   const double area = static_cast<double>(in.reachable_cells) * g.cell_area();
