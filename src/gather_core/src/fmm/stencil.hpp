@@ -13,6 +13,7 @@
 #include <limits>
 
 #include "gather_core/fmm/fast_marching.hpp"
+#include "gather_core/numeric.hpp"  // order_key: the sort key of a queued cell
 
 namespace gather {
 namespace fmm {
@@ -91,13 +92,6 @@ inline float update_second(const float* t, std::size_t n, std::size_t stride, fl
   const float two = m + (B + std::sqrt(disc)) / A;
   if (two < std::max(x.t1, y.t1)) return single;  // not upwind of both neighbours
   return std::min(two, single);
-}
-
-// Sort key of a queued cell: the bits of a time >= 0 order like the time.
-inline uint64_t order_key(float time, uint32_t cell) {
-  uint32_t bits;
-  std::memcpy(&bits, &time, sizeof bits);
-  return (static_cast<uint64_t>(bits) << 32) | cell;
 }
 
 // The next float above a finite time >= 0 (std::nextafter without the call).

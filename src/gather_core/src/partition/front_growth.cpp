@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 #include "gather_core/error.hpp"
+#include "gather_core/numeric.hpp"
 
 namespace gather {
 namespace partition {
@@ -256,21 +256,13 @@ void FrontGrowth::lower(std::size_t cell, std::vector<float>& dist, std::vector<
   time_[s] = 0.0f;
   state_[s] = kBand;
   touched_.push_back(static_cast<uint32_t>(s));
-  // Keys: a time's bits (>= 0, so ordered as the times) << 32 | its cell.
-  auto key = [](float t, uint32_t p) {
-    uint32_t bits;
-    std::memcpy(&bits, &t, sizeof bits);
-    return static_cast<uint64_t>(bits) << 32 | p;
-  };
   queue_.clear();
-  queue_.push(key(0.0f, static_cast<uint32_t>(s)));
+  queue_.push(order_key(0.0f, static_cast<uint32_t>(s)));
   const std::ptrdiff_t nb[4] = {-1, 1, -static_cast<std::ptrdiff_t>(stride_), static_cast<std::ptrdiff_t>(stride_)};
   while (!queue_.empty()) {
     const uint64_t k = queue_.pop();
-    const uint32_t bits = static_cast<uint32_t>(k >> 32);
-    Entry e{0.0f, static_cast<uint32_t>(k)};
-    std::memcpy(&e.t, &bits, sizeof bits);
-    if (state_[e.p] == kAccepted || e.t > time_[e.p]) continue;
+    const Entry e{time_[static_cast<uint32_t>(k)], static_cast<uint32_t>(k)};
+    if (state_[e.p] == kAccepted || k != order_key(e.t, e.p)) continue;  // taken, or improved since
     state_[e.p] = kAccepted;
     const std::size_t cell_at = unpad(e.p);
     float& d = dist[cell_at];
@@ -286,7 +278,7 @@ void FrontGrowth::lower(std::size_t cell, std::vector<float>& dist, std::vector<
         state_[q] = kBand;
         time_[q] = t;
         label_[q] = -1;
-        queue_.push(key(t, static_cast<uint32_t>(q)));
+        queue_.push(order_key(t, static_cast<uint32_t>(q)));
       }
     }
   }

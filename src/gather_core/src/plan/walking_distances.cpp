@@ -18,14 +18,6 @@ namespace gather {
 namespace plan {
 namespace {
 
-// The bits of a distance as a float; for d >= 0 (and +inf) they sort like d.
-uint32_t float_bits(double d) {
-  const float f = static_cast<float>(d);
-  uint32_t bits;
-  std::memcpy(&bits, &f, sizeof bits);
-  return bits;
-}
-
 // One LSD radix pass over the digits of kBits bits from `from_bit` up,
 // skipping the digits that are the same in every key (`varying`: the bits
 // that differ between keys).
@@ -483,7 +475,7 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     // The marches' times are floats, so nothing is lost.
     order.clear();
     for (std::size_t i = 0; i < cells[k].size(); ++i)
-      order.push_back(static_cast<uint64_t>(float_bits(home.row >= 0 ? walk_time[i] : 0.0)) << 32 | i);
+      order.push_back(order_key(static_cast<float>(home.row >= 0 ? walk_time[i] : 0.0), static_cast<uint32_t>(i)));
     sort_keys(order, spare, 32);
     for (std::size_t i = 0; i < order.size(); ++i)
       rank[grid.index(cells[k][order[i] & 0xffffffffu])] =
