@@ -225,21 +225,17 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
   int f = 1;
   while (in.reachable_cells / static_cast<std::size_t>(f * f) > p.coarse_cells) ++f;
   while (f > 1 && in.reachable_cells / static_cast<std::size_t>(f * f) < 4 * nw) --f;
-  CentroidCache* cache = in.centroid_cache;
-  auto coarse_of = [&](int k) {
-    return cache ? cache->coarse(in, k) : std::make_shared<const centroid::Coarse>(make_coarse(in, k));
-  };
-  std::shared_ptr<const centroid::Coarse> made = coarse_of(f);
-  while (made->f > 1 && made->cells < 4 * nw) made = coarse_of(made->f - 1);
-  if (made->cells < nw) made = coarse_of(1);  // f = 1: the coarse grid is the reachable space itself
+  CentroidCache own;  // a partition without a prepared area's cache keeps its own, for itself
+  CentroidCache& cache = in.centroid_cache ? *in.centroid_cache : own;
+  std::shared_ptr<const centroid::Coarse> made = cache.coarse(in, f);
+  while (made->f > 1 && made->cells < 4 * nw) made = cache.coarse(in, made->f - 1);
+  if (made->cells < nw) made = cache.coarse(in, 1);  // f = 1: the coarse grid is the reachable space itself
   const centroid::Coarse& c = *made;
   const std::size_t cn = c.region.size();
 
   // 1. Centroid initialisation: the first centroid and its distances as
   // every partition of this area with this method and seed has them.
-  const std::shared_ptr<const centroid::CentroidStart> start =
-      cache ? cache->start(in, c, rooms)
-            : std::make_shared<const centroid::CentroidStart>(make_start(c, rooms, in.seed, p));
+  const std::shared_ptr<const centroid::CentroidStart> start = cache.start(in, c, rooms);
   FrontGrowth coarse(c.region);
   if (rooms) coarse.set_slowness(start->slowness);
   const double area = static_cast<double>(in.reachable_cells) * g.cell_area();
@@ -358,16 +354,7 @@ void run_centroid(const MethodInput& in, PartitionResult& out, bool rooms) {
 
   // 3. Full-resolution labelling from the final centroids.
   FrontGrowth fine(in.reachable);
-  if (rooms) {
-    if (cache) {
-      fine.set_slowness(*cache->fine_slowness(in));
-    } else {
-      std::vector<float> slow(g.size(), 1.0f);
-      for (std::size_t i = 0; i < g.size(); ++i)
-        if (in.reachable[i]) slow[i] = rap_slowness(in.clearance[i], p);
-      fine.set_slowness(slow);
-    }
-  }
+  if (rooms) fine.set_slowness(*cache.fine_slowness(in));
   out.seeds.clear();
   for (std::size_t k = 0; k < nw; ++k) {
     const std::size_t cell = c.f == 1 ? seeds[k] : c.fine_cell[seeds[k]];
