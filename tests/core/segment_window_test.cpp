@@ -142,6 +142,38 @@ TEST(SegmentWindowTest, AWindowBoundToAnotherSegmentMarchesAsANewOne) {
   EXPECT_THROW(window.bind(grid, {}, 1.0), Error);
 }
 
+TEST(SegmentWindowTest, AMarchOverTheWholeWindowGivesTheSameTimesAsOneStoppedAtItsTargets) {
+  // The planner's pair distances march over the whole window (march_over);
+  // a worker's marches stop at their goals (march): the same times, to the
+  // bit, from a cell and from a point, around a wall and through a door.
+  const OccupancyGrid grid = predicate_grid(
+      70, 60, [](int r, int c) { return !(c == 30 && r > 12 && r != 40); }, 0.1);  // 70 wide, 60 high
+  std::vector<Cell> seg;
+  for (Cell c : block(8, 52, 10, 55))
+    if (grid.is_free(c)) seg.push_back(c);
+  mission::SegmentWindow window(grid, seg, 1.0);
+  std::vector<double> stopped(seg.size()), over(seg.size());
+  const Point2 point = grid.cell_center(Cell{45, 12});
+  ASSERT_TRUE(window.march(Cell{50, 20}, seg, stopped.data()));
+  ASSERT_TRUE(window.march_over(Cell{50, 20}, seg, over.data()));
+  EXPECT_EQ(stopped, over);
+  EXPECT_GT(over.back(), 4.0);  // (52, 55) from (50, 20): through the door at row 40
+  ASSERT_TRUE(window.march(Point2{point.x + 0.03, point.y - 0.02}, seg, stopped.data()));
+  ASSERT_TRUE(window.march_over(Point2{point.x + 0.03, point.y - 0.02}, seg, over.data()));
+  EXPECT_EQ(stopped, over);
+  // A few targets, as a worker asks: the same times for them as over all.
+  const std::vector<Cell> goals{seg[3], seg[seg.size() / 2], seg.back()};
+  std::vector<double> few(goals.size());
+  ASSERT_TRUE(window.march(Cell{50, 20}, goals, few.data()));
+  ASSERT_TRUE(window.march_over(Cell{50, 20}, seg, over.data()));
+  EXPECT_EQ(few[0], over[3]);
+  EXPECT_EQ(few[1], over[seg.size() / 2]);
+  EXPECT_EQ(few[2], over.back());
+  // What march refuses, march_over refuses too.
+  EXPECT_FALSE(window.march_over(Cell{2, 68}, seg, over.data()));   // off the window (the map is 70 wide)
+  EXPECT_FALSE(window.march_over(Cell{20, 30}, seg, over.data()));  // in the wall
+}
+
 TEST(SegmentWindowTest, AWindowDoesNotHoldAFarHome) {
   const OccupancyGrid grid = predicate_grid(
       60, 50, [](int, int) { return true; }, 0.1);

@@ -93,22 +93,38 @@ void SegmentWindow::bind(const OccupancyGrid& grid, const std::vector<Cell>& cel
 bool SegmentWindow::march(Cell from, const std::vector<Cell>& targets, double* out) {
   const Cell local{from.row - origin_.row, from.col - origin_.col};
   if (!fm_.traversable(local)) return false;  // off the window, or outside the segment's margin
-  return march_from(fmm::Source::at_cell(local), targets, out);
+  return march_from(fmm::Source::at_cell(local), targets, out, false);
 }
 
 bool SegmentWindow::march(Point2 from, const std::vector<Cell>& targets, double* out) {
   if (!fm_.traversable(fm_.frame().world_to_cell(from))) return false;  // as above
-  return march_from(fmm::Source::at_point(from), targets, out);
+  return march_from(fmm::Source::at_point(from), targets, out, false);
 }
 
-bool SegmentWindow::march_from(const fmm::Source& source, const std::vector<Cell>& targets, double* out) {
+bool SegmentWindow::march_over(Cell from, const std::vector<Cell>& cells, double* out) {
+  const Cell local{from.row - origin_.row, from.col - origin_.col};
+  if (!fm_.traversable(local)) return false;  // as above
+  return march_from(fmm::Source::at_cell(local), cells, out, true);
+}
+
+bool SegmentWindow::march_over(Point2 from, const std::vector<Cell>& cells, double* out) {
+  if (!fm_.traversable(fm_.frame().world_to_cell(from))) return false;  // as above
+  return march_from(fmm::Source::at_point(from), cells, out, true);
+}
+
+// `whole`: over the whole window, not stopped once the targets are final (a
+// march gives a cell the same time wherever it stops).
+bool SegmentWindow::march_from(const fmm::Source& source, const std::vector<Cell>& targets, double* out, bool whole) {
   shifted_.clear();
   for (Cell c : targets) {
     shifted_.push_back(Cell{c.row - origin_.row, c.col - origin_.col});
     if (!fm_.contains(shifted_.back())) return false;
   }
   source_[0] = source;
-  options_.targets.assign(shifted_.begin(), shifted_.end());
+  if (whole)
+    options_.targets.clear();
+  else
+    options_.targets.assign(shifted_.begin(), shifted_.end());
   fm_.solve(source_, options_);
   // The times read in place (every target is in the window): an obstacle's
   // and an unreached cell's are +inf.

@@ -123,22 +123,27 @@ void HomeWalks::distances(Cell home, const std::vector<Cell>& cells, fmm::FastMa
     if (it != fields_.end() && !now.whole && it->second.reach >= now.reach) return;  // as far kept meanwhile
     if (it == fields_.end() && budget_->full()) return;                              // no room for another
   }
+  // The box of the reached cells: each row's first and last reached cell,
+  // looked for from either end (not every cell's time compared), then the
+  // box copied row by row.
   const float* t = walk.padded_times();
-  const std::size_t stride = walk.stride();
-  auto time_at = [&](int r, int c) {
-    return t[static_cast<std::size_t>(r + 2) * stride + static_cast<std::size_t>(c + 2)];  // FastMarching::padded
-  };
-  int r0 = walk.height(), r1 = -1, c0 = walk.width(), c1 = -1;
-  for (int r = 0; r < walk.height(); ++r)
-    for (int c = 0; c < walk.width(); ++c)
-      if (time_at(r, c) < kInf) r0 = std::min(r0, r), r1 = std::max(r1, r), c0 = std::min(c0, c), c1 = std::max(c1, c);
+  auto row_of = [&](int r) { return t + walk.padded(Cell{r, 0}); };
+  int r0 = -1, r1 = -1, c0 = walk.width(), c1 = -1;
+  for (int r = 0; r < walk.height(); ++r) {
+    const float* row = row_of(r);
+    int first = 0, last = walk.width() - 1;
+    while (first <= last && !(row[first] < kInf)) ++first;
+    if (first > last) continue;
+    while (!(row[last] < kInf)) --last;
+    if (r0 < 0) r0 = r;
+    r1 = r, c0 = std::min(c0, first), c1 = std::max(c1, last);
+  }
   if (r1 < 0) return;  // nothing reached, not even the home
   now.origin = Cell{r0, c0}, now.rows = r1 - r0 + 1, now.cols = c1 - c0 + 1;
   auto times = std::make_shared<Times>(static_cast<std::size_t>(now.rows) * static_cast<std::size_t>(now.cols));
   for (int r = 0; r < now.rows; ++r)
-    for (int c = 0; c < now.cols; ++c)
-      (*times)[static_cast<std::size_t>(r) * static_cast<std::size_t>(now.cols) + static_cast<std::size_t>(c)] =
-          time_at(r0 + r, c0 + c);
+    std::copy_n(row_of(r0 + r) + c0, now.cols,
+                times->data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(now.cols));
   now.times = std::move(times);
   const std::size_t bytes = now.times->size() * sizeof(float);
   const std::lock_guard<std::mutex> lock(mutex_);
@@ -372,7 +377,7 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
   auto distances = [&](Cell from, const std::vector<Cell>& to, mission::SegmentWindow& window, std::vector<double>& out,
                        double& sum, std::size_t& n) {
     out.resize(to.size());
-    if (!window.march(from, to, out.data())) {
+    if (!window.march_over(from, to, out.data())) {
       so.targets = to;
       walk.solve({fmm::Source::at_cell(from)}, so);
       for (std::size_t i = 0; i < to.size(); ++i) out[i] = walk.time(to[i]);
@@ -448,7 +453,7 @@ Field segment_distances(const PlanContext& ctx, const LabelImage& labels, Worker
     double s = 0.0, w = 0.0;
     for (Point2 from : source_point) {
       pair.resize(blocks.size());
-      if (!block_window.march(from, blocks, pair.data())) return false;
+      if (!block_window.march_over(from, blocks, pair.data())) return false;
       for (std::size_t i = 0; i < blocks.size(); ++i) s += weight[i] * pair[i], w += weight[i];
     }
     sum = s * pg.scale, n = static_cast<std::size_t>(w);

@@ -33,13 +33,19 @@ class SegmentWindow {
   // The same from a point [m] of the map frame (fmm::Source::at_point: its
   // cell and that cell's neighbours start at their straight-line times).
   bool march(Point2 from, const std::vector<Cell>& targets, double* out);
+  // The same to every cell of the segment (or to as many as make no
+  // difference: the planner's pair distances ask for each of them): the
+  // march runs over the whole window instead of keeping count of thousands
+  // of targets, and gives them the same times.
+  bool march_over(Cell from, const std::vector<Cell>& cells, double* out);
+  bool march_over(Point2 from, const std::vector<Cell>& cells, double* out);
 
   // Reserves room for marches to up to `targets` cells, so that march() does
   // not allocate (for control loops that must not).
   void reserve(std::size_t targets);
 
  private:
-  bool march_from(const fmm::Source& source, const std::vector<Cell>& targets, double* out);
+  bool march_from(const fmm::Source& source, const std::vector<Cell>& targets, double* out, bool whole);
 
   Cell origin_;  // of the window on the map
   fmm::FastMarching fm_;
