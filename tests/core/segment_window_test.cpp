@@ -165,7 +165,9 @@ TEST(SegmentWindowTest, AMarchOverTheWholeWindowGivesTheSameTimesAsOneStoppedAtI
   const std::vector<Cell> goals{seg[3], seg[seg.size() / 2], seg.back()};
   std::vector<double> few(goals.size());
   ASSERT_TRUE(window.march(Cell{50, 20}, goals, few.data()));
+  EXPECT_TRUE(window.stats().stopped_early);  // at its goals, short of the window's far cells
   ASSERT_TRUE(window.march_over(Cell{50, 20}, seg, over.data()));
+  EXPECT_FALSE(window.stats().stopped_early);  // over the whole window
   EXPECT_EQ(few[0], over[3]);
   EXPECT_EQ(few[1], over[seg.size() / 2]);
   EXPECT_EQ(few[2], over.back());

@@ -112,8 +112,10 @@ bool SegmentWindow::march_over(Point2 from, const std::vector<Cell>& cells, doub
   return march_from(fmm::Source::at_point(from), cells, out, true);
 }
 
-// `whole`: over the whole window, not stopped once the targets are final (a
-// march gives a cell the same time wherever it stops).
+// `whole`: over the whole window, not stopped once the targets are final (the
+// window's march is first order on buckets: a cell final where a march
+// would stop keeps its time as the march runs on; at second order the
+// bucket march may still lower a cell below its bucket).
 bool SegmentWindow::march_from(const fmm::Source& source, const std::vector<Cell>& targets, double* out, bool whole) {
   shifted_.clear();
   for (Cell c : targets) {

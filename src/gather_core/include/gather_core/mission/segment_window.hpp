@@ -36,9 +36,13 @@ class SegmentWindow {
   // The same to every cell of the segment (or to as many as make no
   // difference: the planner's pair distances ask for each of them): the
   // march runs over the whole window instead of keeping count of thousands
-  // of targets, and gives them the same times.
+  // of targets, and gives them the same times (a first-order bucket march,
+  // as the window's: a cell final when a march stops keeps its time if the
+  // march runs on).
   bool march_over(Cell from, const std::vector<Cell>& cells, double* out);
   bool march_over(Point2 from, const std::vector<Cell>& cells, double* out);
+  // The last march's counters (whether it stopped at its targets).
+  const fmm::SolveStats& stats() const { return fm_.stats(); }
 
   // Reserves room for marches to up to `targets` cells, so that march() does
   // not allocate (for control loops that must not).
