@@ -90,39 +90,47 @@ void SegmentWindow::bind(const OccupancyGrid& grid, const std::vector<Cell>& cel
   options_.labels = false;
 }
 
-bool SegmentWindow::march(Cell from, const std::vector<Cell>& targets, double* out) {
+// None when `from` lies off the window or outside the segment's margin.
+std::optional<fmm::Source> SegmentWindow::source_in(Cell from) const {
   const Cell local{from.row - origin_.row, from.col - origin_.col};
-  if (!fm_.traversable(local)) return false;  // off the window, or outside the segment's margin
-  return march_from(fmm::Source::at_cell(local), targets, out, false);
+  if (!fm_.traversable(local)) return std::nullopt;
+  return fmm::Source::at_cell(local);
+}
+
+std::optional<fmm::Source> SegmentWindow::source_in(Point2 from) const {
+  if (!fm_.traversable(fm_.frame().world_to_cell(from))) return std::nullopt;
+  return fmm::Source::at_point(from);
+}
+
+bool SegmentWindow::march(Cell from, const std::vector<Cell>& targets, double* out) {
+  return march_from(source_in(from), targets, out, false);
 }
 
 bool SegmentWindow::march(Point2 from, const std::vector<Cell>& targets, double* out) {
-  if (!fm_.traversable(fm_.frame().world_to_cell(from))) return false;  // as above
-  return march_from(fmm::Source::at_point(from), targets, out, false);
+  return march_from(source_in(from), targets, out, false);
 }
 
 bool SegmentWindow::march_over(Cell from, const std::vector<Cell>& cells, double* out) {
-  const Cell local{from.row - origin_.row, from.col - origin_.col};
-  if (!fm_.traversable(local)) return false;  // as above
-  return march_from(fmm::Source::at_cell(local), cells, out, true);
+  return march_from(source_in(from), cells, out, true);
 }
 
 bool SegmentWindow::march_over(Point2 from, const std::vector<Cell>& cells, double* out) {
-  if (!fm_.traversable(fm_.frame().world_to_cell(from))) return false;  // as above
-  return march_from(fmm::Source::at_point(from), cells, out, true);
+  return march_from(source_in(from), cells, out, true);
 }
 
 // `whole`: over the whole window, not stopped once the targets are final (the
 // window's march is first order on buckets: a cell final where a march
 // would stop keeps its time as the march runs on; at second order the
 // bucket march may still lower a cell below its bucket).
-bool SegmentWindow::march_from(const fmm::Source& source, const std::vector<Cell>& targets, double* out, bool whole) {
+bool SegmentWindow::march_from(const std::optional<fmm::Source>& source, const std::vector<Cell>& targets, double* out,
+                               bool whole) {
+  if (!source) return false;
   shifted_.clear();
   for (Cell c : targets) {
     shifted_.push_back(Cell{c.row - origin_.row, c.col - origin_.col});
     if (!fm_.contains(shifted_.back())) return false;
   }
-  source_[0] = source;
+  source_[0] = *source;
   if (whole)
     options_.targets.clear();
   else

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "gather_core/fmm/fast_marching.hpp"
@@ -49,7 +50,10 @@ class SegmentWindow {
   void reserve(std::size_t targets);
 
  private:
-  bool march_from(const fmm::Source& source, const std::vector<Cell>& targets, double* out, bool whole);
+  // The march's source in the window's frame.
+  std::optional<fmm::Source> source_in(Cell from) const;
+  std::optional<fmm::Source> source_in(Point2 from) const;
+  bool march_from(const std::optional<fmm::Source>& source, const std::vector<Cell>& targets, double* out, bool whole);
 
   Cell origin_;  // of the window on the map
   fmm::FastMarching fm_;
