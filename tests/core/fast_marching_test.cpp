@@ -4,14 +4,19 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
+#include <queue>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "gather_core/error.hpp"
 #include "gather_core/fmm/fast_marching.hpp"
 #include "gather_core/fmm/path.hpp"
+#include "gather_core/numeric.hpp"
+#include "gather_core/radix_queue.hpp"
 #include "predicate_grid.hpp"
 
 namespace gather {
@@ -574,6 +579,53 @@ TEST(FastMarching, FrontSpeedFactorsMoveTheBoundary) {
   bad.front_speed = {1.0, 2.0};
   bad.labels = false;
   EXPECT_NE(error_of([&] { fm.solve(src, bad); }).find("labels"), std::string::npos);
+}
+
+// The queue of FrontGrowth::lower and the routes' A*: as a march uses it
+// (each key taken queues a few above it, now and then a few a rounding
+// puts at or just below it, and equal keys twice), it gives the keys in the
+// order a binary heap of them does.
+TEST(RadixQueue, GivesTheSmallestKeyQueuedAsABinaryHeapDoes) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> step(0.0f, 3.0f);
+  std::uniform_int_distribution<uint32_t> cell(0, 1000), pick(0, 19);
+  RadixQueue queue;
+  std::priority_queue<uint64_t, std::vector<uint64_t>, std::greater<>> heap;
+  auto push = [&](uint64_t key) { queue.push(key), heap.push(key); };
+  push(order_key(0.0f, 5));
+  std::size_t popped = 0, below = 0;
+  while (!heap.empty() && popped < 20000) {
+    ASSERT_FALSE(queue.empty());
+    ASSERT_EQ(queue.size(), heap.size());
+    const uint64_t key = queue.pop();
+    ASSERT_EQ(key, heap.top()) << "pop " << popped;
+    heap.pop();
+    ++popped;
+    float t;
+    const auto bits = static_cast<uint32_t>(key >> 32);
+    std::memcpy(&t, &bits, sizeof t);
+    if (heap.size() > 5000) continue;  // let the queue drain now and then
+    for (int n = 0; n < 3; ++n) push(order_key(t + step(rng), cell(rng)));
+    const uint32_t what = pick(rng);
+    if (what == 0 && t > 0.0f) {  // rounding: at or just below the key taken, two neighbours at once
+      push(order_key(std::nextafter(t, 0.0f), cell(rng)));
+      push(order_key(std::nextafter(std::nextafter(t, 0.0f), 0.0f), cell(rng)));
+      push(order_key(t, cell(rng)));
+      ++below;
+    } else if (what == 1) {
+      push(key);  // the same key again
+    }
+  }
+  EXPECT_GT(below, 100u);
+  while (!heap.empty()) {
+    ASSERT_EQ(queue.pop(), heap.top());
+    heap.pop();
+  }
+  EXPECT_TRUE(queue.empty());
+  queue.clear();
+  queue.push(order_key(2.0f, 1));
+  queue.push(order_key(1.0f, 9));
+  EXPECT_EQ(queue.pop(), order_key(1.0f, 9));  // cleared: a new march starts from 0 again
 }
 
 }  // namespace

@@ -116,45 +116,6 @@ void FrontGrowth::set_weights(const std::vector<uint32_t>& weights) {
   for (std::size_t i = 0; i < weights.size(); ++i) weight_[pad(i)] = weights[i];
 }
 
-// Bucket 0 holds the keys equal to the last one taken and those below it
-// (a time that rounding put at or just under the one taken, though exact
-// arithmetic puts it above); bucket i the keys whose highest bit that
-// differs from it is bit i - 1.
-std::size_t FrontGrowth::RadixQueue::bucket(uint64_t key, uint64_t last) {
-  return key <= last ? 0 : 64 - static_cast<std::size_t>(__builtin_clzll(key ^ last));
-}
-
-void FrontGrowth::RadixQueue::clear() {
-  for (auto& b : buckets_) b.clear();
-  last_ = 0, size_ = 0;
-}
-
-void FrontGrowth::RadixQueue::push(uint64_t key) {
-  buckets_[bucket(key, last_)].push_back(key);
-  ++size_;
-}
-
-uint64_t FrontGrowth::RadixQueue::pop() {
-  if (buckets_[0].empty()) {
-    // The first non-empty bucket: its smallest key is the next one, and
-    // every key of it lands in a lower bucket relative to that key.
-    std::size_t i = 1;
-    while (buckets_[i].empty()) ++i;
-    std::vector<uint64_t>& from = buckets_[i];
-    last_ = *std::min_element(from.begin(), from.end());
-    for (uint64_t k : from) buckets_[bucket(k, last_)].push_back(k);
-    from.clear();
-  }
-  // Bucket 0 holds the last key taken again (equal ones are alike) and,
-  // rarely, keys below it: the smallest goes first, as from a binary heap.
-  std::vector<uint64_t>& zero = buckets_[0];
-  if (zero.size() > 1) std::iter_swap(std::min_element(zero.begin(), zero.end()), zero.end() - 1);
-  --size_;
-  const uint64_t key = zero.back();
-  zero.pop_back();
-  return key;
-}
-
 void FrontGrowth::reset_touched() {
   for (uint32_t p : touched_) {
     time_[p] = kInf;

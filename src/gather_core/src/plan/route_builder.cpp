@@ -12,6 +12,7 @@
 #include "gather_core/numeric.hpp"
 #include "gather_core/path/path_polisher.hpp"
 #include "gather_core/radio/radio_model.hpp"
+#include "gather_core/radix_queue.hpp"
 
 namespace gather {
 namespace plan {
@@ -29,16 +30,11 @@ struct AStarWork {
   };
   std::vector<Node> node;  // one cache line for what a step reads of a cell
   uint32_t generation = 0;
-  // The open list: a 4-ary min-heap of (f, cell) as one key, f's bits
-  // (f >= 0 sorts like its bits) above the cell's index: popped in the
-  // order of (f, cell), ties by cell.
+  // The open list: keys of (f, cell) (order_key), popped in the order of
+  // (f, cell), ties by cell, from a radix heap: the heuristics are
+  // consistent, so a search takes keys in ascending order (but for rounding).
   using Entry = uint64_t;
-  std::vector<Entry> open;
-  static Entry entry(float f, uint32_t cell) {
-    uint32_t bits;
-    std::memcpy(&bits, &f, sizeof bits);
-    return static_cast<uint64_t>(bits) << 32 | cell;
-  }
+  RadixQueue open;
   static float f_of(Entry e) {
     const auto bits = static_cast<uint32_t>(e >> 32);
     float f;
@@ -59,81 +55,68 @@ struct AStarWork {
   }
   void set(std::size_t i, float cost, uint32_t from) { node[i] = Node{cost, from, generation}; }
   uint32_t parent(std::size_t i) const { return node[i].parent; }
-  void push(Entry e) {
-    std::size_t i = open.size();
-    open.push_back(e);
-    while (i > 0) {
-      const std::size_t up = (i - 1) / 4;
-      if (!(e < open[up])) break;
-      open[i] = open[up];
-      i = up;
-    }
-    open[i] = e;
-  }
-  Entry pop() {
-    const Entry top = open.front(), last = open.back();
-    open.pop_back();
-    const std::size_t n = open.size();
-    if (n == 0) return top;
-    std::size_t i = 0;
-    for (;;) {
-      const std::size_t first = 4 * i + 1;
-      if (first >= n) break;
-      std::size_t best = first;
-      for (std::size_t c = first + 1; c < std::min(first + 4, n); ++c)
-        if (open[c] < open[best]) best = c;
-      if (!(open[best] < last)) break;
-      open[i] = open[best];
-      i = best;
-    }
-    open[i] = last;
-    return top;
-  }
+  void push(Entry e) { open.push(e); }
+  Entry pop() { return open.pop(); }
 };
 
 // The 8-connected search on the route speed map (no diagonal step past a
 // blocked corner) from `start` until `goal` is popped (or, with no goal,
-// every reachable cell is final), ordered by cost + h(cell): A* with a
-// consistent `h`, Dijkstra with h = 0. The costs and parents are left in
-// `work`.
+// every reachable cell is final), ordered by cost + h(cell, row, col): A*
+// with a consistent `h`, Dijkstra with h = 0. The costs and parents are
+// left in `work`.
 // `popped` (optional): counts the cells popped.
 template <class Heuristic>
 void search(const PlanContext& ctx, std::size_t start, std::size_t goal, AStarWork& work, Heuristic h,
             std::size_t* popped = nullptr) {
   const OccupancyGrid& grid = ctx.scenario.grid;
-  const int w = grid.width();
+  const int w = grid.width(), rows = grid.height();
   work.begin(grid.size());
   work.set(start, 0.0f, 0);
-  work.push(AStarWork::entry(h(start), static_cast<uint32_t>(start)));
+  {
+    const Cell s = grid.cell(start);
+    work.push(order_key(h(start, s.row, s.col), static_cast<uint32_t>(start)));
+  }
   static const int dr[8] = {0, 0, 1, -1, 1, 1, -1, -1}, dc[8] = {1, -1, 0, 0, 1, -1, 1, -1};
-  const int rows = grid.height();
-  const double* sp = ctx.route_speed.data();
-  // 1 / speed: the speed map holds 1 and tight_speed (and 0 off the
-  // reachable space), so the divisions are done once.
-  const double tight = ctx.tight_speed, tight_pace = 1.0 / tight;
-  auto pace = [&](double v) { return v == 1.0 ? 1.0 : v == tight ? tight_pace : 1.0 / v; };
+  std::ptrdiff_t offset[8];
+  for (int k = 0; k < 8; ++k) offset[k] = static_cast<std::ptrdiff_t>(dr[k]) * w + dc[k];
+  // The speed map holds 1 (roomy), tight_speed (reachable, not roomy) and
+  // 0 (off the reachable space): read from the two masks (a byte a cell,
+  // not the map's 8), each step's cost worked out once per kind of step
+  // and pair of speeds, as the map's 1 / speed gave it.
+  const uint8_t* reach = ctx.reachable.data();
+  const uint8_t* roomy = ctx.roomy.data();
+  const double pace[2] = {1.0 / ctx.tight_speed, 1.0};  // [roomy]
+  float step_cost[2][2][2];                             // [diagonal][roomy from][roomy to]
+  for (int d = 0; d < 2; ++d)
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        step_cost[d][a][b] = static_cast<float>((d ? std::sqrt(2.0) : 1.0) * 0.5 * (pace[a] + pace[b]));
   while (!work.open.empty()) {
     const AStarWork::Entry e = work.pop();
     const float f = AStarWork::f_of(e);
     const auto i = static_cast<uint32_t>(e);
     if (i == goal) break;
-    const float gi = work.cost(i);
-    if (f > gi + h(i) + 1e-4f) continue;  // stale entry
-    if (popped) ++*popped;
     const int r = static_cast<int>(i / static_cast<uint32_t>(w)), c = static_cast<int>(i % static_cast<uint32_t>(w));
-    const double pace_i = pace(sp[i]);
+    const float gi = work.cost(i);
+    if (f > gi + h(i, r, c) + 1e-4f) continue;  // stale entry
+    if (popped) ++*popped;
+    const bool inner = r > 0 && c > 0 && r + 1 < rows && c + 1 < w;  // all 8 neighbours on the map
+    const int roomy_i = roomy[i] != 0 ? 1 : 0;
     for (int k = 0; k < 8; ++k) {
       const int nr = r + dr[k], nc = c + dc[k];
-      if (nr < 0 || nc < 0 || nr >= rows || nc >= w) continue;
-      const std::size_t j = static_cast<std::size_t>(nr) * w + nc;
-      if (sp[j] <= 0) continue;
-      const bool diagonal = k >= 4;
-      if (diagonal && (sp[static_cast<std::size_t>(nr) * w + c] <= 0 || sp[static_cast<std::size_t>(r) * w + nc] <= 0))
+      if (!inner && (nr < 0 || nc < 0 || nr >= rows || nc >= w)) continue;
+      const auto at = static_cast<std::ptrdiff_t>(i);
+      const auto j = static_cast<std::size_t>(at + offset[k]);
+      if (!reach[j]) continue;
+      const int diagonal = k >= 4 ? 1 : 0;
+      // Past a corner: the cells beside the step (nr, c) and (r, nc).
+      if (diagonal &&
+          (!reach[static_cast<std::size_t>(at + offset[k] - dc[k])] || !reach[static_cast<std::size_t>(at + dc[k])]))
         continue;
-      const float step = static_cast<float>((diagonal ? std::sqrt(2.0) : 1.0) * 0.5 * (pace_i + pace(sp[j])));
+      const float step = step_cost[diagonal][roomy_i][roomy[j] != 0 ? 1 : 0];
       if (gi + step < work.cost(j)) {
         work.set(j, gi + step, i);
-        work.push(AStarWork::entry(gi + step + h(j), static_cast<uint32_t>(j)));
+        work.push(order_key(gi + step + h(j, nr, nc), static_cast<uint32_t>(j)));
       }
     }
   }
@@ -153,7 +136,7 @@ const LegLandmarks& landmarks(const PlanContext& ctx) {
     AStarWork work;
     std::size_t next = grid.index(ctx.oc_cell);
     for (std::size_t l = 0; l < kL; ++l) {
-      search(ctx, next, static_cast<std::size_t>(-1), work, [](std::size_t) { return 0.0f; });
+      search(ctx, next, static_cast<std::size_t>(-1), work, [](std::size_t, int, int) { return 0.0f; });
       float farthest = -1.0f;
       for (std::size_t i = 0; i < n; ++i) {
         const float d = work.cost(i);
@@ -171,11 +154,9 @@ const LegLandmarks& landmarks(const PlanContext& ctx) {
 // landmarks' bound or (`landmarks` false) the octile distance alone.
 void leg_search(const PlanContext& ctx, std::size_t start, std::size_t goal, bool landmarks_on, AStarWork& work,
                 std::size_t* popped = nullptr) {
-  const OccupancyGrid& grid = ctx.scenario.grid;
-  const int w = grid.width();
-  const Cell cb = grid.cell(goal);
-  auto octile = [&](std::size_t i) {
-    const double dx = std::abs(static_cast<int>(i % w) - cb.col), dy = std::abs(static_cast<int>(i / w) - cb.row);
+  const Cell cb = ctx.scenario.grid.cell(goal);
+  auto octile = [&](std::size_t, int r, int c) {
+    const double dx = std::abs(c - cb.col), dy = std::abs(r - cb.row);
     return static_cast<float>(std::max(dx, dy) + (std::sqrt(2.0) - 1.0) * std::min(dx, dy));  // at speed 1
   };
   if (!landmarks_on) return search(ctx, start, goal, work, octile, popped);
@@ -185,8 +166,8 @@ void leg_search(const PlanContext& ctx, std::size_t start, std::size_t goal, boo
   const float* cost = lm.cost.data();
   search(
       ctx, start, goal, work,
-      [&](std::size_t i) {
-        float best = octile(i);
+      [&](std::size_t i, int r, int c) {
+        float best = octile(i, r, c);
         const float* at = cost + i * kL;
         for (std::size_t l = 0; l < kL; ++l) {
           const float d = std::abs(at[l] - to_goal[l]);  // NaN if a landmark reaches neither, +inf if one

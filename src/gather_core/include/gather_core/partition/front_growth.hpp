@@ -13,12 +13,12 @@
 //
 // Layout: padded flat arrays (1-cell border of obstacles); no allocation per
 // march once the queue has grown; arrays are reset through a touched list.
-#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include "gather_core/grid/raster.hpp"
+#include "gather_core/radix_queue.hpp"
 
 namespace gather {
 namespace partition {
@@ -100,26 +100,8 @@ class FrontGrowth {
     float t;
     uint32_t p;
   };
-  // lower()'s queue, in exact (time, cell) order: a radix heap of keys
-  // (time's bits << 32 | cell; times >= 0 order like their bits). A march
-  // queues times above the one it takes (a crossing costs > 0), but for
-  // rounding, which may put one at or just below it: those are kept apart
-  // and taken first, smallest first. The same order as a binary heap of
-  // (time, cell), at a fraction of the cost per cell.
-  class RadixQueue {
-   public:
-    bool empty() const { return size_ == 0; }
-    void clear();
-    void push(uint64_t key);
-    uint64_t pop();  // the smallest key
-
-   private:
-    static std::size_t bucket(uint64_t key, uint64_t last);
-    std::array<std::vector<uint64_t>, 65> buckets_;
-    uint64_t last_ = 0;
-    std::size_t size_ = 0;
-  };
-  RadixQueue queue_;
+  // lower()'s queue, in exact (time, cell) order: keys order_key(time, cell).
+  gather::RadixQueue queue_;
   std::vector<Entry> sources_;
   std::vector<std::vector<uint32_t>> buckets_;
   float min_slowness_ = 1.0f, max_slowness_ = 1.0f;
