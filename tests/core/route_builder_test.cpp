@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <random>
 #include <vector>
 
@@ -123,6 +125,59 @@ TEST(RouteBuilderTest, LegsSearchWithLandmarksForLargeTeams) {
   EXPECT_TRUE(PlanContext(s, opt).use_leg_landmarks);
   opt.leg_landmarks_team = -1;
   EXPECT_THROW(check_options(opt), Error);
+}
+
+// The legs' paths are kept for the sweep (LegPaths): planning a
+// configuration again on the same context searches no leg anew and gives
+// the same routes, as does a context that keeps none (its room used up).
+TEST(RouteBuilderTest, KeptLegPathsGiveTheRoutesASearchGives) {
+  const Scenario& s = testing_support::SmallOffice::scenario();
+  const PlanContext ctx(s);
+  PlannerOptions opt;
+  opt.associate = false;  // the collector keeps every segment grown into its group: a route through several
+  const ConfigurationPlan first = plan_configuration(ctx, partition::Method::kPap, 1, opt);
+  std::size_t legs = 0;
+  for (const CollectorRoute& r : first.routes) legs += r.segments.size() > 1 ? r.segments.size() - 1 : 0;
+  ASSERT_GT(legs, 0u) << "no route with a leg between two meeting areas";
+  const std::size_t kept = ctx.leg_paths->cells.size();
+  ASSERT_GT(kept, 0u);
+  PlanContext full(s);
+  full.leg_paths->bytes = LegPaths::kBytes;
+  for (const PlanContext* c : {&ctx, static_cast<const PlanContext*>(&full)}) {
+    const ConfigurationPlan again = plan_configuration(*c, partition::Method::kPap, 1, opt);
+    ASSERT_EQ(again.routes.size(), first.routes.size());
+    for (std::size_t i = 0; i < first.routes.size(); ++i) {
+      const CollectorRoute &a = first.routes[CollectorId(static_cast<int>(i))],
+                           &b = again.routes[CollectorId(static_cast<int>(i))];
+      EXPECT_EQ(a.length, b.length);
+      ASSERT_EQ(a.waypoints.size(), b.waypoints.size());
+      for (std::size_t w = 0; w < a.waypoints.size(); ++w) {
+        EXPECT_EQ(a.waypoints[w].x, b.waypoints[w].x);
+        EXPECT_EQ(a.waypoints[w].y, b.waypoints[w].y);
+      }
+    }
+  }
+  EXPECT_EQ(ctx.leg_paths->cells.size(), kept);  // nothing searched anew
+  EXPECT_TRUE(full.leg_paths->cells.empty());    // nothing kept
+  // Each kept path goes from its start to its goal by 8-connected steps at
+  // the least cost a search finds.
+  const OccupancyGrid& grid = s.grid;
+  for (const auto& [ends, cells] : ctx.leg_paths->cells) {
+    ASSERT_FALSE(cells.empty());
+    EXPECT_EQ(cells.front(), ends.first);
+    EXPECT_EQ(cells.back(), ends.second);
+    double cost = 0.0;
+    for (std::size_t i = 1; i < cells.size(); ++i) {
+      const Cell a = grid.cell(cells[i - 1]), b = grid.cell(cells[i]);
+      const int dr = std::abs(a.row - b.row), dc = std::abs(a.col - b.col);
+      ASSERT_TRUE(std::max(dr, dc) == 1) << "not a step";
+      cost += (dr + dc == 2 ? std::sqrt(2.0) : 1.0) * 0.5 *
+              (1.0 / ctx.route_speed[cells[i - 1]] + 1.0 / ctx.route_speed[cells[i]]);
+    }
+    const double least = leg_search_cost(ctx, grid.cell_center(grid.cell(ends.first)),
+                                         grid.cell_center(grid.cell(ends.second)), ctx.use_leg_landmarks);
+    EXPECT_NEAR(cost, least, 1e-3 * std::max(1.0, least));
+  }
 }
 
 }  // namespace

@@ -48,13 +48,16 @@ double plan_memory_bytes(std::size_t cells, int agents, int threads, std::size_t
   // default PlannerOptions::leg_landmarks_team): 24 B a cell kept, 16 B
   // more while they are searched.
   const double landmarks = agents >= PlannerOptions{}.leg_landmarks_team ? 40.0 * n : 0.0;
+  // The legs' paths kept for the sweep (LegPaths), at most.
+  const double leg_paths = static_cast<double>(LegPaths::kBytes);
   // Per cell: the context (56 B, of which 12 B the BAP's march from the OC
   // and the pair grid's block of each cell, 4 B RAP's slowness kept for
   // the partitions) and each configuration kept;
   // per configuration kept, 1.5 kB a worker (its estimate, its route);
   // per thread: the marches' workspaces (the pair grid's a quarter more).
   const double c = static_cast<double>(configs);
-  return 25e6 + home_walks + landmarks + n * (56.0 + 4.0 * c) + 1500.0 * c * a + threads * (62.0 * n + 480.0 * a * a);
+  return 25e6 + home_walks + landmarks + leg_paths + n * (56.0 + 4.0 * c) + 1500.0 * c * a +
+         threads * (62.0 * n + 480.0 * a * a);
 }
 
 int threads_within_budget(const Scenario& s, int threads, std::size_t configs) {
@@ -118,6 +121,7 @@ PlanContext::PlanContext(const Scenario& s, const PlannerOptions& options)
   else
     walks();
   leg_landmarks = std::make_shared<LegLandmarks>();
+  leg_paths = std::make_shared<LegPaths>();
   use_leg_landmarks = s.team.agents >= options.leg_landmarks_team;
   for (std::size_t i = 0; i < coverage_distance.size(); ++i) {
     if (coverage[i]) coverage_distance[i] = 0.0;

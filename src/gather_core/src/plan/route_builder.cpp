@@ -187,15 +187,32 @@ void leg_search(const PlanContext& ctx, std::size_t start, std::size_t goal, boo
 std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
   const OccupancyGrid& grid = ctx.scenario.grid;
   const std::size_t start = grid.index(grid.world_to_cell(a)), goal = grid.index(grid.world_to_cell(b));
-  thread_local AStarWork work;
-  leg_search(ctx, start, goal, ctx.use_leg_landmarks, work);
-  std::vector<Point2> path;
-  if (!std::isfinite(work.cost(goal))) return path;
-  for (std::size_t i = goal;; i = work.parent(i)) {
-    path.push_back(grid.cell_center(grid.cell(i)));
-    if (i == start) break;
+  const std::pair<std::size_t, std::size_t> key{start, goal};
+  LegPaths& kept = *ctx.leg_paths;
+  std::vector<uint32_t> cells;
+  bool found = false;
+  {
+    const std::lock_guard<std::mutex> lock(kept.mutex);
+    const auto it = kept.cells.find(key);
+    if (it != kept.cells.end()) cells = it->second, found = true;
   }
-  std::reverse(path.begin(), path.end());
+  if (!found) {
+    thread_local AStarWork work;
+    leg_search(ctx, start, goal, ctx.use_leg_landmarks, work);
+    if (std::isfinite(work.cost(goal)))
+      for (std::size_t i = goal;; i = work.parent(i)) {
+        cells.push_back(static_cast<uint32_t>(i));
+        if (i == start) break;
+      }
+    std::reverse(cells.begin(), cells.end());
+    const std::size_t bytes = cells.size() * sizeof(uint32_t) + 64;  // and the map's node, about
+    const std::lock_guard<std::mutex> lock(kept.mutex);
+    if (kept.bytes + bytes <= LegPaths::kBytes && kept.cells.emplace(key, cells).second) kept.bytes += bytes;
+  }
+  std::vector<Point2> path;
+  if (cells.empty()) return path;
+  path.reserve(cells.size());
+  for (uint32_t i : cells) path.push_back(grid.cell_center(grid.cell(i)));
   path.front() = a;
   path.back() = b;
   return path;

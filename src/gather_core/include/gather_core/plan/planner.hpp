@@ -27,6 +27,7 @@ namespace plan {
 
 class HomeWalks;
 struct LegLandmarks;
+struct LegPaths;
 struct PairGrid;
 
 // The sweep's options. The fields from tsp_constant on change results; the
@@ -190,7 +191,8 @@ struct PlanContext : mission::World {
   // The landmarks of the A* between meeting areas (route_builder.hpp),
   // searched on the first leg's need.
   std::shared_ptr<LegLandmarks> leg_landmarks;
-  bool use_leg_landmarks = false;  // team.agents >= PlannerOptions::leg_landmarks_team
+  std::shared_ptr<LegPaths> leg_paths;  // the legs searched, kept for the sweep
+  bool use_leg_landmarks = false;       // team.agents >= PlannerOptions::leg_landmarks_team
 };
 
 struct Estimates {

@@ -30,6 +30,20 @@ struct LegLandmarks {
   std::vector<float> cost;  // [cell * kCount + l]: the legs' cost (cells) from landmark l, +inf unreached
 };
 
+// The A* paths of the legs between meeting areas, by their two cells, kept
+// for the sweep: a leg's path depends on nothing but its two cells and the
+// context, and configurations share meeting areas (intel_map's sweep
+// searches 58 legs, 40 of them distinct). At most kBytes of cells kept
+// (then the legs are searched each time). Thread-safe.
+struct LegPaths {
+  static constexpr std::size_t kBytes = std::size_t{4} << 20;
+  std::mutex mutex;
+  std::size_t bytes = 0;
+  // start and goal cell -> the path's cells from start to goal (empty: the
+  // goal is not reached).
+  std::map<std::pair<std::size_t, std::size_t>, std::vector<uint32_t>> cells;
+};
+
 // The cost (in cells: a straight step between two roomy cells costs 1) of
 // the A* leg from a to b (as a route's leg between two meeting areas
 // searches it), with the landmarks' bound or
