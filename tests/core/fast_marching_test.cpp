@@ -622,10 +622,21 @@ TEST(RadixQueue, GivesTheSmallestKeyQueuedAsABinaryHeapDoes) {
     heap.pop();
   }
   EXPECT_TRUE(queue.empty());
+  // Cleared with keys queued (a march stopped early): none left, and a new
+  // march's keys, below the last one taken, come out in order.
+  for (uint32_t c = 0; c < 50; ++c) queue.push(order_key(1000.0f + static_cast<float>(c), c));
+  EXPECT_EQ(queue.pop(), order_key(1000.0f, 0));
   queue.clear();
+  EXPECT_TRUE(queue.empty());
+  EXPECT_EQ(queue.size(), 0u);
   queue.push(order_key(2.0f, 1));
   queue.push(order_key(1.0f, 9));
-  EXPECT_EQ(queue.pop(), order_key(1.0f, 9));  // cleared: a new march starts from 0 again
+  queue.push(order_key(3.0f, 4));
+  EXPECT_EQ(queue.size(), 3u);
+  EXPECT_EQ(queue.pop(), order_key(1.0f, 9));
+  EXPECT_EQ(queue.pop(), order_key(2.0f, 1));
+  EXPECT_EQ(queue.pop(), order_key(3.0f, 4));
+  EXPECT_TRUE(queue.empty());
 }
 
 }  // namespace

@@ -139,8 +139,9 @@ TEST(RouteBuilderTest, KeptLegPathsGiveTheRoutesASearchGives) {
   std::size_t legs = 0;
   for (const CollectorRoute& r : first.routes) legs += r.segments.size() > 1 ? r.segments.size() - 1 : 0;
   ASSERT_GT(legs, 0u) << "no route with a leg between two meeting areas";
-  const std::size_t kept = ctx.leg_paths->cells.size();
+  const std::size_t kept = ctx.leg_paths->cells.size(), searched = ctx.leg_paths->searched;
   ASSERT_GT(kept, 0u);
+  ASSERT_GE(searched, kept);
   PlanContext full(s);
   full.leg_paths->bytes = LegPaths::kBytes;
   for (const PlanContext* c : {&ctx, static_cast<const PlanContext*>(&full)}) {
@@ -157,8 +158,10 @@ TEST(RouteBuilderTest, KeptLegPathsGiveTheRoutesASearchGives) {
       }
     }
   }
-  EXPECT_EQ(ctx.leg_paths->cells.size(), kept);  // nothing searched anew
-  EXPECT_TRUE(full.leg_paths->cells.empty());    // nothing kept
+  EXPECT_EQ(ctx.leg_paths->searched, searched);  // nothing searched anew
+  EXPECT_EQ(ctx.leg_paths->cells.size(), kept);
+  EXPECT_GE(full.leg_paths->searched, kept);   // everything searched again
+  EXPECT_TRUE(full.leg_paths->cells.empty());  // nothing kept
   // Each kept path goes from its start to its goal by 8-connected steps at
   // the least cost a search finds.
   const OccupancyGrid& grid = s.grid;
@@ -174,9 +177,33 @@ TEST(RouteBuilderTest, KeptLegPathsGiveTheRoutesASearchGives) {
       cost += (dr + dc == 2 ? std::sqrt(2.0) : 1.0) * 0.5 *
               (1.0 / ctx.route_speed[cells[i - 1]] + 1.0 / ctx.route_speed[cells[i]]);
     }
-    const double least = leg_search_cost(ctx, grid.cell_center(grid.cell(ends.first)),
-                                         grid.cell_center(grid.cell(ends.second)), ctx.use_leg_landmarks);
-    EXPECT_NEAR(cost, least, 1e-3 * std::max(1.0, least));
+    // Both bounds are admissible: either search finds the least cost.
+    for (const bool landmarks : {false, true}) {
+      const double least = leg_search_cost(ctx, grid.cell_center(grid.cell(ends.first)),
+                                           grid.cell_center(grid.cell(ends.second)), landmarks);
+      EXPECT_NEAR(cost, least, 1e-3 * std::max(1.0, least)) << (landmarks ? "landmarks" : "octile");
+    }
+  }
+}
+
+// A leg from a cell off the reachable space (the speed map's 0 there: no
+// step leaves it) is never found, with either bound.
+TEST(RouteBuilderTest, NoLegLeavesACellOffTheReachableSpace) {
+  const PlanContext& ctx = testing_support::SmallOffice::context();
+  const OccupancyGrid& grid = ctx.scenario.grid;
+  std::size_t off = grid.size(), on = grid.size();
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    // An off cell with a reachable neighbour: the search would step out of it.
+    const Cell c = grid.cell(i);
+    if (ctx.reachable[i] || c.col + 1 >= grid.width() || !ctx.reachable[i + 1]) continue;
+    off = i, on = i + 1;
+    break;
+  }
+  ASSERT_LT(off, grid.size());
+  const Point2 a = grid.cell_center(grid.cell(off)), b = grid.cell_center(grid.cell(on));
+  for (const bool landmarks : {false, true}) {
+    EXPECT_FALSE(std::isfinite(leg_search_cost(ctx, a, b, landmarks))) << landmarks;
+    EXPECT_TRUE(std::isfinite(leg_search_cost(ctx, b, b, landmarks))) << landmarks;
   }
 }
 

@@ -100,6 +100,7 @@ void search(const PlanContext& ctx, std::size_t start, std::size_t goal, AStarWo
     const float gi = work.cost(i);
     if (f > gi + h(i, r, c) + 1e-4f) continue;  // stale entry
     if (popped) ++*popped;
+    if (!reach[i]) continue;  // a start off the reachable space: no step out of it (the speed map's 0)
     const bool inner = r > 0 && c > 0 && r + 1 < rows && c + 1 < w;  // all 8 neighbours on the map
     const int roomy_i = roomy[i] != 0 ? 1 : 0;
     for (int k = 0; k < 8; ++k) {
@@ -205,8 +206,10 @@ std::vector<Point2> astar_leg(const PlanContext& ctx, Point2 a, Point2 b) {
         if (i == start) break;
       }
     std::reverse(cells.begin(), cells.end());
-    const std::size_t bytes = cells.size() * sizeof(uint32_t) + 64;  // and the map's node, about
+    // The cells and, about, the map's node and the allocator's headers.
+    const std::size_t bytes = cells.size() * sizeof(uint32_t) + 128;
     const std::lock_guard<std::mutex> lock(kept.mutex);
+    ++kept.searched;
     if (kept.bytes + bytes <= LegPaths::kBytes && kept.cells.emplace(key, cells).second) kept.bytes += bytes;
   }
   std::vector<Point2> path;

@@ -191,7 +191,7 @@ struct PlanContext : mission::World {
   // The landmarks of the A* between meeting areas (route_builder.hpp),
   // searched on the first leg's need.
   std::shared_ptr<LegLandmarks> leg_landmarks;
-  std::shared_ptr<LegPaths> leg_paths;  // the legs searched, kept for the sweep
+  std::shared_ptr<LegPaths> leg_paths;  // the legs searched, kept for the sweep (shared by a copy)
   bool use_leg_landmarks = false;       // team.agents >= PlannerOptions::leg_landmarks_team
 };
 

@@ -34,11 +34,14 @@ struct LegLandmarks {
 // for the sweep: a leg's path depends on nothing but its two cells and the
 // context, and configurations share meeting areas (intel_map's sweep
 // searches 58 legs, 40 of them distinct). At most kBytes of cells kept
-// (then the legs are searched each time). Thread-safe.
+// (then the legs are searched each time). Thread-safe. The paths hold for
+// the context that searched them: a copy of a PlanContext shares them, and
+// must not change its masks or use_leg_landmarks.
 struct LegPaths {
   static constexpr std::size_t kBytes = std::size_t{4} << 20;
   std::mutex mutex;
   std::size_t bytes = 0;
+  std::size_t searched = 0;  // the legs searched, not found kept
   // start and goal cell -> the path's cells from start to goal (empty: the
   // goal is not reached).
   std::map<std::pair<std::size_t, std::size_t>, std::vector<uint32_t>> cells;
