@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <functional>
 #include <limits>
 #include <queue>
@@ -601,9 +600,7 @@ TEST(RadixQueue, GivesTheSmallestKeyQueuedAsABinaryHeapDoes) {
     ASSERT_EQ(key, heap.top()) << "pop " << popped;
     heap.pop();
     ++popped;
-    float t;
-    const auto bits = static_cast<uint32_t>(key >> 32);
-    std::memcpy(&t, &bits, sizeof t);
+    const float t = order_key_time(key);
     if (heap.size() > 5000) continue;  // let the queue drain now and then
     for (int n = 0; n < 3; ++n) push(order_key(t + step(rng), cell(rng)));
     const uint32_t what = pick(rng);

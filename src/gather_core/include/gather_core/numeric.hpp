@@ -20,4 +20,12 @@ inline uint64_t order_key(float time, uint32_t index) {
   return (static_cast<uint64_t>(bits) << 32) | index;
 }
 
+// The time of an order_key.
+inline float order_key_time(uint64_t key) {
+  const auto bits = static_cast<uint32_t>(key >> 32);
+  float time;
+  std::memcpy(&time, &bits, sizeof time);
+  return time;
+}
+
 }  // namespace gather

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <numeric>
 
@@ -33,14 +32,7 @@ struct AStarWork {
   // The open list: keys of (f, cell) (order_key), popped in the order of
   // (f, cell), ties by cell, from a radix heap: the heuristics are
   // consistent, so a search takes keys in ascending order (but for rounding).
-  using Entry = uint64_t;
   RadixQueue open;
-  static float f_of(Entry e) {
-    const auto bits = static_cast<uint32_t>(e >> 32);
-    float f;
-    std::memcpy(&f, &bits, sizeof f);
-    return f;
-  }
 
   void begin(std::size_t cells) {
     if (node.size() != cells) node.assign(cells, Node{0.0f, 0, 0}), generation = 0;
@@ -55,8 +47,6 @@ struct AStarWork {
   }
   void set(std::size_t i, float cost, uint32_t from) { node[i] = Node{cost, from, generation}; }
   uint32_t parent(std::size_t i) const { return node[i].parent; }
-  void push(Entry e) { open.push(e); }
-  Entry pop() { return open.pop(); }
 };
 
 // The 8-connected search on the route speed map (no diagonal step past a
@@ -74,7 +64,7 @@ void search(const PlanContext& ctx, std::size_t start, std::size_t goal, AStarWo
   work.set(start, 0.0f, 0);
   {
     const Cell s = grid.cell(start);
-    work.push(order_key(h(start, s.row, s.col), static_cast<uint32_t>(start)));
+    work.open.push(order_key(h(start, s.row, s.col), static_cast<uint32_t>(start)));
   }
   static const int dr[8] = {0, 0, 1, -1, 1, 1, -1, -1}, dc[8] = {1, -1, 0, 0, 1, -1, 1, -1};
   std::ptrdiff_t offset[8];
@@ -92,8 +82,8 @@ void search(const PlanContext& ctx, std::size_t start, std::size_t goal, AStarWo
       for (int b = 0; b < 2; ++b)
         step_cost[d][a][b] = static_cast<float>((d ? std::sqrt(2.0) : 1.0) * 0.5 * (pace[a] + pace[b]));
   while (!work.open.empty()) {
-    const AStarWork::Entry e = work.pop();
-    const float f = AStarWork::f_of(e);
+    const uint64_t e = work.open.pop();
+    const float f = order_key_time(e);
     const auto i = static_cast<uint32_t>(e);
     if (i == goal) break;
     const int r = static_cast<int>(i / static_cast<uint32_t>(w)), c = static_cast<int>(i % static_cast<uint32_t>(w));
@@ -103,10 +93,10 @@ void search(const PlanContext& ctx, std::size_t start, std::size_t goal, AStarWo
     if (!reach[i]) continue;  // a start off the reachable space: no step out of it (the speed map's 0)
     const bool inner = r > 0 && c > 0 && r + 1 < rows && c + 1 < w;  // all 8 neighbours on the map
     const int roomy_i = roomy[i] != 0 ? 1 : 0;
+    const auto at = static_cast<std::ptrdiff_t>(i);
     for (int k = 0; k < 8; ++k) {
       const int nr = r + dr[k], nc = c + dc[k];
       if (!inner && (nr < 0 || nc < 0 || nr >= rows || nc >= w)) continue;
-      const auto at = static_cast<std::ptrdiff_t>(i);
       const auto j = static_cast<std::size_t>(at + offset[k]);
       if (!reach[j]) continue;
       const int diagonal = k >= 4 ? 1 : 0;
@@ -117,7 +107,7 @@ void search(const PlanContext& ctx, std::size_t start, std::size_t goal, AStarWo
       const float step = step_cost[diagonal][roomy_i][roomy[j] != 0 ? 1 : 0];
       if (gi + step < work.cost(j)) {
         work.set(j, gi + step, i);
-        work.push(order_key(gi + step + h(j, nr, nc), static_cast<uint32_t>(j)));
+        work.open.push(order_key(gi + step + h(j, nr, nc), static_cast<uint32_t>(j)));
       }
     }
   }
